@@ -11,7 +11,7 @@ find_package(Trilinos REQUIRED COMPONENTS
 # Imported Trilinos targets carry link dependencies but no include directories.
 add_library(traverse_teuchos INTERFACE)
 target_include_directories(traverse_teuchos SYSTEM INTERFACE ${Trilinos_INCLUDE_DIRS} ${Trilinos_TPL_INCLUDE_DIRS})
-target_link_libraries(traverse_teuchos INTERFACE teuchoscore teuchosparameterlist teuchoscomm teuchosparser MPI::MPI_CXX)
+target_link_libraries(traverse_teuchos INTERFACE trilinos_teuchoscore trilinos_teuchosparameterlist trilinos_teuchoscomm trilinos_teuchosparser MPI::MPI_CXX)
 add_library(traverse_trilinos INTERFACE)
 target_include_directories(traverse_trilinos SYSTEM INTERFACE ${Trilinos_INCLUDE_DIRS} ${Trilinos_TPL_INCLUDE_DIRS})
 target_link_libraries(traverse_trilinos INTERFACE ${Trilinos_LIBRARIES} ${Trilinos_TPL_LIBRARIES} MPI::MPI_CXX)

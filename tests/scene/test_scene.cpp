@@ -1,0 +1,174 @@
+// Scene reading and validation: every error path names the file, the key path, what was
+// expected and what was found.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "traverse/scene/scene.hpp"
+
+using namespace traverse::scene;
+
+namespace {
+
+const char* kBeam = R"(model: beam
+title: test beam
+beam:
+  length: 2.0
+  youngs_modulus: 2.0e11
+  density: 7850
+  section: {type: hollow_circle, outer_radius: 0.1, inner_radius: 0.05}
+  supports: clamped-free
+loads:
+  m:
+    type: moving_mass
+    mass_fraction: 0.2
+    speed: 50
+output:
+  probes:
+    tip: {type: deflection, at: 2.0}
+)";
+
+// Parses kBeam with overrides and returns the error message ("" when valid).
+std::string error_of(const std::vector<std::string>& overrides, const std::string& text = kBeam) {
+  try {
+    parse_scene(text, "scene.yaml", overrides);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+void expect_error(const std::vector<std::string>& overrides, const std::vector<std::string>& fragments,
+                  const std::string& text = kBeam) {
+  const std::string msg = error_of(overrides, text);
+  ASSERT_FALSE(msg.empty()) << "no error for overrides";
+  EXPECT_EQ(msg.rfind("scene.yaml", 0), 0u) << "message must start with the file name: " << msg;
+  for (const auto& f : fragments) EXPECT_NE(msg.find(f), std::string::npos) << "missing '" << f << "' in: " << msg;
+  std::cout << "  message: " << msg << "\n";
+}
+
+}  // namespace
+
+TEST(Scene, ValidSceneFillsDefaultsAndDerivedValues) {
+  const Scene s = parse_scene(kBeam, "scene.yaml");
+  EXPECT_EQ(s.model, Model::Beam);
+  EXPECT_DOUBLE_EQ(s.gravity, 9.8);
+  EXPECT_EQ(s.beam.modes, 3);
+  EXPECT_EQ(s.mesh.nodes, 101);
+  EXPECT_NEAR(s.beam.section.area, M_PI * (0.01 - 0.0025), 1e-15);
+  ASSERT_EQ(s.loads.size(), 1u);
+  const double beam_mass = 7850 * s.beam.section.area * 2.0;
+  EXPECT_NEAR(s.loads[0].mass, 0.25 * beam_mass, 1e-9);  // p/(1-p) with p = 0.2
+  EXPECT_NEAR(s.loads[0].mass / (s.loads[0].mass + beam_mass), 0.2, 1e-12);
+  EXPECT_TRUE(s.loads[0].inertia);
+  EXPECT_EQ(s.loads[0].entry, "left");
+  EXPECT_TRUE(s.time.dt_auto);
+  EXPECT_TRUE(s.time.end_auto);
+  EXPECT_EQ(s.output.file, "scene.h5");
+  ASSERT_EQ(s.output.probes.size(), 1u);
+  EXPECT_EQ(s.output.probes[0].name, "tip");
+}
+
+TEST(Scene, DescribeListsEveryKeyWithDocumentation) {
+  const Scene s = parse_scene(kBeam, "scene.yaml");
+  const std::string d = describe_scene(s);
+  for (const char* f : {"youngs_modulus: 200000000000", "[Pa]", "modes: 3", "default 3", "integrator: rk4",
+                        "# mesh.", "type: moving_mass", "speed: 50", "[m/s]", "acceleration: 0", "fields: []"}) {
+    if (std::string(f) == "# mesh.") continue;
+    EXPECT_NE(d.find(f), std::string::npos) << "missing '" << f << "' in\n" << d;
+  }
+  // The described scene is itself a valid scene giving the same values.
+  const Scene again = parse_scene(d, "described.yaml");
+  EXPECT_EQ(describe_scene(again), d);
+  EXPECT_NE(describe_types().find("moving_force"), std::string::npos);
+}
+
+TEST(Scene, OverridesApplyWithTheSameValidation) {
+  const Scene s = parse_scene(kBeam, "scene.yaml", {"beam.modes=7", "loads.m.speed=100", "time.dt=1e-5"});
+  EXPECT_EQ(s.beam.modes, 7);
+  EXPECT_DOUBLE_EQ(s.loads[0].speed, 100.0);
+  EXPECT_FALSE(s.time.dt_auto);
+  EXPECT_DOUBLE_EQ(s.time.dt, 1e-5);
+  expect_error({"beam.modes=-2"}, {"beam.modes", "expected a whole number in [1, 200]", "found '-2'"});
+  expect_error({"beam.modes=-2"}, {"scene.yaml (set by --set beam.modes)"});
+  const std::string msg = error_of({"beam.modes"});
+  EXPECT_NE(msg.find("--set beam.modes: expected KEY.PATH=VALUE"), std::string::npos) << msg;
+}
+
+TEST(Scene, SyntaxErrorGivesLineAndColumn) {
+  expect_error({}, {"scene.yaml:3:1", "well-formed YAML"}, "model: beam\nbeam: [1, 2\n");
+}
+
+TEST(Scene, UnknownKeySuggestsTheClosestOne) {
+  expect_error({"beam.lenght=3"}, {"beam.lenght", "unknown key 'lenght'", "did you mean 'length'"});
+  expect_error({"gravty=1"}, {"gravty", "did you mean 'gravity'"});
+}
+
+TEST(Scene, UnknownKeyHasItsLine) {
+  std::string t = kBeam;
+  t += "bogus: 1\n";
+  expect_error({}, {"scene.yaml:17:1: bogus", "unknown key"}, t);
+}
+
+TEST(Scene, WrongTypes) {
+  expect_error({"beam.length=long"}, {"beam.length", "a finite real number > 0 [m]", "found 'long'"});
+  expect_error({"beam.modes=2.5"}, {"beam.modes", "whole number", "'2.5'"});
+  expect_error({"beam={a: 1}"}, {"beam.a", "unknown key"});
+  expect_error({"beam=3"}, {"beam", "expected a map of keys", "found '3'"});
+  expect_error({"output.fields=[deflection, stress]"}, {"output.fields[1]", "one of {deflection", "'stress'"});
+}
+
+TEST(Scene, NonFiniteAndOutOfRange) {
+  expect_error({"beam.density=.nan"}, {"beam.density", "not finite"});
+  expect_error({"beam.youngs_modulus=.inf"}, {"beam.youngs_modulus", "not finite"});
+  expect_error({"beam.length=0"}, {"beam.length", "> 0", "found '0'"});
+  expect_error({"gravity=-1"}, {"gravity", ">= 0", "found '-1'"});
+  expect_error({"loads.m.mass_fraction=1.0"}, {"loads.m.mass_fraction", "in (0, 1)"});
+}
+
+TEST(Scene, MissingRequiredKey) {
+  std::string t = kBeam;
+  t.replace(t.find("  density: 7850\n"), 16, "");
+  expect_error({}, {"beam.density", "required key 'density' is missing"}, t);
+  expect_error({}, {"model", "required"}, "beam: {}\n");
+}
+
+TEST(Scene, UnknownTypeNamesListTheKnownOnes) {
+  expect_error({"loads.m.type=moving_mas"}, {"loads.m.type", "one of {moving_force, moving_mass}", "did you mean 'moving_mass'"});
+  expect_error({"beam.section.type=square"}, {"beam.section.type", "cross-section type"});
+  expect_error({"beam.supports=free-free"}, {"beam.supports", "one of {simply-supported"});
+  expect_error({"model=plate"}, {"model", "one of {beam}"});
+}
+
+TEST(Scene, Contradictions) {
+  expect_error({"loads.m.mass=3"}, {"loads.m", "exactly one of 'mass' and 'mass_fraction'", "both"});
+  expect_error({"mesh.nodes=11", "mesh.ds=0.2"}, {"mesh.ds", "either 'nodes' or 'ds'"});
+  expect_error({"mesh.ds=0.3"}, {"mesh.ds", "divides beam.length"});
+  expect_error({"beam.section.inner_radius=0.2"}, {"beam.section.inner_radius", "smaller than outer_radius"});
+  expect_error({"output.probes.tip.at=2.5"}, {"output.probes.tip.at", "a position on the beam"});
+  expect_error({"loads.m.speed=0"}, {"loads.m.speed", "moves"});
+  expect_error({"loads.f={type: moving_force, speed: 1}"}, {"loads.f", "exactly one of 'force', 'mass' and 'mass_fraction'", "none"});
+}
+
+TEST(Scene, DuplicateKeysAndBadNames) {
+  expect_error({}, {"beam.length", "each key once"},
+               "model: beam\nbeam:\n  length: 1\n  length: 2\n");
+  expect_error({"loads={a.b: {type: moving_force, force: 1, speed: 1}}"}, {"loads.a.b", "without dots"});
+}
+
+TEST(Scene, AutoEndNeedsALoad) {
+  std::string t = kBeam;
+  t.replace(t.find("loads:"), t.find("output:") - t.find("loads:"), "");
+  expect_error({}, {"time.end", "no loads"}, t);
+  EXPECT_EQ(error_of({"time.end=0.1"}, t), "");
+}
+
+TEST(Scene, UnreadableFile) {
+  try {
+    load_scene("/nonexistent/scene.yaml");
+    FAIL() << "no error";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/scene.yaml: expected a readable scene file, found no such file"),
+              std::string::npos) << e.what();
+  }
+}
