@@ -498,7 +498,13 @@ ValidatedTree validate_yaml(const std::string& yaml_text, const std::string& fil
   if (!doc.IsMap())
     throw SceneError(file_name + ": (top level): expected a map of keys, found " + shown(doc));
   ValidatedTree tree;
-  for (const auto& o : overrides) tree.marks[apply_override(doc, o)] = {-1, -1};
+  for (const auto& o : overrides) {
+    try {
+      tree.marks[apply_override(doc, o)] = {-1, -1};
+    } catch (const SceneError& e) {
+      throw SceneError(file_name + ": " + e.what());
+    }
+  }
   Validator v(file_name, tree.marks);
   v.map_keys(doc, root.children, "", tree.params);
   CheckContext ctx(file_name, "", &tree.marks);

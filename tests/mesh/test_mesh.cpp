@@ -35,7 +35,9 @@ TEST(Mesh, PartitionsAreContiguousAndBalanced) {
         largest = std::max(largest, p.count[k]);
       }
       EXPECT_EQ(next, nodes);
-      if (nodes >= 100) EXPECT_TRUE(p.from_metis) << nodes << " nodes, " << parts << " parts";
+      if (nodes >= 100) {
+        EXPECT_TRUE(p.from_metis) << nodes << " nodes, " << parts << " parts";
+      }
       EXPECT_GE(smallest, 1);
       // METIS allows a small imbalance (3 % by default); allow one node more on small meshes.
       EXPECT_LE(largest, static_cast<int>(std::ceil(1.03 * nodes / parts)) + 1) << nodes << " nodes, " << parts << " parts";

@@ -1,0 +1,96 @@
+#pragma once
+// Driver: modal (Galerkin) beam with moving masses/forces, fixed-step time integration.
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "traverse/beam/beam_problem.hpp"
+
+namespace traverse::beam {
+
+class BeamSimulation;
+
+/// State handed to the observer at output instants. Valid only during the callback.
+class BeamSnapshot {
+ public:
+  double t;            ///< time [s]
+  const VecX& Y;       ///< modal coordinates [m]
+  const VecX& Ydot;    ///< modal velocities [m/s]
+
+  double deflection(double x) const;  ///< w(x, t) [m], positive up
+  double slope(double x) const;       ///< w_x(x, t) [-]
+  double velocity(double x) const;    ///< w_t(x, t) [m/s]
+  std::size_t load_count() const;
+  double load_position(std::size_t k) const;  ///< x_k(t) [m] (may lie outside [0, L])
+  bool load_on_beam(std::size_t k) const;     ///< t >= entry and 0 <= x_k <= L
+  /// w(x_k(t), t) [m] if the load is on the beam, NaN otherwise.
+  double load_deflection(std::size_t k) const;
+
+ private:
+  friend class BeamSimulation;
+  BeamSnapshot(const BeamSimulation& s, double time, const VecX& y, const VecX& ydot)
+      : t(time), Y(y), Ydot(ydot), sim_(&s) {}
+  const BeamSimulation* sim_;
+};
+
+/// Observer callback, called at t_start, every `output_every` grid steps and at t_end.
+using BeamObserver = std::function<void(const BeamSnapshot&)>;
+
+/// Solves
+///   (Mb + sum M_k Phi_k Phi_k^T) Y'' + sum 2 M_k v_k Phi_k Phi_k'^T Y'
+///     + (Kb + sum M_k (v_k^2 Phi_k Phi_k''^T + a_k Phi_k Phi_k'^T)) Y = -Pb + sum F_k Phi_k
+/// (Phi_k = Phi(x_k(t)), F_k = -M_k g by default; M_k = 0 for a moving force) with fixed steps.
+/// The mass matrix is inverted by a Woodbury update of the precomputed Mb^{-1}
+/// (resp. (Mb + h^2/4 Kb)^{-1} for Newmark), so a step costs O(n^2) per load.
+class BeamSimulation {
+ public:
+  explicit BeamSimulation(BeamProblem problem);
+  ~BeamSimulation();
+  BeamSimulation(const BeamSimulation&) = delete;
+  BeamSimulation& operator=(const BeamSimulation&) = delete;
+
+  /// Reset to the initial state at t_start and integrate to t_end, calling the observer.
+  void run(const BeamObserver& observer = {});
+  /// Reset to the initial state at t_start (done by run as well).
+  void reset();
+
+  const BeamProblem& problem() const { return problem_; }
+  const ModeSet& modes() const { return *modes_; }
+  const GalerkinMatrices& matrices() const { return mats_; }
+  const std::vector<LoadKinematics>& kinematics() const { return kin_; }
+  double time() const { return t_; }
+  const VecX& Y() const { return Y_; }
+  const VecX& Ydot() const { return V_; }
+  /// Number of (sub)steps taken by the last run.
+  long steps_taken() const { return steps_; }
+  /// w(x) [m] of the current state.
+  double deflection(double x) const;
+
+ private:
+  friend class BeamSnapshot;
+  struct Work;
+
+  void prepare_status(double ta, double tb);
+  void eval_loads(double t);
+  void residual(const VecX& Y, const VecX& V, Eigen::Ref<VecX> r) const;
+  void solve_low_rank(const MatX& Binv, const VecX& r, VecX& out);
+  void acceleration(double t, const VecX& Y, const VecX& V, VecX& A);
+  void rk4_step(double ta, double tb);
+  void newmark_step(double ta, double tb);
+  const MatX& newmark_inverse(double h);
+  void evaluate_modes(double x) const;
+
+  BeamProblem problem_;
+  std::shared_ptr<const ModeSet> modes_;
+  GalerkinMatrices mats_;
+  std::vector<LoadKinematics> kin_;
+  std::vector<double> force_, inertia_;  // per load: F_k [N], M_k [kg]
+  MatX Mb_inv_;
+  std::unique_ptr<Work> w_;
+  double t_ = 0.0;
+  long steps_ = 0;
+  VecX Y_, V_, A_;
+  bool A_valid_ = false;
+};
+
+}  // namespace traverse::beam

@@ -1,0 +1,62 @@
+#pragma once
+// End conditions of the rod: 6 scalar rows per end (physics spec section 2, "Boundary
+// conditions"). Fixed-frame vectors are transformed to body components with R at the new level.
+#include <functional>
+#include <string>
+
+#include "traverse/core/types.hpp"
+#include "traverse/rod/rod_properties.hpp"
+
+namespace traverse::rod {
+
+struct EndCondition {
+  enum class Type {
+    clamped,     ///< u = 0 (3), omega = 0 (3)
+    pinned,      ///< u = 0 (3), omega . (R b1) = omega . (R b2) = 0 (2), m . (R a) = 0 (1)
+    sliding,     ///< u . (R b1) = u . (R b2) = 0 (2), omega = 0 (3), n . (R e) = 0 (1)
+    free,        ///< n = 0 (3), m = K (kappa - kappa0) = 0 (3)
+    prescribed,  ///< u = R u_fixed(t) (3), omega = R omega_fixed(t) (3)
+  };
+  Type type = Type::clamped;
+  /// Pin axis a (pinned) or sliding axis e (sliding), fixed frame; normalised internally.
+  /// b1, b2 complete it to an orthonormal fixed triad (chosen once, see perpendicular_pair).
+  Vec3 axis = Vec3::UnitX();
+  /// Prescribed end velocity [m/s] and rotation rate [rad/s], fixed components, at time t [s].
+  std::function<Vec3(double)> u_fixed;
+  std::function<Vec3(double)> omega_fixed;
+
+  static EndCondition make_clamped();
+  static EndCondition make_pinned(const Vec3& pin_axis);
+  static EndCondition make_sliding(const Vec3& slide_axis);
+  static EndCondition make_free();
+  static EndCondition make_prescribed(std::function<Vec3(double)> u_fixed,
+                                      std::function<Vec3(double)> omega_fixed);
+
+  /// Number of scalar rows this condition contributes (always 6 for a valid condition).
+  int num_rows() const;
+};
+
+/// Two unit vectors b1, b2 with (a/|a|, b1, b2) orthonormal; deterministic in a.
+void perpendicular_pair(const Vec3& a, Vec3& b1, Vec3& b2);
+
+/// The 6 rows of a condition at a node at time t [s] and their Jacobian with respect to the
+/// node's y (12) at the new level, R the new-level orientation and G its sensitivity
+/// (d(R v)/d omega_new = hat(R v) G, see NewLevelNode).
+void end_condition_rows(const EndCondition& c, const RodProperties& props, double t,
+                        const Vec12& y, const Mat3& R, const Mat3& G, Vec6& r,
+                        Eigen::Matrix<double, 6, 12>& J);
+
+/// Result of validate_end_conditions.
+struct EndConditionCheck {
+  bool ok = false;
+  std::string message;  ///< empty when ok, else what is wrong
+};
+
+/// Whether the pair gives a square, well-posed system: each end exactly 6 rows, axes
+/// non-zero, prescribed functions present, and the 6 rows of each end independent (their
+/// Jacobian with respect to that node's 12 unknowns has rank 6 at a straight rest state), and
+/// each row fixes one member of a power-conjugate pair (u_k with n_k, omega_k with m_k), i.e.
+/// the end's energy flux u . n + omega . m is prescribed.
+EndConditionCheck validate_end_conditions(const EndCondition& left, const EndCondition& right);
+
+}  // namespace traverse::rod

@@ -1,0 +1,93 @@
+#pragma once
+// Residual and exact Jacobian kernels of the generalised-alpha space-time scheme for the
+// rod, designed for distributed assembly: every block needs only the old-level states and
+// new-level unknowns of the (at most two) nodes it touches, and carries global indices.
+#include <vector>
+
+#include "traverse/rod/rod_model.hpp"
+#include "traverse/rod/rod_state.hpp"
+
+namespace traverse::rod {
+
+/// The time step from level i-1 (t_old) to level i (t_old + dt).
+struct StepTimes {
+  double t_old = 0.0;  ///< [s]
+  double dt = 0.0;     ///< [s]
+  double t_new() const { return t_old + dt; }
+};
+
+/// Residual rows and dense Jacobian blocks with respect to the new-level unknowns of the
+/// nodes it touches. Global row = row + local row; global column of jac[k](r, c) is
+/// cols[k] + c. jac[k] has residual.size() rows and unknowns_per_node() columns.
+struct LocalBlock {
+  Eigen::Index row = 0;
+  VecX residual;
+  std::vector<Eigen::Index> cols;
+  std::vector<MatX> jac;
+};
+
+/// The orientation and time derivative at the new level implied by the new unknowns:
+/// R = exp(-hat(dt omega_c)) R_old with omega_c = (omega_new + omega_old) / 2,
+/// yt = (y_new - y_old) / (gt dt) - (1 - gt)/gt yt_old, and G = left_jacobian(-dt omega_c) dt/2
+/// so that d(R v)/d omega_new = hat(R v) G for any fixed v.
+struct NewLevelNode {
+  Mat3 R;
+  Mat3 G;
+  Vec12 yt;
+};
+NewLevelNode new_level_node(const RodNode& old_node, const Vec12& y_new, double dt,
+                            const AlphaParameters& alpha);
+
+/// Flux F(y, R, s, t) of Mm y_t + Kk y_s + F = 0 at one node and level, including gravity
+/// and the distributed fixed-frame loads (not point loads, which enter cells only), and its
+/// Jacobian with respect to y at fixed R (dF_dy) and with respect to the fixed-frame load
+/// vectors' rotation: dF/d omega_new = dF_dy(omega cols) + dR_rows * G, where dR_rows
+/// (12x3) = [-hat(f_body); -hat(l_body); 0; 0].
+struct NodeFlux {
+  Vec12 F;
+  Mat12 dF_dy;
+  Eigen::Matrix<double, 12, 3> dF_dRrot;
+};
+NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double s, double t);
+
+/// Mm y and Kk y of the spec's first-order form.
+Vec12 apply_Mm(const RodProperties& p, const Vec12& y);
+Vec12 apply_Kk(const RodProperties& p, const Vec12& y);
+
+/// Cell (j-1, j), j = 1..N: the 12 PDE rows (and, with carried ys, the 12 recursion rows),
+/// including point forces and moving masses (load_block below). old_*/new_* are the old
+/// node states and new unknown blocks (size unknowns_per_node()) of nodes j-1 and j.
+LocalBlock cell_block(const RodModel& model, const StepTimes& step, int j,
+                      const RodNode& old_prev, const RodNode& old_this,
+                      const VecX& new_prev, const VecX& new_this);
+
+/// Only the point-force and moving-mass contributions to the 12 PDE rows of cell j (the
+/// load kernel; already included in cell_block).
+LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
+                      const RodNode& old_prev, const RodNode& old_this,
+                      const VecX& new_prev, const VecX& new_this);
+
+/// Left end: its 6 condition rows (rows 0..5) and, with carried ys, the PDE collocated at
+/// node 0 (rows 6..17). Right end: its 6 condition rows at right_row().
+LocalBlock left_block(const RodModel& model, const StepTimes& step, const RodNode& old_node,
+                      const VecX& new_node);
+LocalBlock right_block(const RodModel& model, const StepTimes& step, const RodNode& old_node,
+                       const VecX& new_node);
+
+/// Every block owned by nodes first_node..last_node (see RodModel): the caller passes old
+/// states and new unknowns for nodes offset .. offset + size - 1, which must include
+/// max(first_node - 1, 0) .. last_node (one ghost node on the left; a ghost on the right is
+/// allowed and ignored).
+std::vector<LocalBlock> assemble_nodes(const RodModel& model, const StepTimes& step,
+                                       int first_node, int last_node, int offset,
+                                       const std::vector<RodNode>& old_nodes,
+                                       const std::vector<VecX>& new_unknowns);
+
+/// Unknown block of a node (y, and ys when carried) - the natural Newton initial guess.
+VecX node_unknowns(const RodModel& model, const RodNode& node);
+
+/// The new-level node implied by converged unknowns (y, ys, R, yt updated).
+RodNode advance_node(const RodModel& model, const RodNode& old_node, const VecX& new_unknowns,
+                     double dt);
+
+}  // namespace traverse::rod

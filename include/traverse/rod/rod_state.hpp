@@ -1,0 +1,69 @@
+#pragma once
+// State of a discretised rod at one time level: per node the 12 unknowns
+// y = (u, omega, kappa, n) in body components, the orientation R and the histories yt, ys.
+#include <functional>
+#include <vector>
+
+#include "traverse/core/types.hpp"
+#include "traverse/rod/alpha_parameters.hpp"
+#include "traverse/rod/rod_properties.hpp"
+
+namespace traverse::rod {
+
+/// Index of the first entry of each vector unknown inside y (and inside yt, ys).
+namespace var {
+inline constexpr int u = 0;      ///< velocity [m/s]
+inline constexpr int omega = 3;  ///< spin [rad/s]
+inline constexpr int kappa = 6;  ///< curvature/twist [1/m]
+inline constexpr int n = 9;      ///< contact force [N]
+}  // namespace var
+
+/// One node at one time level.
+struct RodNode {
+  Vec12 y = Vec12::Zero();    ///< (u, omega, kappa, n), body components
+  Mat3 R = Mat3::Identity();  ///< fixed -> body components; rows are d1, d2, d3 (fixed comps)
+  Vec12 yt = Vec12::Zero();   ///< time-derivative history (generalised-alpha), zero at rest
+  Vec12 ys = Vec12::Zero();   ///< space-derivative history (used only when ys is carried)
+};
+
+/// Nodes j = 0..N at spacing ds = L / N, at time t.
+struct RodState {
+  double t = 0.0;  ///< [s]
+  double ds = 0.0; ///< [m]
+  std::vector<RodNode> nodes;
+  int num_cells() const { return static_cast<int>(nodes.size()) - 1; }
+};
+
+/// Straight rod at rest, d3 = R0^T e3 the tangent (R0 = I: along k), kappa = kappa0 = 0
+/// assumed, n = 0, all histories zero.
+RodState straight_rest_state(int num_cells, double length, const Mat3& R0 = Mat3::Identity());
+
+/// Rod at rest whose curvature is kappa(s) (body components): R follows dR/ds = -hat(kappa) R
+/// from R(0) = R0 with the midpoint exponential R_j = exp(-hat(ds (kappa_{j-1}+kappa_j)/2)) R_{j-1}
+/// (second order). u = omega = 0, n = 0 (set n yourself if the state must be in equilibrium),
+/// yt = 0; ys = d y / ds by centred differences (one-sided second order at the ends) so that a
+/// carried-ys run starts from a consistent spatial history.
+RodState state_from_curvature(int num_cells, double length,
+                              const std::function<Vec3(double)>& kappa,
+                              const Mat3& R0 = Mat3::Identity());
+
+/// Discrete energy (kinetic + bending/torsion) [J], the quantity the centred box scheme
+/// conserves exactly for the linearised rod: sum over cells of
+/// ds * (1/2 rhoA |ub|^2 + 1/2 wb . rhoI wb + 1/2 (kb - kappa0) . K (kb - kappa0)) with
+/// ub, wb, kb the cell averages (y(j-1) + y(j)) / 2.
+double discrete_energy(const RodState& state, const RodProperties& props);
+
+/// Same energy, trapezoidal rule over the nodes (for output; not exactly conserved).
+double nodal_energy(const RodState& state, const RodProperties& props);
+
+/// Centreline at the nodes from r(0) = r0 by the trapezoidal rule on dr/ds = R^T e3
+/// (second order). Fixed components [m].
+std::vector<Vec3> centreline_in_space(const RodState& state, const Vec3& r0 = Vec3::Zero());
+
+/// Advance nodal positions over one step by the trapezoidal rule on dr/dt = R^T u:
+/// r_new = r_old + dt/2 (R_old^T u_old + R_new^T u_new) (second order). Fixed components [m].
+std::vector<Vec3> advance_centreline_in_time(const std::vector<Vec3>& r_old,
+                                             const RodState& old_state,
+                                             const RodState& new_state);
+
+}  // namespace traverse::rod

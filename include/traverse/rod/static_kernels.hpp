@@ -1,0 +1,89 @@
+#pragma once
+// Static form of the rod discretisation (physics spec section 3): u = omega = 0, no time
+// derivatives; the frame and the centreline along s become unknowns. Per node
+// x = (r, theta, kappa, n): centreline r [m] (fixed components), rotation increment theta
+// [rad] with R = exp(-hat(theta)) Rbar about a reference frame Rbar carried with the node,
+// curvature kappa [1/m] and contact force n [N] (body components). 12 unknowns per node, the
+// same count, row layout and block-tridiagonal coupling as the dynamic box scheme:
+//   rows [0, 6): left end; 6 + 12 (j-1) + (0..11): cell (j-1, j); last 6: right end.
+// Cell rows (the dynamic box-scheme rows at rest, plus the frame and centreline):
+//   0-2   -(n_j - n_{j-1})/ds + avg(-kappa x n - R f) - point forces         (force balance)
+//   3-5   -K (kappa_j - kappa_{j-1})/ds + avg(-kappa x m - e3 x n - R l)     (moment balance)
+//   6-8   (log(R_j R_{j-1}^T) + ds avg(kappa)) / ds                           (frame follows kappa)
+//   9-11  (r_j - r_{j-1})/ds - avg(R^T e3)                                     (centreline, trapezoidal)
+// avg() is the cell average (value at j-1 + value at j)/2: the frame relation is the midpoint
+// exponential of state_from_curvature and the centreline the trapezoidal rule, both second order.
+#include <vector>
+
+#include "traverse/rod/end_condition.hpp"
+#include "traverse/rod/rod_kernels.hpp"
+
+namespace traverse::rod {
+
+/// Index of each vector unknown inside the static node block.
+namespace svar {
+inline constexpr int r = 0;      ///< centreline [m], fixed components
+inline constexpr int theta = 3;  ///< rotation increment [rad], R = exp(-hat(theta)) Rbar
+inline constexpr int kappa = 6;  ///< curvature [1/m], body components
+inline constexpr int n = 9;      ///< contact force [N], body components
+}  // namespace svar
+
+/// An end condition read statically: the same types as the dynamic ones, with the end's
+/// position and frame fixed where the dynamic condition fixes the velocity and spin.
+///   clamped:  r = position (3), log(R frame^T) = 0 (3)
+///   pinned:   r = position (3), log(frame^T R) parallel to the pin axis a (2), m . (R a) = 0 (1)
+///   sliding:  r - position perpendicular to e is 0 (2), log(R frame^T) = 0 (3),
+///             external force along e = axial_force (1)
+///   free:     external force = end_force (3), m = 0 (3)
+/// External forces act on the rod at that end: n(L) = F at the right end, n(0) = -F at the left.
+struct StaticEnd {
+  EndCondition::Type type = EndCondition::Type::clamped;
+  Vec3 axis = Vec3::UnitX();       ///< pin axis (pinned) or sliding axis (sliding), fixed frame
+  Vec3 position = Vec3::Zero();    ///< [m]
+  Mat3 frame = Mat3::Identity();   ///< fixed -> body at the end
+  double axial_force = 0.0;        ///< sliding: external force along the axis [N]
+  Vec3 end_force = Vec3::Zero();   ///< free: external force, fixed frame [N]
+};
+
+/// A point force at a fixed arclength (statics).
+struct StaticPointForce {
+  Vec3 force = Vec3::Zero();  ///< fixed frame [N]
+  double sigma = 0.0;         ///< [m]
+};
+
+struct StaticModel {
+  RodProperties props;
+  int num_cells = 1;
+  double length = 1.0;
+  StaticEnd left, right;
+  Vec3 gravity = Vec3::Zero();                 ///< fixed frame [m/s^2]
+  std::vector<StaticPointForce> point_forces;  ///< with the box-scheme weights (bs = 1/2)
+  double ds() const { return length / num_cells; }
+  Eigen::Index num_unknowns() const { return 12 * static_cast<Eigen::Index>(num_cells + 1); }
+};
+
+/// One node: unknowns and the reference frame they are measured from.
+struct StaticNode {
+  Vec12 x = Vec12::Zero();
+  Mat3 Rbar = Mat3::Identity();
+  /// R = exp(-hat(theta)) Rbar.
+  Mat3 frame() const;
+  /// Folds theta into Rbar (theta = 0 afterwards; the frame is unchanged).
+  void rebase();
+};
+
+/// Cell (j-1, j): 12 rows at 6 + 12 (j-1), Jacobian blocks for nodes j-1 and j.
+LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev, const StaticNode& self);
+/// End rows: left at rows 0..5 (node 0), right at rows 12 N + 6 .. (node N).
+LocalBlock static_left_block(const StaticModel& m, const StaticNode& node);
+LocalBlock static_right_block(const StaticModel& m, const StaticNode& node);
+
+/// Straight rod along Rbar^T e3 from r0, at rest and unloaded (kappa = 0, n = 0).
+std::vector<StaticNode> straight_static_state(const StaticModel& m, const Vec3& r0 = Vec3::Zero(),
+                                              const Mat3& R0 = Mat3::Identity());
+
+/// The dynamic state at rest with the same frames, curvature and force (u = omega = 0,
+/// yt = 0; ys by centred differences, one-sided second order at the ends).
+RodState dynamic_state_from_static(const StaticModel& m, const std::vector<StaticNode>& nodes);
+
+}  // namespace traverse::rod

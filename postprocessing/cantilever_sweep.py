@@ -1,0 +1,90 @@
+#!/usr/bin/env python3
+"""Cantilever launch-barrel sweep of the scenes spec: runs inputs/beam/cantilever.yaml for
+mass fractions p in {5, 10, 20, 40} % and speeds v in {10, 50, 100, 200} m/s (with --set,
+no file copies), then draws
+  cantilever_tip_by_speed.png  (a) one panel per v, a curve per mass fraction
+  cantilever_tip_by_mass.png   (b) one panel per mass fraction, a curve per v
+  cantilever_mass.png          deflection under the mass, one panel per v
+all against the beam coordinate x(t) = v t.
+
+Usage: cantilever_sweep.py --traverse BUILD/traverse [--out DIR] [--plot-only] [--modes N]
+"""
+import argparse
+import os
+import subprocess
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import traverse_io  # noqa: E402
+
+FRACTIONS = [0.05, 0.10, 0.20, 0.40]
+SPEEDS = [10.0, 50.0, 100.0, 200.0]
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCENE = os.path.join(HERE, "..", "inputs", "beam", "cantilever.yaml")
+
+
+def run_name(out, p, v):
+    return os.path.join(out, f"cantilever_p{round(100 * p):02d}_v{round(v):03d}.h5")
+
+
+def run_all(exe, out, modes):
+    os.makedirs(out, exist_ok=True)
+    for p in FRACTIONS:
+        for v in SPEEDS:
+            cmd = [exe, "run", SCENE, "-o", run_name(out, p, v), "--overwrite", "-q",
+                   "--set", f"loads.mass.mass_fraction={p}", "--set", f"loads.mass.speed={v}",
+                   "--set", f"beam.modes={modes}", "--set", f"title=cantilever p={p} v={v}"]
+            subprocess.run(cmd, check=True)
+
+
+def curve(run):
+    x = run.probes["mass_position"]
+    on = (x >= 0) & (x <= float(run.s[-1]))
+    return x[on], 1e3 * run.probes["tip"][on], 1e3 * run.probes["mass_deflection"][on]
+
+
+def panels(out, outer, inner, outer_label, inner_label, key, fname, which):
+    fig, axes = plt.subplots(2, 2, figsize=(11, 7.5), sharex=True)
+    for ax, o in zip(axes.flat, outer):
+        for i in inner:
+            p, v = key(o, i)
+            x, tip, mass = curve(traverse_io.load(run_name(out, p, v)))
+            ax.plot(x, tip if which == "tip" else mass, label=inner_label(i))
+        ax.set_title(outer_label(o))
+        ax.grid(True, alpha=0.3)
+        ax.set_ylabel(("tip deflection" if which == "tip" else "deflection under the mass") + " [mm]")
+        ax.legend(fontsize=8)
+    for ax in axes[-1]:
+        ax.set_xlabel("beam coordinate x(t) = v t [m]")
+    fig.tight_layout()
+    path = os.path.join(out, fname)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    print(f"cantilever_sweep: wrote {path}")
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--traverse", help="path of the traverse executable")
+    ap.add_argument("--out", default="out/cantilever")
+    ap.add_argument("--modes", type=int, default=3)
+    ap.add_argument("--plot-only", action="store_true")
+    a = ap.parse_args(argv)
+    if not a.plot_only:
+        if not a.traverse:
+            ap.error("--traverse is required unless --plot-only")
+        run_all(a.traverse, a.out, a.modes)
+    pct = lambda p: f"M = {round(100 * p)} %"  # noqa: E731
+    spd = lambda v: f"v = {v:g} m/s"  # noqa: E731
+    panels(a.out, SPEEDS, FRACTIONS, spd, pct, lambda v, p: (p, v), "cantilever_tip_by_speed.png", "tip")
+    panels(a.out, FRACTIONS, SPEEDS, pct, spd, lambda p, v: (p, v), "cantilever_tip_by_mass.png", "tip")
+    panels(a.out, SPEEDS, FRACTIONS, spd, pct, lambda v, p: (p, v), "cantilever_mass.png", "mass")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,217 @@
+#!/usr/bin/env python3
+"""Read traverse output files (HDF5, layout in docs/output.md). Needs numpy and h5py only.
+
+    import traverse_io
+    out = traverse_io.load("run.h5")              # refuses runs that did not complete
+    out.time, out.sigma, out.s                     # numpy arrays, trimmed to steps_written
+    out.probes["midspan_w"]                        # (steps,) or (steps, components)
+    out.field("r")                                 # (steps, nodes, components)
+    out.field("r", step=-1)                        # (nodes, components), last written step
+    out.units("midspan_w"), out.description("r"), out.components("reaction")
+    out.attrs["status"], out.attrs["scene"]
+
+    out = traverse_io.load("crashed.h5", allow_incomplete=True)   # running / failed runs
+
+Command line: ``python3 traverse_io.py FILE [--check]`` prints a summary (``--check``: exit
+status 2 unless the run's status is "complete").
+"""
+
+import sys
+
+import h5py
+import numpy as np
+
+__all__ = ["load", "TraverseOutput", "IncompleteOutputError", "summary"]
+
+SUPPORTED_FORMAT = 1
+
+
+class IncompleteOutputError(RuntimeError):
+    """The file's status is not "complete" (the run is still going, was killed, or failed)."""
+
+
+def _text(value):
+    if isinstance(value, bytes):
+        return value.decode("utf-8", errors="replace")
+    if isinstance(value, np.ndarray) and value.shape == () and value.dtype.kind in "SO":
+        return _text(value[()])
+    return value
+
+
+def _open(path):
+    # A running or killed writer may leave the file in a state file locking objects to.
+    try:
+        return h5py.File(path, "r", locking=False)
+    except (TypeError, ValueError):
+        return h5py.File(path, "r")
+
+
+class TraverseOutput:
+    """Contents of one traverse output file, trimmed to the completed steps.
+
+    Attributes: path, attrs (dict of root attributes, e.g. status, model, scene, command_line,
+    traverse_version, steps_written), status, steps_written, time [s] (steps,), sigma [m]
+    ((steps,) for one moving load, else (steps, loads)), s [m] (nodes,), probes (dict name ->
+    array), probe_names, field_names, restart (dict name -> array, empty if none valid),
+    restart_time [s] or None.
+    """
+
+    def __init__(self, path):
+        self.path = str(path)
+        self._meta = {}
+        with _open(self.path) as f:
+            self.attrs = {k: _text(v) for k, v in f.attrs.items()}
+            if "steps_written" not in self.attrs or "status" not in self.attrs:
+                raise ValueError(f"{self.path} is not a traverse output file "
+                                 "(no steps_written/status root attributes)")
+            fmt = int(self.attrs.get("traverse_output_format", SUPPORTED_FORMAT))
+            if fmt > SUPPORTED_FORMAT:
+                raise ValueError(f"{self.path} has output format {fmt}; this traverse_io.py "
+                                 f"reads format {SUPPORTED_FORMAT}")
+            self.steps_written = int(self.attrs["steps_written"])
+            self.status = str(self.attrs["status"])
+            n = self.steps_written
+            self.time = self._series(f, "time", n)
+            self.sigma = self._series(f, "sigma", n)
+            self.s = np.asarray(f["mesh/s"][...])
+            self._remember(f, "s", "mesh/s")
+            self.probes = {}
+            for name in sorted(f.get("probes", {})):
+                self.probes[name] = self._series(f, f"probes/{name}", n)
+            self.probe_names = list(self.probes)
+            self.field_names = sorted(f.get("fields", {}))
+            self.field_shapes = {}
+            for name in self.field_names:
+                d = f[f"fields/{name}"]
+                self._remember(f, f"fields/{name}", f"fields/{name}")
+                self.field_shapes[name] = (n,) + tuple(d.shape[1:])
+            self.restart, self.restart_time = {}, None
+            g = f.get("restart")
+            if g is not None and int(g.attrs.get("valid", 0)) == 1:
+                self.restart_time = float(g.attrs["time"])
+                self.restart = {k: np.asarray(g[k][...]) for k in g}
+
+    def _remember(self, f, key, dataset):
+        a = f[dataset].attrs
+        comps = _text(a.get("components", ""))
+        self._meta[key] = {
+            "units": _text(a.get("units", "")),
+            "description": _text(a.get("description", "")),
+            "components": comps.split(",") if comps else [],
+        }
+
+    def _series(self, f, dataset, n):
+        d = f[dataset]
+        if d.shape[0] < n:
+            raise ValueError(f"{self.path}:/{dataset} has {d.shape[0]} rows but "
+                             f"steps_written = {n}")
+        self._remember(f, dataset, dataset)
+        return np.asarray(d[:n])
+
+    def _key(self, name):
+        for key in (name, f"probes/{name}", f"fields/{name}"):
+            if key in self._meta:
+                return key
+        raise KeyError(f"{self.path}: no time series, probe or field named {name!r}")
+
+    def units(self, name):
+        """Units of "time", "sigma", "s", a probe or a field ("probes/x" or "fields/x"
+        when a probe and a field share a name; probes win otherwise)."""
+        return self._meta[self._key(name)]["units"]
+
+    def description(self, name):
+        return self._meta[self._key(name)]["description"]
+
+    def components(self, name):
+        """Component names (list of str, empty if none were given)."""
+        return list(self._meta[self._key(name)]["components"])
+
+    def field(self, name, step=None):
+        """Field values: (steps, nodes, components), or (nodes, components) for one step
+        (negative steps count from the last written one)."""
+        if name not in self.field_shapes:
+            raise KeyError(f"{self.path}: no field {name!r} (fields: {self.field_names})")
+        n = self.steps_written
+        with _open(self.path) as f:
+            d = f[f"fields/{name}"]
+            if step is None:
+                return np.asarray(d[:n])
+            k = step + n if step < 0 else step
+            if not 0 <= k < n:
+                raise IndexError(f"step {step} not written (steps_written = {n})")
+            return np.asarray(d[k])
+
+    def __repr__(self):
+        return (f"TraverseOutput({self.path!r}, status={self.status!r}, "
+                f"steps_written={self.steps_written})")
+
+
+def load(path, allow_incomplete=False):
+    """Reads a traverse output file. Raises IncompleteOutputError if its status is not
+    "complete" unless allow_incomplete=True (then everything up to steps_written is
+    returned, which is all the data a running, killed or failed run completed)."""
+    out = TraverseOutput(path)
+    if out.status != "complete" and not allow_incomplete:
+        raise IncompleteOutputError(
+            f"{out.path}: run status is {out.status!r} ({out.steps_written} steps written), "
+            "not 'complete'; pass allow_incomplete=True to read the written steps anyway")
+    return out
+
+
+def _range(a):
+    return f"{a.min():.6g} .. {a.max():.6g}" if a.size else "(empty)"
+
+
+def summary(out):
+    """A human-readable multi-line summary of a TraverseOutput."""
+    a = out.attrs
+    lines = [
+        f"file:          {out.path}",
+        f"status:        {out.status}",
+        f"model:         {a.get('model', '')}",
+        f"traverse:      {a.get('traverse_version', '')}",
+        f"scene file:    {a.get('scene_file', '')} ({len(a.get('scene', ''))} characters of scene text)",
+        f"command line:  {a.get('command_line', '')}",
+        f"steps written: {out.steps_written}",
+        f"time [{out.units('time')}]:      {_range(out.time)}",
+        f"sigma [{out.units('sigma')}]:     {_range(out.sigma)}  shape {out.sigma.shape}",
+        f"nodes:         {out.s.size}, s [{out.units('s')}] {_range(out.s)}",
+        f"probes ({len(out.probes)}):",
+    ]
+    for name, v in out.probes.items():
+        comps = ",".join(out.components(f"probes/{name}"))
+        lines.append(f"  {name:<20} [{out.units(f'probes/{name}')}] shape {v.shape}"
+                     f"{' (' + comps + ')' if comps else ''}  {out.description(f'probes/{name}')}")
+    lines.append(f"fields ({len(out.field_names)}):")
+    for name in out.field_names:
+        comps = ",".join(out.components(f"fields/{name}"))
+        lines.append(f"  {name:<20} [{out.units(f'fields/{name}')}] shape "
+                     f"{out.field_shapes[name]} ({comps})  {out.description(f'fields/{name}')}")
+    if out.restart_time is not None:
+        lines.append(f"restart:       t = {out.restart_time:.6g} s, arrays "
+                     + ", ".join(f"{k}{v.shape}" for k, v in out.restart.items()))
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    argv = list(sys.argv[1:] if argv is None else argv)
+    check = "--check" in argv
+    files = [x for x in argv if x != "--check"]
+    if len(files) != 1 or any(x.startswith("-") for x in files):
+        print("usage: traverse_io.py FILE [--check]", file=sys.stderr)
+        return 1
+    try:
+        out = load(files[0], allow_incomplete=True)
+    except (OSError, ValueError, KeyError) as e:
+        print(f"traverse_io: cannot read {files[0]}: {e}", file=sys.stderr)
+        return 1
+    print(summary(out))
+    if out.status != "complete":
+        print(f"warning: the run did not complete (status {out.status!r})", file=sys.stderr)
+        if check:
+            return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# traverse set-up on Debian 12 (run as root, or with sudo available):
+#   bash scripts/setup.sh demo   install what is missing, build (Release), run the default
+#                                scene and draw its figure (out/default.h5, out/default.png)
+#   bash scripts/setup.sh test   install what is missing, build, run the whole test suite
+#   bash scripts/setup.sh build  install what is missing and build only
+# Packages: .ci/debian-packages.txt. Build tree: build/ (override with TRAVERSE_BUILD_DIR).
+set -euo pipefail
+mode=${1:-build}
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build=${TRAVERSE_BUILD_DIR:-$here/build}
+jobs=${TRAVERSE_JOBS:-$(nproc 2>/dev/null || echo 2)}
+
+case "$mode" in demo|test|build) ;; *) echo "usage: bash scripts/setup.sh demo|test|build" >&2; exit 2 ;; esac
+
+# 1. Debian packages: install only what is missing; refresh the package lists only then.
+sudo_cmd=""
+if [ "$(id -u)" -ne 0 ]; then sudo_cmd="sudo"; fi
+mapfile -t wanted < <(grep -vE '^\s*(#|$)' "$here/.ci/debian-packages.txt")
+missing=()
+for p in "${wanted[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then missing+=("$p"); fi
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${#missing[@]} missing Debian packages: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo_cmd apt-get update -q
+  $sudo_cmd apt-get install -y -q --no-install-recommends "${missing[@]}"
+fi
+
+# 2. Configure and build (Release).
+cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release
+cmake --build "$build" -j "$jobs"
+
+# 3. Run.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+case "$mode" in
+  demo)
+    mkdir -p "$here/out"
+    "$build/traverse" run "$here/inputs/default.yaml" -o "$here/out/default.h5" --overwrite
+    /usr/bin/python3 "$here/postprocessing/plot_default.py" "$here/out/default.h5" -o "$here/out/default.png"
+    echo "setup: output in out/default.h5, figure in out/default.png"
+    ;;
+  test)
+    cd "$build"
+    ctest --output-on-failure -j "$jobs"
+    ;;
+  build) ;;
+esac

@@ -1,0 +1,89 @@
+#include "cli.hpp"
+
+namespace traverse::app {
+
+std::string usage_text() {
+  return R"(traverse: slender elastic structures under moving loads
+
+Usage:
+  traverse run SCENE.yaml [-o OUT.h5] [--set KEY.PATH=VALUE ...] [--overwrite] [-q] [--progress]
+  traverse check SCENE.yaml [--set KEY.PATH=VALUE ...] [--types]
+  traverse --help | --version
+  mpirun -n K traverse run SCENE.yaml ...      (K MPI ranks)
+
+Commands:
+  run      validate the scene, run it, write the HDF5 output (and its .xmf sidecar)
+  check    validate only and print the complete scene, every default filled in and
+           documented (--types: also list every end-condition, load, probe and section type)
+
+Options:
+  -o, --output FILE   output file (default: the scene's output.file)
+  --set KEY=VALUE     override any scene key, e.g. --set loads.mass.speed=100 (repeatable;
+                      VALUE in YAML syntax, e.g. --set output.fields=[deflection])
+  --overwrite         replace an existing output file
+  -q, --quiet         no progress, no summary
+  --progress          report progress on stderr even when it is not a terminal
+
+Exit codes: 0 success; 2 bad input (scene, overrides, command line, output path);
+            3 the numerics failed; 1 anything else.
+)";
+}
+
+CommandLine parse_command_line(int argc, const char* const* argv) {
+  CommandLine cl;
+  for (int i = 0; i < argc; ++i) cl.invocation += (i ? " " : "") + std::string(argv[i]);
+  if (argc < 2) throw UsageError{"expected a command (run, check, --help or --version), found nothing"};
+  const std::string cmd = argv[1];
+  if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+    cl.command = CommandLine::Command::Help;
+    return cl;
+  }
+  if (cmd == "--version") {
+    cl.command = CommandLine::Command::Version;
+    return cl;
+  }
+  if (cmd == "run") {
+    cl.command = CommandLine::Command::Run;
+  } else if (cmd == "check") {
+    cl.command = CommandLine::Command::Check;
+  } else {
+    throw UsageError{"expected a command (run, check, --help or --version), found '" + cmd + "'"};
+  }
+  const bool run = cl.command == CommandLine::Command::Run;
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    auto value = [&](const std::string& opt) -> std::string {
+      if (i + 1 >= argc) throw UsageError{opt + ": expected a value after it, found nothing"};
+      return argv[++i];
+    };
+    if (a == "--help" || a == "-h") {
+      cl.command = CommandLine::Command::Help;
+      return cl;
+    } else if (a == "--set") {
+      cl.overrides.push_back(value(a));
+    } else if (a.rfind("--set=", 0) == 0) {
+      cl.overrides.push_back(a.substr(6));
+    } else if (run && (a == "-o" || a == "--output")) {
+      cl.output = value(a);
+      if (cl.output.empty()) throw UsageError{a + ": expected a file name, found an empty string"};
+    } else if (run && a == "--overwrite") {
+      cl.overwrite = true;
+    } else if (run && (a == "-q" || a == "--quiet")) {
+      cl.quiet = true;
+    } else if (run && a == "--progress") {
+      cl.progress = true;
+    } else if (!run && a == "--types") {
+      cl.types = true;
+    } else if (!a.empty() && a[0] == '-') {
+      throw UsageError{"'" + cmd + "': unknown option '" + a + "' (see traverse --help)"};
+    } else if (cl.scene.empty()) {
+      cl.scene = a;
+    } else {
+      throw UsageError{"'" + cmd + "': expected one scene file, found a second one '" + a + "'"};
+    }
+  }
+  if (cl.scene.empty()) throw UsageError{"'" + cmd + "': expected a scene file, found none"};
+  return cl;
+}
+
+}  // namespace traverse::app

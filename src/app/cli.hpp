@@ -1,0 +1,38 @@
+#pragma once
+// Command line of the traverse executable.
+#include <string>
+#include <vector>
+
+namespace traverse::app {
+
+/// Exit codes (documented in README.md and `traverse --help`).
+enum ExitCode : int {
+  kSuccess = 0,
+  kOtherError = 1,    ///< anything else (a bug, an unexpected system error)
+  kBadInput = 2,      ///< scene, overrides, command line or output path
+  kNumericsFailed = 3,  ///< non-convergence after the allowed retries
+};
+
+struct CommandLine {
+  enum class Command { Help, Version, Run, Check };
+  Command command = Command::Help;
+  std::string scene;                   ///< scene file
+  std::string output;                  ///< -o (empty: the scene's output.file)
+  std::vector<std::string> overrides;  ///< --set KEY.PATH=VALUE, in order
+  bool overwrite = false;
+  bool quiet = false;
+  bool progress = false;               ///< --progress: report progress even when not a terminal
+  bool types = false;                  ///< check --types: also document every registered type
+  std::string invocation;              ///< the whole command line, for the output file
+};
+
+/// Thrown for a malformed command line (exit code 2).
+struct UsageError {
+  std::string message;
+};
+
+CommandLine parse_command_line(int argc, const char* const* argv);
+
+std::string usage_text();
+
+}  // namespace traverse::app

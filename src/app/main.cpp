@@ -1,0 +1,88 @@
+// traverse: parse the command line, read the scene, dispatch, report.
+#include <mpi.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include "cli.hpp"
+#include "run.hpp"
+#include "traverse/output/output_error.hpp"
+#include "traverse/scene/scene.hpp"
+#include "traverse/version.hpp"
+
+using namespace traverse;
+
+namespace {
+
+int execute(const app::CommandLine& cl, int rank) {
+  using Command = app::CommandLine::Command;
+  switch (cl.command) {
+    case Command::Help:
+      if (rank == 0) std::cout << app::usage_text();
+      return app::kSuccess;
+    case Command::Version:
+      if (rank == 0) std::cout << "traverse " << version_string() << "\n";
+      return app::kSuccess;
+    case Command::Check: {
+      const scene::Scene sc = scene::load_scene(cl.scene, cl.overrides);
+      if (rank == 0) {
+        std::cout << "# " << cl.scene << ": valid. The complete scene, every default filled in:\n"
+                  << scene::describe_scene(sc);
+        if (cl.types) std::cout << "\n" << scene::describe_types();
+      }
+      return app::kSuccess;
+    }
+    case Command::Run: {
+      const scene::Scene sc = scene::load_scene(cl.scene, cl.overrides);
+      app::RunOptions opt;
+      opt.output = cl.output.empty() ? sc.output.file : cl.output;
+      opt.overwrite = cl.overwrite;
+      opt.quiet = cl.quiet;
+      opt.progress = cl.progress;
+      opt.invocation = cl.invocation;
+      switch (sc.model) {
+        case scene::Model::Beam:
+          app::run_beam(sc, opt, MPI_COMM_WORLD);
+          break;
+        default:
+          throw std::logic_error("traverse run: model not handled");
+      }
+      return app::kSuccess;
+    }
+    default:
+      throw std::logic_error("traverse: command not handled");
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  MPI_Init(&argc, &argv);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  int code = app::kSuccess;
+  auto report = [&](const std::string& kind, const std::string& msg) {
+    if (rank == 0) std::cerr << "traverse: " << kind << msg << "\n";
+  };
+  try {
+    code = execute(app::parse_command_line(argc, argv), rank);
+  } catch (const app::UsageError& e) {
+    report("", e.message + "\n(see traverse --help)");
+    code = app::kBadInput;
+  } catch (const scene::SceneError& e) {
+    report("bad scene: ", e.what());
+    code = app::kBadInput;
+  } catch (const output::OutputError& e) {
+    report("bad output path: ", e.what());
+    code = app::kBadInput;
+  } catch (const app::NumericsError& e) {
+    report("numerics failed: ", e.what());
+    code = app::kNumericsFailed;
+  } catch (const std::exception& e) {
+    report("error: ", e.what());
+    code = app::kOtherError;
+  }
+  MPI_Finalize();
+  return code;
+}

@@ -1,0 +1,29 @@
+#pragma once
+// Progress on stderr: position, steps per second and estimated time left, at most once per
+// second, only where enabled (a terminal, or --progress) and never with -q.
+#include <chrono>
+#include <string>
+
+namespace traverse::app {
+
+class Progress {
+ public:
+  /// `what` names the progress variable (e.g. "t"), `units` its units, `total` its end value.
+  Progress(bool enabled, std::string what, std::string units, double start, double total);
+  /// Reports `current` after `steps` steps if a second has passed since the last report.
+  void update(double current, long steps);
+  /// Ends the progress line.
+  void done();
+
+ private:
+  bool enabled_;
+  std::string what_, units_;
+  double start_, total_;
+  std::chrono::steady_clock::time_point begin_, last_;
+  bool printed_ = false;
+};
+
+/// Whether progress should be shown: --progress, or stderr is a terminal; never with -q.
+bool progress_wanted(bool quiet, bool forced);
+
+}  // namespace traverse::app

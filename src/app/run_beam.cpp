@@ -1,0 +1,195 @@
+// Scene -> beam::BeamProblem, then the run with its output.
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "progress.hpp"
+#include "run.hpp"
+#include "traverse/beam/beam_simulation.hpp"
+#include "traverse/output/writer.hpp"
+#include "traverse/version.hpp"
+
+namespace traverse::app {
+
+namespace {
+
+beam::Support support_of(const std::string& s) {
+  if (s == "simply-supported") return beam::Support::SimplySupported;
+  if (s == "clamped-free") return beam::Support::ClampedFree;
+  if (s == "clamped-clamped") return beam::Support::ClampedClamped;
+  if (s == "clamped-pinned") return beam::Support::ClampedPinned;
+  throw std::logic_error("run_beam: unknown supports " + s);
+}
+
+// Time at which a load that entered at entry_time has travelled the whole beam, or +inf.
+double exit_time(const scene::MovingLoadSpec& l, double length) {
+  const double v = l.speed, a = l.acceleration;
+  if (a == 0.0) return v > 0.0 ? l.entry_time + length / v : std::numeric_limits<double>::infinity();
+  const double disc = v * v + 2.0 * a * length;
+  if (disc < 0.0) return std::numeric_limits<double>::infinity();
+  return l.entry_time + (std::sqrt(disc) - v) / a;
+}
+
+}  // namespace
+
+void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  const auto& b = sc.beam;
+  const scene::CheckContext where(sc.file, "", &sc.tree.marks);
+
+  beam::BeamProblem p;
+  p.length = b.length;
+  p.EI = b.youngs_modulus * b.section.second_moment;
+  p.rhoA = b.density * b.section.area;
+  p.support = support_of(b.supports);
+  p.n_modes = b.modes;
+  p.quadrature_nodes.resize(static_cast<size_t>(sc.mesh.nodes));
+  for (int j = 0; j < sc.mesh.nodes; ++j) p.quadrature_nodes[static_cast<size_t>(j)] = j * sc.mesh.ds;
+  p.quadrature_nodes.back() = b.length;
+  p.gauss_points = b.quadrature_points;
+  p.gravity = sc.gravity;
+  p.self_weight = true;
+  p.initial_state = beam::InitialState::Static;
+
+  double t_end = 0.0, v_max = 0.0;
+  for (const auto& l : sc.loads) {
+    beam::MovingLoad m;
+    m.kind = l.inertia ? beam::LoadKind::Mass : beam::LoadKind::Force;
+    m.mass = l.mass;
+    if (!l.inertia) m.force = -l.force;  // downward
+    m.entry = l.entry == "left" ? beam::BeamEnd::Left : beam::BeamEnd::Right;
+    m.direction = l.entry == "left" ? +1 : -1;
+    m.speed = l.speed;
+    m.acceleration = l.acceleration;
+    m.entry_time = l.entry_time;
+    p.loads.push_back(m);
+    const double te = exit_time(l, b.length);
+    if (sc.time.end_auto && !std::isfinite(te))
+      where.fail("time.end", "a number: with 'auto' every load must leave the beam, but load '" + l.name +
+                 "' stops before it does", "auto");
+    t_end = std::max(t_end, te);
+    v_max = std::max(v_max, std::max(l.speed, std::abs(l.speed + l.acceleration * (te - l.entry_time))));
+  }
+  p.t_start = 0.0;
+  p.t_end = sc.time.end_auto ? t_end : sc.time.end;
+  if (sc.time.dt_auto) {
+    const beam::UniformModes modes(p.support, p.n_modes, p.length, p.EI, p.rhoA);
+    const double omega_max = modes.circular_frequencies().maxCoeff();
+    double dt = 2.0 * constants::pi / omega_max / 20.0;
+    if (v_max > 0.0) dt = std::min(dt, sc.mesh.ds / v_max);
+    p.dt = dt;
+  } else {
+    p.dt = sc.time.dt;
+  }
+  p.integrator = sc.time.integrator == "newmark" ? beam::Integrator::Newmark : beam::Integrator::RK4;
+  p.output_every = sc.output.every;
+
+  // Output: nodes split over the ranks in contiguous ranges (the beam itself is solved,
+  // replicated, on every rank: it is a small dense system).
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  const size_t n_nodes = static_cast<size_t>(sc.mesh.nodes);
+  output::NodeLayout layout;
+  layout.global_count = n_nodes;
+  layout.first = n_nodes * static_cast<size_t>(rank) / static_cast<size_t>(ranks);
+  layout.count = n_nodes * static_cast<size_t>(rank + 1) / static_cast<size_t>(ranks) - layout.first;
+  for (size_t k = 0; k < layout.count; ++k) layout.s.push_back(p.quadrature_nodes[layout.first + k]);
+
+  output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "beam"};
+  output::Writer writer(comm, opt.output, opt.overwrite, info, layout, std::max<size_t>(1, sc.loads.size()));
+
+  for (const auto& pr : sc.output.probes)
+    writer.add_probe({pr.name, 1, "m", "transverse deflection w (positive up, +j) at x = " +
+                                           scene::format_number(pr.at) + " m", {}});
+  for (const auto& l : sc.loads) {
+    writer.add_probe({l.name + "_position", 1, "m", "position x(t) of load '" + l.name + "' along the beam", {}});
+    writer.add_probe({l.name + "_deflection", 1, "m",
+                      "deflection w(x(t), t) under load '" + l.name + "' (NaN while it is off the beam)", {}});
+  }
+  bool want_w = false, want_slope = false, want_moment = false;
+  for (const auto& f : sc.output.fields) {
+    if (f == "deflection") want_w = true;
+    else if (f == "slope") want_slope = true;
+    else if (f == "bending_moment") want_moment = true;
+    else throw std::logic_error("run_beam: unknown field " + f);
+  }
+  if (want_w) {
+    writer.add_field({"deflection", 1, "m", "transverse deflection w (positive up, +j)", {"w"}, false});
+    writer.add_field({"position", 3, "m", "deformed position (0, w, x) for plotting", {"x", "y", "z"}, true});
+  }
+  if (want_slope) writer.add_field({"slope", 1, "1", "slope dw/dx", {"w_x"}, false});
+  if (want_moment) writer.add_field({"bending_moment", 1, "N m", "bending moment E I d2w/dx2", {"M"}, false});
+
+  beam::BeamSimulation sim(p);
+  const size_t nl = sc.loads.size();
+  std::vector<std::vector<double>> probes(sc.output.probes.size() + 2 * nl, std::vector<double>(1));
+  std::vector<std::vector<double>> fields;
+  if (want_w) fields.emplace_back(layout.count), fields.emplace_back(3 * layout.count);
+  if (want_slope) fields.emplace_back(layout.count);
+  if (want_moment) fields.emplace_back(layout.count);
+  std::vector<double> sigma(std::max<size_t>(1, nl), std::numeric_limits<double>::quiet_NaN());
+  const Eigen::Index n = sim.modes().size();
+  VecX phi(n), dphi(n), ddphi(n);
+
+  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end);
+  long outputs = 0;
+  auto observe = [&](const beam::BeamSnapshot& s) {
+    if (!s.Y.allFinite() || !s.Ydot.allFinite()) {
+      std::ostringstream os;
+      os << "beam solver: the modal state is not finite at t = " << s.t << " s (after " << sim.steps_taken()
+         << " steps of dt = " << p.dt << " s with " << sc.time.integrator
+         << "); reduce time.dt or use time.integrator: newmark";
+      throw NumericsError(os.str());
+    }
+    size_t k = 0;
+    for (const auto& pr : sc.output.probes) probes[k++][0] = s.deflection(pr.at);
+    for (size_t i = 0; i < nl; ++i) {
+      sigma[i] = s.load_position(i);
+      probes[k++][0] = s.load_position(i);
+      probes[k++][0] = s.load_deflection(i);
+    }
+    size_t f = 0;
+    if (want_w) {
+      auto& w = fields[f++];
+      auto& pos = fields[f++];
+      for (size_t j = 0; j < layout.count; ++j) {
+        w[j] = s.deflection(layout.s[j]);
+        pos[3 * j] = 0.0;
+        pos[3 * j + 1] = w[j];
+        pos[3 * j + 2] = layout.s[j];
+      }
+    }
+    if (want_slope) {
+      auto& v = fields[f++];
+      for (size_t j = 0; j < layout.count; ++j) v[j] = s.slope(layout.s[j]);
+    }
+    if (want_moment) {
+      auto& v = fields[f++];
+      for (size_t j = 0; j < layout.count; ++j) {
+        sim.modes().evaluate(layout.s[j], phi, dphi, ddphi);
+        v[j] = p.EI * ddphi.dot(s.Y);
+      }
+    }
+    std::vector<output::DoubleView> views(fields.begin(), fields.end());
+    writer.write_step(s.t, sigma, probes, views);
+    ++outputs;
+    progress.update(s.t, sim.steps_taken());
+  };
+  try {
+    sim.run(observe);
+  } catch (const NumericsError& e) {
+    progress.done();
+    writer.fail(e.what());
+    throw;
+  }
+  progress.done();
+  writer.finish();
+  if (rank == 0 && !opt.quiet) {
+    std::printf("beam scene '%s': %d modes, %ld steps of dt = %.4g s (%s) to t = %.6g s; %ld output steps -> %s\n",
+                sc.file.c_str(), b.modes, sim.steps_taken(), p.dt, sc.time.integrator.c_str(), p.t_end, outputs,
+                opt.output.c_str());
+  }
+}
+
+}  // namespace traverse::app

@@ -1,0 +1,692 @@
+#include "traverse/output/writer.hpp"
+
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <utility>
+
+#include "hdf5_handle.hpp"
+#include "xdmf.hpp"
+
+namespace traverse::output {
+
+using detail::check;
+using detail::check_id;
+using detail::Handle;
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr hsize_t unlimited = H5S_UNLIMITED;
+
+/// All ranks learn whether every rank is fine; if not, all throw the message of the lowest
+/// failing rank.
+void agree(MPI_Comm comm, bool ok, const std::string& message) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  int failing = ok ? size : rank;
+  int first_failing = size;
+  MPI_Allreduce(&failing, &first_failing, 1, MPI_INT, MPI_MIN, comm);
+  if (first_failing == size) return;
+  std::string text = rank == first_failing ? message : std::string();
+  unsigned long len = text.size();
+  MPI_Bcast(&len, 1, MPI_UNSIGNED_LONG, first_failing, comm);
+  text.resize(len);
+  MPI_Bcast(text.data(), static_cast<int>(len), MPI_CHAR, first_failing, comm);
+  throw OutputError(text);
+}
+
+/// Rank-0 check of the output location; empty string when fine.
+std::string check_location(const std::string& path, const std::string& xmf, bool overwrite) {
+  const fs::path p(path);
+  if (p.filename().empty()) return "output path '" + path + "' names a folder, not a file";
+  const fs::path parent = p.parent_path().empty() ? fs::path(".") : p.parent_path();
+  struct stat st {};
+  if (stat(parent.c_str(), &st) != 0) {
+    if (errno == ENOTDIR)
+      return "output folder '" + parent.string() + "' of '" + path +
+             "' is not a folder (a path component is a file)";
+    return "output folder '" + parent.string() + "' of '" + path +
+           "' does not exist: " + std::strerror(errno);
+  }
+  if (!S_ISDIR(st.st_mode))
+    return "output folder '" + parent.string() + "' of '" + path + "' is not a folder";
+  if (access(parent.c_str(), W_OK | X_OK) != 0)
+    return "output folder '" + parent.string() + "' is not writable: " + std::strerror(errno);
+  for (const std::string& f : {path, xmf}) {
+    if (stat(f.c_str(), &st) == 0) {
+      if (S_ISDIR(st.st_mode)) return "output path '" + f + "' is an existing folder";
+      if (!overwrite)
+        return "output file '" + f +
+               "' already exists; refusing to overwrite it (pass --overwrite to replace it, "
+               "or choose another output path)";
+      if (access(f.c_str(), W_OK) != 0)
+        return "output file '" + f + "' exists and is not writable: " + std::strerror(errno);
+    }
+  }
+  return {};
+}
+
+std::string sidecar_path(const std::string& path) {
+  fs::path p(path);
+  p.replace_extension(".xmf");
+  return p.string();
+}
+
+struct Series1 {
+  std::string name;
+  std::size_t components = 1;
+  Handle dataset;
+  bool matrix = false;  // rank-2 dataset (steps, components) instead of (steps,)
+};
+
+struct Field1 {
+  FieldSpec spec;
+  Handle dataset;
+};
+
+Handle create_group(hid_t loc, const std::string& name) {
+  return detail::group_handle(check_id(
+      H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "H5Gcreate2",
+      "group " + name));
+}
+
+/// Creates a chunked dataset of doubles with an unlimited first dimension of extent 0.
+Handle create_extendible(hid_t loc, const std::string& name, const std::vector<hsize_t>& tail,
+                         const std::vector<hsize_t>& chunk) {
+  std::vector<hsize_t> dims{0}, maxdims{unlimited};
+  for (hsize_t d : tail) {
+    dims.push_back(d);
+    maxdims.push_back(d);
+  }
+  Handle space = detail::space_handle(check_id(
+      H5Screate_simple(static_cast<int>(dims.size()), dims.data(), maxdims.data()),
+      "H5Screate_simple", name));
+  Handle dcpl = detail::plist_handle(check_id(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate", name));
+  check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), "H5Pset_chunk",
+        name);
+  check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), "H5Pset_fill_time", name);
+  return detail::dataset_handle(check_id(H5Dcreate2(loc, name.c_str(), H5T_IEEE_F64LE, space.get(),
+                                                    H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+                                         "H5Dcreate2", name));
+}
+
+/// Creates a fixed-size contiguous dataset.
+Handle create_fixed(hid_t loc, const std::string& name, hid_t type,
+                    const std::vector<hsize_t>& dims) {
+  Handle space = detail::space_handle(
+      check_id(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr),
+               "H5Screate_simple", name));
+  Handle dcpl = detail::plist_handle(check_id(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate", name));
+  check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), "H5Pset_fill_time", name);
+  return detail::dataset_handle(check_id(
+      H5Dcreate2(loc, name.c_str(), type, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+      "H5Dcreate2", name));
+}
+
+/// Collective write of the block start/count of `dataset` (whose current extent is used);
+/// `local` false: this rank contributes nothing.
+void write_block(hid_t dataset, hid_t dxpl, hid_t memtype, const std::vector<hsize_t>& start,
+                 const std::vector<hsize_t>& count, const void* data, bool local,
+                 const std::string& what) {
+  Handle fspace = detail::space_handle(check_id(H5Dget_space(dataset), "H5Dget_space", what));
+  hsize_t n = 1;
+  for (hsize_t c : count) n *= c;
+  if (!local || n == 0) {
+    check(H5Sselect_none(fspace.get()), "H5Sselect_none", what);
+    const hsize_t one = 1;
+    Handle mspace = detail::space_handle(
+        check_id(H5Screate_simple(1, &one, nullptr), "H5Screate_simple", what));
+    check(H5Sselect_none(mspace.get()), "H5Sselect_none", what);
+    static const double dummy = 0.0;
+    check(H5Dwrite(dataset, memtype, mspace.get(), fspace.get(), dxpl, &dummy), "H5Dwrite", what);
+    return;
+  }
+  check(H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
+                            nullptr),
+        "H5Sselect_hyperslab", what);
+  Handle mspace =
+      detail::space_handle(check_id(H5Screate_simple(1, &n, nullptr), "H5Screate_simple", what));
+  check(H5Dwrite(dataset, memtype, mspace.get(), fspace.get(), dxpl, data), "H5Dwrite", what);
+}
+
+void write_meta(hid_t obj, const std::string& units, const std::string& description) {
+  detail::write_string_attribute(obj, "units", units);
+  detail::write_string_attribute(obj, "description", description);
+}
+
+std::vector<std::string> default_component_names(std::size_t n) {
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < n; ++i) names.push_back(std::to_string(i));
+  return names;
+}
+
+hsize_t series_chunk_rows(std::size_t components) {
+  return static_cast<hsize_t>(std::clamp<std::size_t>(32768 / std::max<std::size_t>(components, 1), 1, 256));
+}
+
+enum class State { running, finished, failed, closed };
+
+}  // namespace
+
+struct Writer::Impl {
+  MPI_Comm comm = MPI_COMM_NULL;
+  int rank = 0;
+  int size = 1;
+  std::string path, xmf_path;
+  NodeLayout nodes;
+  std::size_t moving_loads = 1;
+  Handle dxpl;
+  Handle file;
+  Handle time_ds, sigma_ds;
+  Handle probes_group, fields_group;
+  std::vector<Series1> probes;
+  std::vector<Field1> fields;
+  std::size_t steps = 0;
+  std::vector<double> times;
+  State state = State::running;
+
+  void flush() { check(H5Fflush(file.get(), H5F_SCOPE_LOCAL), "H5Fflush", path); }
+  void set_status(const std::string& status) {
+    detail::write_string_attribute(file.get(), "status", status);
+    flush();
+  }
+  void require_open(const char* what) const {
+    if (state == State::closed || !file.valid())
+      throw OutputError(std::string("output ") + what + " on a closed output file " + path);
+  }
+  void write_xdmf();
+  void append(hid_t dataset, std::size_t components, bool matrix, const double* row,
+              const std::string& what);
+  void close_all() noexcept;
+};
+
+void Writer::Impl::append(hid_t dataset, std::size_t components, bool matrix, const double* row,
+                          const std::string& what) {
+  std::vector<hsize_t> dims{static_cast<hsize_t>(steps + 1)};
+  if (matrix) dims.push_back(components);
+  check(H5Dset_extent(dataset, dims.data()), "H5Dset_extent", what);
+  std::vector<hsize_t> start{static_cast<hsize_t>(steps)}, count{1};
+  if (matrix) {
+    start.push_back(0);
+    count.push_back(components);
+  }
+  write_block(dataset, dxpl.get(), H5T_NATIVE_DOUBLE, start, count, row, rank == 0, what);
+}
+
+void Writer::Impl::write_xdmf() {
+  std::string error;
+  if (rank == 0) {
+    try {
+      detail::XdmfModel m;
+      m.h5_name = fs::path(path).filename().string();
+      m.nodes = nodes.global_count;
+      m.times = times;
+      for (std::size_t i = 0; i < fields.size(); ++i) {
+        const FieldSpec& f = fields[i].spec;
+        m.fields.push_back({f.name, f.components, f.component_names});
+        if (f.geometry) m.geometry_field = static_cast<int>(i);
+      }
+      if (m.geometry_field < 0)
+        for (std::size_t i = 0; i < fields.size(); ++i)
+          if (fields[i].spec.name == "r" && fields[i].spec.components == 3)
+            m.geometry_field = static_cast<int>(i);
+      detail::replace_file(xmf_path, detail::xdmf_document(m));
+    } catch (const std::exception& e) {
+      error = e.what();
+      if (error.empty()) error = "cannot write " + xmf_path;
+    }
+  }
+  agree(comm, error.empty(), error);
+}
+
+void Writer::Impl::close_all() noexcept {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  Handle* handles[] = {&time_ds, &sigma_ds, &probes_group, &fields_group};
+  if (finalized) {
+    // MPI_Finalize has shut HDF5 down; the identifiers are stale.
+    for (Handle* h : handles) h->release();
+    for (auto& p : probes) p.dataset.release();
+    for (auto& f : fields) f.dataset.release();
+    dxpl.release();
+    file.release();
+    comm = MPI_COMM_NULL;
+    state = State::closed;
+    return;
+  }
+  for (Handle* h : handles) h->reset();
+  for (auto& p : probes) p.dataset.reset();
+  for (auto& f : fields) f.dataset.reset();
+  dxpl.reset();
+  file.reset();
+  if (comm != MPI_COMM_NULL) MPI_Comm_free(&comm);
+  state = State::closed;
+}
+
+Writer::Writer(MPI_Comm comm, const std::string& path, bool overwrite, const RunInfo& info,
+               const NodeLayout& nodes, std::size_t moving_loads)
+    : impl_(std::make_unique<Impl>()) {
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (!initialized) throw OutputError("traverse::output::Writer needs MPI to be initialised");
+  detail::silence_hdf5_errors();
+  Impl& w = *impl_;
+  if (MPI_Comm_dup(comm, &w.comm) != MPI_SUCCESS)
+    throw OutputError("output: MPI_Comm_dup failed for " + path);
+  MPI_Comm_rank(w.comm, &w.rank);
+  MPI_Comm_size(w.comm, &w.size);
+  w.path = path;
+  w.xmf_path = sidecar_path(path);
+  w.nodes = nodes;
+  w.moving_loads = moving_loads;
+
+  try {
+    // Arguments, then the node layout (all ranks see all ranges).
+    std::string bad;
+    if (moving_loads < 1) bad = "output: moving_loads must be at least 1";
+    else if (nodes.global_count < 1) bad = "output: the structure needs at least one node";
+    else if (nodes.s.size() != nodes.count)
+      bad = "output: NodeLayout.s has " + std::to_string(nodes.s.size()) + " values for " +
+            std::to_string(nodes.count) + " local nodes";
+    else if (nodes.first + nodes.count > nodes.global_count)
+      bad = "output: local node range exceeds the global node count";
+    agree(w.comm, bad.empty(), bad);
+    std::vector<unsigned long long> ranges(2 * static_cast<std::size_t>(w.size));
+    const unsigned long long mine[2] = {nodes.first, nodes.count};
+    MPI_Allgather(mine, 2, MPI_UNSIGNED_LONG_LONG, ranges.data(), 2, MPI_UNSIGNED_LONG_LONG,
+                  w.comm);
+    std::vector<std::pair<unsigned long long, unsigned long long>> sorted;
+    for (int r = 0; r < w.size; ++r)
+      if (ranges[2 * r + 1] > 0) sorted.emplace_back(ranges[2 * r], ranges[2 * r + 1]);
+    std::sort(sorted.begin(), sorted.end());
+    unsigned long long next = 0;
+    for (const auto& [first, count] : sorted) {
+      if (first != next) {
+        bad = "output: the ranks' node ranges do not tile 0.." +
+              std::to_string(nodes.global_count - 1) + " (gap or overlap at node " +
+              std::to_string(std::min(first, next)) + ")";
+        break;
+      }
+      next = first + count;
+    }
+    if (bad.empty() && next != nodes.global_count)
+      bad = "output: the ranks' node ranges cover " + std::to_string(next) + " of " +
+            std::to_string(nodes.global_count) + " nodes";
+    if (!bad.empty()) throw OutputError(bad);  // identical on all ranks
+
+    // The location: decided on rank 0, broadcast.
+    std::string location_error;
+    if (w.rank == 0) location_error = check_location(path, w.xmf_path, overwrite);
+    unsigned long len = location_error.size();
+    MPI_Bcast(&len, 1, MPI_UNSIGNED_LONG, 0, w.comm);
+    location_error.resize(len);
+    MPI_Bcast(location_error.data(), static_cast<int>(len), MPI_CHAR, 0, w.comm);
+    if (!location_error.empty()) throw OutputError(location_error);
+
+    // File access: MPI-IO, collective metadata, 1.8 file format (readable by HDF5 >= 1.8,
+    // dense attribute storage for long attributes such as the scene text).
+    Handle fapl = detail::plist_handle(check_id(H5Pcreate(H5P_FILE_ACCESS), "H5Pcreate", path));
+    check(H5Pset_fapl_mpio(fapl.get(), w.comm, MPI_INFO_NULL), "H5Pset_fapl_mpio", path);
+    check(H5Pset_all_coll_metadata_ops(fapl.get(), 1), "H5Pset_all_coll_metadata_ops", path);
+    check(H5Pset_coll_metadata_write(fapl.get(), 1), "H5Pset_coll_metadata_write", path);
+    check(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V18),
+          "H5Pset_libver_bounds", path);
+    Handle fcpl = detail::plist_handle(check_id(H5Pcreate(H5P_FILE_CREATE), "H5Pcreate", path));
+    check(H5Pset_attr_phase_change(fcpl.get(), 0, 0), "H5Pset_attr_phase_change", path);
+    w.file = detail::file_handle(check_id(
+        H5Fcreate(path.c_str(), overwrite ? H5F_ACC_TRUNC : H5F_ACC_EXCL, fcpl.get(), fapl.get()),
+        "H5Fcreate", path));
+    w.dxpl = detail::plist_handle(check_id(H5Pcreate(H5P_DATASET_XFER), "H5Pcreate", path));
+    check(H5Pset_dxpl_mpio(w.dxpl.get(), H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio", path);
+
+    const hid_t root = w.file.get();
+    detail::write_string_attribute(root, "status", "running");
+    detail::write_int_attribute(root, "steps_written", 0);
+    detail::write_int_attribute(root, "traverse_output_format", file_format_version);
+    detail::write_string_attribute(root, "traverse_version", info.version);
+    detail::write_string_attribute(root, "command_line", info.command_line);
+    detail::write_string_attribute(root, "scene", info.scene_text);
+    detail::write_string_attribute(root, "scene_file", info.scene_file);
+    detail::write_string_attribute(root, "model", info.model);
+
+    // /time, /sigma
+    w.time_ds = create_extendible(root, "time", {}, {series_chunk_rows(1)});
+    write_meta(w.time_ds.get(), "s", "simulated time of each output step");
+    if (moving_loads == 1)
+      w.sigma_ds = create_extendible(root, "sigma", {}, {series_chunk_rows(1)});
+    else
+      w.sigma_ds = create_extendible(root, "sigma", {moving_loads},
+                                     {series_chunk_rows(moving_loads), moving_loads});
+    write_meta(w.sigma_ds.get(), "m",
+               "position of each moving load along the structure (arclength s)");
+    if (moving_loads > 1)
+      detail::write_string_attribute(w.sigma_ds.get(), "components",
+                                     detail::join(default_component_names(moving_loads), ','));
+
+    // /mesh: arclength, reference positions (0, 0, s), polyline segments.
+    Handle mesh = create_group(root, "mesh");
+    const hsize_t n = nodes.global_count;
+    const bool has_local = nodes.count > 0;
+    {
+      Handle s = create_fixed(mesh.get(), "s", H5T_IEEE_F64LE, {n});
+      write_meta(s.get(), "m", "arclength of the nodes along the undeformed structure");
+      write_block(s.get(), w.dxpl.get(), H5T_NATIVE_DOUBLE, {nodes.first}, {nodes.count},
+                  nodes.s.data(), has_local, "/mesh/s");
+    }
+    {
+      std::vector<double> xyz(3 * nodes.count, 0.0);
+      for (std::size_t i = 0; i < nodes.count; ++i) xyz[3 * i + 2] = nodes.s[i];
+      Handle p = create_fixed(mesh.get(), "position", H5T_IEEE_F64LE, {n, 3});
+      write_meta(p.get(), "m",
+                 "reference node positions (0, 0, s) used by the XDMF sidecar when no "
+                 "geometry field is written");
+      detail::write_string_attribute(p.get(), "components", "x,y,z");
+      write_block(p.get(), w.dxpl.get(), H5T_NATIVE_DOUBLE, {nodes.first, 0}, {nodes.count, 3},
+                  xyz.data(), has_local, "/mesh/position");
+    }
+    {
+      const std::size_t last_seg = static_cast<std::size_t>(n) - 1;  // segments 0..n-2
+      const std::size_t seg_first = std::min(nodes.first, last_seg);
+      const std::size_t seg_end = std::min(nodes.first + nodes.count, last_seg);
+      std::vector<int> seg;
+      for (std::size_t i = seg_first; i < seg_end; ++i) {
+        seg.push_back(static_cast<int>(i));
+        seg.push_back(static_cast<int>(i + 1));
+      }
+      Handle g = create_fixed(mesh.get(), "segments", H5T_STD_I32LE, {n - 1, 2});
+      detail::write_string_attribute(g.get(), "description",
+                                     "node pairs (i, i+1) of the polyline, for the XDMF sidecar");
+      write_block(g.get(), w.dxpl.get(), H5T_NATIVE_INT, {seg_first, 0}, {seg_end - seg_first, 2},
+                  seg.data(), seg_end > seg_first, "/mesh/segments");
+    }
+    w.probes_group = create_group(root, "probes");
+    w.fields_group = create_group(root, "fields");
+    w.flush();
+    w.write_xdmf();
+  } catch (...) {
+    w.close_all();
+    throw;
+  }
+}
+
+Writer::~Writer() {
+  if (!impl_) return;
+  try {
+    int finalized = 0;
+    MPI_Finalized(&finalized);
+    if (!finalized && impl_->state == State::running && impl_->file.valid())
+      impl_->set_status("failed: output closed before finish() or fail()");
+  } catch (...) {
+  }
+  impl_->close_all();
+}
+
+Writer::Writer(Writer&&) noexcept = default;
+Writer& Writer::operator=(Writer&& other) noexcept {
+  if (this != &other) {
+    Writer old(std::move(*this));  // closes the current file, if any
+    impl_ = std::move(other.impl_);
+  }
+  return *this;
+}
+
+std::size_t Writer::add_probe(const ProbeSpec& spec) {
+  Impl& w = *impl_;
+  w.require_open("add_probe");
+  std::string bad;
+  if (w.steps > 0 || w.state != State::running)
+    bad = "output: probe '" + spec.name + "' added after the first output step";
+  else if (!detail::valid_name(spec.name))
+    bad = "output: invalid probe name '" + spec.name + "' (use letters, digits, '_', '.', '-')";
+  else if (spec.components < 1)
+    bad = "output: probe '" + spec.name + "' needs at least one component";
+  else if (!spec.component_names.empty() && spec.component_names.size() != spec.components)
+    bad = "output: probe '" + spec.name + "' has " + std::to_string(spec.component_names.size()) +
+          " component names for " + std::to_string(spec.components) + " components";
+  for (const auto& c : spec.component_names)
+    if (bad.empty() && !detail::valid_name(c))
+      bad = "output: invalid component name '" + c + "' of probe '" + spec.name + "'";
+  for (const auto& p : w.probes)
+    if (bad.empty() && p.name == spec.name) bad = "output: duplicate probe '" + spec.name + "'";
+  if (!bad.empty()) throw OutputError(bad);  // replicated arguments: all ranks agree
+
+  Series1 p;
+  p.name = spec.name;
+  p.components = spec.components;
+  p.matrix = spec.components > 1;
+  const std::string what = "/probes/" + spec.name;
+  if (p.matrix)
+    p.dataset = create_extendible(w.probes_group.get(), spec.name, {spec.components},
+                                  {series_chunk_rows(spec.components), spec.components});
+  else
+    p.dataset = create_extendible(w.probes_group.get(), spec.name, {}, {series_chunk_rows(1)});
+  write_meta(p.dataset.get(), spec.units, spec.description);
+  if (!spec.component_names.empty())
+    detail::write_string_attribute(p.dataset.get(), "components",
+                                   detail::join(spec.component_names, ','));
+  w.probes.push_back(std::move(p));
+  return w.probes.size() - 1;
+}
+
+std::size_t Writer::add_field(const FieldSpec& spec) {
+  Impl& w = *impl_;
+  w.require_open("add_field");
+  std::string bad;
+  if (w.steps > 0 || w.state != State::running)
+    bad = "output: field '" + spec.name + "' added after the first output step";
+  else if (!detail::valid_name(spec.name))
+    bad = "output: invalid field name '" + spec.name + "' (use letters, digits, '_', '.', '-')";
+  else if (spec.components < 1)
+    bad = "output: field '" + spec.name + "' needs at least one component";
+  else if (!spec.component_names.empty() && spec.component_names.size() != spec.components)
+    bad = "output: field '" + spec.name + "' has " + std::to_string(spec.component_names.size()) +
+          " component names for " + std::to_string(spec.components) + " components";
+  else if (spec.geometry && spec.components != 3)
+    bad = "output: geometry field '" + spec.name + "' must have 3 components (x, y, z)";
+  for (const auto& c : spec.component_names)
+    if (bad.empty() && !detail::valid_name(c))
+      bad = "output: invalid component name '" + c + "' of field '" + spec.name + "'";
+  for (const auto& f : w.fields) {
+    if (bad.empty() && f.spec.name == spec.name) bad = "output: duplicate field '" + spec.name + "'";
+    if (bad.empty() && f.spec.geometry && spec.geometry)
+      bad = "output: two geometry fields ('" + f.spec.name + "', '" + spec.name + "')";
+  }
+  if (!bad.empty()) throw OutputError(bad);
+
+  Field1 f;
+  f.spec = spec;
+  if (f.spec.component_names.empty()) f.spec.component_names = default_component_names(spec.components);
+  const hsize_t n = w.nodes.global_count;
+  const hsize_t node_chunk =
+      std::min<hsize_t>(n, std::max<hsize_t>(1, 65536 / static_cast<hsize_t>(spec.components)));
+  f.dataset = create_extendible(w.fields_group.get(), spec.name, {n, spec.components},
+                                {1, node_chunk, spec.components});
+  write_meta(f.dataset.get(), spec.units, spec.description);
+  detail::write_string_attribute(f.dataset.get(), "components",
+                                 detail::join(f.spec.component_names, ','));
+  if (spec.geometry) detail::write_int_attribute(f.dataset.get(), "geometry", 1);
+  w.fields.push_back(std::move(f));
+  return w.fields.size() - 1;
+}
+
+void Writer::write_step(double time, const std::vector<double>& sigma,
+                        const std::vector<std::vector<double>>& probes,
+                        const std::vector<DoubleView>& fields) {
+  Impl& w = *impl_;
+  w.require_open("write_step");
+  std::string bad;
+  if (w.state != State::running)
+    bad = "output: write_step after finish() or fail() on " + w.path;
+  else if (sigma.size() != w.moving_loads)
+    bad = "output: write_step got " + std::to_string(sigma.size()) + " load positions for " +
+          std::to_string(w.moving_loads) + " moving loads";
+  else if (probes.size() != w.probes.size())
+    bad = "output: write_step got " + std::to_string(probes.size()) + " probe values for " +
+          std::to_string(w.probes.size()) + " probes";
+  else if (fields.size() != w.fields.size())
+    bad = "output: write_step got " + std::to_string(fields.size()) + " fields for " +
+          std::to_string(w.fields.size()) + " declared fields";
+  for (std::size_t i = 0; bad.empty() && i < probes.size(); ++i)
+    if (probes[i].size() != w.probes[i].components)
+      bad = "output: probe '" + w.probes[i].name + "' got " + std::to_string(probes[i].size()) +
+            " values for " + std::to_string(w.probes[i].components) + " components";
+  for (std::size_t j = 0; bad.empty() && j < fields.size(); ++j) {
+    const std::size_t want = w.nodes.count * w.fields[j].spec.components;
+    if (fields[j].size != want || (want > 0 && fields[j].data == nullptr))
+      bad = "output: field '" + w.fields[j].spec.name + "' got " + std::to_string(fields[j].size) +
+            " values on rank " + std::to_string(w.rank) + ", expected " + std::to_string(want) +
+            " (local nodes x components)";
+  }
+  agree(w.comm, bad.empty(), bad);
+
+  // 1. data of step `steps` (the extents grow by one; steps_written does not yet).
+  w.append(w.time_ds.get(), 1, false, &time, "/time");
+  w.append(w.sigma_ds.get(), w.moving_loads, w.moving_loads > 1, sigma.data(), "/sigma");
+  for (std::size_t i = 0; i < probes.size(); ++i)
+    w.append(w.probes[i].dataset.get(), w.probes[i].components, w.probes[i].matrix,
+             probes[i].data(), "/probes/" + w.probes[i].name);
+  for (std::size_t j = 0; j < fields.size(); ++j) {
+    const Field1& f = w.fields[j];
+    const std::string what = "/fields/" + f.spec.name;
+    const hsize_t dims[3] = {static_cast<hsize_t>(w.steps + 1), w.nodes.global_count,
+                             f.spec.components};
+    check(H5Dset_extent(f.dataset.get(), dims), "H5Dset_extent", what);
+    write_block(f.dataset.get(), w.dxpl.get(), H5T_NATIVE_DOUBLE, {w.steps, w.nodes.first, 0},
+                {1, w.nodes.count, f.spec.components}, fields[j].data, w.nodes.count > 0, what);
+  }
+  w.flush();
+  // 2. only now is the step announced to readers.
+  ++w.steps;
+  w.times.push_back(time);
+  detail::write_int_attribute(w.file.get(), "steps_written", static_cast<std::int64_t>(w.steps));
+  w.flush();
+  w.write_xdmf();
+}
+
+void Writer::write_restart(double time, const std::vector<RestartArray>& arrays) {
+  Impl& w = *impl_;
+  w.require_open("write_restart");
+  std::string bad;
+  std::vector<std::string> names;
+  for (const auto& a : arrays) {
+    if (!bad.empty()) break;
+    if (!detail::valid_name(a.name)) bad = "output: invalid restart array name '" + a.name + "'";
+    else if (std::find(names.begin(), names.end(), a.name) != names.end())
+      bad = "output: duplicate restart array '" + a.name + "'";
+    else if (a.distribution == RestartDistribution::per_node &&
+             (a.components < 1 || a.data.size != w.nodes.count * a.components))
+      bad = "output: restart array '" + a.name + "' has " + std::to_string(a.data.size) +
+            " values on rank " + std::to_string(w.rank) + ", expected local nodes x components = " +
+            std::to_string(w.nodes.count * a.components);
+    names.push_back(a.name);
+  }
+  agree(w.comm, bad.empty(), bad);
+  unsigned long long count0 = arrays.size();
+  MPI_Bcast(&count0, 1, MPI_UNSIGNED_LONG_LONG, 0, w.comm);
+  agree(w.comm, count0 == arrays.size(),
+        "output: write_restart got " + std::to_string(arrays.size()) + " arrays on rank " +
+            std::to_string(w.rank) + " but " + std::to_string(count0) + " on rank 0");
+  // Replicated sizes must agree (rank 0's are written).
+  std::vector<unsigned long long> sizes;
+  for (const auto& a : arrays) sizes.push_back(a.data.size);
+  std::vector<unsigned long long> sizes0 = sizes;
+  if (!sizes0.empty())
+    MPI_Bcast(sizes0.data(), static_cast<int>(sizes0.size()), MPI_UNSIGNED_LONG_LONG, 0, w.comm);
+  for (std::size_t i = 0; bad.empty() && i < arrays.size(); ++i)
+    if (arrays[i].distribution == RestartDistribution::replicated && sizes[i] != sizes0[i])
+      bad = "output: replicated restart array '" + arrays[i].name + "' has " +
+            std::to_string(sizes[i]) + " values on rank " + std::to_string(w.rank) + " but " +
+            std::to_string(sizes0[i]) + " on rank 0";
+  agree(w.comm, bad.empty(), bad);
+
+  const hid_t root = w.file.get();
+  const htri_t exists = H5Lexists(root, "restart", H5P_DEFAULT);
+  check(exists, "H5Lexists", "/restart");
+  Handle group = exists > 0 ? detail::group_handle(check_id(H5Gopen2(root, "restart", H5P_DEFAULT),
+                                                            "H5Gopen2", "/restart"))
+                            : create_group(root, "restart");
+  detail::write_int_attribute(group.get(), "valid", 0);
+  w.flush();
+  // Remove arrays of earlier calls that are not repeated or changed shape; keep the others.
+  for (const std::string& old : detail::link_names(group.get(), "/restart")) {
+    bool keep = false;
+    for (const auto& a : arrays) {
+      if (a.name != old) continue;
+      Handle d = detail::dataset_handle(
+          check_id(H5Dopen2(group.get(), old.c_str(), H5P_DEFAULT), "H5Dopen2", "/restart/" + old));
+      std::vector<hsize_t> want;
+      if (a.distribution == RestartDistribution::per_node) {
+        want.push_back(w.nodes.global_count);
+        if (a.components > 1) want.push_back(a.components);
+      } else {
+        want.push_back(a.data.size);
+      }
+      keep = detail::dataset_dims(d.get(), "/restart/" + old) == want;
+    }
+    if (!keep) check(H5Ldelete(group.get(), old.c_str(), H5P_DEFAULT), "H5Ldelete", "/restart/" + old);
+  }
+  for (const auto& a : arrays) {
+    const std::string what = "/restart/" + a.name;
+    const htri_t have = H5Lexists(group.get(), a.name.c_str(), H5P_DEFAULT);
+    check(have, "H5Lexists", what);
+    const bool per_node = a.distribution == RestartDistribution::per_node;
+    std::vector<hsize_t> dims;
+    if (per_node) {
+      dims.push_back(w.nodes.global_count);
+      if (a.components > 1) dims.push_back(a.components);
+    } else {
+      dims.push_back(a.data.size);
+    }
+    Handle d = have > 0 ? detail::dataset_handle(check_id(
+                              H5Dopen2(group.get(), a.name.c_str(), H5P_DEFAULT), "H5Dopen2", what))
+                        : create_fixed(group.get(), a.name, H5T_IEEE_F64LE, dims);
+    detail::write_string_attribute(d.get(), "distribution", per_node ? "per_node" : "replicated");
+    if (per_node) {
+      std::vector<hsize_t> start{w.nodes.first}, count{w.nodes.count};
+      if (a.components > 1) {
+        start.push_back(0);
+        count.push_back(a.components);
+      }
+      write_block(d.get(), w.dxpl.get(), H5T_NATIVE_DOUBLE, start, count, a.data.data,
+                  w.nodes.count > 0, what);
+    } else {
+      write_block(d.get(), w.dxpl.get(), H5T_NATIVE_DOUBLE, {0}, {a.data.size}, a.data.data,
+                  w.rank == 0, what);
+    }
+  }
+  w.flush();
+  detail::write_double_attribute(group.get(), "time", time);
+  detail::write_int_attribute(group.get(), "steps_written", static_cast<std::int64_t>(w.steps));
+  detail::write_int_attribute(group.get(), "valid", 1);
+  w.flush();
+}
+
+void Writer::finish() {
+  Impl& w = *impl_;
+  w.require_open("finish");
+  if (w.state == State::failed)
+    throw OutputError("output: finish() after fail() on " + w.path);
+  w.set_status("complete");
+  w.state = State::finished;
+}
+
+void Writer::fail(const std::string& reason) {
+  Impl& w = *impl_;
+  w.require_open("fail");
+  w.set_status("failed: " + reason);
+  w.state = State::failed;
+}
+
+std::size_t Writer::steps_written() const { return impl_->steps; }
+const std::string& Writer::path() const { return impl_->path; }
+const std::string& Writer::xdmf_path() const { return impl_->xmf_path; }
+
+}  // namespace traverse::output

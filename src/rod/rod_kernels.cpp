@@ -1,0 +1,353 @@
+#include "traverse/rod/rod_kernels.hpp"
+
+#include <stdexcept>
+
+#include "traverse/core/so3.hpp"
+
+namespace traverse::rod {
+
+using so3::hat;
+
+namespace {
+
+const Vec3 e3 = Vec3::UnitZ();
+
+Mat12 Mm_matrix(const RodProperties& p) {
+  Vec12 d;
+  d << Vec3::Constant(p.rhoA), p.rhoI, Vec3::Ones(), Vec3::Zero();
+  return d.asDiagonal();
+}
+
+Mat12 Kk_matrix(const RodProperties& p) {
+  Mat12 k = Mat12::Zero();
+  k.block<3, 3>(0, var::n) = -Mat3::Identity();
+  k.block<3, 3>(3, var::kappa) = -Mat3(p.K.asDiagonal());
+  k.block<3, 3>(6, var::omega) = -Mat3::Identity();
+  k.block<3, 3>(9, var::u) = Mat3::Identity();
+  return k;
+}
+
+/// Jacobian of the flux with respect to the new-level y, R's dependence on omega included.
+Mat12 new_level_flux_jacobian(const NodeFlux& f, const Mat3& G) {
+  Mat12 J = f.dF_dy;
+  J.block<12, 3>(0, var::omega) += f.dF_dRrot * G;
+  return J;
+}
+
+double weight_at(const PointLoadWeights& w, int node) {
+  double s = 0.0;
+  for (int k = 0; k < w.count; ++k)
+    if (w.node[k] == node) s += w.weight[k];
+  return s;
+}
+
+LocalBlock make_block(Eigen::Index row, int rows, int p, std::vector<Eigen::Index> cols) {
+  LocalBlock b;
+  b.row = row;
+  b.residual = VecX::Zero(rows);
+  b.cols = std::move(cols);
+  b.jac.assign(b.cols.size(), MatX::Zero(rows, p));
+  return b;
+}
+
+void check_unknowns(const RodModel& model, const VecX& x) {
+  if (x.size() != model.unknowns_per_node())
+    throw std::invalid_argument("rod kernels: node unknown block has the wrong size");
+}
+
+}  // namespace
+
+Vec12 apply_Mm(const RodProperties& p, const Vec12& y) { return Mm_matrix(p) * y; }
+Vec12 apply_Kk(const RodProperties& p, const Vec12& y) { return Kk_matrix(p) * y; }
+
+NewLevelNode new_level_node(const RodNode& old_node, const Vec12& y_new, double dt,
+                            const AlphaParameters& alpha) {
+  NewLevelNode n;
+  const Vec3 x = -0.5 * dt * (y_new.segment<3>(var::omega) + old_node.y.segment<3>(var::omega));
+  n.R = so3::exp(x) * old_node.R;
+  n.G = so3::left_jacobian(x) * (0.5 * dt);
+  n.yt = (y_new - old_node.y) / (alpha.gt * dt) - (1.0 - alpha.gt) / alpha.gt * old_node.yt;
+  return n;
+}
+
+NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double s, double t) {
+  const RodProperties& p = model.props;
+  const Vec3 u = y.segment<3>(var::u), w = y.segment<3>(var::omega);
+  const Vec3 k = y.segment<3>(var::kappa), n = y.segment<3>(var::n);
+  const Vec3 m = p.K.cwiseProduct(k - p.kappa0);
+  Vec3 f_fixed = p.rhoA * model.loads.gravity;
+  if (model.loads.f_fixed) f_fixed += model.loads.f_fixed(s, t);
+  Vec3 l_fixed = Vec3::Zero();
+  if (model.loads.l_fixed) l_fixed = model.loads.l_fixed(s, t);
+  const Vec3 fb = R * f_fixed, lb = R * l_fixed;
+  const Vec3 Iw = p.rhoI.cwiseProduct(w);
+
+  NodeFlux out;
+  out.F.segment<3>(0) = -k.cross(n) + p.rhoA * w.cross(u) - fb;
+  out.F.segment<3>(3) = -k.cross(m) - e3.cross(n) + w.cross(Iw) - lb;
+  out.F.segment<3>(6) = -k.cross(w);
+  out.F.segment<3>(9) = k.cross(u) - w.cross(e3);
+
+  Mat12& J = out.dF_dy;
+  J.setZero();
+  J.block<3, 3>(0, var::u) = p.rhoA * hat(w);
+  J.block<3, 3>(0, var::omega) = -p.rhoA * hat(u);
+  J.block<3, 3>(0, var::kappa) = hat(n);
+  J.block<3, 3>(0, var::n) = -hat(k);
+  J.block<3, 3>(3, var::omega) = hat(w) * p.rhoI.asDiagonal() - hat(Iw);
+  J.block<3, 3>(3, var::kappa) = -hat(k) * p.K.asDiagonal() + hat(m);
+  J.block<3, 3>(3, var::n) = -hat(e3);
+  J.block<3, 3>(6, var::omega) = -hat(k);
+  J.block<3, 3>(6, var::kappa) = hat(w);
+  J.block<3, 3>(9, var::u) = hat(k);
+  J.block<3, 3>(9, var::omega) = hat(e3);
+  J.block<3, 3>(9, var::kappa) = -hat(u);
+
+  out.dF_dRrot.setZero();
+  out.dF_dRrot.block<3, 3>(0, 0) = -hat(fb);
+  out.dF_dRrot.block<3, 3>(3, 0) = -hat(lb);
+  return out;
+}
+
+LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
+                      const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
+                      const VecX& new_this) {
+  check_unknowns(model, new_prev);
+  check_unknowns(model, new_this);
+  const int p = model.unknowns_per_node();
+  LocalBlock b = make_block(model.cell_row(j), 12, p, {model.node_col(j - 1), model.node_col(j)});
+  const auto& loads = model.loads;
+  if (loads.point_forces.empty() && loads.masses.empty()) return b;
+
+  const AlphaParameters& a = model.alpha;
+  const int N = model.num_cells;
+  const double ds = model.ds(), dt = step.dt;
+  const Vec12 yn[2] = {new_prev.head<12>(), new_this.head<12>()};
+  const RodNode* old[2] = {&old_prev, &old_this};
+  const NewLevelNode nn[2] = {new_level_node(old_prev, yn[0], dt, a),
+                              new_level_node(old_this, yn[1], dt, a)};
+  const int node[2] = {j - 1, j};
+  const double sw_b[2] = {a.bs, 1.0 - a.bs};  // spatial weights of F in this cell
+  const double sw_a[2] = {a.as, 1.0 - a.as};  // spatial weights of yt in this cell
+  // level 0 = new (t_i, weight 1 - bt), level 1 = old (t_{i-1}, weight bt)
+  const double tw_b[2] = {1.0 - a.bt, a.bt};
+  const double tw_a[2] = {1.0 - a.at, a.at};
+  const double tl[2] = {step.t_new(), step.t_old};
+
+  for (const PointForce& P : loads.point_forces) {
+    for (int lev = 0; lev < 2; ++lev) {
+      const PointLoadWeights W = point_load_weights(P.sigma(tl[lev]), N, ds, a.bs);
+      if (W.count == 0) continue;
+      const Vec3 F = P.force_fixed(tl[lev]);
+      for (int q = 0; q < 2; ++q) {
+        const double w = weight_at(W, node[q]);
+        if (w == 0.0) continue;
+        const double c = tw_b[lev] * sw_b[q] * w / ds;
+        const Mat3& R = lev == 0 ? nn[q].R : old[q]->R;
+        const Vec3 Fb = R * F;
+        b.residual.head<3>() -= c * Fb;
+        if (lev == 0) b.jac[q].block<3, 3>(0, var::omega) -= c * hat(Fb) * nn[q].G;
+      }
+    }
+  }
+
+  for (const MovingMass& M : loads.masses) {
+    PointLoadWeights Wa[2];
+    for (int lev = 0; lev < 2; ++lev) {
+      const double t = tl[lev];
+      const double sigma = M.sigma(t);
+      const PointLoadWeights W = point_load_weights(sigma, N, ds, a.bs);
+      Wa[lev] = M.inertia ? point_load_weights(sigma, N, ds, a.as) : PointLoadWeights{};
+      if (W.count == 0) continue;
+      const double v = M.inertia ? M.speed(t) : 0.0;
+      const double acc = M.inertia ? M.accel(t) : 0.0;
+      for (int q = 0; q < 2; ++q) {
+        const double w = weight_at(W, node[q]);
+        if (w == 0.0) continue;
+        const double c = tw_b[lev] * sw_b[q] * w / ds * M.mass;
+        const Vec12& y = lev == 0 ? yn[q] : old[q]->y;
+        const Mat3& R = lev == 0 ? nn[q].R : old[q]->R;
+        const Vec3 u = y.segment<3>(var::u), om = y.segment<3>(var::omega);
+        const Vec3 k = y.segment<3>(var::kappa);
+        const Vec3 Rg = R * loads.gravity;
+        Vec3 qv = Rg;
+        if (M.inertia) qv += -om.cross(u) - 2.0 * v * om.cross(e3) - v * v * k.cross(e3) - acc * e3;
+        b.residual.head<3>() -= c * qv;
+        if (lev == 0) {
+          b.jac[q].block<3, 3>(0, var::omega) -= c * hat(Rg) * nn[q].G;
+          if (M.inertia) {
+            b.jac[q].block<3, 3>(0, var::u) -= c * (-hat(om));
+            b.jac[q].block<3, 3>(0, var::omega) -= c * (hat(u) + 2.0 * v * hat(e3));
+            b.jac[q].block<3, 3>(0, var::kappa) -= c * (v * v * hat(e3));
+          }
+        }
+      }
+    }
+    if (!M.inertia) continue;
+    // Inertia of the mass: M wbar / ds times the scheme's time average of u_t, with
+    // wbar = (1 - at) w(t_i) + at w(t_{i-1}) the time-averaged nodal weight.
+    for (int q = 0; q < 2; ++q) {
+      const double wbar = tw_a[0] * weight_at(Wa[0], node[q]) + tw_a[1] * weight_at(Wa[1], node[q]);
+      if (wbar == 0.0) continue;
+      const double c = sw_a[q] * wbar / ds * M.mass;
+      const Vec3 ytbar = tw_a[0] * nn[q].yt.segment<3>(var::u) + tw_a[1] * old[q]->yt.segment<3>(var::u);
+      b.residual.head<3>() += c * ytbar;
+      b.jac[q].block<3, 3>(0, var::u) += c * tw_a[0] / (a.gt * dt) * Mat3::Identity();
+    }
+  }
+  return b;
+}
+
+LocalBlock cell_block(const RodModel& model, const StepTimes& step, int j,
+                      const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
+                      const VecX& new_this) {
+  if (j < 1 || j > model.num_cells) throw std::out_of_range("cell_block: cell index");
+  check_unknowns(model, new_prev);
+  check_unknowns(model, new_this);
+  const RodProperties& P = model.props;
+  const AlphaParameters& a = model.alpha;
+  const bool carried = model.carries_ys();
+  const int p = model.unknowns_per_node();
+  const double ds = model.ds(), dt = step.dt;
+  const double s_prev = (j - 1) * ds, s_this = j * ds;
+  const Mat12 Mm = Mm_matrix(P), Kk = Kk_matrix(P);
+
+  LocalBlock b = make_block(model.cell_row(j), model.cell_rows(), p,
+                            {model.node_col(j - 1), model.node_col(j)});
+  const Vec12 yp = new_prev.head<12>(), yc = new_this.head<12>();
+  const NewLevelNode np = new_level_node(old_prev, yp, dt, a);
+  const NewLevelNode nc = new_level_node(old_this, yc, dt, a);
+  const NodeFlux Fop = node_flux(model, old_prev.y, old_prev.R, s_prev, step.t_old);
+  const NodeFlux Foc = node_flux(model, old_this.y, old_this.R, s_this, step.t_old);
+  const NodeFlux Fnp = node_flux(model, yp, np.R, s_prev, step.t_new());
+  const NodeFlux Fnc = node_flux(model, yc, nc.R, s_this, step.t_new());
+
+  const Vec12 At = (1.0 - a.at) * ((1.0 - a.as) * nc.yt + a.as * np.yt) +
+                   a.at * ((1.0 - a.as) * old_this.yt + a.as * old_prev.yt);
+  Vec12 As;
+  if (carried) {
+    As = (1.0 - a.bt) * ((1.0 - a.bs) * new_this.tail<12>() + a.bs * new_prev.tail<12>()) +
+         a.bt * ((1.0 - a.bs) * old_this.ys + a.bs * old_prev.ys);
+  } else {
+    As = (1.0 - a.bt) * (yc - yp) / ds + a.bt * (old_this.y - old_prev.y) / ds;
+  }
+  const Vec12 AF = (1.0 - a.bt) * ((1.0 - a.bs) * Fnc.F + a.bs * Fnp.F) +
+                   a.bt * ((1.0 - a.bs) * Foc.F + a.bs * Fop.F);
+  b.residual.head<12>() = Mm * At + Kk * As + AF;
+
+  const double ct = (1.0 - a.at) / (a.gt * dt);
+  MatX& Jp = b.jac[0];
+  MatX& Jc = b.jac[1];
+  Jc.block<12, 12>(0, 0) = ct * (1.0 - a.as) * Mm +
+                           (1.0 - a.bt) * (1.0 - a.bs) * new_level_flux_jacobian(Fnc, nc.G);
+  Jp.block<12, 12>(0, 0) = ct * a.as * Mm + (1.0 - a.bt) * a.bs * new_level_flux_jacobian(Fnp, np.G);
+  if (carried) {
+    Jc.block<12, 12>(0, 12) = (1.0 - a.bt) * (1.0 - a.bs) * Kk;
+    Jp.block<12, 12>(0, 12) = (1.0 - a.bt) * a.bs * Kk;
+    // Recursion gs ys(j) + (1 - gs) ys(j-1) - (y(j) - y(j-1)) / ds = 0 at the new level.
+    b.residual.tail<12>() = a.gs * new_this.tail<12>() + (1.0 - a.gs) * new_prev.tail<12>() -
+                            (yc - yp) / ds;
+    Jc.block<12, 12>(12, 12) = a.gs * Mat12::Identity();
+    Jp.block<12, 12>(12, 12) = (1.0 - a.gs) * Mat12::Identity();
+    Jc.block<12, 12>(12, 0) = -Mat12::Identity() / ds;
+    Jp.block<12, 12>(12, 0) = Mat12::Identity() / ds;
+  } else {
+    Jc.block<12, 12>(0, 0) += (1.0 - a.bt) / ds * Kk;
+    Jp.block<12, 12>(0, 0) -= (1.0 - a.bt) / ds * Kk;
+  }
+
+  const LocalBlock lb = load_block(model, step, j, old_prev, old_this, new_prev, new_this);
+  b.residual.head<12>() += lb.residual;
+  Jp.topRows(12) += lb.jac[0];
+  Jc.topRows(12) += lb.jac[1];
+  return b;
+}
+
+namespace {
+LocalBlock end_block(const RodModel& model, const StepTimes& step, const EndCondition& c,
+                     Eigen::Index row, int node, const RodNode& old_node, const VecX& new_node,
+                     bool collocate) {
+  check_unknowns(model, new_node);
+  const int p = model.unknowns_per_node();
+  const AlphaParameters& a = model.alpha;
+  LocalBlock b = make_block(row, collocate ? 18 : 6, p, {model.node_col(node)});
+  const Vec12 y = new_node.head<12>();
+  const NewLevelNode nn = new_level_node(old_node, y, step.dt, a);
+  Vec6 r;
+  Eigen::Matrix<double, 6, 12> J;
+  end_condition_rows(c, model.props, step.t_new(), y, nn.R, nn.G, r, J);
+  b.residual.head<6>() = r;
+  b.jac[0].block<6, 12>(0, 0) = J;
+  if (collocate) {
+    // PDE collocated at the node (closes the carried-ys system); point loads excluded.
+    const RodProperties& P = model.props;
+    const Mat12 Mm = Mm_matrix(P), Kk = Kk_matrix(P);
+    const double s = node * model.ds();
+    const NodeFlux Fo = node_flux(model, old_node.y, old_node.R, s, step.t_old);
+    const NodeFlux Fn = node_flux(model, y, nn.R, s, step.t_new());
+    const Vec12 ys = new_node.tail<12>();
+    b.residual.segment<12>(6) = Mm * ((1.0 - a.at) * nn.yt + a.at * old_node.yt) +
+                                Kk * ((1.0 - a.bt) * ys + a.bt * old_node.ys) +
+                                (1.0 - a.bt) * Fn.F + a.bt * Fo.F;
+    b.jac[0].block<12, 12>(6, 0) = (1.0 - a.at) / (a.gt * step.dt) * Mm +
+                                   (1.0 - a.bt) * new_level_flux_jacobian(Fn, nn.G);
+    b.jac[0].block<12, 12>(6, 12) = (1.0 - a.bt) * Kk;
+  }
+  return b;
+}
+}  // namespace
+
+LocalBlock left_block(const RodModel& model, const StepTimes& step, const RodNode& old_node,
+                      const VecX& new_node) {
+  return end_block(model, step, model.left, model.left_row(), 0, old_node, new_node,
+                   model.carries_ys());
+}
+
+LocalBlock right_block(const RodModel& model, const StepTimes& step, const RodNode& old_node,
+                       const VecX& new_node) {
+  return end_block(model, step, model.right, model.right_row(), model.num_cells, old_node,
+                   new_node, false);
+}
+
+std::vector<LocalBlock> assemble_nodes(const RodModel& model, const StepTimes& step,
+                                       int first_node, int last_node, int offset,
+                                       const std::vector<RodNode>& old_nodes,
+                                       const std::vector<VecX>& new_unknowns) {
+  const int N = model.num_cells;
+  if (first_node < 0 || last_node > N || first_node > last_node)
+    throw std::out_of_range("assemble_nodes: node range");
+  if (offset > std::max(first_node - 1, 0) ||
+      offset + static_cast<int>(old_nodes.size()) <= last_node ||
+      old_nodes.size() != new_unknowns.size())
+    throw std::out_of_range("assemble_nodes: the arrays do not cover the range and its ghost");
+  std::vector<LocalBlock> out;
+  auto O = [&](int j) -> const RodNode& { return old_nodes[static_cast<size_t>(j - offset)]; };
+  auto X = [&](int j) -> const VecX& { return new_unknowns[static_cast<size_t>(j - offset)]; };
+  for (int j = first_node; j <= last_node; ++j) {
+    if (j == 0) out.push_back(left_block(model, step, O(0), X(0)));
+    if (j >= 1) out.push_back(cell_block(model, step, j, O(j - 1), O(j), X(j - 1), X(j)));
+    if (j == N) out.push_back(right_block(model, step, O(N), X(N)));
+  }
+  return out;
+}
+
+VecX node_unknowns(const RodModel& model, const RodNode& node) {
+  VecX x(model.unknowns_per_node());
+  x.head<12>() = node.y;
+  if (model.carries_ys()) x.tail<12>() = node.ys;
+  return x;
+}
+
+RodNode advance_node(const RodModel& model, const RodNode& old_node, const VecX& new_unknowns,
+                     double dt) {
+  check_unknowns(model, new_unknowns);
+  RodNode n;
+  n.y = new_unknowns.head<12>();
+  const NewLevelNode nn = new_level_node(old_node, n.y, dt, model.alpha);
+  n.R = nn.R;
+  n.yt = nn.yt;
+  n.ys = model.carries_ys() ? Vec12(new_unknowns.tail<12>()) : Vec12::Zero();
+  return n;
+}
+
+}  // namespace traverse::rod

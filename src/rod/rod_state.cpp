@@ -1,0 +1,91 @@
+#include "traverse/rod/rod_state.hpp"
+
+#include <stdexcept>
+
+#include "traverse/core/so3.hpp"
+
+namespace traverse::rod {
+
+RodState straight_rest_state(int num_cells, double length, const Mat3& R0) {
+  if (num_cells < 1 || !(length > 0.0)) throw std::invalid_argument("straight_rest_state: bad grid");
+  RodState s;
+  s.t = 0.0;
+  s.ds = length / num_cells;
+  s.nodes.assign(static_cast<size_t>(num_cells) + 1, RodNode{});
+  for (auto& n : s.nodes) n.R = R0;
+  return s;
+}
+
+RodState state_from_curvature(int num_cells, double length,
+                              const std::function<Vec3(double)>& kappa, const Mat3& R0) {
+  RodState s = straight_rest_state(num_cells, length, R0);
+  const int N = num_cells;
+  const double ds = s.ds;
+  for (int j = 0; j <= N; ++j) s.nodes[j].y.segment<3>(var::kappa) = kappa(j * ds);
+  for (int j = 1; j <= N; ++j) {
+    const Vec3 km = 0.5 * (s.nodes[j - 1].y.segment<3>(var::kappa) + s.nodes[j].y.segment<3>(var::kappa));
+    s.nodes[j].R = so3::exp(-ds * km) * s.nodes[j - 1].R;
+  }
+  // ys by second-order differences.
+  for (int j = 0; j <= N; ++j) {
+    if (N == 1) {
+      s.nodes[j].ys = (s.nodes[1].y - s.nodes[0].y) / ds;
+    } else if (j == 0) {
+      s.nodes[j].ys = (-3.0 * s.nodes[0].y + 4.0 * s.nodes[1].y - s.nodes[2].y) / (2.0 * ds);
+    } else if (j == N) {
+      s.nodes[j].ys = (3.0 * s.nodes[N].y - 4.0 * s.nodes[N - 1].y + s.nodes[N - 2].y) / (2.0 * ds);
+    } else {
+      s.nodes[j].ys = (s.nodes[j + 1].y - s.nodes[j - 1].y) / (2.0 * ds);
+    }
+  }
+  return s;
+}
+
+namespace {
+double energy_density(const RodProperties& p, const Vec12& y) {
+  const Vec3 u = y.segment<3>(var::u), w = y.segment<3>(var::omega);
+  const Vec3 dk = y.segment<3>(var::kappa) - p.kappa0;
+  return 0.5 * p.rhoA * u.squaredNorm() + 0.5 * w.dot(p.rhoI.cwiseProduct(w)) +
+         0.5 * dk.dot(p.K.cwiseProduct(dk));
+}
+}  // namespace
+
+double discrete_energy(const RodState& state, const RodProperties& props) {
+  double e = 0.0;
+  for (int j = 1; j <= state.num_cells(); ++j)
+    e += energy_density(props, 0.5 * (state.nodes[j - 1].y + state.nodes[j].y));
+  return e * state.ds;
+}
+
+double nodal_energy(const RodState& state, const RodProperties& props) {
+  const int N = state.num_cells();
+  double e = 0.0;
+  for (int j = 0; j <= N; ++j)
+    e += ((j == 0 || j == N) ? 0.5 : 1.0) * energy_density(props, state.nodes[j].y);
+  return e * state.ds;
+}
+
+std::vector<Vec3> centreline_in_space(const RodState& state, const Vec3& r0) {
+  std::vector<Vec3> r(state.nodes.size());
+  r[0] = r0;
+  for (size_t j = 1; j < r.size(); ++j)
+    r[j] = r[j - 1] + 0.5 * state.ds *
+                          (state.nodes[j - 1].R.row(2).transpose() + state.nodes[j].R.row(2).transpose());
+  return r;
+}
+
+std::vector<Vec3> advance_centreline_in_time(const std::vector<Vec3>& r_old,
+                                             const RodState& old_state,
+                                             const RodState& new_state) {
+  const double dt = new_state.t - old_state.t;
+  std::vector<Vec3> r(r_old.size());
+  for (size_t j = 0; j < r.size(); ++j) {
+    const auto& a = old_state.nodes[j];
+    const auto& b = new_state.nodes[j];
+    r[j] = r_old[j] + 0.5 * dt * (a.R.transpose() * a.y.segment<3>(var::u) +
+                                  b.R.transpose() * b.y.segment<3>(var::u));
+  }
+  return r;
+}
+
+}  // namespace traverse::rod

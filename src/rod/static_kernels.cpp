@@ -1,0 +1,219 @@
+#include "traverse/rod/static_kernels.hpp"
+
+#include <stdexcept>
+
+#include "traverse/core/so3.hpp"
+
+namespace traverse::rod {
+
+using so3::hat;
+
+namespace {
+
+const Vec3 e3 = Vec3::UnitZ();
+
+// Left perturbation of R = exp(-hat(theta)) Rbar: dR = hat(D dtheta) R.
+Mat3 perturbation(const Vec3& theta) { return -so3::left_jacobian(-theta); }
+
+LocalBlock block(Eigen::Index row, std::vector<Eigen::Index> cols, int rows) {
+  LocalBlock b;
+  b.row = row;
+  b.residual = VecX::Zero(rows);
+  b.cols = std::move(cols);
+  b.jac.assign(b.cols.size(), MatX::Zero(rows, 12));
+  return b;
+}
+
+double weight_at(const PointLoadWeights& w, int node) {
+  double s = 0.0;
+  for (int k = 0; k < w.count; ++k)
+    if (w.node[k] == node) s += w.weight[k];
+  return s;
+}
+
+// Rows of one end (6), with the sign of external forces: +1 right end, -1 left end.
+void end_rows(const StaticModel& m, const StaticEnd& c, const StaticNode& node, double sign, LocalBlock& b) {
+  const Vec3 r = node.x.segment<3>(svar::r), th = node.x.segment<3>(svar::theta);
+  const Vec3 k = node.x.segment<3>(svar::kappa), n = node.x.segment<3>(svar::n);
+  const Mat3 R = node.frame(), D = perturbation(th);
+  auto& res = b.residual;
+  auto& J = b.jac[0];
+  using T = EndCondition::Type;
+  switch (c.type) {
+    case T::clamped:
+    case T::sliding: {
+      int row = 0;
+      if (c.type == T::clamped) {
+        res.segment<3>(0) = r - c.position;
+        J.block<3, 3>(0, svar::r).setIdentity();
+        row = 3;
+      } else {
+        Vec3 b1, b2;
+        perpendicular_pair(c.axis, b1, b2);
+        res(0) = b1.dot(r - c.position);
+        res(1) = b2.dot(r - c.position);
+        J.block<1, 3>(0, svar::r) = b1.transpose();
+        J.block<1, 3>(1, svar::r) = b2.transpose();
+        row = 2;
+      }
+      const Vec3 phi = so3::log(R * c.frame.transpose());
+      res.segment<3>(row) = phi;
+      J.block<3, 3>(row, svar::theta) = so3::left_jacobian(phi).inverse() * D;
+      if (c.type == T::sliding) {
+        const Vec3 e = c.axis.normalized(), Re = R * e;
+        res(5) = n.dot(Re) - sign * c.axial_force;
+        J.block<1, 3>(5, svar::n) = Re.transpose();
+        J.block<1, 3>(5, svar::theta) = (n.transpose() * (-hat(Re))) * D;
+      }
+      break;
+    }
+    case T::pinned: {
+      res.segment<3>(0) = r - c.position;
+      J.block<3, 3>(0, svar::r).setIdentity();
+      Vec3 b1, b2;
+      perpendicular_pair(c.axis, b1, b2);
+      const Vec3 phi = so3::log(c.frame.transpose() * R);
+      const Mat3 dphi = so3::left_jacobian(phi).inverse() * c.frame.transpose() * D;
+      res(3) = b1.dot(phi);
+      res(4) = b2.dot(phi);
+      J.block<1, 3>(3, svar::theta) = b1.transpose() * dphi;
+      J.block<1, 3>(4, svar::theta) = b2.transpose() * dphi;
+      const Vec3 a = c.axis.normalized(), Ra = R * a;
+      const Vec3 mm = m.props.K.cwiseProduct(k - m.props.kappa0);
+      res(5) = mm.dot(Ra);
+      J.block<1, 3>(5, svar::kappa) = (Ra.cwiseProduct(m.props.K)).transpose();
+      J.block<1, 3>(5, svar::theta) = (mm.transpose() * (-hat(Ra))) * D;
+      break;
+    }
+    case T::free: {
+      const Vec3 Fb = R * c.end_force;
+      res.segment<3>(0) = n - sign * Fb;
+      J.block<3, 3>(0, svar::n).setIdentity();
+      J.block<3, 3>(0, svar::theta) = sign * hat(Fb) * D;
+      res.segment<3>(3) = m.props.K.cwiseProduct(k - m.props.kappa0);
+      J.block<3, 3>(3, svar::kappa) = m.props.K.asDiagonal();
+      break;
+    }
+    case T::prescribed:
+      throw std::invalid_argument("statics: a prescribed-motion end has no static form; use clamped");
+    default:
+      throw std::logic_error("statics: unknown end condition type");
+  }
+}
+
+}  // namespace
+
+Mat3 StaticNode::frame() const { return so3::exp(-x.segment<3>(svar::theta)) * Rbar; }
+
+void StaticNode::rebase() {
+  Rbar = frame();
+  x.segment<3>(svar::theta).setZero();
+}
+
+LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev, const StaticNode& self) {
+  const double ds = m.ds();
+  LocalBlock b = block(6 + 12 * static_cast<Eigen::Index>(j - 1), {12 * static_cast<Eigen::Index>(j - 1),
+                                                                   12 * static_cast<Eigen::Index>(j)}, 12);
+  const StaticNode* nd[2] = {&prev, &self};
+  const Vec3 f_fixed = m.props.rhoA * m.gravity;
+  Mat3 R[2], D[2];
+  for (int q = 0; q < 2; ++q) {
+    R[q] = nd[q]->frame();
+    D[q] = perturbation(nd[q]->x.segment<3>(svar::theta));
+  }
+  auto& res = b.residual;
+  const double sgn[2] = {-1.0, 1.0};  // difference (self - prev)
+  for (int q = 0; q < 2; ++q) {
+    const Vec12& x = nd[q]->x;
+    auto& J = b.jac[q];
+    const Vec3 k = x.segment<3>(svar::kappa), n = x.segment<3>(svar::n);
+    const Vec3 mm = m.props.K.cwiseProduct(k - m.props.kappa0);
+    const Vec3 fb = R[q] * f_fixed;
+    const Vec3 t = R[q].transpose() * e3;
+    // Force balance.
+    res.segment<3>(0) += -sgn[q] * n / ds + 0.5 * (-k.cross(n) - fb);
+    J.block<3, 3>(0, svar::n) += -sgn[q] / ds * Mat3::Identity() - 0.5 * hat(k);
+    J.block<3, 3>(0, svar::kappa) += 0.5 * hat(n);
+    J.block<3, 3>(0, svar::theta) += 0.5 * hat(fb) * D[q];
+    // Moment balance.
+    res.segment<3>(3) += -sgn[q] * mm / ds + 0.5 * (-k.cross(mm) - e3.cross(n));
+    J.block<3, 3>(3, svar::kappa) += -sgn[q] / ds * Mat3(m.props.K.asDiagonal()) +
+                                      0.5 * (-hat(k) * m.props.K.asDiagonal() + hat(mm));
+    J.block<3, 3>(3, svar::n) += -0.5 * hat(e3);
+    // Frame follows the curvature (log part added below).
+    res.segment<3>(6) += 0.5 * k;
+    J.block<3, 3>(6, svar::kappa) += 0.5 * Mat3::Identity();
+    // Centreline.
+    res.segment<3>(9) += sgn[q] * x.segment<3>(svar::r) / ds - 0.5 * t;
+    J.block<3, 3>(9, svar::r) += sgn[q] / ds * Mat3::Identity();
+    J.block<3, 3>(9, svar::theta) += -0.5 * R[q].transpose() * hat(e3) * D[q];
+  }
+  const Mat3 Q = R[1] * R[0].transpose();
+  const Vec3 phi = so3::log(Q);
+  const Mat3 Jinv = so3::left_jacobian(phi).inverse();
+  res.segment<3>(6) += phi / ds;
+  b.jac[1].block<3, 3>(6, svar::theta) += Jinv * D[1] / ds;
+  b.jac[0].block<3, 3>(6, svar::theta) += -Jinv * Q * D[0] / ds;
+  // Point forces with the box-scheme weights (bs = 1/2), as the dynamic cell applies them.
+  for (const auto& P : m.point_forces) {
+    const PointLoadWeights W = point_load_weights(P.sigma, m.num_cells, ds, 0.5);
+    for (int q = 0; q < 2; ++q) {
+      const double w = weight_at(W, j - 1 + q);
+      if (w == 0.0) continue;
+      const Vec3 Fb = R[q] * P.force;
+      res.segment<3>(0) -= 0.5 * w / ds * Fb;
+      b.jac[q].block<3, 3>(0, svar::theta) += 0.5 * w / ds * hat(Fb) * D[q];
+    }
+  }
+  return b;
+}
+
+LocalBlock static_left_block(const StaticModel& m, const StaticNode& node) {
+  LocalBlock b = block(0, {0}, 6);
+  end_rows(m, m.left, node, -1.0, b);
+  return b;
+}
+
+LocalBlock static_right_block(const StaticModel& m, const StaticNode& node) {
+  LocalBlock b = block(12 * static_cast<Eigen::Index>(m.num_cells) + 6, {12 * static_cast<Eigen::Index>(m.num_cells)}, 6);
+  end_rows(m, m.right, node, 1.0, b);
+  return b;
+}
+
+std::vector<StaticNode> straight_static_state(const StaticModel& m, const Vec3& r0, const Mat3& R0) {
+  std::vector<StaticNode> nodes(static_cast<size_t>(m.num_cells + 1));
+  const Vec3 t = R0.transpose() * e3;
+  for (int j = 0; j <= m.num_cells; ++j) {
+    auto& nd = nodes[static_cast<size_t>(j)];
+    nd.Rbar = R0;
+    nd.x.segment<3>(svar::r) = r0 + t * (j * m.ds());
+  }
+  return nodes;
+}
+
+RodState dynamic_state_from_static(const StaticModel& m, const std::vector<StaticNode>& nodes) {
+  RodState s;
+  s.t = 0.0;
+  s.ds = m.ds();
+  const int N = m.num_cells;
+  s.nodes.resize(nodes.size());
+  for (size_t j = 0; j < nodes.size(); ++j) {
+    auto& d = s.nodes[j];
+    d.R = nodes[j].frame();
+    d.y.setZero();
+    d.y.segment<3>(var::kappa) = nodes[j].x.segment<3>(svar::kappa);
+    d.y.segment<3>(var::n) = nodes[j].x.segment<3>(svar::n);
+  }
+  for (int j = 0; j <= N; ++j) {
+    auto y = [&](int i) -> const Vec12& { return s.nodes[static_cast<size_t>(i)].y; };
+    Vec12 d;
+    if (N == 1) d = (y(1) - y(0)) / s.ds;
+    else if (j == 0) d = (-3.0 * y(0) + 4.0 * y(1) - y(2)) / (2.0 * s.ds);
+    else if (j == N) d = (3.0 * y(N) - 4.0 * y(N - 1) + y(N - 2)) / (2.0 * s.ds);
+    else d = (y(j + 1) - y(j - 1)) / (2.0 * s.ds);
+    s.nodes[static_cast<size_t>(j)].ys = d;
+  }
+  return s;
+}
+
+}  // namespace traverse::rod

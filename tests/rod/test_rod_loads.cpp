@@ -1,0 +1,224 @@
+// Point loads, moving masses, the jump of n and the centreline reconstruction.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "rod_test_util.hpp"
+#include "traverse/rod/reference_stepper.hpp"
+
+namespace traverse::rod {
+namespace {
+
+TEST(RodLoads, WeightsGiveExactlyTheTotalForce) {
+  const int N = 10;
+  const double ds = 0.1;
+  double worst = 0.0;
+  for (double beta : {0.5, 0.3889, 0.1667, 0.7}) {
+    for (double sigma : {0.0, 1e-17, 0.05, 0.1, 0.2999999999, 0.3, 0.55, 0.9, 0.95, 1.0 - 1e-16, 1.0}) {
+      const PointLoadWeights w = point_load_weights(sigma, N, ds, beta);
+      ASSERT_GT(w.count, 0);
+      // Sum over cells j of (1 - beta) w_j + beta w_{j-1}.
+      double total = 0.0;
+      for (int j = 1; j <= N; ++j)
+        for (int k = 0; k < w.count; ++k) {
+          if (w.node[k] == j) total += (1.0 - beta) * w.weight[k];
+          if (w.node[k] == j - 1) total += beta * w.weight[k];
+        }
+      worst = std::max(worst, std::abs(total - 1.0));
+    }
+  }
+  std::printf("max |sum of weighted contributions - 1| over beta and sigma: %.2e\n", worst);
+  EXPECT_LT(worst, 1e-14);
+  EXPECT_EQ(point_load_weights(-0.01, N, ds, 0.5).count, 0);
+  EXPECT_EQ(point_load_weights(1.01, N, ds, 0.5).count, 0);
+}
+
+/// Sum over all cells of ds * (point-load part of the momentum rows) at R = I.
+Vec3 summed_load_rows(const RodModel& m, const StepTimes& st) {
+  const RodState s = straight_rest_state(m.num_cells, m.length);
+  Vec3 total = Vec3::Zero();
+  const VecX x = node_unknowns(m, s.nodes[0]);
+  for (int j = 1; j <= m.num_cells; ++j)
+    total += m.ds() * load_block(m, st, j, s.nodes[j - 1], s.nodes[j], x, x).residual.head<3>();
+  return total;
+}
+
+TEST(RodLoads, ResidualCarriesExactlyTheAppliedForceAtEveryStep) {
+  const StepTimes st{0.3, 0.01};
+  double worst = 0.0;
+  for (const AlphaParameters& a :
+       {AlphaParameters{}, AlphaParameters::from_rho_inf(0.6), AlphaParameters::from_rho_inf(0.8, 0.7)}) {
+    RodModel m = test::scene_model(10, a);
+    // (sigma_old, sigma_new): on nodes, between nodes, at both ends, crossing nodes.
+    const std::vector<std::pair<double, double>> paths = {
+        {0.3, 0.4}, {0.33, 0.47}, {0.0, 0.06}, {0.96, 1.0}, {0.0, 0.0}, {1.0, 1.0}, {0.12, 0.88}};
+    for (const auto& [s0, s1] : paths) {
+      PointForce P;
+      P.force_fixed = [](double t) { return Vec3(0.1, -2.0 - 10.0 * t, 0.3); };
+      P.sigma = [=, t0 = st.t_old, dt = st.dt](double t) { return s0 + (s1 - s0) * (t - t0) / dt; };
+      m.loads.point_forces = {P};
+      const Vec3 applied = (1.0 - a.bt) * P.force_fixed(st.t_new()) + a.bt * P.force_fixed(st.t_old);
+      const Vec3 total = summed_load_rows(m, st);
+      const double e = (total + applied).norm() / applied.norm();
+      worst = std::max(worst, e);
+    }
+  }
+  std::printf("max relative |sum_cells ds * load rows + time-averaged F| = %.2e\n", worst);
+  EXPECT_LT(worst, 1e-10);
+}
+
+TEST(RodLoads, MassWithoutInertiaEqualsItsWeightAsAPointForce) {
+  const StepTimes st{0.1, 0.01};
+  RodModel a = test::scene_model(10);
+  a.loads.gravity = Vec3(0.0, -9.8, 0.0);
+  RodModel b = a;
+  MovingMass M;
+  M.mass = 0.2;
+  M.inertia = false;
+  M.sigma = [](double t) { return 0.37 + 2.0 * t; };
+  a.loads.masses = {M};
+  PointForce P;
+  P.force_fixed = [](double) { return Vec3(0.0, -0.2 * 9.8, 0.0); };
+  P.sigma = M.sigma;
+  b.loads.point_forces = {P};
+  test::Rng rng;
+  double e = 0.0;
+  for (int j = 1; j <= 10; ++j) {
+    const RodNode o0 = rng.node(), o1 = rng.node();
+    const VecX x0 = rng.unknowns(a, o0), x1 = rng.unknowns(a, o1);
+    e = std::max(e, (cell_block(a, st, j, o0, o1, x0, x1).residual -
+                     cell_block(b, st, j, o0, o1, x0, x1).residual).cwiseAbs().maxCoeff());
+  }
+  std::printf("moving force vs point force residual difference %.2e\n", e);
+  EXPECT_LT(e, 1e-12);
+}
+
+TEST(RodLoads, AxialPointLoadBetweenNodesJumpsNByTheForce) {
+  // Straight cantilever (clamped at 0, free at L), axial load F k at sigma, switched on
+  // after t = 0 (so that the old level of the first step is consistent): n3 = F left of the
+  // load's cell, 0 right of it, at every step (exact discrete solution).
+  for (double sigma : {0.43, 0.5, 0.0, 1.0}) {
+    RodModel m = test::scene_model(10);
+    m.right = EndCondition::make_free();
+    const double F = 3.7;
+    PointForce P;
+    P.force_fixed = [F](double t) { return Vec3(0.0, 0.0, t > 0.0 ? F : 0.0); };
+    P.sigma = [sigma](double) { return sigma; };
+    m.loads.point_forces = {P};
+    const ReferenceStepper st(m);
+    RodState s = straight_rest_state(10, 1.0);
+    for (int i = 0; i < 3; ++i) {
+      const NewtonReport r = st.step(s, 0.01);
+      ASSERT_TRUE(r.converged);
+      const double n_left = s.nodes[0].y(var::n + 2), n_right = s.nodes[10].y(var::n + 2);
+      std::printf("sigma = %.2f, step %d: n3(0) = %.15f, n3(L) = %.3e, jump %.15f (F = %.1f)\n",
+                  sigma, i + 1, n_left, n_right, n_right - n_left, F);
+      EXPECT_NEAR(n_right - n_left, -F, 1e-10);
+      EXPECT_NEAR(n_left, F, 1e-10);
+    }
+  }
+}
+
+TEST(RodLoads, TransverseQuasiStaticLoadReaction) {
+  // Cantilever under a transverse point load between nodes, raised quasi-statically in 10
+  // huge steps with rho_inf = 0 (bt = 0: load and flux at the new level only, inertia
+  // ~ 1/dt): the clamp reaction R(0)^T n(0) must approach F. The orientation is advanced in
+  // time only (R_new = exp(-hat(dt omega_c)) R_old), so its compatibility with kappa is
+  // O((rotation increment)^2) per step: the error measures that, not the load treatment.
+  const Vec3 F(0.0, -1e-3, 0.0);
+  const double sigma = 0.53;
+  for (int N : {10, 40}) {
+    RodModel m = test::scene_model(N, AlphaParameters::from_rho_inf(0.0));
+    m.right = EndCondition::make_free();
+    PointForce P;
+    P.force_fixed = [F](double t) { return Vec3(F * std::min(t / 10.0e6, 1.0)); };
+    P.sigma = [sigma](double) { return sigma; };
+    m.loads.point_forces = {P};
+    const ReferenceStepper st(m);
+    RodState s = straight_rest_state(N, 1.0);
+    for (int i = 0; i < 10; ++i) ASSERT_TRUE(st.step(s, 1e6).converged);
+    const Vec3 n0 = s.nodes[0].R.transpose() * s.nodes[0].y.segment<3>(var::n);
+    double beyond = 0.0;  // n beyond the load's cell is zero
+    for (int j = static_cast<int>(sigma * N) + 2; j <= N; ++j)
+      beyond = std::max(beyond, s.nodes[j].y.segment<3>(var::n).norm());
+    const double err = (n0 - F).norm() / F.norm();
+    const auto r_c = centreline_in_space(s);
+    std::printf("N = %d: reaction n(0) = (%.3e, %.12f, %.3e), rel. error %.3e, |n| beyond load "
+                "%.1e, tip deflection %.6e m\n", N, n0(0), n0(1), n0(2), err, beyond, r_c.back()(1));
+    EXPECT_LT(beyond, 1e-12);
+    EXPECT_LT(err, 1e-4);
+  }
+}
+
+TEST(RodLoads, MovingLoadAndMassRunsOnAndBetweenNodes) {
+  // Clamped / clamped-sliding rod (hanging-cable ends) from the straight rest state under a
+  // moving 2 N load (switched on at t = 0, so the box scheme's undamped algebraic mode is
+  // excited a little) at the resonant speed v1 and a moving 0.1 kg mass; dt = ds / v (load on
+  // nodes) and dt = 0.7 ds / v (between nodes).
+  const RodProperties p = RodProperties::scene_rod();
+  const double v = std::pow(4.73, 2) * std::sqrt(p.K(0) / p.rhoA) / constants::pi;
+  for (double frac : {1.0, 0.7}) {
+    for (bool mass : {false, true}) {
+      RodModel m = test::scene_model(50);
+      m.right = EndCondition::make_sliding(Vec3::UnitZ());
+      if (mass) {
+        MovingMass M;
+        M.mass = 0.1;
+        M.sigma = [v](double t) { return v * t; };
+        M.speed = [v](double) { return v; };
+        M.accel = [](double) { return 0.0; };
+        m.loads.gravity = Vec3(0.0, -9.8, 0.0);
+        m.loads.masses = {M};
+      } else {
+        PointForce P;
+        P.force_fixed = [](double) { return Vec3(0.0, -2.0, 0.0); };
+        P.sigma = [v](double t) { return v * t; };
+        m.loads.point_forces = {P};
+      }
+      const ReferenceStepper st(m);
+      RodState s = straight_rest_state(50, 1.0);
+      std::vector<Vec3> r = centreline_in_space(s);
+      const double dt = frac * m.ds() / v;
+      int its = 0;
+      double ymin = 0.0;
+      bool ok = true;
+      while (s.t < 0.9 / v) {  // stop before the mass reaches the end (see docs/rod.md)
+        const RodState old = s;
+        const NewtonReport rep = st.step(s, dt);
+        ok = ok && rep.converged;
+        if (!rep.converged) break;
+        its = std::max(its, rep.iterations);
+        r = advance_centreline_in_time(r, old, s);
+        ymin = std::min(ymin, r[25](1));
+      }
+      EXPECT_TRUE(ok);
+      const auto rs = centreline_in_space(s);
+      double diff = 0.0;
+      for (size_t j = 0; j < r.size(); ++j) diff = std::max(diff, (r[j] - rs[j]).norm());
+      std::printf("%s, dt = %.1f ds/v: max Newton its %d, min midspan y %.6f m, |r(time) - "
+                  "r(space)| = %.2e m\n", mass ? "moving mass 0.1 kg + gravity" : "moving force 2 N",
+                  frac, its, ymin, diff);
+      EXPECT_LT(diff, 0.05 * std::abs(ymin));
+    }
+  }
+}
+
+TEST(RodLoads, CentrelineOfACircularArcIsSecondOrder) {
+  const double k = 2.0;
+  double err[3];
+  for (int i = 0; i < 3; ++i) {
+    const int N = 10 << i;
+    const RodState s = state_from_curvature(N, 1.0, [k](double) { return Vec3(k, 0.0, 0.0); });
+    const auto r = centreline_in_space(s);
+    const Vec3 exact(0.0, (std::cos(k) - 1.0) / k, std::sin(k) / k);
+    err[i] = (r.back() - exact).norm();
+    EXPECT_LT(so3::orthonormality_defect(s.nodes.back().R), 1e-14);
+  }
+  std::printf("arc end-point error N=10/20/40: %.3e %.3e %.3e, order %.3f\n", err[0], err[1],
+              err[2], std::log2(err[1] / err[2]));
+  EXPECT_NEAR(std::log2(err[1] / err[2]), 2.0, 0.1);
+}
+
+}  // namespace
+}  // namespace traverse::rod

@@ -1,0 +1,170 @@
+// Static form of the rod: exact Jacobian, and equilibria against closed forms.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "traverse/core/so3.hpp"
+#include "traverse/rod/static_solver.hpp"
+
+using namespace traverse;
+using namespace traverse::rod;
+
+namespace {
+
+StaticModel scene_model(int cells) {
+  StaticModel m;
+  m.props = RodProperties::scene_rod();
+  m.num_cells = cells;
+  m.length = 1.0;
+  m.left.type = EndCondition::Type::clamped;
+  m.right.type = EndCondition::Type::free;
+  m.right.position = Vec3(0, 0, 1);
+  return m;
+}
+
+std::vector<StaticNode> random_nodes(const StaticModel& m, std::mt19937& g) {
+  std::uniform_real_distribution<double> d(-1.0, 1.0);
+  auto nodes = straight_static_state(m);
+  for (auto& n : nodes) {
+    for (int i = 0; i < 12; ++i) n.x(i) += (i >= svar::n ? 0.5 : 0.3) * d(g);
+    n.Rbar = so3::exp(Vec3(d(g), d(g), d(g)));
+  }
+  return nodes;
+}
+
+// Central differences of a block's residual with respect to its nodes' unknowns.
+void check_jacobian(std::vector<StaticNode> nodes,
+                    const std::function<LocalBlock(const std::vector<StaticNode>&)>& f, const char* what) {
+  const LocalBlock b = f(nodes);
+  double worst = 0.0;
+  for (size_t k = 0; k < b.cols.size(); ++k) {
+    const size_t node = static_cast<size_t>(b.cols[k] / 12);
+    for (int c = 0; c < 12; ++c) {
+      const double h = 1e-6;
+      auto plus = nodes, minus = nodes;
+      plus[node].x(c) += h;
+      minus[node].x(c) -= h;
+      const VecX fd = (f(plus).residual - f(minus).residual) / (2 * h);
+      const VecX an = b.jac[k].col(c);
+      const double scale = std::max(1.0, an.cwiseAbs().maxCoeff());
+      worst = std::max(worst, (fd - an).cwiseAbs().maxCoeff() / scale);
+    }
+  }
+  std::cout << "  " << what << ": max relative Jacobian error " << worst << "\n";
+  EXPECT_LT(worst, 1e-7) << what;
+}
+
+}  // namespace
+
+TEST(RodStatics, JacobianMatchesCentralDifferences) {
+  std::mt19937 g(7);
+  using T = EndCondition::Type;
+  for (T lt : {T::clamped, T::pinned, T::sliding, T::free}) {
+    StaticModel m = scene_model(4);
+    m.gravity = Vec3(0, -9.8, 0);
+    m.point_forces.push_back({Vec3(0.3, -2.0, 0.1), 0.3});
+    m.left.type = lt;
+    m.left.axis = Vec3(1, 0.2, 0).normalized();
+    m.left.frame = so3::exp(Vec3(0.1, 0.2, -0.3));
+    m.left.axial_force = 1.5;
+    m.left.end_force = Vec3(0.2, 0.1, -0.4);
+    m.right.type = lt == T::free ? T::sliding : T::free;
+    m.right.axis = Vec3(0, 0, 1);
+    m.right.end_force = Vec3(1, 2, 3);
+    auto nodes = random_nodes(m, g);
+    check_jacobian(nodes, [&](const std::vector<StaticNode>& n) { return static_cell_block(m, 2, n[1], n[2]); }, "cell");
+    check_jacobian(nodes, [&](const std::vector<StaticNode>& n) { return static_left_block(m, n[0]); }, "left end");
+    check_jacobian(nodes, [&](const std::vector<StaticNode>& n) { return static_right_block(m, n[4]); }, "right end");
+  }
+}
+
+TEST(RodStatics, CantileverUnderSelfWeightMatchesBeamTheoryInTheStiffLimit) {
+  // q L^4 / (8 EI) tip deflection; the scene rod is soft (sag ~ 0.2 L), so stiffen it 1e4x
+  // to stay in the linear range, where the relative nonlinear correction is O((w/L)^2).
+  StaticModel m = scene_model(50);
+  m.props.K *= 1e4;
+  m.gravity = Vec3(0, -9.8, 0);
+  auto nodes = straight_static_state(m);
+  StaticSolver solver;
+  const auto rep = solver.solve_with_load_steps(m, nodes);
+  ASSERT_TRUE(rep.converged) << rep.message;
+  const double q = m.props.rhoA * 9.8, EI = m.props.K(0);
+  const double beam = q / (8 * EI);
+  const double tip = -nodes.back().x(svar::r + 1);
+  std::cout << "  tip deflection " << tip << " m, beam theory " << beam << " m, relative difference "
+            << (tip - beam) / beam << "\n";
+  EXPECT_NEAR(tip, beam, 2e-3 * beam);
+  // The clamp carries the weight: n(0) = -(force of the clamp on the rod) = -q L j.
+  const Vec3 n0 = nodes.front().frame().transpose() * nodes.front().x.segment<3>(svar::n);
+  EXPECT_NEAR(n0.y(), -q * 1.0, 1e-9 * q);
+}
+
+TEST(RodStatics, LargeDeflectionCantileverTipLoadMatchesTheElastica) {
+  // Tip load P with P L^2 / EI = 1 (Bisshopp & Drucker 1945): vertical tip deflection
+  // 0.30172 L, horizontal 0.05643 L (published to 4-5 digits). Order 2 in ds.
+  double errs[3];
+  const int cells[3] = {20, 40, 80};
+  for (int c = 0; c < 3; ++c) {
+    StaticModel m = scene_model(cells[c]);
+    const double EI = m.props.K(0);
+    m.right.end_force = Vec3(0, -EI, 0);
+    auto nodes = straight_static_state(m);
+    StaticSolver solver;
+    const auto rep = solver.solve_with_load_steps(m, nodes);
+    ASSERT_TRUE(rep.converged) << rep.message;
+    const Vec3 tip = nodes.back().x.segment<3>(svar::r);
+    errs[c] = -tip.y();
+    std::cout << "  N = " << cells[c] << ": tip (x, y, z) = " << tip.transpose() << "\n";
+    EXPECT_NEAR(-tip.y(), 0.30172, 2e-3);
+    EXPECT_NEAR(1.0 - tip.z(), 0.05643, 2e-3);
+    EXPECT_NEAR(tip.x(), 0.0, 1e-12);
+  }
+  const double order = std::log2((errs[0] - errs[1]) / (errs[1] - errs[2]));
+  std::cout << "  observed order in ds of the tip deflection: " << order << "\n";
+  EXPECT_NEAR(order, 2.0, 0.1);
+}
+
+TEST(RodStatics, HangingCableSagMatchesTheClampedClampedBeamInTheStiffLimit) {
+  // Left clamped at the origin, right clamped and sliding along k: midspan sag q L^4/(384 EI)
+  // in the stiff (linear) limit, reached at order 2 in ds.
+  double err[3];
+  const int cells[3] = {20, 40, 80};
+  for (int c = 0; c < 3; ++c) {
+    StaticModel m = scene_model(cells[c]);
+    m.props.K *= 1e3;
+    m.right.type = EndCondition::Type::sliding;
+    m.right.axis = Vec3(0, 0, 1);
+    m.gravity = Vec3(0, -9.8, 0);
+    auto nodes = straight_static_state(m);
+    StaticSolver solver;
+    const auto rep = solver.solve_with_load_steps(m, nodes);
+    ASSERT_TRUE(rep.converged) << rep.message;
+    const double q = m.props.rhoA * 9.8, EI = m.props.K(0);
+    const double beam = q / (384 * EI);
+    const double mid = -nodes[static_cast<size_t>(cells[c] / 2)].x(svar::r + 1);
+    err[c] = (mid - beam) / beam;
+    std::cout << "  N = " << cells[c] << ": midspan sag " << mid << " m, beam theory " << beam
+              << " m, relative difference " << err[c] << "\n";
+    // Sliding end: no axial force.
+    const Vec3 nL = nodes.back().frame().transpose() * nodes.back().x.segment<3>(svar::n);
+    EXPECT_NEAR(nL.z(), 0.0, 1e-9);
+  }
+  EXPECT_LT(std::abs(err[2]), 1e-3);
+  const double order = std::log2(err[0] / err[1]), order2 = std::log2(err[1] / err[2]);
+  std::cout << "  observed orders in ds: " << order << ", " << order2 << "\n";
+  EXPECT_NEAR(order2, 2.0, 0.1);
+}
+
+TEST(RodStatics, StaticStateIsConsistentWithTheDynamicCurvatureFrame) {
+  StaticModel m = scene_model(30);
+  m.gravity = Vec3(0, -9.8, 0);
+  auto nodes = straight_static_state(m);
+  ASSERT_TRUE(StaticSolver().solve_with_load_steps(m, nodes).converged);
+  const RodState s = dynamic_state_from_static(m, nodes);
+  for (size_t j = 1; j < nodes.size(); ++j) {
+    const Vec3 kb = 0.5 * (s.nodes[j - 1].y.segment<3>(var::kappa) + s.nodes[j].y.segment<3>(var::kappa));
+    const Mat3 expected = so3::exp(-m.ds() * kb) * s.nodes[j - 1].R;
+    EXPECT_LT((expected - s.nodes[j].R).cwiseAbs().maxCoeff(), 1e-10);
+  }
+}
