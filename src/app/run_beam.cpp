@@ -21,26 +21,16 @@ beam::Support support_of(const std::string& s) {
   throw std::logic_error("run_beam: unknown supports " + s);
 }
 
-// Time at which a load that entered at entry_time has travelled the whole beam, or +inf.
-double exit_time(const scene::MovingLoadSpec& l, double length) {
-  const double v = l.speed, a = l.acceleration;
-  if (a == 0.0) return v > 0.0 ? l.entry_time + length / v : std::numeric_limits<double>::infinity();
-  const double disc = v * v + 2.0 * a * length;
-  if (disc < 0.0) return std::numeric_limits<double>::infinity();
-  return l.entry_time + (std::sqrt(disc) - v) / a;
-}
-
 }  // namespace
 
 void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const auto& b = sc.beam;
-  const scene::CheckContext where(sc.file, "", &sc.tree.marks);
 
   beam::BeamProblem p;
   p.length = b.length;
-  p.EI = b.youngs_modulus * b.section.second_moment;
+  p.EI = b.youngs_modulus * b.section.I1;
   p.rhoA = b.density * b.section.area;
   p.support = support_of(b.supports);
   p.n_modes = b.modes;
@@ -57,19 +47,17 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     beam::MovingLoad m;
     m.kind = l.inertia ? beam::LoadKind::Mass : beam::LoadKind::Force;
     m.mass = l.mass;
-    if (!l.inertia) m.force = -l.force;  // downward
+    m.force = l.force.y();  // vertical, positive up (validated: no other components)
     m.entry = l.entry == "left" ? beam::BeamEnd::Left : beam::BeamEnd::Right;
-    m.direction = l.entry == "left" ? +1 : -1;
+    m.direction = l.direction();
     m.speed = l.speed;
     m.acceleration = l.acceleration;
     m.entry_time = l.entry_time;
+    m.start = l.start;
     p.loads.push_back(m);
-    const double te = exit_time(l, b.length);
-    if (sc.time.end_auto && !std::isfinite(te))
-      where.fail("time.end", "a number: with 'auto' every load must leave the beam, but load '" + l.name +
-                 "' stops before it does", "auto");
-    t_end = std::max(t_end, te);
-    v_max = std::max(v_max, std::max(l.speed, std::abs(l.speed + l.acceleration * (te - l.entry_time))));
+    const double te = l.exit_time(b.length);
+    if (std::isfinite(te)) t_end = std::max(t_end, te);
+    v_max = std::max({v_max, l.speed, std::abs(l.velocity(std::isfinite(te) ? te : l.entry_time))});
   }
   p.t_start = 0.0;
   p.t_end = sc.time.end_auto ? t_end : sc.time.end;
@@ -82,7 +70,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   } else {
     p.dt = sc.time.dt;
   }
-  p.integrator = sc.time.integrator == "newmark" ? beam::Integrator::Newmark : beam::Integrator::RK4;
+  p.integrator = b.integrator == "newmark" ? beam::Integrator::Newmark : beam::Integrator::RK4;
   p.output_every = sc.output.every;
 
   // Output: nodes split over the ranks in contiguous ranges (the beam itself is solved,
@@ -138,8 +126,8 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     if (!s.Y.allFinite() || !s.Ydot.allFinite()) {
       std::ostringstream os;
       os << "beam solver: the modal state is not finite at t = " << s.t << " s (after " << sim.steps_taken()
-         << " steps of dt = " << p.dt << " s with " << sc.time.integrator
-         << "); reduce time.dt or use time.integrator: newmark";
+         << " steps of dt = " << p.dt << " s with " << b.integrator
+         << "); reduce time.dt or use beam.integrator: newmark";
       throw NumericsError(os.str());
     }
     size_t k = 0;
@@ -187,7 +175,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   writer.finish();
   if (rank == 0 && !opt.quiet) {
     std::printf("beam scene '%s': %d modes, %ld steps of dt = %.4g s (%s) to t = %.6g s; %ld output steps -> %s\n",
-                sc.file.c_str(), b.modes, sim.steps_taken(), p.dt, sc.time.integrator.c_str(), p.t_end, outputs,
+                sc.file.c_str(), b.modes, sim.steps_taken(), p.dt, b.integrator.c_str(), p.t_end, outputs,
                 opt.output.c_str());
   }
 }

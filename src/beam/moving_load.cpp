@@ -35,6 +35,11 @@ LoadKinematics::LoadKinematics(const MovingLoad& load, double length)
     default:
       throw std::invalid_argument("MovingLoad: unknown entry end");
   }
+  if (load.start) {
+    if (!(*load.start >= 0.0 && *load.start <= length))
+      throw std::invalid_argument("MovingLoad: start must lie on the beam, in [0, L]");
+    x0_ = *load.start;
+  }
   if (load.speed < 0) throw std::invalid_argument("MovingLoad: speed must be >= 0 (use direction)");
   if (load.mass < 0) throw std::invalid_argument("MovingLoad: mass must be >= 0");
 }
@@ -60,26 +65,25 @@ std::vector<double> LoadKinematics::events(double t0, double t1) const {
     if (t > t0 && t < t1) ev.push_back(t);
   };
   add(t_entry_);
-  // Distance travelled s(tau) = v0 tau + a_dir tau^2 / 2 reaches L (far end) or returns to 0.
+  // The load crosses x = 0 or x = L when the distance travelled along the direction of
+  // travel, s(tau) = v0 tau + a_dir tau^2 / 2, equals dir (boundary - x0).
   const double ad = dir_ * acc_;  // acceleration along the direction of travel
-  auto roots = [&](double target) {
-    // ad/2 tau^2 + v0 tau - target = 0, tau > 0
+  for (const double boundary : {0.0, L_}) {
+    const double target = dir_ * (boundary - x0_);
     if (std::abs(ad) < 1e-300) {
-      if (v0_ > 0) add(t_entry_ + target / v0_);
-      return;
+      if (v0_ > 0 && target > 0) add(t_entry_ + target / v0_);
+      continue;
     }
     const double disc = v0_ * v0_ + 2.0 * ad * target;
-    if (disc < 0) return;
+    if (disc < 0) continue;
     const double sq = std::sqrt(disc);
-    // Stable quadratic roots.
+    // Stable quadratic roots of ad/2 tau^2 + v0 tau - target = 0.
     const double q = -0.5 * (v0_ + std::copysign(sq, v0_ == 0.0 ? 1.0 : v0_));
     const double r1 = q / (0.5 * ad);
     const double r2 = (q != 0.0) ? -target / q : r1;
     for (double r : {r1, r2})
       if (r > 0) add(t_entry_ + r);
-  };
-  roots(L_);
-  if (ad < 0) add(t_entry_ - 2.0 * v0_ / ad);  // returns to the entry end
+  }
   std::sort(ev.begin(), ev.end());
   ev.erase(std::unique(ev.begin(), ev.end()), ev.end());
   return ev;

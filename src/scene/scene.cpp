@@ -3,9 +3,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
-
-#include "traverse/core/types.hpp"
 
 namespace traverse::scene {
 
@@ -13,14 +12,17 @@ namespace {
 
 using Teuchos::ParameterList;
 
+const char* kBeam = "beam";
+const char* kRod = "rod";
+
 // ---------------------------------------------------------------------------------------
 // Registries
 // ---------------------------------------------------------------------------------------
 std::shared_ptr<TypeRegistry> section_types() {
   auto r = std::make_shared<TypeRegistry>("cross-section");
-  r->add({"solid_circle", "Solid circular section: A = pi r^2, I = pi r^4 / 4",
+  r->add({"solid_circle", "Solid circular section: A = pi r^2, I1 = I2 = pi r^4 / 4, J = pi r^4 / 2",
           {real("radius", "Section radius", "m").positive().required()}, {}});
-  r->add({"hollow_circle", "Hollow circular (tube) section: A = pi (ro^2 - ri^2), I = pi (ro^4 - ri^4) / 4",
+  r->add({"hollow_circle", "Tube: A = pi (ro^2 - ri^2), I1 = I2 = pi (ro^4 - ri^4) / 4, J = 2 I1",
           {real("outer_radius", "Outer radius", "m").positive().required(),
            real("inner_radius", "Inner radius", "m").non_negative().required()},
           {[](const ParameterList& s, const CheckContext& ctx) {
@@ -29,29 +31,28 @@ std::shared_ptr<TypeRegistry> section_types() {
                        format_number(s.get<double>("outer_radius")),
                        format_number(s.get<double>("inner_radius")));
           }}});
-  r->add({"rectangle", "Rectangular section bending about its width axis: A = b h, I = b h^3 / 12",
-          {real("width", "Width b (out of the bending plane)", "m").positive().required(),
-           real("height", "Height h (in the bending plane)", "m").positive().required()}, {}});
-  r->add({"properties", "Section given by its properties directly",
+  r->add({"rectangle",
+          "Rectangle, width b along d1 (i) and height h along d2 (j): A = b h, I1 = b h^3 / 12, "
+          "I2 = h b^3 / 12, J from the thin-walled series for a rectangle",
+          {real("width", "Width b along d1", "m").positive().required(),
+           real("height", "Height h along d2 (the bending plane of the beam and the rod's initial plane)", "m")
+               .positive()
+               .required()}, {}});
+  r->add({"properties", "Section given by its properties",
           {real("area", "Cross-section area A", "m^2").positive().required(),
-           real("second_moment", "Second moment of area I about the bending axis", "m^4").positive().required()}, {}});
+           real("second_moment", "Second moment of area I1 (bending in the (j, k) plane)", "m^4").positive().required(),
+           real("second_moment_2", "Second moment I2 (out-of-plane bending; default: equal to I1)", "m^4").positive(),
+           real("torsion_constant", "Torsion constant J (default: I1 + I2)", "m^4").positive()}, {}});
   return r;
 }
 
-Check one_of_two(const std::string& a, const std::string& b) {
-  return [a, b](const ParameterList& s, const CheckContext& ctx) {
-    const bool ha = s.isParameter(a), hb = s.isParameter(b);
-    if (ha == hb)
-      ctx.fail(ha ? b : "", "exactly one of '" + a + "' and '" + b + "'", ha ? "both" : "neither");
-  };
-}
-
 std::vector<Param> motion_params() {
-  return {real("speed", "Speed when the load enters the structure", "m/s").non_negative().required(),
+  return {real("speed", "Speed at entry_time along the direction of travel", "m/s").non_negative().required(),
           real("acceleration", "Constant acceleration along the direction of travel", "m/s^2").def(0.0),
-          choice("entry", "End the load enters at: left (x = 0, travels towards +x) or right (x = L, towards -x)",
+          choice("entry", "End the load comes from: left (travels towards +s) or right (towards -s)",
                  {"left", "right"}).def("left"),
-          real("entry_time", "Time at which the load enters", "s").non_negative().def(0.0)};
+          real("start", "Position at entry_time (default: the entry end)", "m").non_negative(),
+          real("entry_time", "Time at which the load starts moving from `start`", "s").non_negative().def(0.0)};
 }
 
 Check moves(const std::string& type) {
@@ -62,6 +63,23 @@ Check moves(const std::string& type) {
   };
 }
 
+Check exactly_one(std::vector<std::string> keys) {
+  return [keys](const ParameterList& s, const CheckContext& ctx) {
+    int n = 0;
+    std::string names, last;
+    for (size_t i = 0; i < keys.size(); ++i) {
+      names += (i ? (i + 1 == keys.size() ? " and '" : ", '") : "'") + keys[i] + "'";
+      if (s.isParameter(keys[i])) {
+        ++n;
+        last = keys[i];
+      }
+    }
+    if (n != 1)
+      ctx.fail(n > 1 ? last : "", "exactly one of " + names,
+               n == 0 ? "none" : (n == 2 && keys.size() == 2 ? "both" : std::to_string(n) + " of them"));
+  };
+}
+
 std::shared_ptr<TypeRegistry> load_types() {
   auto r = std::make_shared<TypeRegistry>("load");
   {
@@ -69,48 +87,83 @@ std::shared_ptr<TypeRegistry> load_types() {
                "A point mass riding on the structure: its weight plus its inertia (with the centrifugal, "
                "Coriolis and acceleration terms)",
                {real("mass", "Mass M", "kg").positive(),
-                real("mass_fraction", "Mass as a fraction p of beam + mass: M = p/(1-p) * beam mass", "")
+                real("mass_fraction", "Mass as a fraction p of structure + mass: M = p/(1-p) * structure mass", "")
                     .positive()
                     .below(1.0)},
-               {one_of_two("mass", "mass_fraction"), moves("moving mass")}};
+               {exactly_one({"mass", "mass_fraction"}), moves("moving mass")}};
     for (const auto& p : motion_params()) t.params.push_back(p);
     r->add(t);
   }
   {
     TypeInfo t{"moving_force",
-               "A downward point force without inertia (the classic moving-load idealisation)",
+               "A point force without inertia (the classic moving-load idealisation)",
                {real("force", "Force magnitude, acting along -j", "N").positive(),
+                vector3("force_vector", "Force as a fixed-frame vector (i, j, k) (rod; a beam takes only j)", "N"),
                 real("mass", "Give the force as the weight M g of this mass", "kg").positive(),
-                real("mass_fraction", "Force as the weight of a mass given as a fraction of beam + mass", "")
+                real("mass_fraction", "Force as the weight of a mass given as a fraction of structure + mass", "")
                     .positive()
                     .below(1.0)},
-               {[](const ParameterList& s, const CheckContext& ctx) {
-                  const int n = s.isParameter("force") + s.isParameter("mass") + s.isParameter("mass_fraction");
-                  if (n != 1)
-                    ctx.fail("", "exactly one of 'force', 'mass' and 'mass_fraction'",
-                             n == 0 ? "none" : format_number(n) + " of them");
-                },
-                moves("moving force")}};
+               {exactly_one({"force", "force_vector", "mass", "mass_fraction"}), moves("moving force")}};
     for (const auto& p : motion_params()) t.params.push_back(p);
     r->add(t);
   }
   return r;
 }
 
-std::shared_ptr<TypeRegistry> probe_types() {
-  auto r = std::make_shared<TypeRegistry>("probe");
-  r->add({"deflection", "Transverse deflection w (positive up) at a fixed point, as a time series [m]",
-          {real("at", "Position along the structure", "m").non_negative().required()}, {}});
+std::shared_ptr<TypeRegistry> end_types() {
+  auto r = std::make_shared<TypeRegistry>("end condition");
+  auto nonzero = [](const char* key) {
+    return [key](const ParameterList& s, const CheckContext& ctx) {
+      const auto a = s.get<Teuchos::Array<double>>(key);
+      if (std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) == 0.0)
+        ctx.fail(key, "a non-zero axis", "[0, 0, 0]");
+    };
+  };
+  r->add({"clamped", "Position and orientation fixed: u = 0, omega = 0", {}, {}});
+  r->add({"pinned", "Pin joint: position fixed, rotation only about the pin axis, no moment about it "
+                    "(u = 0, omega parallel to the axis, m . axis = 0)",
+          {vector3("axis", "Pin axis, fixed frame").def("[1, 0, 0]")}, {nonzero("axis")}});
+  r->add({"sliding", "Clamped and sliding along an axis: no rotation, no motion across the axis, no force "
+                     "along it (u x axis = 0, omega = 0, n . axis = 0)",
+          {vector3("axis", "Sliding axis, fixed frame").def("[0, 0, 1]")}, {nonzero("axis")}});
+  r->add({"free", "Free end: n = 0, m = 0", {}, {}});
+  r->add({"prescribed", "Prescribed end velocity and rotation rate (constant, fixed frame)",
+          {vector3("velocity", "End velocity", "m/s").def("[0, 0, 0]"),
+           vector3("rotation_rate", "End rotation rate", "rad/s").def("[0, 0, 0]")}, {}});
   return r;
 }
 
+std::shared_ptr<TypeRegistry> probe_types() {
+  auto r = std::make_shared<TypeRegistry>("probe");
+  r->add({"deflection", "Beam: transverse deflection w (positive up) at a fixed point [m]",
+          {real("at", "Position along the beam", "m").non_negative().required()}, {}});
+  r->add({"point",
+          "Rod: a vector quantity at a fixed arclength (linear interpolation between nodes), 3 components",
+          {real("at", "Arclength", "m").non_negative().required(),
+           choice("quantity", "position r [m], velocity u [m/s], spin omega [rad/s], curvature kappa [1/m], "
+                              "force n [N], moment m [N m], or a director d1, d2, d3",
+                  {"position", "u", "omega", "kappa", "n", "m", "d1", "d2", "d3"}).required(),
+           choice("frame", "Components in the fixed frame (i, j, k) or the body frame (d1, d2, d3)",
+                  {"fixed", "body"}).def("fixed")},
+          {[](const ParameterList& s, const CheckContext& ctx) {
+            const auto q = s.get<std::string>("quantity");
+            if ((q == "position" || q[0] == 'd') && s.get<std::string>("frame") == "body")
+              ctx.fail("frame", "fixed for quantity " + q + " (it is defined in the fixed frame)", "body");
+          }}});
+  return r;
+}
+
+const std::vector<std::string> kBeamFields = {"deflection", "slope", "bending_moment"};
+const std::vector<std::string> kRodFields = {"u", "omega", "kappa", "n", "m", "r", "R"};
+
 Param build_schema() {
   Param root = section("", "traverse scene");
-  root.add(choice("model", "Which structural model to run", {"beam"}).required());
+  root.add(choice("model", "Which structural model to run", {kBeam, kRod}).required());
   root.add(text("title", "Free text describing the scene").def("''"));
   root.add(real("gravity", "Gravitational acceleration g, acting along -j", "m/s^2").non_negative().def(constants::standard_gravity));
 
-  Param beam = section("beam", "Small-deflection Euler–Bernoulli beam (model: beam)");
+  Param beam = section(kBeam, "Small-deflection Euler–Bernoulli beam (model: beam)");
+  beam.when("model", kBeam);
   beam.add(real("length", "Beam length L", "m").positive().required());
   beam.add(real("youngs_modulus", "Young's modulus E", "Pa").positive().required());
   beam.add(real("density", "Material density rho", "kg/m^3").positive().required());
@@ -119,74 +172,136 @@ Param build_schema() {
                   {"simply-supported", "clamped-free", "clamped-clamped", "clamped-pinned"}).required());
   beam.add(integer("modes", "Number of Galerkin modes (the beam's own eigenmodes)").at_least(1).at_most(200).def(3.0));
   beam.add(integer("quadrature_points", "Gauss points per mesh cell for the Galerkin integrals").at_least(1).at_most(20).def(6.0));
+  beam.add(choice("integrator", "rk4: classical 4th-order Runge–Kutta (reference); newmark: average-acceleration "
+                                "Newmark, unconditionally stable, 2nd order", {"rk4", "newmark"}).def("rk4"));
   root.add(beam);
 
+  Param rod = section(kRod, "Inextensible, unshearable Cosserat rod, initially straight along k (model: rod)");
+  rod.when("model", kRod);
+  rod.add(real("length", "Rod length L", "m").positive().required());
+  rod.add(real("youngs_modulus", "Young's modulus E", "Pa").positive().required());
+  rod.add(real("poisson_ratio", "Poisson ratio nu (G = E / (2 (1 + nu)))", "").above(-1.0).below(0.5));
+  rod.add(real("shear_modulus", "Shear modulus G (instead of the Poisson ratio)", "Pa").positive());
+  rod.add(real("density", "Material density rho", "kg/m^3").positive().required());
+  rod.add(typed("section", "Cross-section", section_types()).required());
+  rod.add(vector3("intrinsic_curvature", "Intrinsic curvature kappa0 in body components", "1/m").def("[0, 0, 0]"));
+  rod.check(exactly_one({"poisson_ratio", "shear_modulus"}));
+  root.add(rod);
+
+  Param ends = section("ends", "End conditions of the rod, 6 scalar conditions each");
+  ends.when("model", kRod);
+  ends.add(typed("left", "End at s = 0 (at the origin)", end_types()).required());
+  ends.add(typed("right", "End at s = L", end_types()).required());
+  root.add(ends);
+
   Param mesh = section("mesh", "Nodes along the structure (uniform spacing): give nodes or ds");
-  mesh.add(integer("nodes", "Number of nodes N + 1").at_least(2));
+  mesh.add(integer("nodes", "Number of nodes N + 1 (default 101)").at_least(2));
   mesh.add(real("ds", "Node spacing (the length must be a whole number of spacings)", "m").positive());
   mesh.check([](const ParameterList& s, const CheckContext& ctx) {
-    if (s.isParameter("nodes") && s.isParameter("ds"))
-      ctx.fail("ds", "either 'nodes' or 'ds', not both", "both");
+    if (s.isParameter("nodes") && s.isParameter("ds")) ctx.fail("ds", "either 'nodes' or 'ds', not both", "both");
   });
   root.add(mesh);
 
+  Param scheme = section("scheme", "Generalised-alpha discretisation of the rod in s and t");
+  scheme.when("model", kRod);
+  scheme.add(real("rho_inf", "Spectral radius at infinite frequency in time: 1 = no numerical damping "
+                             "(centred, energy conserving); < 1 damps the highest frequencies", "").at_least(0.0).at_most(1.0).def(1.0));
+  scheme.add(real("rho_inf_space", "The same in space: 1 = plain box scheme in s (12 unknowns per node); < 1 "
+                                   "carries the spatial derivative history (24 unknowns per node)", "").at_least(0.0).at_most(1.0).def(1.0));
+  Param alpha = section("parameters", "The six parameters directly (instead of rho_inf, rho_inf_space)");
+  alpha.only_if_given();
+  for (const char* k : {"as", "bs", "gs", "at", "bt", "gt"})
+    alpha.add(real(k, std::string("Parameter ") + k, "").above(0.0).at_most(1.0).required());
+  scheme.add(alpha);
+  scheme.check([](const ParameterList& s, const CheckContext& ctx) {
+    if (s.isSublist("parameters") && (s.get<double>("rho_inf") != 1.0 || s.get<double>("rho_inf_space") != 1.0))
+      ctx.fail("parameters", "either 'parameters' or rho_inf / rho_inf_space, not both", "both");
+  });
+  root.add(scheme);
+
+  Param init = section("initial_state", "Where the rod starts");
+  init.when("model", kRod);
+  init.add(choice("type", "static: equilibrium under the dead loads (gravity), computed by Newton with load "
+                          "stepping on the static form of the same discretisation; rest: straight and unloaded",
+                  {"static", "rest"}).def("static"));
+  root.add(init);
+
   root.add(collection("loads", "Moving loads, each under a name of your choice", load_types()));
 
-  Param time = section("time", "Time integration");
-  time.add(choice("integrator", "rk4: classical 4th-order Runge–Kutta (reference); newmark: average-acceleration "
-                                "Newmark, unconditionally stable, 2nd order", {"rk4", "newmark"}).def("rk4"));
-  time.add(real("dt", "Time step; auto: a twentieth of the period of the highest mode, and no more than "
-                      "the time a load needs to cross one mesh cell", "s").positive().allow_auto().def("auto"));
+  Param time = section("time", "Time stepping");
+  time.add(real("dt", "Time step; auto: beam: a twentieth of the period of the highest mode, at most the time a "
+                      "load needs to cross one mesh cell; rod: ds / v of the fastest load (the load sits on a "
+                      "node at every step)", "s").positive().allow_auto().def("auto"));
   time.add(real("end", "End time; auto: when the last load leaves the structure", "s").positive().allow_auto().def("auto"));
   root.add(time);
+
+  root.add(pass_through("solver", "Rod solver parameters (Newton, linear solver, NOX and Stratimikos sublists), "
+                                  "handed to the solver: see docs/solver.md").when("model", kRod));
 
   Param out = section("output", "What is written, and where");
   out.add(text("file", "HDF5 output file; auto: the scene file's name with .h5, in the working directory "
                        "(the command line's -o wins)").def("auto"));
   out.add(integer("every", "Write every this many time steps (the first and last states are always written)").at_least(1).def(1.0));
   out.add(collection("probes", "Time series of chosen quantities, each under a name of your choice", probe_types()));
-  out.add(word_list("fields", "Fields written at every mesh node at each output step",
-                    {"deflection", "slope", "bending_moment"}).def("[]"));
+  out.add(word_list("fields", "Fields written at every node at each output step (beam: deflection, slope, "
+                              "bending_moment; rod: u, omega, kappa, n, m (body components), r (centreline), "
+                              "R (rows d1, d2, d3))").def("[]"));
   root.add(out);
 
   root.check([](const ParameterList& s, const CheckContext& ctx) {
-    const double length = s.sublist("beam").get<double>("length");
+    const std::string model = s.get<std::string>("model");
+    const double length = s.sublist(model).get<double>("length");
     const auto& probes = s.sublist("output").sublist("probes");
     for (auto it = probes.begin(); it != probes.end(); ++it) {
-      const double at = probes.sublist(probes.name(it)).get<double>("at");
-      if (at > length)
-        CheckContext(ctx).fail("output.probes." + probes.name(it) + ".at",
-                               "a position on the beam, in [0, " + format_number(length) + "]", format_number(at));
+      const auto& pr = probes.sublist(probes.name(it));
+      const std::string key = "output.probes." + probes.name(it);
+      const std::string type = pr.get<std::string>("type");
+      if ((type == "deflection") != (model == kBeam))
+        ctx.fail(key + ".type", std::string("a probe type of model ") + model + " (" +
+                 (model == kBeam ? "deflection" : "point") + ")", "'" + type + "'");
+      if (pr.get<double>("at") > length)
+        ctx.fail(key + ".at", "a position on the structure, in [0, " + format_number(length) + "]",
+                 format_number(pr.get<double>("at")));
+    }
+    const auto fields = s.sublist("output").get<Teuchos::Array<std::string>>("fields");
+    const auto& allowed = model == kBeam ? kBeamFields : kRodFields;
+    for (Teuchos::Array<std::string>::size_type i = 0; i < fields.size(); ++i)
+      if (std::find(allowed.begin(), allowed.end(), fields[i]) == allowed.end())
+      {
+        std::string list;
+        for (const auto& f : allowed) list += (list.empty() ? "" : ", ") + f;
+        ctx.fail("output.fields[" + std::to_string(i) + "]",
+                 std::string("a field of model ") + model + ", one of {" + list + "}", "'" + fields[i] + "'");
+      }
+    const auto& loads = s.sublist("loads");
+    for (auto it = loads.begin(); it != loads.end(); ++it) {
+      const auto& l = loads.sublist(loads.name(it));
+      const std::string key = "loads." + loads.name(it);
+      if (l.isParameter("start") && l.get<double>("start") > length)
+        ctx.fail(key + ".start", "a position on the structure, in [0, " + format_number(length) + "]",
+                 format_number(l.get<double>("start")));
+      if (model == kBeam && l.isParameter("force_vector")) {
+        const auto f = l.get<Teuchos::Array<double>>("force_vector");
+        if (f[0] != 0.0 || f[2] != 0.0)
+          ctx.fail(key + ".force_vector", "a vertical force [0, Fy, 0] for a beam (it bends in the (j, k) plane)",
+                   "[" + format_number(f[0]) + ", " + format_number(f[1]) + ", " + format_number(f[2]) + "]");
+      }
     }
     const auto& mesh = s.sublist("mesh");
     if (mesh.isParameter("ds")) {
       const double ds = mesh.get<double>("ds");
       const double cells = length / ds;
       if (std::abs(cells - std::round(cells)) > 1e-9 * std::max(1.0, cells) || std::round(cells) < 1.0)
-        ctx.fail("mesh.ds", "a spacing that divides beam.length = " + format_number(length) + " into whole cells",
+        ctx.fail("mesh.ds", "a spacing that divides the length " + format_number(length) + " into whole cells",
                  format_number(ds) + " (" + format_number(cells) + " cells)");
     }
   });
   return root;
 }
 
-MovingLoadSpec build_load(const std::string& name, const ParameterList& l, double beam_mass, double g) {
-  MovingLoadSpec m;
-  m.name = name;
-  m.type = l.get<std::string>("type");
-  m.inertia = m.type == "moving_mass";
-  if (m.type != "moving_mass" && m.type != "moving_force") throw std::logic_error("build_load: unknown load type " + m.type);
-  if (l.isParameter("mass")) m.mass = l.get<double>("mass");
-  if (l.isParameter("mass_fraction")) {
-    const double p = l.get<double>("mass_fraction");
-    m.mass = p / (1.0 - p) * beam_mass;
-  }
-  m.force = l.isParameter("force") ? l.get<double>("force") : m.mass * g;
-  m.speed = l.get<double>("speed");
-  m.acceleration = l.get<double>("acceleration");
-  m.entry = l.get<std::string>("entry");
-  m.entry_time = l.get<double>("entry_time");
-  return m;
+Vec3 vec3_of(const ParameterList& p, const std::string& key) {
+  const auto a = p.get<Teuchos::Array<double>>(key);
+  return Vec3(a[0], a[1], a[2]);
 }
 
 SectionSpec build_section(const ParameterList& s) {
@@ -196,29 +311,84 @@ SectionSpec build_section(const ParameterList& s) {
   if (out.shape == "solid_circle") {
     const double r = s.get<double>("radius");
     out.area = pi * r * r;
-    out.second_moment = pi * std::pow(r, 4) / 4.0;
+    out.I1 = out.I2 = pi * std::pow(r, 4) / 4.0;
+    out.J = 2.0 * out.I1;
   } else if (out.shape == "hollow_circle") {
     const double ro = s.get<double>("outer_radius"), ri = s.get<double>("inner_radius");
     out.area = pi * (ro * ro - ri * ri);
-    out.second_moment = pi * (std::pow(ro, 4) - std::pow(ri, 4)) / 4.0;
+    out.I1 = out.I2 = pi * (std::pow(ro, 4) - std::pow(ri, 4)) / 4.0;
+    out.J = 2.0 * out.I1;
   } else if (out.shape == "rectangle") {
     const double b = s.get<double>("width"), h = s.get<double>("height");
     out.area = b * h;
-    out.second_moment = b * h * h * h / 12.0;
+    out.I1 = b * h * h * h / 12.0;
+    out.I2 = h * b * b * b / 12.0;
+    // Saint-Venant torsion constant of a rectangle, series truncated where converged.
+    const double a = std::max(b, h), c = std::min(b, h);
+    double sum = 0.0;
+    for (int n = 1; n < 200; n += 2) sum += std::tanh(n * pi * a / (2.0 * c)) / std::pow(n, 5);
+    out.J = a * c * c * c / 3.0 * (1.0 - 192.0 / std::pow(pi, 5) * c / a * sum);
   } else if (out.shape == "properties") {
     out.area = s.get<double>("area");
-    out.second_moment = s.get<double>("second_moment");
+    out.I1 = s.get<double>("second_moment");
+    out.I2 = s.isParameter("second_moment_2") ? s.get<double>("second_moment_2") : out.I1;
+    out.J = s.isParameter("torsion_constant") ? s.get<double>("torsion_constant") : out.I1 + out.I2;
   } else {
     throw std::logic_error("build_section: unknown section type " + out.shape);
   }
   return out;
 }
 
+MovingLoadSpec build_load(const std::string& name, const ParameterList& l, double structure_mass, double length,
+                          double g) {
+  MovingLoadSpec m;
+  m.name = name;
+  m.type = l.get<std::string>("type");
+  if (m.type != "moving_mass" && m.type != "moving_force") throw std::logic_error("build_load: unknown load type " + m.type);
+  m.inertia = m.type == "moving_mass";
+  if (l.isParameter("mass")) m.mass = l.get<double>("mass");
+  if (l.isParameter("mass_fraction")) {
+    const double p = l.get<double>("mass_fraction");
+    m.mass = p / (1.0 - p) * structure_mass;
+  }
+  if (l.isParameter("force")) m.force = Vec3(0.0, -l.get<double>("force"), 0.0);
+  else if (l.isParameter("force_vector")) m.force = vec3_of(l, "force_vector");
+  else m.force = Vec3(0.0, -m.mass * g, 0.0);
+  if (!m.inertia && !l.isParameter("mass") && !l.isParameter("mass_fraction")) m.mass = 0.0;
+  m.speed = l.get<double>("speed");
+  m.acceleration = l.get<double>("acceleration");
+  m.entry = l.get<std::string>("entry");
+  m.start = l.isParameter("start") ? l.get<double>("start") : (m.entry == "left" ? 0.0 : length);
+  m.entry_time = l.get<double>("entry_time");
+  return m;
+}
+
 }  // namespace
+
+double MovingLoadSpec::position(double t) const {
+  const double tau = t - entry_time;
+  return start + direction() * (speed * tau + 0.5 * acceleration * tau * tau);
+}
+
+double MovingLoadSpec::velocity(double t) const { return direction() * (speed + acceleration * (t - entry_time)); }
+
+double MovingLoadSpec::exit_time(double length) const {
+  const double d = direction() > 0 ? length - start : start;  // distance to the far end
+  const double v = speed, a = acceleration;
+  if (a == 0.0) return v > 0.0 ? entry_time + d / v : std::numeric_limits<double>::infinity();
+  const double disc = v * v + 2.0 * a * d;
+  if (disc < 0.0) return std::numeric_limits<double>::infinity();
+  return entry_time + (std::sqrt(disc) - v) / a;
+}
 
 const Param& scene_schema() {
   static const Param root = build_schema();
   return root;
+}
+
+[[noreturn]] void fail_at(const Scene& scene, const std::string& key_path, const std::string& expected,
+                          const std::string& found) {
+  CheckContext(scene.file, "", &scene.tree.marks).fail(key_path, expected, found);
 }
 
 Scene parse_scene(const std::string& yaml_text, const std::string& file_name, const std::vector<std::string>& overrides) {
@@ -227,45 +397,85 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
   sc.tree = validate_yaml(yaml_text, file_name, overrides, scene_schema());
   const ParameterList& p = sc.tree.params;
   const std::string model = p.get<std::string>("model");
-  if (model == "beam") {
+  sc.title = p.get<std::string>("title");
+  sc.gravity = p.get<double>("gravity");
+  double structure_mass = 0.0;
+  if (model == kBeam) {
     sc.model = Model::Beam;
+    const auto& b = p.sublist(kBeam);
+    sc.beam.length = b.get<double>("length");
+    sc.beam.youngs_modulus = b.get<double>("youngs_modulus");
+    sc.beam.density = b.get<double>("density");
+    sc.beam.section = build_section(b.sublist("section"));
+    sc.beam.supports = b.get<std::string>("supports");
+    sc.beam.modes = b.get<int>("modes");
+    sc.beam.quadrature_points = b.get<int>("quadrature_points");
+    sc.beam.integrator = b.get<std::string>("integrator");
+    structure_mass = sc.beam.mass();
+  } else if (model == kRod) {
+    sc.model = Model::Rod;
+    const auto& r = p.sublist(kRod);
+    sc.rod.length = r.get<double>("length");
+    sc.rod.youngs_modulus = r.get<double>("youngs_modulus");
+    sc.rod.shear_modulus = r.isParameter("shear_modulus")
+                               ? r.get<double>("shear_modulus")
+                               : sc.rod.youngs_modulus / (2.0 * (1.0 + r.get<double>("poisson_ratio")));
+    sc.rod.density = r.get<double>("density");
+    sc.rod.section = build_section(r.sublist("section"));
+    sc.rod.intrinsic_curvature = vec3_of(r, "intrinsic_curvature");
+    structure_mass = sc.rod.mass();
+    for (auto [spec, key] : {std::pair{&sc.left, "left"}, std::pair{&sc.right, "right"}}) {
+      const auto& e = p.sublist("ends").sublist(key);
+      spec->type = e.get<std::string>("type");
+      if (e.isParameter("axis")) spec->axis = vec3_of(e, "axis").normalized();
+      if (e.isParameter("velocity")) spec->velocity = vec3_of(e, "velocity");
+      if (e.isParameter("rotation_rate")) spec->rotation_rate = vec3_of(e, "rotation_rate");
+    }
+    const auto& s = p.sublist("scheme");
+    sc.scheme.rho_inf = s.get<double>("rho_inf");
+    sc.scheme.rho_inf_space = s.get<double>("rho_inf_space");
+    if (s.isSublist("parameters")) {
+      const auto& a = s.sublist("parameters");
+      sc.scheme.explicit_parameters = true;
+      sc.scheme.as = a.get<double>("as");
+      sc.scheme.bs = a.get<double>("bs");
+      sc.scheme.gs = a.get<double>("gs");
+      sc.scheme.at = a.get<double>("at");
+      sc.scheme.bt = a.get<double>("bt");
+      sc.scheme.gt = a.get<double>("gt");
+    }
+    sc.initial_state.type = p.sublist("initial_state").get<std::string>("type");
   } else {
     throw std::logic_error("parse_scene: unknown model " + model);
   }
-  sc.title = p.get<std::string>("title");
-  sc.gravity = p.get<double>("gravity");
-
-  const auto& b = p.sublist("beam");
-  sc.beam.length = b.get<double>("length");
-  sc.beam.youngs_modulus = b.get<double>("youngs_modulus");
-  sc.beam.density = b.get<double>("density");
-  sc.beam.section = build_section(b.sublist("section"));
-  sc.beam.supports = b.get<std::string>("supports");
-  sc.beam.modes = b.get<int>("modes");
-  sc.beam.quadrature_points = b.get<int>("quadrature_points");
 
   const auto& m = p.sublist("mesh");
-  if (m.isParameter("ds")) {
-    sc.mesh.ds = m.get<double>("ds");
-    sc.mesh.nodes = static_cast<int>(std::lround(sc.beam.length / sc.mesh.ds)) + 1;
-  } else {
-    sc.mesh.nodes = m.isParameter("nodes") ? m.get<int>("nodes") : 101;
-  }
-  sc.mesh.ds = sc.beam.length / (sc.mesh.nodes - 1);
+  if (m.isParameter("ds")) sc.mesh.nodes = static_cast<int>(std::lround(sc.length() / m.get<double>("ds"))) + 1;
+  else sc.mesh.nodes = m.isParameter("nodes") ? m.get<int>("nodes") : 101;
+  sc.mesh.ds = sc.length() / (sc.mesh.nodes - 1);
 
   const auto& loads = p.sublist("loads");
   for (auto it = loads.begin(); it != loads.end(); ++it)
-    sc.loads.push_back(build_load(loads.name(it), loads.sublist(loads.name(it)), sc.beam.mass(), sc.gravity));
+    sc.loads.push_back(build_load(loads.name(it), loads.sublist(loads.name(it)), structure_mass, sc.length(), sc.gravity));
 
   const auto& t = p.sublist("time");
-  sc.time.integrator = t.get<std::string>("integrator");
   sc.time.dt_auto = t.isType<std::string>("dt");
   if (!sc.time.dt_auto) sc.time.dt = t.get<double>("dt");
   sc.time.end_auto = t.isType<std::string>("end");
   if (!sc.time.end_auto) sc.time.end = t.get<double>("end");
-  if (sc.time.end_auto && sc.loads.empty())
-    CheckContext(file_name, "", &sc.tree.marks)
-        .fail("time.end", "a number when the scene has no loads ('auto' ends when the last load leaves)", "auto");
+  if (sc.time.end_auto) {
+    if (sc.loads.empty()) fail_at(sc, "time.end", "a number when the scene has no loads ('auto' ends when the last load leaves)", "auto");
+    for (const auto& l : sc.loads)
+      if (!std::isfinite(l.exit_time(sc.length())))
+        fail_at(sc, "time.end", "a number: with 'auto' every load must leave the structure, but load '" + l.name +
+                "' stops before it does", "auto");
+  }
+  if (sc.model == Model::Rod && sc.time.dt_auto) {
+    double v = 0.0;
+    for (const auto& l : sc.loads) v = std::max(v, l.speed);
+    if (v <= 0.0) fail_at(sc, "time.dt", "a number when no load moves at entry (auto is ds / v)", "auto");
+    sc.time.dt = sc.mesh.ds / v;
+  }
 
   const auto& o = p.sublist("output");
   sc.output.file = o.get<std::string>("file");
@@ -274,7 +484,15 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
   const auto& probes = o.sublist("probes");
   for (auto it = probes.begin(); it != probes.end(); ++it) {
     const auto& pr = probes.sublist(probes.name(it));
-    sc.output.probes.push_back({probes.name(it), pr.get<std::string>("type"), pr.get<double>("at")});
+    ProbeSpec ps;
+    ps.name = probes.name(it);
+    ps.type = pr.get<std::string>("type");
+    ps.at = pr.get<double>("at");
+    if (ps.type == "point") {
+      ps.quantity = pr.get<std::string>("quantity");
+      ps.frame = pr.get<std::string>("frame");
+    }
+    sc.output.probes.push_back(ps);
   }
   const auto fields = o.get<Teuchos::Array<std::string>>("fields");
   sc.output.fields.assign(fields.begin(), fields.end());
@@ -298,7 +516,7 @@ std::string describe_scene(const Scene& scene, bool with_comments) {
 
 std::string describe_types() {
   std::ostringstream os;
-  for (const auto& reg : {section_types(), load_types(), probe_types()}) {
+  for (const auto& reg : {section_types(), end_types(), load_types(), probe_types()}) {
     os << "# " << reg->category() << " types\n";
     for (const auto& n : reg->names()) {
       const TypeInfo* t = reg->find(n);

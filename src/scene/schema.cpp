@@ -65,6 +65,8 @@ Param& Param::required() { is_required = true; return *this; }
 Param& Param::def(const std::string& yaml_text) { default_text = yaml_text; return *this; }
 Param& Param::def(double value) { default_text = fmt(value); return *this; }
 Param& Param::allow_auto() { accepts_auto = true; return *this; }
+Param& Param::only_if_given() { omit_when_absent = true; return *this; }
+Param& Param::when(const std::string& sibling, const std::string& v) { condition = {sibling, v}; return *this; }
 Param& Param::positive() { lo = 0.0; lo_open = true; return *this; }
 Param& Param::non_negative() { lo = 0.0; lo_open = false; return *this; }
 Param& Param::at_least(double v) { lo = v; lo_open = false; return *this; }
@@ -228,6 +230,16 @@ class Validator {
     }
     for (const auto& p : params) {
       const YAML::Node child = node.IsMap() ? node[p.name] : YAML::Node();
+      if (!p.condition.first.empty()) {
+        const auto& [key, wanted] = p.condition;
+        const bool applies = out.isType<std::string>(key) && out.get<std::string>(key) == wanted;
+        if (!applies) {
+          if (child.IsDefined() && !child.IsNull())
+            fail(join_path(path, p.name), "no '" + p.name + "' here: it applies only with " + key + ": " + wanted,
+                 "'" + p.name + "' with " + key + ": " + (out.isType<std::string>(key) ? out.get<std::string>(key) : "?"));
+          continue;
+        }
+      }
       value(child, p, join_path(path, p.name), out);
     }
   }
@@ -260,7 +272,7 @@ class Validator {
         return;
       }
       if (p.is_required) fail(path, p.expected_text() + " (required key '" + p.name + "' is missing)", "nothing");
-      if (container) value(YAML::Node(YAML::NodeType::Map), p, path, out);
+      if (container && !p.omit_when_absent) value(YAML::Node(YAML::NodeType::Map), p, path, out);
       return;
     }
     if (p.accepts_auto && n.IsScalar() && n.Scalar() == "auto") {
@@ -574,6 +586,9 @@ class Describer {
 
   void keys(const Teuchos::ParameterList& list, const std::vector<Param>& params, int depth) {
     for (const auto& p : params) {
+      if (!p.condition.first.empty() && !(list.isType<std::string>(p.condition.first) &&
+                                          list.get<std::string>(p.condition.first) == p.condition.second))
+        continue;
       const bool container = p.kind == ValueKind::Section || p.kind == ValueKind::Typed ||
                              p.kind == ValueKind::Collection || p.kind == ValueKind::PassThrough;
       if (!list.isParameter(p.name)) {

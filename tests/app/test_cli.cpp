@@ -80,7 +80,7 @@ TEST(Cli, CheckPrintsTheCompleteDocumentedScene) {
     EXPECT_NE(r.out.find(f), std::string::npos) << f << "\n" << r.out;
   }
   r = run("check " + kScene.string() + " --types");
-  EXPECT_NE(r.out.find("moving_force: A downward point force"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("moving_force: A point force without inertia"), std::string::npos) << r.out;
 }
 
 TEST(Cli, RunWritesOutputAndRefusesToOverwrite) {

@@ -137,17 +137,17 @@ TEST(Scene, UnknownTypeNamesListTheKnownOnes) {
   expect_error({"loads.m.type=moving_mas"}, {"loads.m.type", "one of {moving_force, moving_mass}", "did you mean 'moving_mass'"});
   expect_error({"beam.section.type=square"}, {"beam.section.type", "cross-section type"});
   expect_error({"beam.supports=free-free"}, {"beam.supports", "one of {simply-supported"});
-  expect_error({"model=plate"}, {"model", "one of {beam}"});
+  expect_error({"model=plate"}, {"model", "one of {beam, rod}"});
 }
 
 TEST(Scene, Contradictions) {
   expect_error({"loads.m.mass=3"}, {"loads.m", "exactly one of 'mass' and 'mass_fraction'", "both"});
   expect_error({"mesh.nodes=11", "mesh.ds=0.2"}, {"mesh.ds", "either 'nodes' or 'ds'"});
-  expect_error({"mesh.ds=0.3"}, {"mesh.ds", "divides beam.length"});
+  expect_error({"mesh.ds=0.3"}, {"mesh.ds", "divides the length 2"});
   expect_error({"beam.section.inner_radius=0.2"}, {"beam.section.inner_radius", "smaller than outer_radius"});
-  expect_error({"output.probes.tip.at=2.5"}, {"output.probes.tip.at", "a position on the beam"});
+  expect_error({"output.probes.tip.at=2.5"}, {"output.probes.tip.at", "a position on the structure"});
   expect_error({"loads.m.speed=0"}, {"loads.m.speed", "moves"});
-  expect_error({"loads.f={type: moving_force, speed: 1}"}, {"loads.f", "exactly one of 'force', 'mass' and 'mass_fraction'", "none"});
+  expect_error({"loads.f={type: moving_force, speed: 1}"}, {"loads.f", "exactly one of 'force', 'force_vector', 'mass' and 'mass_fraction'", "none"});
 }
 
 TEST(Scene, DuplicateKeysAndBadNames) {

@@ -17,7 +17,7 @@ enum class BeamEnd {
 
 /// Description of one moving load (plain data).
 ///
-/// Kinematics, with tau = t - entry_time >= 0 and x0 = 0 (Left) or L (Right):
+/// Kinematics, with tau = t - entry_time >= 0 and x0 = start, or 0 (Left) or L (Right):
 ///     x(t) = x0 + direction * (speed * tau + acceleration * tau^2 / 2),
 /// so the signed velocity and acceleration used in the equations are
 /// v = direction * (speed + acceleration * tau), a = direction * acceleration.
@@ -34,6 +34,9 @@ struct MovingLoad {
   double speed = 0.0;            ///< entry speed v0 >= 0 [m/s] along `direction`
   double acceleration = 0.0;     ///< constant acceleration along `direction` [m/s^2]
   double entry_time = 0.0;       ///< [s]
+  /// Position at entry_time [m], in [0, L]; unset: the entry end (x0 = 0 or L). The load is
+  /// absent before entry_time.
+  std::optional<double> start;
 
   /// Vertical force [N] (positive up) for gravity g.
   double vertical_force(double g) const { return force ? *force : -mass * g; }

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "traverse/core/types.hpp"
 #include "traverse/scene/schema.hpp"
 
 namespace traverse::scene {
@@ -12,12 +13,14 @@ enum class Model { Beam, Rod };
 
 /// Cross-section properties derived from the declared shape.
 struct SectionSpec {
-  std::string shape;       ///< solid_circle, hollow_circle, rectangle, properties
-  double area = 0.0;       ///< A [m^2]
-  double second_moment = 0.0;  ///< I about the bending axis [m^4]
+  std::string shape;    ///< solid_circle, hollow_circle, rectangle, properties
+  double area = 0.0;    ///< A [m^2]
+  double I1 = 0.0;      ///< second moment about d1 (bending in the d2 direction) [m^4]
+  double I2 = 0.0;      ///< second moment about d2 [m^4]
+  double J = 0.0;       ///< torsion constant [m^4]
 };
 
-/// Small-deflection Euler–Bernoulli beam.
+/// Small-deflection Euler–Bernoulli beam (bending in the (j, k) plane: I = I1).
 struct BeamSpec {
   double length = 0.0;          ///< L [m]
   double youngs_modulus = 0.0;  ///< E [Pa]
@@ -25,8 +28,28 @@ struct BeamSpec {
   SectionSpec section;
   std::string supports;         ///< simply-supported, clamped-free, clamped-clamped, clamped-pinned
   int modes = 3;                ///< Galerkin modes
-  int quadrature_points = 4;    ///< Gauss points per mesh cell
+  int quadrature_points = 6;    ///< Gauss points per mesh cell
+  std::string integrator;       ///< rk4 or newmark
   double mass() const { return density * section.area * length; }  ///< beam mass [kg]
+};
+
+/// Inextensible, unshearable Cosserat rod, initially straight along k in the (j, k) plane.
+struct RodSpec {
+  double length = 0.0;          ///< L [m]
+  double youngs_modulus = 0.0;  ///< E [Pa]
+  double shear_modulus = 0.0;   ///< G [Pa] (from the Poisson ratio when that is given)
+  double density = 0.0;         ///< rho [kg/m^3]
+  SectionSpec section;
+  Vec3 intrinsic_curvature = Vec3::Zero();  ///< kappa0, body components [1/m]
+  double mass() const { return density * section.area * length; }
+};
+
+/// One end condition of the rod (fixed-frame vectors).
+struct EndSpec {
+  std::string type;              ///< clamped, pinned, sliding, free, prescribed
+  Vec3 axis = Vec3::UnitX();     ///< pin axis (pinned) or sliding axis (sliding)
+  Vec3 velocity = Vec3::Zero();  ///< prescribed end velocity [m/s]
+  Vec3 rotation_rate = Vec3::Zero();  ///< prescribed end rotation rate [rad/s]
 };
 
 /// A load that travels along the structure.
@@ -34,35 +57,55 @@ struct MovingLoadSpec {
   std::string name;
   std::string type;        ///< moving_mass or moving_force
   bool inertia = false;    ///< true for a moving mass
-  double mass = 0.0;       ///< M [kg] (moving_mass; moving_force given by weight)
-  double force = 0.0;      ///< downward force magnitude [N] (M g for a mass)
-  double speed = 0.0;      ///< entry speed [m/s], >= 0, along the direction of travel
+  double mass = 0.0;       ///< M [kg] (0 for a force given directly)
+  Vec3 force = Vec3::Zero();  ///< fixed-frame force [N] (M g (-j) for a mass or a weight)
+  double speed = 0.0;      ///< speed at entry_time [m/s], >= 0, along the direction of travel
   double acceleration = 0.0;  ///< [m/s^2] along the direction of travel
-  std::string entry;       ///< "left" (x = 0, moving towards +x) or "right" (x = L, towards -x)
+  std::string entry;       ///< "left" (travels towards +s) or "right" (towards -s)
+  double start = 0.0;      ///< position at entry_time [m]
   double entry_time = 0.0;    ///< [s]
+  int direction() const { return entry == "left" ? +1 : -1; }
+  /// Position [m] at time t >= entry_time (also beyond the ends).
+  double position(double t) const;
+  double velocity(double t) const;  ///< signed [m/s]
+  /// Time at which the load reaches the far end of a structure of length L, or +inf.
+  double exit_time(double length) const;
 };
 
 struct MeshSpec {
-  int nodes = 0;   ///< N + 1 nodes
+  int nodes = 0;    ///< N + 1 nodes
   double ds = 0.0;  ///< uniform spacing [m]
 };
 
 struct TimeSpec {
-  std::string integrator;  ///< rk4 or newmark (beam)
   bool dt_auto = true;
-  double dt = 0.0;         ///< [s], resolved when dt_auto (see the scene documentation)
+  double dt = 0.0;   ///< [s] (resolved by the runner when dt_auto)
   bool end_auto = true;
-  double end = 0.0;        ///< [s], resolved when end_auto
+  double end = 0.0;  ///< [s] (resolved by the runner when end_auto)
+};
+
+/// Generalised-alpha parameters of the rod scheme.
+struct SchemeSpec {
+  double rho_inf = 1.0;        ///< spectral radius in time (1: no numerical damping)
+  double rho_inf_space = 1.0;  ///< spectral radius in space (1: plain box scheme in s)
+  bool explicit_parameters = false;  ///< the six parameters below were given directly
+  double as = 0.5, bs = 0.5, gs = 0.5, at = 0.5, bt = 0.5, gt = 0.5;
+};
+
+struct InitialStateSpec {
+  std::string type;  ///< static (equilibrium under the dead loads) or rest (straight, unloaded)
 };
 
 struct ProbeSpec {
   std::string name;
-  std::string type;  ///< deflection
-  double at = 0.0;   ///< position along the structure [m]
+  std::string type;      ///< deflection (beam) or point (rod)
+  double at = 0.0;       ///< position along the structure [m]
+  std::string quantity;  ///< point: position, u, omega, kappa, n, m, d1, d2, d3
+  std::string frame;     ///< point: fixed or body components
 };
 
 struct OutputSpec {
-  std::string file;  ///< HDF5 output path (relative to the working directory)
+  std::string file;  ///< HDF5 output path
   int every = 1;     ///< write every this many steps (plus the first and the last state)
   std::vector<ProbeSpec> probes;
   std::vector<std::string> fields;
@@ -76,10 +119,18 @@ struct Scene {
   std::string title;
   double gravity = 0.0;  ///< g [m/s^2], acting along -j
   MeshSpec mesh;
-  BeamSpec beam;
+  BeamSpec beam;         ///< model beam
+  RodSpec rod;           ///< model rod
+  EndSpec left, right;   ///< model rod
+  SchemeSpec scheme;     ///< model rod
+  InitialStateSpec initial_state;  ///< model rod
   std::vector<MovingLoadSpec> loads;
   TimeSpec time;
   OutputSpec output;
+  /// The structure's length [m] (beam or rod).
+  double length() const { return model == Model::Beam ? beam.length : rod.length; }
+  /// The `solver` section, passed to the solver module (model rod).
+  const Teuchos::ParameterList& solver_parameters() const { return tree.params.sublist("solver"); }
 };
 
 /// The root of the scene schema.
@@ -98,5 +149,10 @@ std::string describe_scene(const Scene& scene, bool with_comments = true);
 
 /// Documentation of every registered type (end conditions, loads, probes, sections).
 std::string describe_types();
+
+/// Throws SceneError located at `key_path` of the scene ("<file>:<line>:<col>: <key>:
+/// expected <expected>, found <found>"), for problems found after validation.
+[[noreturn]] void fail_at(const Scene& scene, const std::string& key_path, const std::string& expected,
+                          const std::string& found);
 
 }  // namespace traverse::scene

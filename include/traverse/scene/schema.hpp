@@ -56,6 +56,10 @@ struct Param {
   bool is_required = false;
   std::optional<std::string> default_text;  ///< YAML text of the default value
   bool accepts_auto = false;                 ///< the word `auto` is accepted (stored as string)
+  bool omit_when_absent = false;             ///< Section: absent means absent (no defaults filled)
+  /// Applies only when the sibling key `first` (validated earlier) has the value `second`;
+  /// otherwise the key must be absent. Empty: always applies.
+  std::pair<std::string, std::string> condition;
   double lo = -std::numeric_limits<double>::infinity();
   double hi = std::numeric_limits<double>::infinity();
   bool lo_open = false, hi_open = false;
@@ -68,6 +72,8 @@ struct Param {
   Param& def(const std::string& yaml_text);
   Param& def(double value);
   Param& allow_auto();
+  Param& only_if_given();        ///< Section: validated only when present in the file
+  Param& when(const std::string& sibling, const std::string& value);  ///< see `condition`
   Param& positive();             ///< > 0
   Param& non_negative();         ///< >= 0
   Param& at_least(double v);     ///< >= v

@@ -1,0 +1,87 @@
+#pragma once
+// Time stepper of the rod over MPI ranks: holds the RodModel, this rank's nodes (owned plus
+// one ghost each side), the Newton solver and everything reused across steps (mesh maps and
+// graph, the W matrix, the linear solver and the preconditioner object). A step that Newton
+// cannot solve is halved (up to "Max Subdivision Depth" times); if it still fails,
+// StepFailure is thrown and the state is left as it was before the step.
+//
+// Only Teuchos (comm, parameter list) and the rod kernels appear here; Trilinos solver
+// headers stay in the .cpp files.
+#include <Teuchos_Comm.hpp>
+#include <Teuchos_ParameterList.hpp>
+#include <Teuchos_RCP.hpp>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "traverse/rod/rod_kernels.hpp"
+#include "traverse/solver/newton_report.hpp"
+#include "traverse/solver/step_failure.hpp"
+
+namespace traverse::solver {
+
+/// What one call of DistributedStepper::step did.
+struct StepReport {
+  int substeps = 0;           ///< Newton solves that converged (1 when not subdivided)
+  int max_depth = 0;          ///< deepest subdivision used (0 = none)
+  int failed_attempts = 0;    ///< Newton solves that failed and were subdivided
+  int newton_iterations = 0;  ///< summed over all attempts
+  int linear_iterations = 0;  ///< summed over all attempts
+  NewtonReport last;          ///< the last converged Newton solve
+};
+
+/// Counts of preconditioner set-up work (zero without an Ifpack2 preconditioner).
+struct ReuseCounters {
+  int preconditioners_created = 0;
+  int preconditioner_initializations = 0;  ///< symbolic set-ups
+  int preconditioner_computations = 0;     ///< numeric set-ups
+  int jacobian_evaluations = 0;
+  int residual_evaluations = 0;
+};
+
+class DistributedStepper {
+ public:
+  /// `params`: see solver_parameters.hpp (validated here; throws std::invalid_argument).
+  /// The state starts as the straight rest state at t = 0; call set_state to change it.
+  DistributedStepper(rod::RodModel model, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
+                     const Teuchos::ParameterList& params = Teuchos::ParameterList());
+  ~DistributedStepper();
+  DistributedStepper(const DistributedStepper&) = delete;
+  DistributedStepper& operator=(const DistributedStepper&) = delete;
+
+  /// Every rank passes the same full state (N + 1 nodes); each keeps its nodes and ghosts.
+  void set_state(const rod::RodState& full);
+  /// Advance by dt [s] (collective). Throws StepFailure (state unchanged) when it fails.
+  StepReport step(double dt);
+
+  double time() const;  ///< [s]
+  const rod::RodModel& model() const;
+  int first_owned_node() const;
+  int num_owned_nodes() const;
+  /// Owned node k (0 <= k < num_owned_nodes()), i.e. global node first_owned_node() + k.
+  const rod::RodNode& owned_node(int k) const;
+  /// The full state, replicated on every rank (collective).
+  rod::RodState gather_state() const;
+
+  /// The linear solver that runs, e.g. "Amesos2 KLU2 (direct)", and whether the configured
+  /// one was rerouted (Amesos2 on 2+ ranks).
+  const std::string& resolved_linear_solver() const;
+  const std::string& requested_linear_solver() const;
+  bool linear_solver_rerouted() const;
+
+  /// Newton report of the last solve attempted (converged or not).
+  const NewtonReport& last_newton_report() const;
+  ReuseCounters reuse_counters() const;
+  /// Identity of the reused objects (for tests): the W matrix and its graph.
+  const void* jacobian_address() const;
+  const void* graph_address() const;
+  const void* mesh_graph_address() const;
+  /// The validated parameters in use.
+  const Teuchos::ParameterList& parameters() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace traverse::solver

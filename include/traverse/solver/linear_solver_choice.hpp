@@ -1,0 +1,24 @@
+#pragma once
+// Resolution of the configured linear solver into a Stratimikos parameter list for the
+// current rank count, with the platform rule: Amesos2 direct solvers give wrong answers on
+// 2+ ranks here (see docs/solver.md), so they are rerouted (default) or refused.
+#include <string>
+
+#include <Teuchos_ParameterList.hpp>
+
+namespace traverse::solver {
+
+struct LinearSolverChoice {
+  std::string requested;   ///< what the parameters asked for, e.g. "Amesos2 KLU2"
+  std::string resolved;    ///< what will run, e.g. "Belos GMRES + Ifpack2 SCHWARZ (...)"
+  bool rerouted = false;   ///< true when the request was replaced by the broken-solver rule
+  bool direct = false;     ///< resolved solver is a direct (Amesos2) solver
+  Teuchos::ParameterList stratimikos;  ///< the list handed to Stratimikos
+
+  /// `params` as accepted by validated_solver_parameters (defaults filled in here too);
+  /// `ranks` the communicator size. Throws std::invalid_argument when the request is refused
+  /// ("On Broken Direct Solver: refuse") or names an unknown solver/preconditioner.
+  static LinearSolverChoice resolve(const Teuchos::ParameterList& params, int ranks);
+};
+
+}  // namespace traverse::solver

@@ -1,0 +1,95 @@
+#pragma once
+// One time step of the rod as a Thyra model evaluator over Tpetra: x = new-level unknowns on
+// the mesh's dof map (node-major, RodModel layout), f = the step residual with row r owned by
+// the owner of node r / p, W = its exact Jacobian in one Tpetra::CrsMatrix on the mesh's fixed
+// graph, refilled in place at every evaluation.
+//
+// Solver-module header: it exposes Thyra and Tpetra types; the app uses DistributedStepper.
+#include <Thyra_LinearOpWithSolveFactoryBase.hpp>
+#include <Thyra_PreconditionerFactoryBase.hpp>
+#include <Thyra_StateFuncModelEvaluatorBase.hpp>
+#include <Tpetra_CrsMatrix.hpp>
+#include <Tpetra_Vector.hpp>
+#include <memory>
+#include <vector>
+
+#include "traverse/mesh/distributed_mesh.hpp"
+#include "traverse/rod/rod_kernels.hpp"
+
+namespace traverse::solver {
+
+class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
+ public:
+  using Vector = Tpetra::Vector<double>;
+  using Matrix = Tpetra::CrsMatrix<double>;
+
+  /// `mesh` must have model->unknowns_per_node() unknowns per node and model->num_cells + 1
+  /// nodes. Creates the single W matrix on mesh->graph().
+  RodStepModel(std::shared_ptr<const rod::RodModel> model,
+               Teuchos::RCP<const mesh::DistributedMesh> mesh);
+
+  /// Old-level states of this rank's ghosted nodes (mesh->first_ghosted_node() ...) and the
+  /// step. Sets the nominal x to the old unknowns.
+  void set_old_level(std::vector<rod::RodNode> ghosted_old_nodes, const rod::StepTimes& step);
+  const std::vector<rod::RodNode>& old_ghosted_nodes() const { return old_nodes_; }
+  const rod::StepTimes& step_times() const { return step_; }
+
+  /// Linear solver and (optional) preconditioner factories, e.g. from Stratimikos.
+  void set_W_factory(const Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>>& f);
+  void set_prec_factory(const Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>>& f);
+  const Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>>& prec_factory() const {
+    return prec_factory_;
+  }
+
+  /// The old unknowns of the owned nodes (the Newton initial guess), on the dof map.
+  void old_unknowns(Vector& x) const;
+  /// Import owned x to the ghosted map and return per ghosted node its unknown block.
+  std::vector<VecX> ghosted_unknowns(const Vector& x) const;
+
+  const Teuchos::RCP<Matrix>& jacobian_matrix() const { return W_; }
+  const mesh::DistributedMesh& mesh() const { return *mesh_; }
+  const rod::RodModel& rod_model() const { return *model_; }
+  int residual_evaluations() const { return n_f_; }
+  int jacobian_evaluations() const { return n_W_; }
+
+  // Thyra::ModelEvaluator
+  Teuchos::RCP<const Thyra::VectorSpaceBase<double>> get_x_space() const override;
+  Teuchos::RCP<const Thyra::VectorSpaceBase<double>> get_f_space() const override;
+  Thyra::ModelEvaluatorBase::InArgs<double> getNominalValues() const override;
+  Thyra::ModelEvaluatorBase::InArgs<double> createInArgs() const override;
+  /// The same Thyra wrapper of the same W matrix on every call (W is reused, never reallocated).
+  Teuchos::RCP<Thyra::LinearOpBase<double>> create_W_op() const override;
+  /// A preconditioner of the prec factory (null without one). Evaluating W_prec builds it from
+  /// W at the given x (reusing W when it was just evaluated at the same x).
+  Teuchos::RCP<Thyra::PreconditionerBase<double>> create_W_prec() const override;
+  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> get_W_factory() const override;
+
+ private:
+  Thyra::ModelEvaluatorBase::OutArgs<double> createOutArgsImpl() const override;
+  void evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>& in,
+                     const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const override;
+
+  /// Kernel blocks whose rows include owned rows, given the ghosted new unknowns.
+  std::vector<rod::LocalBlock> blocks(const std::vector<VecX>& xg) const;
+  void fill(const Vector& x, Vector* f, Matrix* W) const;
+
+  std::shared_ptr<const rod::RodModel> model_;
+  Teuchos::RCP<const mesh::DistributedMesh> mesh_;
+  int p_ = 12;
+  Eigen::Index row_begin_ = 0, row_end_ = 0;  ///< owned global rows [begin, end)
+  Teuchos::RCP<const Thyra::VectorSpaceBase<double>> x_space_;
+  Teuchos::RCP<Matrix> W_;
+  Teuchos::RCP<Thyra::LinearOpBase<double>> W_op_;
+  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> W_factory_;
+  Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>> prec_factory_;
+  std::vector<rod::RodNode> old_nodes_;
+  rod::StepTimes step_;
+  Teuchos::RCP<Vector> x0_;
+  Teuchos::RCP<Thyra::VectorBase<double>> x0_thyra_;
+  mutable Teuchos::RCP<Vector> x_ghosted_;
+  mutable Teuchos::RCP<Vector> W_at_x_;  ///< x at which W was last filled
+  mutable bool W_valid_ = false;
+  mutable int n_f_ = 0, n_W_ = 0;
+};
+
+}  // namespace traverse::solver

@@ -1,0 +1,41 @@
+#pragma once
+// The parameter list of the rod time stepper (what a scene's solver section passes through).
+//
+//   Linear Solver          string  "auto" | "KLU2" | "GMRES"      (default "auto": KLU2 on 1
+//                                  rank, GMRES on more)
+//   Preconditioner         string  "SCHWARZ" | "ILUT" | "RILUK" | "None" (GMRES only;
+//                                  default "SCHWARZ": additive Schwarz, overlap 1, KLU2 on
+//                                  each rank's block)
+//   Linear Tolerance       double  relative residual of each Krylov solve (default 1e-12)
+//   Max Linear Iterations  int     (default 500)
+//   Krylov Subspace Size   int     GMRES restart length (default 200)
+//   On Broken Direct Solver string "reroute" | "refuse" (default "reroute"): what to do when
+//                                  an Amesos2 direct solver is asked for on 2+ ranks, where
+//                                  it returns wrong answers on this platform
+//   Stratimikos            sublist optional full Stratimikos list; when non-empty it replaces
+//                                  the shortcuts above (the broken-solver rule still applies)
+//   Max Newton Iterations  int     (default 20)
+//   Residual Tolerance     double  max |f| for convergence (default 1e-8)
+//   Update Relative Tolerance double WRMS update test rtol (default 1e-8)
+//   Update Absolute Tolerance double WRMS update test atol (default 1e-10)
+//   Line Search            string  NOX line search method: "Full Step" | "Backtrack" |
+//                                  "Polynomial" | "More'-Thuente" (default "Full Step")
+//   NOX                    sublist optional NOX parameters, merged over the defaults built
+//                                  from the keys above (a user's value wins)
+//   Max Subdivision Depth  int     how often a failing step may be halved (default 4;
+//                                  0 disables retries)
+//   Verbose                bool    one-line notices on rank 0 (default true)
+#include <Teuchos_ParameterList.hpp>
+#include <Teuchos_RCP.hpp>
+
+namespace traverse::solver {
+
+/// The valid list with defaults and documentation (sublists NOX and Stratimikos are not
+/// validated here: they are handed to the Trilinos packages, which validate them).
+Teuchos::RCP<const Teuchos::ParameterList> valid_solver_parameters();
+
+/// A copy of `given` validated against valid_solver_parameters() with every default filled
+/// in. Throws std::invalid_argument naming the offending key on a wrong name, type or value.
+Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList& given);
+
+}  // namespace traverse::solver

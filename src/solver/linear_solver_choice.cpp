@@ -1,0 +1,129 @@
+#include "traverse/solver/linear_solver_choice.hpp"
+
+#include <stdexcept>
+
+#include "traverse/solver/solver_parameters.hpp"
+
+namespace traverse::solver {
+
+namespace {
+
+std::string get_or(const Teuchos::ParameterList& pl, const std::string& key, const std::string& fallback) {
+  return pl.isType<std::string>(key) ? pl.get<std::string>(key) : fallback;
+}
+
+const char* const kSchwarzText = "Ifpack2 SCHWARZ (overlap 1, Amesos2 KLU2 subdomains)";
+
+Teuchos::ParameterList amesos2_list() {
+  Teuchos::ParameterList s("Stratimikos");
+  s.set("Linear Solver Type", "Amesos2");
+  s.sublist("Linear Solver Types").sublist("Amesos2").set("Solver Type", "KLU2");
+  s.set("Preconditioner Type", "None");
+  return s;
+}
+
+Teuchos::ParameterList gmres_list(const Teuchos::ParameterList& p, const std::string& prec,
+                                  std::string& text) {
+  Teuchos::ParameterList s("Stratimikos");
+  s.set("Linear Solver Type", "Belos");
+  auto& belos = s.sublist("Linear Solver Types").sublist("Belos");
+  belos.set("Solver Type", "Pseudo Block GMRES");
+  auto& g = belos.sublist("Solver Types").sublist("Pseudo Block GMRES");
+  g.set("Convergence Tolerance", p.get<double>("Linear Tolerance"));
+  g.set("Maximum Iterations", p.get<int>("Max Linear Iterations"));
+  g.set("Num Blocks", p.get<int>("Krylov Subspace Size"));
+  text = "Belos GMRES";
+  if (prec == "None") {
+    s.set("Preconditioner Type", "None");
+    text += " (no preconditioner)";
+    return s;
+  }
+  s.set("Preconditioner Type", "Ifpack2");
+  auto& ip = s.sublist("Preconditioner Types").sublist("Ifpack2");
+  auto& settings = ip.sublist("Ifpack2 Settings");
+  if (prec == "SCHWARZ") {
+    ip.set("Prec Type", "SCHWARZ");
+    ip.set("Overlap", 1);
+    settings.set("schwarz: overlap level", 1);
+    settings.set("subdomain solver name", "AMESOS2");
+    auto& sub = settings.sublist("subdomain solver parameters");
+    sub.set("Amesos2 solver name", "klu2");
+    sub.sublist("Amesos2");
+    text += std::string(" + ") + kSchwarzText;
+  } else if (prec == "ILUT") {
+    ip.set("Prec Type", "ILUT");
+    settings.set("fact: ilut level-of-fill", 3.0);
+    settings.set("fact: drop tolerance", 0.0);
+    settings.set("fact: absolute threshold", 1e-4);
+    text += " + Ifpack2 ILUT (fill 3, no drop, diagonal shift 1e-4)";
+  } else if (prec == "RILUK") {
+    ip.set("Prec Type", "RILUK");
+    settings.set("fact: iluk level-of-fill", 2);
+    settings.set("fact: absolute threshold", 1e-4);
+    text += " + Ifpack2 RILUK (level 2, diagonal shift 1e-4)";
+  } else {
+    throw std::invalid_argument("rod solver parameters: unknown 'Preconditioner' '" + prec + "'");
+  }
+  return s;
+}
+
+std::string describe_pass_through(const Teuchos::ParameterList& s) {
+  const std::string lst = get_or(s, "Linear Solver Type", "Amesos");
+  std::string text = "Stratimikos " + lst;
+  if (s.isSublist("Linear Solver Types") && s.sublist("Linear Solver Types").isSublist(lst)) {
+    const auto& sub = s.sublist("Linear Solver Types").sublist(lst);
+    if (sub.isType<std::string>("Solver Type")) text += " " + sub.get<std::string>("Solver Type");
+  }
+  const std::string pt = get_or(s, "Preconditioner Type", "ML");
+  text += " + " + pt;
+  if (s.isSublist("Preconditioner Types") && s.sublist("Preconditioner Types").isSublist(pt)) {
+    const auto& sub = s.sublist("Preconditioner Types").sublist(pt);
+    if (sub.isType<std::string>("Prec Type")) text += " " + sub.get<std::string>("Prec Type");
+  }
+  return text;
+}
+
+}  // namespace
+
+LinearSolverChoice LinearSolverChoice::resolve(const Teuchos::ParameterList& given, int ranks) {
+  const Teuchos::ParameterList p = validated_solver_parameters(given);
+  LinearSolverChoice c;
+  const Teuchos::ParameterList& pass = p.sublist("Stratimikos");
+  if (pass.numParams() > 0) {
+    c.stratimikos = pass;
+    c.requested = describe_pass_through(pass);
+  } else {
+    std::string solver = p.get<std::string>("Linear Solver");
+    if (solver == "auto") solver = ranks > 1 ? "GMRES" : "KLU2";
+    if (solver == "KLU2") {
+      c.stratimikos = amesos2_list();
+      c.requested = "Amesos2 KLU2 (direct)";
+    } else {
+      c.stratimikos = gmres_list(p, p.get<std::string>("Preconditioner"), c.requested);
+    }
+  }
+  c.resolved = c.requested;
+  const std::string lst = get_or(c.stratimikos, "Linear Solver Type", "Amesos");
+  c.direct = lst == "Amesos2" || lst == "Amesos";
+  if (lst == "Amesos2" && ranks > 1) {
+    std::string which = "KLU2";
+    if (c.stratimikos.isSublist("Linear Solver Types") &&
+        c.stratimikos.sublist("Linear Solver Types").isSublist("Amesos2"))
+      which = get_or(c.stratimikos.sublist("Linear Solver Types").sublist("Amesos2"), "Solver Type", "KLU2");
+    const std::string why = "Amesos2 " + which + " returns wrong solutions on " +
+                            std::to_string(ranks) + " ranks on this platform (Trilinos 13.2)";
+    if (p.get<std::string>("On Broken Direct Solver") == "refuse")
+      throw std::invalid_argument("rod solver parameters: linear solver '" + c.requested +
+                                  "' refused: " + why +
+                                  "; use 'Linear Solver: GMRES' or 'On Broken Direct Solver: reroute'");
+    Teuchos::ParameterList q = p;
+    std::string text;
+    c.stratimikos = gmres_list(q, "SCHWARZ", text);
+    c.resolved = text + " [rerouted from " + c.requested + ": " + why + "]";
+    c.rerouted = true;
+    c.direct = false;
+  }
+  return c;
+}
+
+}  // namespace traverse::solver

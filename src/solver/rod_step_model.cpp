@@ -1,0 +1,205 @@
+#include "traverse/solver/rod_step_model.hpp"
+
+#include <Thyra_DefaultPreconditioner.hpp>
+#include <Thyra_LinearOpSourceBase.hpp>
+#include <Thyra_DefaultLinearOpSource.hpp>
+#include <Thyra_TpetraThyraWrappers.hpp>
+#include <algorithm>
+#include <stdexcept>
+
+namespace traverse::solver {
+
+namespace {
+using MEB = Thyra::ModelEvaluatorBase;
+using LO = mesh::LO;
+using GO = mesh::GO;
+using Node = mesh::Map::node_type;
+using Extract = Thyra::TpetraOperatorVectorExtraction<double, LO, GO, Node>;
+}  // namespace
+
+RodStepModel::RodStepModel(std::shared_ptr<const rod::RodModel> model,
+                           Teuchos::RCP<const mesh::DistributedMesh> mesh)
+    : model_(std::move(model)), mesh_(std::move(mesh)) {
+  if (!model_ || mesh_.is_null()) throw std::invalid_argument("RodStepModel: null model or mesh");
+  p_ = model_->unknowns_per_node();
+  if (mesh_->unknowns_per_node() != p_ || mesh_->mesh().num_nodes() != model_->num_cells + 1)
+    throw std::invalid_argument(
+        "RodStepModel: the mesh must have num_cells + 1 nodes and unknowns_per_node() unknowns per node");
+  row_begin_ = static_cast<Eigen::Index>(p_) * mesh_->first_owned_node();
+  row_end_ = row_begin_ + static_cast<Eigen::Index>(p_) * mesh_->num_owned_nodes();
+  x_space_ = Thyra::createVectorSpace<double, LO, GO, Node>(mesh_->dof_map());
+  W_ = Teuchos::rcp(new Matrix(mesh_->graph()));
+  W_->fillComplete();
+  W_op_ = Thyra::tpetraLinearOp<double, LO, GO, Node>(x_space_, x_space_, W_);
+  x0_ = Teuchos::rcp(new Vector(mesh_->dof_map()));
+  x0_thyra_ = Thyra::createVector(x0_, x_space_);
+  x_ghosted_ = Teuchos::rcp(new Vector(mesh_->ghosted_dof_map()));
+  W_at_x_ = Teuchos::rcp(new Vector(mesh_->dof_map()));
+}
+
+void RodStepModel::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes,
+                                 const rod::StepTimes& step) {
+  if (static_cast<int>(ghosted_old_nodes.size()) != mesh_->num_ghosted_nodes())
+    throw std::invalid_argument("RodStepModel::set_old_level: expected one node per ghosted node");
+  old_nodes_ = std::move(ghosted_old_nodes);
+  step_ = step;
+  old_unknowns(*x0_);
+  W_valid_ = false;
+}
+
+void RodStepModel::set_W_factory(
+    const Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>>& f) {
+  W_factory_ = f;
+}
+
+void RodStepModel::set_prec_factory(const Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>>& f) {
+  prec_factory_ = f;
+}
+
+void RodStepModel::old_unknowns(Vector& x) const {
+  const int off = mesh_->first_owned_node() - mesh_->first_ghosted_node();
+  auto data = x.getDataNonConst();
+  for (int k = 0; k < mesh_->num_owned_nodes(); ++k) {
+    const VecX u = rod::node_unknowns(*model_, old_nodes_[static_cast<size_t>(off + k)]);
+    for (int c = 0; c < p_; ++c) data[static_cast<size_t>(k) * p_ + c] = u(c);
+  }
+}
+
+std::vector<VecX> RodStepModel::ghosted_unknowns(const Vector& x) const {
+  x_ghosted_->doImport(x, *mesh_->dof_importer(), Tpetra::INSERT);
+  auto data = x_ghosted_->getData();
+  std::vector<VecX> out(static_cast<size_t>(mesh_->num_ghosted_nodes()), VecX(p_));
+  for (size_t k = 0; k < out.size(); ++k)
+    for (int c = 0; c < p_; ++c) out[k](c) = data[k * p_ + c];
+  return out;
+}
+
+std::vector<rod::LocalBlock> RodStepModel::blocks(const std::vector<VecX>& xg) const {
+  const int N = model_->num_cells;
+  const int first = mesh_->first_owned_node(), last = first + mesh_->num_owned_nodes() - 1;
+  const int g0 = mesh_->first_ghosted_node();
+  auto O = [&](int j) -> const rod::RodNode& { return old_nodes_[static_cast<size_t>(j - g0)]; };
+  auto X = [&](int j) -> const VecX& { return xg[static_cast<size_t>(j - g0)]; };
+  std::vector<rod::LocalBlock> out;
+  // Rows of node k are [p k, p (k+1)): they come from the end blocks and cells k, k+1.
+  if (first == 0) out.push_back(rod::left_block(*model_, step_, O(0), X(0)));
+  for (int j = std::max(1, first); j <= std::min(N, last + 1); ++j)
+    out.push_back(rod::cell_block(*model_, step_, j, O(j - 1), O(j), X(j - 1), X(j)));
+  if (last == N) out.push_back(rod::right_block(*model_, step_, O(N), X(N)));
+  return out;
+}
+
+void RodStepModel::fill(const Vector& x, Vector* f, Matrix* W) const {
+  if (old_nodes_.empty()) throw std::logic_error("RodStepModel: evaluated before set_old_level");
+  const std::vector<rod::LocalBlock> bl = blocks(ghosted_unknowns(x));
+  if (f) {
+    f->putScalar(0.0);
+    auto fd = f->getDataNonConst();
+    for (const auto& b : bl)
+      for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
+        const Eigen::Index g = b.row + i;
+        if (g >= row_begin_ && g < row_end_) fd[static_cast<size_t>(g - row_begin_)] += b.residual(i);
+      }
+    ++n_f_;
+  }
+  if (W) {
+    W->resumeFill();
+    W->setAllToScalar(0.0);
+    std::vector<GO> cols;
+    std::vector<double> vals;
+    for (const auto& b : bl) {
+      for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
+        const Eigen::Index g = b.row + i;
+        if (g < row_begin_ || g >= row_end_) continue;
+        cols.clear();
+        vals.clear();
+        for (size_t k = 0; k < b.cols.size(); ++k)
+          for (Eigen::Index c = 0; c < b.jac[k].cols(); ++c) {
+            cols.push_back(static_cast<GO>(b.cols[k] + c));
+            vals.push_back(b.jac[k](i, c));
+          }
+        const LO n = W->sumIntoGlobalValues(static_cast<GO>(g), static_cast<LO>(cols.size()),
+                                            vals.data(), cols.data());
+        if (n != static_cast<LO>(cols.size()))
+          throw std::logic_error("RodStepModel: a kernel entry lies outside the mesh graph");
+      }
+    }
+    W->fillComplete();
+    ++n_W_;
+  }
+}
+
+Teuchos::RCP<const Thyra::VectorSpaceBase<double>> RodStepModel::get_x_space() const { return x_space_; }
+Teuchos::RCP<const Thyra::VectorSpaceBase<double>> RodStepModel::get_f_space() const { return x_space_; }
+
+Thyra::ModelEvaluatorBase::InArgs<double> RodStepModel::getNominalValues() const {
+  MEB::InArgs<double> in = createInArgs();
+  in.set_x(x0_thyra_);
+  return in;
+}
+
+Thyra::ModelEvaluatorBase::InArgs<double> RodStepModel::createInArgs() const {
+  MEB::InArgsSetup<double> in;
+  in.setModelEvalDescription("traverse rod time step");
+  in.setSupports(MEB::IN_ARG_x);
+  return std::move(in);
+}
+
+Thyra::ModelEvaluatorBase::OutArgs<double> RodStepModel::createOutArgsImpl() const {
+  MEB::OutArgsSetup<double> out;
+  out.setModelEvalDescription("traverse rod time step");
+  out.setSupports(MEB::OUT_ARG_f);
+  out.setSupports(MEB::OUT_ARG_W_op);
+  out.setSupports(MEB::OUT_ARG_W_prec, !prec_factory_.is_null());
+  return std::move(out);
+}
+
+Teuchos::RCP<Thyra::LinearOpBase<double>> RodStepModel::create_W_op() const { return W_op_; }
+
+Teuchos::RCP<Thyra::PreconditionerBase<double>> RodStepModel::create_W_prec() const {
+  if (prec_factory_.is_null()) return Teuchos::null;
+  return prec_factory_->createPrec();
+}
+
+Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> RodStepModel::get_W_factory() const {
+  return W_factory_;
+}
+
+void RodStepModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>& in,
+                                 const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const {
+  const Teuchos::RCP<const Vector> x = Extract::getConstTpetraVector(in.get_x());
+  Teuchos::RCP<Vector> f;
+  if (!out.get_f().is_null()) f = Extract::getTpetraVector(out.get_f());
+  Matrix* W = nullptr;
+  if (!out.get_W_op().is_null()) {
+    auto op = Extract::getTpetraOperator(out.get_W_op());
+    W = dynamic_cast<Matrix*>(op.get());
+    if (!W || W->getCrsGraph().get() != mesh_->graph().get())
+      throw std::invalid_argument("RodStepModel: W_op must be a CrsMatrix on the mesh graph (use create_W_op)");
+  }
+  const bool want_prec = out.supports(MEB::OUT_ARG_W_prec) && !out.get_W_prec().is_null();
+  Matrix* W_fill = W;
+  if (want_prec && !W) {
+    // Reuse W when it was last filled at this very x.
+    bool same = W_valid_;
+    if (same) {
+      Vector d(*W_at_x_, Teuchos::Copy);
+      d.update(1.0, *x, -1.0);
+      same = d.normInf() == 0.0;
+    }
+    if (!same) W_fill = W_.get();
+  }
+  fill(*x, f.get(), W_fill);
+  if (W_fill == W_.get()) {
+    Tpetra::deep_copy(*W_at_x_, *x);
+    W_valid_ = true;
+  } else if (W_fill) {
+    W_valid_ = false;  // someone else's matrix on our graph: ours is not at x
+  }
+  if (want_prec) {
+    const auto src = Thyra::defaultLinearOpSource<double>(W_op_);
+    prec_factory_->initializePrec(src, out.get_W_prec().get(), Thyra::SUPPORT_SOLVE_UNSPECIFIED);
+  }
+}
+
+}  // namespace traverse::solver

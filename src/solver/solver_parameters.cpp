@@ -1,0 +1,71 @@
+#include "traverse/solver/solver_parameters.hpp"
+
+#include <Teuchos_StandardParameterEntryValidators.hpp>
+#include <stdexcept>
+
+namespace traverse::solver {
+
+Teuchos::RCP<const Teuchos::ParameterList> valid_solver_parameters() {
+  static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
+    using Teuchos::tuple;
+    auto pl = Teuchos::rcp(new Teuchos::ParameterList("Rod Solver"));
+    Teuchos::setStringToIntegralParameter<int>(
+        "Linear Solver", "auto",
+        "Linear solver: auto (KLU2 on 1 rank, GMRES on more), KLU2 (Amesos2 direct), GMRES (Belos)",
+        tuple<std::string>("auto", "KLU2", "GMRES"), pl.get());
+    Teuchos::setStringToIntegralParameter<int>(
+        "Preconditioner", "SCHWARZ",
+        "Ifpack2 preconditioner of GMRES: SCHWARZ (overlap 1, KLU2 subdomains), ILUT, RILUK, None",
+        tuple<std::string>("SCHWARZ", "ILUT", "RILUK", "None"), pl.get());
+    pl->set("Linear Tolerance", 1e-12, "Relative residual reduction of each Krylov solve");
+    pl->set("Max Linear Iterations", 500, "Maximum Krylov iterations per linear solve");
+    pl->set("Krylov Subspace Size", 200, "GMRES restart length");
+    Teuchos::setStringToIntegralParameter<int>(
+        "On Broken Direct Solver", "reroute",
+        "Amesos2 direct solvers are wrong on 2+ ranks on this platform: reroute to GMRES + "
+        "Schwarz/KLU2 (with a notice) or refuse (throw)",
+        tuple<std::string>("reroute", "refuse"), pl.get());
+    pl->sublist("Stratimikos", false, "Full Stratimikos list (replaces the shortcuts when non-empty)")
+        .disableRecursiveValidation();
+    pl->set("Max Newton Iterations", 20, "Maximum Newton iterations per (sub)step");
+    pl->set("Residual Tolerance", 1e-8, "Convergence: max |f| below this (and the update test)");
+    pl->set("Update Relative Tolerance", 1e-8, "Convergence: WRMS update test rtol");
+    pl->set("Update Absolute Tolerance", 1e-10, "Convergence: WRMS update test atol");
+    Teuchos::setStringToIntegralParameter<int>(
+        "Line Search", "Full Step", "NOX line search method",
+        tuple<std::string>("Full Step", "Backtrack", "Polynomial", "More'-Thuente"), pl.get());
+    pl->sublist("NOX", false, "NOX parameters merged over the defaults").disableRecursiveValidation();
+    pl->set("Max Subdivision Depth", 4, "How often a failing step may be halved (0: no retry)");
+    pl->set("Verbose", true, "One-line notices on rank 0");
+    return Teuchos::RCP<const Teuchos::ParameterList>(pl);
+  }();
+  return valid;
+}
+
+Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList& given) {
+  Teuchos::ParameterList p = given;
+  try {
+    p.validateParametersAndSetDefaults(*valid_solver_parameters());
+  } catch (const std::exception& e) {
+    throw std::invalid_argument(std::string("rod solver parameters: ") + e.what());
+  }
+  auto positive = [&](const char* key, bool is_int) {
+    const double v = is_int ? p.get<int>(key) : p.get<double>(key);
+    if (!(v > 0.0))
+      throw std::invalid_argument(std::string("rod solver parameters: '") + key +
+                                  "' must be > 0, found " + std::to_string(v));
+  };
+  positive("Linear Tolerance", false);
+  positive("Max Linear Iterations", true);
+  positive("Krylov Subspace Size", true);
+  positive("Max Newton Iterations", true);
+  positive("Residual Tolerance", false);
+  positive("Update Relative Tolerance", false);
+  positive("Update Absolute Tolerance", false);
+  if (p.get<int>("Max Subdivision Depth") < 0)
+    throw std::invalid_argument("rod solver parameters: 'Max Subdivision Depth' must be >= 0, found " +
+                                std::to_string(p.get<int>("Max Subdivision Depth")));
+  return p;
+}
+
+}  // namespace traverse::solver

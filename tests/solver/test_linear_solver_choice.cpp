@@ -1,0 +1,101 @@
+// Solver parameters and the resolution of the linear solver for a rank count (no MPI needed).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "traverse/solver/linear_solver_choice.hpp"
+#include "traverse/solver/solver_parameters.hpp"
+#include "traverse/solver/step_failure.hpp"
+
+namespace traverse::solver {
+namespace {
+
+TEST(SolverParameters, DefaultsAndErrors) {
+  const Teuchos::ParameterList p = validated_solver_parameters(Teuchos::ParameterList());
+  EXPECT_EQ(p.get<std::string>("Linear Solver"), "auto");
+  EXPECT_EQ(p.get<int>("Max Subdivision Depth"), 4);
+  EXPECT_EQ(p.get<std::string>("Line Search"), "Full Step");
+
+  Teuchos::ParameterList typo;
+  typo.set("Linear Solvr", "KLU2");
+  try {
+    validated_solver_parameters(typo);
+    ADD_FAILURE() << "a misspelt key was accepted";
+  } catch (const std::invalid_argument& e) {
+    std::printf("misspelt key: %.200s...\n", e.what());
+    EXPECT_NE(std::string(e.what()).find("Linear Solvr"), std::string::npos);
+  }
+  Teuchos::ParameterList bad_value;
+  bad_value.set("Preconditioner", "Jacobi");
+  EXPECT_THROW(validated_solver_parameters(bad_value), std::invalid_argument);
+  Teuchos::ParameterList negative;
+  negative.set("Max Subdivision Depth", -1);
+  try {
+    validated_solver_parameters(negative);
+    ADD_FAILURE() << "a negative depth was accepted";
+  } catch (const std::invalid_argument& e) {
+    std::printf("negative depth: %s\n", e.what());
+    EXPECT_NE(std::string(e.what()).find("Max Subdivision Depth"), std::string::npos);
+  }
+  // Pass-through sublists are not validated here.
+  Teuchos::ParameterList nox;
+  nox.sublist("NOX").sublist("Anything").set("goes", 1);
+  EXPECT_NO_THROW(validated_solver_parameters(nox));
+}
+
+TEST(LinearSolverChoice, AutoPicksKlu2OnOneRankAndGmresOnMore) {
+  const LinearSolverChoice one = LinearSolverChoice::resolve(Teuchos::ParameterList(), 1);
+  EXPECT_EQ(one.resolved, "Amesos2 KLU2 (direct)");
+  EXPECT_TRUE(one.direct);
+  EXPECT_FALSE(one.rerouted);
+  EXPECT_EQ(one.stratimikos.get<std::string>("Linear Solver Type"), "Amesos2");
+  const LinearSolverChoice two = LinearSolverChoice::resolve(Teuchos::ParameterList(), 2);
+  std::printf("auto on 2 ranks: %s\n", two.resolved.c_str());
+  EXPECT_FALSE(two.rerouted);
+  EXPECT_EQ(two.stratimikos.get<std::string>("Linear Solver Type"), "Belos");
+  const auto& ifp = two.stratimikos.sublist("Preconditioner Types").sublist("Ifpack2");
+  EXPECT_EQ(ifp.get<std::string>("Prec Type"), "SCHWARZ");
+  EXPECT_EQ(ifp.sublist("Ifpack2 Settings").get<std::string>("subdomain solver name"), "AMESOS2");
+}
+
+TEST(LinearSolverChoice, Klu2OnSeveralRanksIsReroutedOrRefused) {
+  Teuchos::ParameterList p;
+  p.set("Linear Solver", "KLU2");
+  const LinearSolverChoice c = LinearSolverChoice::resolve(p, 2);
+  std::printf("KLU2 on 2 ranks: %s\n", c.resolved.c_str());
+  EXPECT_TRUE(c.rerouted);
+  EXPECT_FALSE(c.direct);
+  EXPECT_EQ(c.requested, "Amesos2 KLU2 (direct)");
+  EXPECT_EQ(c.stratimikos.get<std::string>("Linear Solver Type"), "Belos");
+  EXPECT_NE(c.resolved.find("rerouted from Amesos2 KLU2"), std::string::npos);
+
+  p.set("On Broken Direct Solver", "refuse");
+  EXPECT_THROW(LinearSolverChoice::resolve(p, 3), std::invalid_argument);
+  EXPECT_NO_THROW(LinearSolverChoice::resolve(p, 1));
+
+  // The same rule applies to a full Stratimikos pass-through list.
+  Teuchos::ParameterList q;
+  q.sublist("Stratimikos").set("Linear Solver Type", "Amesos2");
+  const LinearSolverChoice s1 = LinearSolverChoice::resolve(q, 1);
+  EXPECT_FALSE(s1.rerouted);
+  EXPECT_EQ(s1.resolved, "Stratimikos Amesos2 + ML");
+  const LinearSolverChoice s2 = LinearSolverChoice::resolve(q, 2);
+  EXPECT_TRUE(s2.rerouted);
+  std::printf("pass-through Amesos2 on 2 ranks: %s\n", s2.resolved.c_str());
+}
+
+TEST(StepFailure, MessageCarriesTimesAndReason) {
+  NewtonReport r;
+  r.status = "failed: no convergence in 3 Newton iterations";
+  r.iterations = 3;
+  const StepFailure e(0.25, 0.5, 0.375, 0.125, 2, r);
+  std::printf("%s\n", e.what());
+  EXPECT_DOUBLE_EQ(e.time(), 0.25);
+  EXPECT_DOUBLE_EQ(e.failed_step(), 0.125);
+  EXPECT_EQ(e.depth(), 2);
+  EXPECT_NE(std::string(e.what()).find("t = 0.25 s with dt = 0.5 s"), std::string::npos);
+  EXPECT_NE(std::string(e.what()).find("no convergence in 3 Newton iterations"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace traverse::solver
