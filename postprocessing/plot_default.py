@@ -19,6 +19,10 @@ def main(argv=None):
         import plot_beam
 
         plot_beam.main(argv)
+    elif model == "rod":
+        import plot_rod
+
+        plot_rod.main(argv)
     else:
         raise SystemExit(f"plot_default: no figure for model '{model}'")
 

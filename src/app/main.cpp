@@ -45,6 +45,9 @@ int execute(const app::CommandLine& cl, int rank) {
         case scene::Model::Beam:
           app::run_beam(sc, opt, MPI_COMM_WORLD);
           break;
+        case scene::Model::Rod:
+          app::run_rod(sc, opt, MPI_COMM_WORLD);
+          break;
         default:
           throw std::logic_error("traverse run: model not handled");
       }

@@ -30,4 +30,7 @@ struct RunOptions {
 /// numerics fail (after marking the output file failed).
 void run_beam(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);
 
+/// Runs a rod scene (same contract as run_beam).
+void run_rod(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);
+
 }  // namespace traverse::app

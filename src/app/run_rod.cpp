@@ -1,0 +1,322 @@
+// Scene -> rod::RodModel, initial state, the distributed time stepper, and the output.
+#include <mpi.h>
+
+#include <Teuchos_DefaultMpiComm.hpp>
+#include <Tpetra_Core.hpp>
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "progress.hpp"
+#include "run.hpp"
+#include "traverse/output/writer.hpp"
+#include "traverse/rod/static_solver.hpp"
+#include "traverse/solver/distributed_stepper.hpp"
+#include "traverse/solver/solver_parameters.hpp"
+#include "traverse/version.hpp"
+
+namespace traverse::app {
+
+namespace {
+
+rod::RodProperties properties_of(const scene::RodSpec& r) {
+  rod::RodProperties p;
+  const auto& s = r.section;
+  p.rhoA = r.density * s.area;
+  p.rhoI = r.density * Vec3(s.I1, s.I2, s.J);
+  p.K = Vec3(r.youngs_modulus * s.I1, r.youngs_modulus * s.I2, r.shear_modulus * s.J);
+  p.kappa0 = r.intrinsic_curvature;
+  return p;
+}
+
+rod::EndCondition end_of(const scene::EndSpec& e) {
+  if (e.type == "clamped") return rod::EndCondition::make_clamped();
+  if (e.type == "pinned") return rod::EndCondition::make_pinned(e.axis);
+  if (e.type == "sliding") return rod::EndCondition::make_sliding(e.axis);
+  if (e.type == "free") return rod::EndCondition::make_free();
+  if (e.type == "prescribed") {
+    const Vec3 v = e.velocity, w = e.rotation_rate;
+    return rod::EndCondition::make_prescribed([v](double) { return v; }, [w](double) { return w; });
+  }
+  throw std::logic_error("run_rod: unknown end condition " + e.type);
+}
+
+// The static reading of an end at the straight reference position s_end along k.
+rod::StaticEnd static_end_of(const scene::EndSpec& e, double s_end) {
+  rod::StaticEnd s;
+  s.position = Vec3(0.0, 0.0, s_end);
+  s.axis = e.axis;
+  using T = rod::EndCondition::Type;
+  if (e.type == "clamped" || e.type == "prescribed") s.type = T::clamped;  // prescribed motion starts from rest
+  else if (e.type == "pinned") s.type = T::pinned;
+  else if (e.type == "sliding") s.type = T::sliding;
+  else if (e.type == "free") s.type = T::free;
+  else throw std::logic_error("run_rod: unknown end condition " + e.type);
+  return s;
+}
+
+// A load is on the structure at time t when it has started and lies in [0, L].
+double load_sigma(const scene::MovingLoadSpec& l, double t) {
+  return t < l.entry_time ? std::numeric_limits<double>::quiet_NaN() : l.position(t);
+}
+
+struct Interpolation {
+  int j;      // left node
+  double xi;  // weight of node j + 1
+};
+Interpolation locate(double s, double ds, int cells) {
+  int j = static_cast<int>(std::floor(s / ds));
+  j = std::clamp(j, 0, cells - 1);
+  return {j, std::clamp(s / ds - j, 0.0, 1.0)};
+}
+
+// Value of a probe quantity at one node (3 components).
+Vec3 node_quantity(const rod::RodNode& nd, const Vec3& r, const rod::RodProperties& props, const std::string& q,
+                   bool fixed) {
+  Vec3 v;
+  if (q == "position") return r;
+  if (q == "d1") return nd.R.row(0).transpose();
+  if (q == "d2") return nd.R.row(1).transpose();
+  if (q == "d3") return nd.R.row(2).transpose();
+  if (q == "u") v = nd.y.segment<3>(rod::var::u);
+  else if (q == "omega") v = nd.y.segment<3>(rod::var::omega);
+  else if (q == "kappa") v = nd.y.segment<3>(rod::var::kappa);
+  else if (q == "n") v = nd.y.segment<3>(rod::var::n);
+  else if (q == "m") v = props.K.cwiseProduct(nd.y.segment<3>(rod::var::kappa) - props.kappa0);
+  else throw std::logic_error("run_rod: unknown probe quantity " + q);
+  return fixed ? Vec3(nd.R.transpose() * v) : v;
+}
+
+}  // namespace
+
+void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  // Kokkos and Tpetra live for this run only (beam runs never start them).
+  int no_argc = 0;
+  char** no_argv = nullptr;
+  Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);
+  const auto& rs = sc.rod;
+  const int N = sc.mesh.nodes - 1;
+
+  // ---- Model -------------------------------------------------------------------------
+  Teuchos::ParameterList solver_params;
+  try {
+    solver_params = solver::validated_solver_parameters(sc.solver_parameters());
+  } catch (const std::invalid_argument& e) {
+    scene::fail_at(sc, "solver", "valid solver parameters (see docs/solver.md)", e.what());
+  }
+  rod::RodModel model;
+  model.props = properties_of(rs);
+  if (sc.scheme.explicit_parameters) {
+    model.alpha = {sc.scheme.as, sc.scheme.bs, sc.scheme.gs, sc.scheme.at, sc.scheme.bt, sc.scheme.gt};
+  } else {
+    model.alpha = rod::AlphaParameters::from_rho_inf(sc.scheme.rho_inf, sc.scheme.rho_inf_space);
+  }
+  model.num_cells = N;
+  model.length = rs.length;
+  model.left = end_of(sc.left);
+  model.right = end_of(sc.right);
+  const auto check = rod::validate_end_conditions(model.left, model.right);
+  if (!check.ok) scene::fail_at(sc, "ends", "a well-posed pair of end conditions", check.message);
+  model.loads.gravity = Vec3(0.0, -sc.gravity, 0.0);
+  for (const auto& l : sc.loads) {
+    auto sigma = [l](double t) { return load_sigma(l, t); };
+    if (l.inertia) {
+      rod::MovingMass m;
+      m.mass = l.mass;
+      m.sigma = sigma;
+      m.speed = [l](double t) { return l.velocity(t); };
+      const double a = l.direction() * l.acceleration;
+      m.accel = [a](double) { return a; };
+      m.inertia = true;
+      model.loads.masses.push_back(m);
+    } else {
+      const Vec3 F = l.force;
+      model.loads.point_forces.push_back({[F](double) { return F; }, sigma});
+    }
+  }
+
+  // ---- Initial state -----------------------------------------------------------------
+  rod::RodState state = rod::straight_rest_state(N, rs.length);
+  std::string initial = "straight, at rest, unloaded";
+  if (sc.initial_state.type == "static") {
+    rod::StaticModel sm;
+    sm.props = model.props;
+    sm.num_cells = N;
+    sm.length = rs.length;
+    sm.left = static_end_of(sc.left, 0.0);
+    sm.right = static_end_of(sc.right, rs.length);
+    sm.gravity = model.loads.gravity;
+    for (const auto& l : sc.loads) {
+      const double s0 = load_sigma(l, 0.0);
+      if (std::isfinite(s0) && s0 >= 0.0 && s0 <= rs.length) sm.point_forces.push_back({l.force, s0});
+    }
+    auto nodes = rod::straight_static_state(sm);
+    const auto rep = rod::StaticSolver().solve_with_load_steps(sm, nodes);
+    if (!rep.converged)
+      throw NumericsError("initial static state: " + rep.message + " (residual " +
+                          scene::format_number(rep.residual_norm) + " after " + std::to_string(rep.iterations) +
+                          " Newton iterations)");
+    state = rod::dynamic_state_from_static(sm, nodes);
+    initial = "static equilibrium under gravity" + std::string(sm.point_forces.empty() ? "" : " and the loads on the rod at t = 0") +
+              " (" + std::to_string(rep.load_steps) + " load steps, " + std::to_string(rep.iterations) + " Newton iterations)";
+  }
+
+  auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
+  solver::DistributedStepper stepper(model, tcomm, solver_params);
+  stepper.set_state(state);
+
+  // ---- Time grid ---------------------------------------------------------------------
+  double t_end = sc.time.end;
+  if (sc.time.end_auto) {
+    t_end = 0.0;
+    for (const auto& l : sc.loads) t_end = std::max(t_end, l.exit_time(rs.length));
+  }
+  const double dt = sc.time.dt;
+  const long steps = std::max(1L, static_cast<long>(std::ceil(t_end / dt - 1e-9)));
+
+  // ---- Output ------------------------------------------------------------------------
+  const int first = stepper.first_owned_node(), count = stepper.num_owned_nodes();
+  output::NodeLayout layout;
+  layout.global_count = static_cast<size_t>(N + 1);
+  layout.first = static_cast<size_t>(first);
+  layout.count = static_cast<size_t>(count);
+  for (int k = 0; k < count; ++k) layout.s.push_back((first + k) * sc.mesh.ds);
+  output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod"};
+  output::Writer writer(comm, opt.output, opt.overwrite, info, layout, std::max<size_t>(1, sc.loads.size()));
+
+  const std::vector<std::string> xyz{"x", "y", "z"}, d123{"1", "2", "3"};
+  bool need_state = false;  // the full state gathered at output steps (probes, centreline)
+  for (const auto& pr : sc.output.probes) {
+    const bool fixed = pr.frame == "fixed";
+    std::string units = pr.quantity == "position" ? "m" : pr.quantity == "u" ? "m/s" : pr.quantity == "omega" ? "rad/s"
+                        : pr.quantity == "kappa" ? "1/m" : pr.quantity == "n" ? "N" : pr.quantity == "m" ? "N m" : "1";
+    writer.add_probe({pr.name, 3, units,
+                      pr.quantity + " at s = " + scene::format_number(pr.at) + " m, " +
+                          (fixed ? "fixed-frame components (i, j, k)" : "body components (d1, d2, d3)"),
+                      fixed ? xyz : d123});
+    need_state = true;
+  }
+  for (const auto& l : sc.loads)
+    writer.add_probe({l.name + "_position", 1, "m", "arclength sigma(t) of load '" + l.name + "'", {}});
+  std::vector<std::string> fields = sc.output.fields;
+  for (const auto& f : fields) {
+    if (f == "u") writer.add_field({"u", 3, "m/s", "velocity, body components", d123, false});
+    else if (f == "omega") writer.add_field({"omega", 3, "rad/s", "spin, body components", d123, false});
+    else if (f == "kappa") writer.add_field({"kappa", 3, "1/m", "curvature and twist, body components", d123, false});
+    else if (f == "n") writer.add_field({"n", 3, "N", "contact force, body components", d123, false});
+    else if (f == "m") writer.add_field({"m", 3, "N m", "contact moment K (kappa - kappa0), body components", d123, false});
+    else if (f == "r") {
+      writer.add_field({"r", 3, "m", "centreline, fixed components", xyz, true});
+      need_state = true;
+    } else if (f == "R") {
+      writer.add_field({"R", 9, "1", "orientation: rows d1, d2, d3 in fixed components",
+                        {"d1x", "d1y", "d1z", "d2x", "d2y", "d2z", "d3x", "d3y", "d3z"}, false});
+    } else {
+      throw std::logic_error("run_rod: unknown field " + f);
+    }
+  }
+
+  // Left-end position: fixed for ends that hold it, else integrated in time (trapezoidal).
+  const bool left_moves = sc.left.type == "free" || sc.left.type == "sliding" || sc.left.type == "prescribed";
+  Vec3 r0 = Vec3::Zero();
+  auto node0_velocity = [&]() -> Vec3 {  // R^T u at node 0, broadcast from its owner
+    Vec3 v = Vec3::Zero();
+    if (first == 0) v = stepper.owned_node(0).R.transpose() * stepper.owned_node(0).y.segment<3>(rod::var::u);
+    int owner = first == 0 ? rank : 0, root = 0;
+    MPI_Allreduce(&owner, &root, 1, MPI_INT, MPI_MAX, comm);
+    MPI_Bcast(v.data(), 3, MPI_DOUBLE, root, comm);
+    return v;
+  };
+
+  std::vector<std::vector<double>> probe_values(sc.output.probes.size() + sc.loads.size(), std::vector<double>(1));
+  for (size_t i = 0; i < sc.output.probes.size(); ++i) probe_values[i].assign(3, 0.0);
+  std::vector<std::vector<double>> field_values(fields.size());
+  std::vector<double> sigma(std::max<size_t>(1, sc.loads.size()), std::numeric_limits<double>::quiet_NaN());
+
+  auto write = [&](double t) {
+    rod::RodState full;
+    std::vector<Vec3> r;
+    if (need_state) {
+      full = stepper.gather_state();
+      r = rod::centreline_in_space(full, r0);
+    }
+    for (size_t i = 0; i < sc.output.probes.size(); ++i) {
+      const auto& pr = sc.output.probes[i];
+      const auto loc = locate(pr.at, sc.mesh.ds, N);
+      const auto& a = full.nodes[static_cast<size_t>(loc.j)];
+      const auto& b = full.nodes[static_cast<size_t>(loc.j + 1)];
+      const bool fixed = pr.frame == "fixed";
+      const Vec3 v = (1.0 - loc.xi) * node_quantity(a, r[static_cast<size_t>(loc.j)], model.props, pr.quantity, fixed) +
+                     loc.xi * node_quantity(b, r[static_cast<size_t>(loc.j + 1)], model.props, pr.quantity, fixed);
+      probe_values[i].assign(v.data(), v.data() + 3);
+    }
+    for (size_t i = 0; i < sc.loads.size(); ++i) {
+      sigma[i] = load_sigma(sc.loads[i], t);
+      probe_values[sc.output.probes.size() + i][0] = sigma[i];
+    }
+    for (size_t f = 0; f < fields.size(); ++f) {
+      auto& out = field_values[f];
+      const std::string& name = fields[f];
+      const size_t comps = name == "R" ? 9 : 3;
+      out.resize(comps * static_cast<size_t>(count));
+      for (int k = 0; k < count; ++k) {
+        const auto& nd = stepper.owned_node(k);
+        double* o = out.data() + comps * static_cast<size_t>(k);
+        if (name == "r") {
+          const Vec3& p = r[static_cast<size_t>(first + k)];
+          std::copy(p.data(), p.data() + 3, o);
+        } else if (name == "R") {
+          for (int i = 0; i < 3; ++i)
+            for (int c = 0; c < 3; ++c) o[3 * i + c] = nd.R(i, c);
+        } else {
+          const Vec3 v = node_quantity(nd, Vec3::Zero(), model.props, name, false);
+          std::copy(v.data(), v.data() + 3, o);
+        }
+      }
+    }
+    std::vector<output::DoubleView> views(field_values.begin(), field_values.end());
+    writer.write_step(t, sigma, probe_values, views);
+  };
+
+  // ---- Run ---------------------------------------------------------------------------
+  if (rank == 0 && !opt.quiet)
+    std::printf("rod scene '%s': %d nodes, %ld steps of dt = %.6g s to t = %.6g s; initial state: %s; linear solver: %s%s\n",
+                sc.file.c_str(), N + 1, steps, dt, t_end, initial.c_str(), stepper.resolved_linear_solver().c_str(),
+                stepper.linear_solver_rerouted() ? " (rerouted: Amesos2 gives wrong answers on 2+ ranks here)" : "");
+  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", 0.0, t_end);
+  write(0.0);
+  long newton = 0, substeps = 0;
+  for (long i = 1; i <= steps; ++i) {
+    const double t0 = stepper.time();
+    const double h = i == steps ? t_end - t0 : dt;
+    if (h <= 0.0) break;
+    const Vec3 v_old = left_moves ? node0_velocity() : Vec3::Zero();
+    try {
+      const auto rep = stepper.step(h);
+      newton += rep.newton_iterations;
+      substeps += rep.substeps;
+    } catch (const solver::StepFailure& e) {
+      progress.done();
+      std::ostringstream os;
+      os << "time step " << i << " of " << steps << " (t = " << e.time() << " s, dt = " << e.step()
+         << " s) failed after halving it " << e.depth() << " times: " << e.report().status
+         << " (residual " << e.report().residual_norm
+         << "); try scheme.rho_inf < 1, a smaller time.dt, or a larger 'Max Subdivision Depth' in solver";
+      writer.fail(os.str());
+      throw NumericsError(os.str());
+    }
+    if (left_moves) r0 += 0.5 * h * (v_old + node0_velocity());
+    if (i % sc.output.every == 0 || i == steps) write(stepper.time());
+    progress.update(stepper.time(), i);
+  }
+  progress.done();
+  writer.finish();
+  if (rank == 0 && !opt.quiet)
+    std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve); %zu output steps -> %s\n", newton, substeps,
+                substeps ? double(newton) / double(substeps) : 0.0, writer.steps_written(), opt.output.c_str());
+}
+
+}  // namespace traverse::app
