@@ -26,6 +26,7 @@ int execute(const app::CommandLine& cl, int rank) {
       return app::kSuccess;
     case Command::Check: {
       const scene::Scene sc = scene::load_scene(cl.scene, cl.overrides);
+      if (sc.model == scene::Model::Rod) app::check_rod(sc);
       if (rank == 0) {
         std::cout << "# " << cl.scene << ": valid. The complete scene, every default filled in:\n"
                   << scene::describe_scene(sc);

@@ -30,6 +30,10 @@ struct RunOptions {
 /// numerics fail (after marking the output file failed).
 void run_beam(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);
 
+/// Checks what only the rod model can check (solver parameters, the pair of end
+/// conditions); throws scene::SceneError.
+void check_rod(const scene::Scene& scene);
+
 /// Runs a rod scene (same contract as run_beam).
 void run_rod(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);
 

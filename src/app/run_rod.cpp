@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <sstream>
 
 #include "progress.hpp"
@@ -88,20 +89,10 @@ Vec3 node_quantity(const rod::RodNode& nd, const Vec3& r, const rod::RodProperti
   return fixed ? Vec3(nd.R.transpose() * v) : v;
 }
 
-}  // namespace
-
-void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  // Kokkos and Tpetra live for this run only (beam runs never start them).
-  int no_argc = 0;
-  char** no_argv = nullptr;
-  Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);
+/// The rod model of a scene, with its solver parameters validated; throws SceneError.
+rod::RodModel build_rod_model(const scene::Scene& sc, Teuchos::ParameterList& solver_params) {
   const auto& rs = sc.rod;
   const int N = sc.mesh.nodes - 1;
-
-  // ---- Model -------------------------------------------------------------------------
-  Teuchos::ParameterList solver_params;
   try {
     solver_params = solver::validated_solver_parameters(sc.solver_parameters());
   } catch (const std::invalid_argument& e) {
@@ -138,6 +129,29 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     }
   }
 
+  return model;
+}
+
+}  // namespace
+
+void check_rod(const scene::Scene& sc) {
+  Teuchos::ParameterList solver_params;
+  build_rod_model(sc, solver_params);
+}
+
+void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  // Kokkos and Tpetra live for this run only (beam runs never start them).
+  int no_argc = 0;
+  char** no_argv = nullptr;
+  Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);
+  const auto& rs = sc.rod;
+  const int N = sc.mesh.nodes - 1;
+
+  Teuchos::ParameterList solver_params;
+  const rod::RodModel model = build_rod_model(sc, solver_params);
+
   // ---- Initial state -----------------------------------------------------------------
   rod::RodState state = rod::straight_rest_state(N, rs.length);
   std::string initial = "straight, at rest, unloaded";
@@ -165,7 +179,14 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   }
 
   auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
-  solver::DistributedStepper stepper(model, tcomm, solver_params);
+  std::unique_ptr<solver::DistributedStepper> stepper_ptr;
+  try {
+    stepper_ptr = std::make_unique<solver::DistributedStepper>(model, tcomm, solver_params);
+  } catch (const std::invalid_argument& e) {
+    scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(tcomm->getSize()) + " rank(s)",
+                   e.what());
+  }
+  solver::DistributedStepper& stepper = *stepper_ptr;
   stepper.set_state(state);
 
   // ---- Time grid ---------------------------------------------------------------------

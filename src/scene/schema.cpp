@@ -399,15 +399,16 @@ class Validator {
   }
 
   void typed_entry(const YAML::Node& n, const TypeRegistry& reg, const std::string& path, Teuchos::ParameterList& out) {
-    if (!n.IsMap()) fail(path, "a map with a 'type' key naming a " + reg.category() + " type", shown(n));
+    const std::string a = std::string("aeiou").find(reg.category()[0]) == std::string::npos ? "a " : "an ";
+    if (!n.IsMap()) fail(path, "a map with a 'type' key naming " + a + reg.category() + " type", shown(n));
     const YAML::Node t = n["type"];
     if (!t.IsDefined() || !t.IsScalar())
-      fail(join_path(path, "type"), "a " + reg.category() + " type, one of {" + list_words(reg.names()) + "}",
+      fail(join_path(path, "type"), a + reg.category() + " type, one of {" + list_words(reg.names()) + "}",
            t.IsDefined() ? shown(t) : "nothing (the 'type' key is missing)");
     const std::string type = t.Scalar();
     const TypeInfo* info = reg.find(type);
     if (!info)
-      fail(join_path(path, "type"), "a " + reg.category() + " type, one of {" + list_words(reg.names()) + "}",
+      fail(join_path(path, "type"), a + reg.category() + " type, one of {" + list_words(reg.names()) + "}",
            "'" + type + "'" + suggestion(type, reg.names()));
     out.set("type", type, reg.category() + " type");
     map_keys(n, info->params, path, out, {"type"});

@@ -11,6 +11,8 @@
 #include <regex>
 #include <string>
 
+#include "traverse/output/reader.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -39,6 +41,31 @@ fs::path scratch(const std::string& name) {
 }
 
 const fs::path kScene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "beam" / "cantilever.yaml";
+const fs::path kCable = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "hanging_cable_F2_a0.5.yaml";
+// The cable at a coarse spacing (21 nodes, 20 steps).
+const std::string kCoarse = " --set mesh.ds=0.05 -q";
+
+std::string mpirun(int ranks) {
+  return "mpiexec --allow-run-as-root --oversubscribe -n " + std::to_string(ranks) + " ";
+}
+
+Result run_with(const std::string& prefix, const std::string& args) {
+  const std::string cmd = prefix + std::string(TRAVERSE_EXE) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return {-1, "popen failed"};
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return 1e300;
+  double m = 0.0;
+  for (size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
+  return m;
+}
 // A short, cheap version of the scene for runs.
 const std::string kFast = " --set beam.modes=2 --set time.dt=1e-4 --set output.every=50 -q";
 
@@ -148,4 +175,63 @@ TEST(Cli, BadInputSuite) {
   }
   std::cout << "  bad-input cases: " << cases << "\n";
   EXPECT_GE(cases, 40);
+}
+
+TEST(Cli, RodRunWritesProbesFieldsAndStatus) {
+  const fs::path d = scratch("rod");
+  const std::string out = (d / "cable.h5").string();
+  const auto r = run("run " + kCable.string() + " -o " + out + kCoarse);
+  ASSERT_EQ(r.code, 0) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.status(), "complete");
+  EXPECT_EQ(f.steps_written(), 21u);
+  const auto mid = f.probe("midspan");
+  ASSERT_EQ(mid.components, 3u);
+  // Starts at the static sag under gravity (linear beam value 0.0245 m), then goes down.
+  EXPECT_NEAR(mid.values[1], -0.0245, 0.002);
+  double lowest = 0.0;
+  for (size_t k = 0; k < mid.rows; ++k) lowest = std::min(lowest, mid.values[3 * k + 1]);
+  EXPECT_LT(lowest, -0.1);
+  const auto r_field = f.field("r", f.steps_written() - 1);
+  EXPECT_EQ(r_field.size(), 21u * 3u);
+  EXPECT_NEAR(r_field[0], 0.0, 1e-12);  // left end fixed at the origin
+  EXPECT_TRUE(f.has_attribute("scene"));
+}
+
+TEST(Cli, RodGivesTheSameAnswersOnOneAndTwoRanksAndWithEachLinearSolver) {
+  const fs::path d = scratch("rod-ranks");
+  struct Case {
+    std::string name, prefix, args;
+  };
+  const std::vector<Case> cases{
+      {"klu2_np1", "", " --set 'solver.Linear Solver=KLU2'"},
+      {"gmres_schwarz_np1", "", " --set 'solver.Linear Solver=GMRES'"},
+      {"gmres_ilut_np1", "", " --set 'solver.Linear Solver=GMRES' --set solver.Preconditioner=ILUT"},
+      {"auto_np2", mpirun(2), ""},  // GMRES + Schwarz with KLU2 subdomains
+      {"klu2_np2", mpirun(2), " --set 'solver.Linear Solver=KLU2'"},  // rerouted to the same
+      {"gmres_schwarz_np2", mpirun(2), " --set 'solver.Linear Solver=GMRES'"},
+  };
+  std::vector<double> reference;
+  for (const auto& c : cases) {
+    const std::string out = (d / (c.name + ".h5")).string();
+    const auto r = run_with(c.prefix, "run " + kCable.string() + " -o " + out + kCoarse + c.args);
+    ASSERT_EQ(r.code, 0) << c.name << "\n" << r.out;
+    if (c.name == "klu2_np2") {
+      const auto noisy = run_with(c.prefix, "run " + kCable.string() + " -o " + out + " --overwrite --set mesh.ds=0.05" + c.args);
+      EXPECT_NE(noisy.out.find("rerouted"), std::string::npos) << noisy.out;
+    }
+    const auto mid = traverse::output::Reader(out).probe("midspan").values;
+    if (reference.empty()) {
+      reference = mid;
+      continue;
+    }
+    const double diff = max_difference(mid, reference);
+    std::cout << "  " << c.name << ": max |midspan - KLU2 on 1 rank| = " << diff << " m\n";
+    EXPECT_LT(diff, 1e-10) << c.name;
+  }
+  const auto refused = run_with(mpirun(2), "run " + kCable.string() + " -o " + (d / "refused.h5").string() + kCoarse +
+                                               " --set 'solver.Linear Solver=KLU2' --set 'solver.On Broken Direct Solver=refuse'");
+  EXPECT_EQ(refused.code, 2) << refused.out;
+  EXPECT_NE(refused.out.find("KLU2"), std::string::npos) << refused.out;
+  EXPECT_FALSE(fs::exists(d / "refused.h5"));
 }
