@@ -62,11 +62,6 @@ def midspan_y(r):
     return r.probes["midspan"][:, 1]
 
 
-def sigma(r):
-    s = np.asarray(r.sigma)
-    return s if s.ndim == 1 else s[:, 0]
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--traverse")
@@ -83,7 +78,7 @@ def main(argv=None):
     for ax, F in zip(axes, LOADS):
         for al in ALPHAS:
             r = traverse_io.load(out_name(a.out, F, al))
-            ax.plot(sigma(r), midspan_y(r), label=f"alpha = {al}")
+            ax.plot(traverse_io.first_load_sigma(r), midspan_y(r), label=f"alpha = {al}")
         ax.set_title(f"F = {F} N")
         ax.set_xlabel("load position sigma [m]")
         ax.set_ylabel("midspan height y(L/2) [m]")
@@ -95,7 +90,7 @@ def main(argv=None):
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
     for ax, F in zip(axes, LOADS):
         r = traverse_io.load(out_name(a.out, F, 0.5))
-        s = sigma(r)
+        s = traverse_io.first_load_sigma(r)
         for target in [0.0, 0.25, 0.5, 0.75, 1.0]:
             k = int(np.nanargmin(np.abs(s - target)))
             xyz = r.field("r", k)
@@ -113,7 +108,7 @@ def main(argv=None):
         during, after = [], []
         for al in SWEEP:
             r = traverse_io.load(out_name(a.out, F, al, "sweep"))
-            y, on = midspan_y(r), sigma(r) <= 1.0
+            y, on = midspan_y(r), traverse_io.first_load_sigma(r) <= 1.0
             during.append(np.max(y[0] - y[on]))
             after.append(np.max(np.abs(y[~on] - y[0])))
         during, after = np.array(during), np.array(after)

@@ -23,14 +23,6 @@ def load_names(run):
     return sorted(n[: -len("_position")] for n in run.probes if n.endswith("_position"))
 
 
-def scene_title(run):
-    """The scene's `title:` line from the validated scene text stored in the file."""
-    for line in str(run.attrs.get("scene", "")).splitlines():
-        if line.startswith("title:"):
-            return line.split(":", 1)[1].strip().strip("'\"")
-    return ""
-
-
 def draw(run, ax, probe="tip", label_prefix=""):
     """Plots probe `probe` (if present) and every load's deflection against the first
     load's position, in mm against m."""
@@ -60,7 +52,7 @@ def main(argv=None):
     run = traverse_io.load(a.run)
     fig, ax = plt.subplots(figsize=(7, 4.2))
     draw(run, ax, a.probe)
-    ax.set_title(scene_title(run) or os.path.basename(a.run))
+    ax.set_title(traverse_io.scene_title(run) or os.path.basename(a.run))
     ax.legend()
     fig.tight_layout()
     out = a.output or os.path.splitext(a.run)[0] + ".png"

@@ -18,22 +18,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import traverse_io  # noqa: E402
 
 
-def scene_title(run):
-    for line in str(run.attrs.get("scene", "")).splitlines():
-        if line.startswith("title:"):
-            return line.split(":", 1)[1].strip().strip("'\"")
-    return ""
-
-
-def load_sigma(run):
-    """Position of the first moving load at each output step."""
-    s = np.asarray(run.sigma)
-    return s if s.ndim == 1 else s[:, 0]
-
-
 def shapes_at(run, sigmas):
     """[(sigma, r (nodes x 3))] for the output steps nearest the given load positions."""
-    sig = load_sigma(run)
+    sig = traverse_io.first_load_sigma(run)
     out = []
     for target in sigmas:
         k = int(np.nanargmin(np.abs(sig - target)))
@@ -51,7 +38,7 @@ def main(argv=None):
     has_r = "r" in run.field_names
     fig, axes = plt.subplots(1, 2 if has_r else 1, figsize=(12 if has_r else 7, 4.2), squeeze=False)
     ax = axes[0, 0]
-    sig = load_sigma(run)
+    sig = traverse_io.first_load_sigma(run)
     if a.probe in run.probes:
         ax.plot(sig, run.probes[a.probe][:, 1], label=f"{a.probe} y")
     ax.set_xlabel("load position sigma [m]")
@@ -67,7 +54,7 @@ def main(argv=None):
         ax2.set_aspect("equal", adjustable="datalim")
         ax2.grid(True, alpha=0.3)
         ax2.legend(fontsize=8)
-    fig.suptitle(scene_title(run) or os.path.basename(a.run))
+    fig.suptitle(traverse_io.scene_title(run) or os.path.basename(a.run))
     fig.tight_layout()
     out = a.output or os.path.splitext(a.run)[0] + ".png"
     fig.savefig(out, dpi=130)

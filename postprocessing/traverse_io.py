@@ -158,6 +158,22 @@ def load(path, allow_incomplete=False):
     return out
 
 
+def scene_title(out):
+    """The `title:` of the validated scene stored in the file ("" when there is none)."""
+    for line in str(out.attrs.get("scene", "")).splitlines():
+        if line.startswith("title:"):
+            return line.split(":", 1)[1].strip().strip("'\"")
+    return ""
+
+
+def first_load_sigma(out):
+    """Position of the first moving load at each output step."""
+    import numpy as np
+
+    s = np.asarray(out.sigma)
+    return s if s.ndim == 1 else s[:, 0]
+
+
 def _range(a):
     return f"{a.min():.6g} .. {a.max():.6g}" if a.size else "(empty)"
 

@@ -22,16 +22,8 @@ struct Result {
   std::string out;  // stdout and stderr together
 };
 
-Result run(const std::string& args) {
-  const std::string cmd = std::string(TRAVERSE_EXE) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return {-1, "popen failed"};
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+Result run_with(const std::string& prefix, const std::string& args);
+Result run(const std::string& args) { return run_with("", args); }
 
 fs::path scratch(const std::string& name) {
   const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
