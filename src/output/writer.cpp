@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "hdf5_handle.hpp"
+#include "location.hpp"
 #include "xdmf.hpp"
 
 namespace traverse::output {
@@ -18,61 +19,14 @@ namespace traverse::output {
 using detail::check;
 using detail::check_id;
 using detail::Handle;
+using detail::agree;
+using detail::check_location;
 
 namespace {
 
 namespace fs = std::filesystem;
 
 constexpr hsize_t unlimited = H5S_UNLIMITED;
-
-/// All ranks learn whether every rank is fine; if not, all throw the message of the lowest
-/// failing rank.
-void agree(MPI_Comm comm, bool ok, const std::string& message) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  int failing = ok ? size : rank;
-  int first_failing = size;
-  MPI_Allreduce(&failing, &first_failing, 1, MPI_INT, MPI_MIN, comm);
-  if (first_failing == size) return;
-  std::string text = rank == first_failing ? message : std::string();
-  unsigned long len = text.size();
-  MPI_Bcast(&len, 1, MPI_UNSIGNED_LONG, first_failing, comm);
-  text.resize(len);
-  MPI_Bcast(text.data(), static_cast<int>(len), MPI_CHAR, first_failing, comm);
-  throw OutputError(text);
-}
-
-/// Rank-0 check of the output location; empty string when fine.
-std::string check_location(const std::string& path, const std::string& xmf, bool overwrite) {
-  const fs::path p(path);
-  if (p.filename().empty()) return "output path '" + path + "' names a folder, not a file";
-  const fs::path parent = p.parent_path().empty() ? fs::path(".") : p.parent_path();
-  struct stat st {};
-  if (stat(parent.c_str(), &st) != 0) {
-    if (errno == ENOTDIR)
-      return "output folder '" + parent.string() + "' of '" + path +
-             "' is not a folder (a path component is a file)";
-    return "output folder '" + parent.string() + "' of '" + path +
-           "' does not exist: " + std::strerror(errno);
-  }
-  if (!S_ISDIR(st.st_mode))
-    return "output folder '" + parent.string() + "' of '" + path + "' is not a folder";
-  if (access(parent.c_str(), W_OK | X_OK) != 0)
-    return "output folder '" + parent.string() + "' is not writable: " + std::strerror(errno);
-  for (const std::string& f : {path, xmf}) {
-    if (stat(f.c_str(), &st) == 0) {
-      if (S_ISDIR(st.st_mode)) return "output path '" + f + "' is an existing folder";
-      if (!overwrite)
-        return "output file '" + f +
-               "' already exists; refusing to overwrite it (pass --overwrite to replace it, "
-               "or choose another output path)";
-      if (access(f.c_str(), W_OK) != 0)
-        return "output file '" + f + "' exists and is not writable: " + std::strerror(errno);
-    }
-  }
-  return {};
-}
 
 std::string sidecar_path(const std::string& path) {
   fs::path p(path);
