@@ -5,3 +5,16 @@ if(TRAVERSE_SANITIZE)
   target_compile_options(traverse_warnings INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer)
   target_link_options(traverse_warnings INTERFACE -fsanitize=address,undefined)
 endif()
+
+# libFuzzer build (clang only): instruments every project target for coverage and with
+# AddressSanitizer + UndefinedBehaviorSanitizer; the fuzz targets live in tests/fuzz/.
+# Configure in a separate tree, e.g. (docs/reliability.md):
+#   CC=clang CXX=clang++ cmake -S . -B /tmp/build-fuzz -DTRAVERSE_FUZZ=ON && make -C /tmp/build-fuzz fuzz_scene
+option(TRAVERSE_FUZZ "Build the libFuzzer targets (needs clang and libclang-rt-*-dev)" OFF)
+if(TRAVERSE_FUZZ)
+  if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    message(FATAL_ERROR "TRAVERSE_FUZZ needs clang (CC=clang CXX=clang++), found ${CMAKE_CXX_COMPILER_ID}")
+  endif()
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer -g)
+  add_link_options(-fsanitize=address,undefined)
+endif()

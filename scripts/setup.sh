@@ -4,6 +4,9 @@
 #                                scene and draw its figure (out/default.h5, out/default.png)
 #   bash scripts/setup.sh test   install what is missing, build, run the whole test suite
 #   bash scripts/setup.sh build  install what is missing and build only
+#   bash scripts/setup.sh sanitize  build with AddressSanitizer + UndefinedBehaviorSanitizer in
+#                                build-asan/ (TRAVERSE_SANITIZE=ON, RelWithDebInfo) and run the
+#                                whole test suite there (slow: docs/reliability.md)
 # Packages: .ci/debian-packages.txt. Build tree: build/ (override with TRAVERSE_BUILD_DIR).
 set -euo pipefail
 mode=${1:-build}
@@ -11,7 +14,7 @@ here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
 build=${TRAVERSE_BUILD_DIR:-$here/build}
 jobs=${TRAVERSE_JOBS:-$(nproc 2>/dev/null || echo 2)}
 
-case "$mode" in demo|test|build) ;; *) echo "usage: bash scripts/setup.sh demo|test|build" >&2; exit 2 ;; esac
+case "$mode" in demo|test|build|sanitize) ;; *) echo "usage: bash scripts/setup.sh demo|test|build|sanitize" >&2; exit 2 ;; esac
 
 # 1. Debian packages: install only what is missing; refresh the package lists only then.
 sudo_cmd=""
@@ -28,8 +31,13 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo_cmd apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
-# 2. Configure and build (Release).
-cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release
+# 2. Configure and build (Release; sanitize: RelWithDebInfo + ASan/UBSan in its own tree).
+if [ "$mode" = sanitize ]; then
+  build=${TRAVERSE_ASAN_BUILD_DIR:-$here/build-asan}
+  cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTRAVERSE_SANITIZE=ON -DTRAVERSE_BUILD_BENCHMARKS=OFF
+else
+  cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release
+fi
 cmake --build "$build" -j "$jobs"
 
 # 3. Run.
@@ -44,6 +52,17 @@ case "$mode" in
   test)
     cd "$build"
     ctest --output-on-failure -j "$jobs"
+    ;;
+  sanitize)
+    # Memory errors and undefined behaviour fail the test that hit them. Leak checking is off
+    # by default: Open MPI's dlopen'ed components leave unattributable leaks ("<unknown
+    # module>") in every MPI program; ASAN_OPTIONS=detect_leaks=1 for the others
+    # (scripts/lsan.supp suppresses the third-party libraries that can be named).
+    export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0:abort_on_error=1}
+    export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$here/scripts/lsan.supp:print_suppressions=0}
+    export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+    cd "$build"
+    ctest --output-on-failure -j "$jobs" -LE benchmark
     ;;
   build) ;;
 esac

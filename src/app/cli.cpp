@@ -1,5 +1,8 @@
 #include "cli.hpp"
 
+#include <cmath>
+#include <cstdlib>
+
 namespace traverse::app {
 
 std::string usage_text() {
@@ -7,6 +10,8 @@ std::string usage_text() {
 
 Usage:
   traverse run SCENE.yaml [-o OUT.h5] [--set KEY.PATH=VALUE ...] [--overwrite] [-q] [--progress]
+               [--restart-interval S]
+  traverse run --restart OUT.h5 [SCENE.yaml] [--set KEY.PATH=VALUE ...] [-q] [--progress]
   traverse check SCENE.yaml [--set KEY.PATH=VALUE ...] [--types]
   traverse --help | --version
   mpirun -n K traverse run SCENE.yaml ...      (K MPI ranks)
@@ -23,9 +28,19 @@ Options:
   --overwrite         replace an existing output file
   -q, --quiet         no progress, no summary
   --progress          report progress on stderr even when it is not a terminal
+  --restart FILE      continue the run whose output is FILE (killed, interrupted or failed)
+                      from its last restart point, appending to FILE; the scene is the one
+                      stored in FILE unless SCENE.yaml is given (--set applies either way)
+  --restart-interval S  rod runs: store a restart point after an output step only when S
+                      seconds (wall clock) have passed since the last one (default 0: after
+                      every output step); always also when the run stops (signal, failure)
+
+Ctrl-C (SIGINT) or SIGTERM stops a run after the current time step: the output keeps
+every step written, its status says "interrupted at t = ...", the exit code is 130
+(SIGINT) or 143 (SIGTERM); continue it with --restart. A second Ctrl-C kills at once.
 
 Exit codes: 0 success; 2 bad input (scene, overrides, command line, output path);
-            3 the numerics failed; 1 anything else.
+            3 the numerics failed; 130/143 stopped by SIGINT/SIGTERM; 1 anything else.
 )";
 }
 
@@ -66,6 +81,16 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     } else if (run && (a == "-o" || a == "--output")) {
       cl.output = value(a);
       if (cl.output.empty()) throw UsageError{a + ": expected a file name, found an empty string"};
+    } else if (run && a == "--restart") {
+      cl.restart = value(a);
+      if (cl.restart.empty()) throw UsageError{a + ": expected the output file to continue, found an empty string"};
+    } else if (run && a == "--restart-interval") {
+      const std::string v = value(a);
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != '\0' || !(x >= 0.0) || !std::isfinite(x))
+        throw UsageError{a + ": expected a number of seconds >= 0, found '" + v + "'"};
+      cl.restart_interval = x;
     } else if (run && a == "--overwrite") {
       cl.overwrite = true;
     } else if (run && (a == "-q" || a == "--quiet")) {
@@ -81,6 +106,12 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     } else {
       throw UsageError{"'" + cmd + "': expected one scene file, found a second one '" + a + "'"};
     }
+  }
+  if (!cl.restart.empty()) {
+    if (cl.overwrite) throw UsageError{"--overwrite: not allowed with --restart (the restart continues " + cl.restart + ")"};
+    if (!cl.output.empty() && cl.output != cl.restart)
+      throw UsageError{"-o " + cl.output + ": not allowed with --restart (the restart appends to " + cl.restart + ")"};
+    return cl;
   }
   if (cl.scene.empty()) throw UsageError{"'" + cmd + "': expected a scene file, found none"};
   return cl;

@@ -18,6 +18,8 @@ struct CommandLine {
   Command command = Command::Help;
   std::string scene;                   ///< scene file
   std::string output;                  ///< -o (empty: the scene's output.file)
+  std::string restart;                 ///< --restart FILE: continue the run of FILE (run only)
+  double restart_interval = 0.0;       ///< --restart-interval S: wall seconds between restart points
   std::vector<std::string> overrides;  ///< --set KEY.PATH=VALUE, in order
   bool overwrite = false;
   bool quiet = false;

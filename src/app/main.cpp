@@ -6,6 +6,8 @@
 #include <iostream>
 
 #include "cli.hpp"
+#include "interrupt.hpp"
+#include "restart.hpp"
 #include "run.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/scene/scene.hpp"
@@ -35,9 +37,16 @@ int execute(const app::CommandLine& cl, int rank) {
       return app::kSuccess;
     }
     case Command::Run: {
-      const scene::Scene sc = scene::load_scene(cl.scene, cl.overrides);
+      app::install_interrupt_handlers();
+      const bool restart = !cl.restart.empty();
+      const scene::Scene sc = restart ? app::restart_scene(cl.restart, cl.scene, cl.overrides)
+                                      : scene::load_scene(cl.scene, cl.overrides);
+      if (restart && sc.model == scene::Model::Rod && sc.continuation.enabled)
+        throw app::UsageError{"--restart " + cl.restart + ": continuation (statics) runs cannot be restarted"};
       app::RunOptions opt;
-      opt.output = cl.output.empty() ? sc.output.file : cl.output;
+      opt.output = restart ? cl.restart : cl.output.empty() ? sc.output.file : cl.output;
+      opt.restart = restart;
+      opt.restart_interval = cl.restart_interval;
       opt.overwrite = cl.overwrite;
       opt.quiet = cl.quiet;
       opt.progress = cl.progress;
@@ -47,7 +56,11 @@ int execute(const app::CommandLine& cl, int rank) {
           app::run_beam(sc, opt, MPI_COMM_WORLD);
           break;
         case scene::Model::Rod:
-          app::run_rod(sc, opt, MPI_COMM_WORLD);
+          if (sc.continuation.enabled) {
+            app::run_statics(sc, opt, MPI_COMM_WORLD);
+          } else {
+            app::run_rod(sc, opt, MPI_COMM_WORLD);
+          }
           break;
         default:
           throw std::logic_error("traverse run: model not handled");
@@ -80,6 +93,11 @@ int main(int argc, char** argv) {
   } catch (const output::OutputError& e) {
     report("bad output path: ", e.what());
     code = app::kBadInput;
+  } catch (const app::Interrupted& e) {
+    // Every rank stopped at the same step; the writer is closed: set the final status.
+    app::set_file_status(e.output(), e.status(), MPI_COMM_WORLD);
+    report("", e.what());
+    code = 128 + e.signal();
   } catch (const app::NumericsError& e) {
     report("numerics failed: ", e.what());
     code = app::kNumericsFailed;

@@ -23,6 +23,8 @@ struct RunOptions {
   bool quiet = false;
   bool progress = false;
   std::string invocation;
+  double restart_interval = 0.0;  ///< wall seconds between restart points (0: every output step)
+  bool restart = false;  ///< continue the run of `output` from its last restart point (restart.hpp)
 };
 
 /// Runs a beam scene; throws scene::SceneError for input that only shows as bad once the
@@ -33,6 +35,9 @@ void run_beam(const scene::Scene& scene, const RunOptions& options, MPI_Comm com
 /// Checks what only the rod model can check (solver parameters, the pair of end
 /// conditions); throws scene::SceneError.
 void check_rod(const scene::Scene& scene);
+
+/// Runs a rod scene with a continuation section (same contract as run_beam).
+void run_statics(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);
 
 /// Runs a rod scene (same contract as run_beam).
 void run_rod(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);

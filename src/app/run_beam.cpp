@@ -3,8 +3,11 @@
 #include <limits>
 #include <sstream>
 
+#include "interrupt.hpp"
 #include "progress.hpp"
+#include "restart.hpp"
 #include "run.hpp"
+#include "traverse/output/reader.hpp"
 #include "traverse/beam/beam_simulation.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/version.hpp"
@@ -84,8 +87,40 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   layout.count = n_nodes * static_cast<size_t>(rank + 1) / static_cast<size_t>(ranks) - layout.first;
   for (size_t k = 0; k < layout.count; ++k) layout.s.push_back(p.quadrature_nodes[layout.first + k]);
 
+  // Restart (docs/reliability.md): the beam is re-integrated from t = 0 (BeamSimulation
+  // cannot be set to a stored state); the output steps the file already holds are checked
+  // against the replay (same values to round-off, else the scene or program differ), then
+  // rewritten, and the run continues.
+  std::vector<std::string> probe_names, field_names;
+  for (const auto& pr : sc.output.probes) probe_names.push_back(pr.name);
+  for (const auto& l : sc.loads) {
+    probe_names.push_back(l.name + "_position");
+    probe_names.push_back(l.name + "_deflection");
+  }
+  for (const auto& f : sc.output.fields) {
+    if (f == "deflection") field_names.insert(field_names.end(), {"deflection", "position"});
+    else if (f == "slope") field_names.push_back("slope");
+    else if (f == "bending_moment") field_names.push_back("bending_moment");
+  }
+  std::size_t kept = 0;  // output steps of the restarted file to check against the replay
+  std::vector<double> old_time;
+  std::vector<output::Series> old_probes;
+  if (opt.restart) {
+    const std::string source = restart_source(opt.output);
+    check_restart_outputs(source, probe_names, field_names);
+    try {
+      output::Reader r(source);
+      kept = r.steps_written();
+      old_time = r.time();
+      for (const auto& n : probe_names) old_probes.push_back(r.probe(n));
+    } catch (const output::OutputError& e) {
+      throw UsageError{"--restart: cannot read " + source + " (" + e.what() + ")"};
+    }
+    move_aside_for_restart(opt.output, comm);
+  }
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "beam"};
-  output::Writer writer(comm, opt.output, opt.overwrite, info, layout, std::max<size_t>(1, sc.loads.size()));
+  output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, layout,
+                        std::max<size_t>(1, sc.loads.size()));
 
   for (const auto& pr : sc.output.probes)
     writer.add_probe({pr.name, 1, "m", "transverse deflection w (positive up, +j) at x = " +
@@ -122,6 +157,17 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
 
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end);
   long outputs = 0;
+  // /restart of a beam run: the modal state (Y then Y') and [t, steps taken, output steps]
+  // of the last output step, written once when the run stops (a restart re-integrates from
+  // t = 0 and needs only the output steps; these arrays document the state and are for
+  // a future BeamSimulation::set_state).
+  std::vector<double> restart_state, restart_meta;
+  auto store_restart = [&]() {
+    if (restart_meta.empty()) return;
+    writer.write_restart(restart_meta[0],
+                         {{"modal_state", output::RestartDistribution::replicated, 1, output::DoubleView(restart_state)},
+                          {"meta", output::RestartDistribution::replicated, 1, output::DoubleView(restart_meta)}});
+  };
   auto observe = [&](const beam::BeamSnapshot& s) {
     if (!s.Y.allFinite() || !s.Ydot.allFinite()) {
       std::ostringstream os;
@@ -159,20 +205,56 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
         v[j] = p.EI * ddphi.dot(s.Y);
       }
     }
+    if (static_cast<std::size_t>(outputs) < kept) {  // restart: the replay must reproduce the file
+      const auto o = static_cast<std::size_t>(outputs);
+      auto differs = [](double a, double b) {
+        return !(a == b || (std::isnan(a) && std::isnan(b)) || std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)));
+      };
+      std::string bad;
+      if (differs(old_time[o], s.t)) bad = "time " + scene::format_number(old_time[o]) + " vs " + scene::format_number(s.t);
+      for (size_t q = 0; bad.empty() && q < probes.size(); ++q)
+        if (differs(old_probes[q].values[o], probes[q][0]))
+          bad = "probe " + probe_names[q] + " = " + scene::format_number(old_probes[q].values[o]) + " vs " +
+                scene::format_number(probes[q][0]);
+      if (!bad.empty())
+        throw UsageError{"--restart " + opt.output + ": re-integrating the beam does not reproduce output step " +
+                         std::to_string(o) + " (" + bad + "); the scene or the program differ from the run being restarted"};
+    }
     std::vector<output::DoubleView> views(fields.begin(), fields.end());
     writer.write_step(s.t, sigma, probes, views);
     ++outputs;
+    if (opt.restart && static_cast<std::size_t>(outputs) == kept) remove_restart_source(opt.output, comm);
+    // Kept for the restart group written when the run stops (store_restart).
+    restart_state.assign(s.Y.data(), s.Y.data() + s.Y.size());
+    restart_state.insert(restart_state.end(), s.Ydot.data(), s.Ydot.data() + s.Ydot.size());
+    restart_meta = {s.t, static_cast<double>(sim.steps_taken()), static_cast<double>(outputs)};
     progress.update(s.t, sim.steps_taken());
+    if (s.t < p.t_end) {
+      if (const int sig = interrupt_requested(comm)) {
+        progress.done();
+        std::ostringstream os;
+        os.precision(12);
+        os << "interrupted at t = " << s.t << " s (time step " << sim.steps_taken() << ", " << signal_name(sig)
+           << "); " << writer.steps_written() << " output steps written; continue with traverse run --restart "
+           << opt.output;
+        store_restart();
+        writer.fail(os.str());
+        throw Interrupted(sig, opt.output, os.str(), os.str());
+      }
+    }
   };
   try {
     sim.run(observe);
   } catch (const NumericsError& e) {
     progress.done();
+    store_restart();
     writer.fail(e.what());
     throw;
   }
   progress.done();
+  store_restart();
   writer.finish();
+  if (opt.restart && static_cast<std::size_t>(outputs) < kept) remove_restart_source(opt.output, comm);  // shorter run
   if (rank == 0 && !opt.quiet) {
     std::printf("beam scene '%s': %d modes, %ld steps of dt = %.4g s (%s) to t = %.6g s; %ld output steps -> %s\n",
                 sc.file.c_str(), b.modes, sim.steps_taken(), p.dt, b.integrator.c_str(), p.t_end, outputs,

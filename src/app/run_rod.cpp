@@ -4,12 +4,16 @@
 #include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_Core.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
 #include <sstream>
 
+#include "interrupt.hpp"
 #include "progress.hpp"
+#include "rod_setup.hpp"
+#include "restart.hpp"
 #include "run.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/rod/static_solver.hpp"
@@ -89,6 +93,25 @@ Vec3 node_quantity(const rod::RodNode& nd, const Vec3& r, const rod::RodProperti
   return fixed ? Vec3(nd.R.transpose() * v) : v;
 }
 
+// Restart packing of one node: y (12), R row-major (9), yt (12), ys (12).
+constexpr std::size_t kPackedNode = 45;
+void pack_node(const rod::RodNode& nd, double* o) {
+  for (int i = 0; i < 12; ++i) o[i] = nd.y(i);
+  for (int i = 0; i < 3; ++i)
+    for (int c = 0; c < 3; ++c) o[12 + 3 * i + c] = nd.R(i, c);
+  for (int i = 0; i < 12; ++i) o[21 + i] = nd.yt(i);
+  for (int i = 0; i < 12; ++i) o[33 + i] = nd.ys(i);
+}
+rod::RodNode unpack_node(const double* o) {
+  rod::RodNode nd;
+  for (int i = 0; i < 12; ++i) nd.y(i) = o[i];
+  for (int i = 0; i < 3; ++i)
+    for (int c = 0; c < 3; ++c) nd.R(i, c) = o[12 + 3 * i + c];
+  for (int i = 0; i < 12; ++i) nd.yt(i) = o[21 + i];
+  for (int i = 0; i < 12; ++i) nd.ys(i) = o[33 + i];
+  return nd;
+}
+
 /// The rod model of a scene, with its solver parameters validated; throws SceneError.
 rod::RodModel build_rod_model(const scene::Scene& sc, Teuchos::ParameterList& solver_params) {
   const auto& rs = sc.rod;
@@ -152,10 +175,22 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   Teuchos::ParameterList solver_params;
   const rod::RodModel model = build_rod_model(sc, solver_params);
 
+  // The stepper first: it checks the partition (ranks <= nodes) and the linear solver, which
+  // are bad input (exit 2), before a static initial state is computed.
+  auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
+  std::unique_ptr<solver::DistributedStepper> stepper_ptr;
+  try {
+    stepper_ptr = std::make_unique<solver::DistributedStepper>(model, tcomm, solver_params);
+  } catch (const std::invalid_argument& e) {
+    scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(tcomm->getSize()) + " rank(s)",
+                   e.what());
+  }
   // ---- Initial state -----------------------------------------------------------------
   rod::RodState state = rod::straight_rest_state(N, rs.length);
   std::string initial = "straight, at rest, unloaded";
-  if (sc.initial_state.type == "static") {
+  if (opt.restart) {
+    initial = "restart";
+  } else if (sc.initial_state.type == "static") {
     rod::StaticModel sm;
     sm.props = model.props;
     sm.num_cells = N;
@@ -176,16 +211,15 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     state = rod::dynamic_state_from_static(sm, nodes);
     initial = "static equilibrium under gravity" + std::string(sm.point_forces.empty() ? "" : " and the loads on the rod at t = 0") +
               " (" + std::to_string(rep.load_steps) + " load steps, " + std::to_string(rep.iterations) + " Newton iterations)";
+  } else if (sc.initial_state.type == "arch" || sc.initial_state.type == "file") {
+    try {
+      state = static_start(sc, Teuchos::rcp(new Teuchos::MpiComm<int>(comm)), solver_params, initial);
+    } catch (const std::runtime_error& e) {
+      if (dynamic_cast<const scene::SceneError*>(&e)) throw;
+      throw NumericsError(std::string("initial state: ") + e.what());
+    }
   }
 
-  auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
-  std::unique_ptr<solver::DistributedStepper> stepper_ptr;
-  try {
-    stepper_ptr = std::make_unique<solver::DistributedStepper>(model, tcomm, solver_params);
-  } catch (const std::invalid_argument& e) {
-    scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(tcomm->getSize()) + " rank(s)",
-                   e.what());
-  }
   solver::DistributedStepper& stepper = *stepper_ptr;
   stepper.set_state(state);
 
@@ -198,6 +232,24 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   const double dt = sc.time.dt;
   const long steps = std::max(1L, static_cast<long>(std::ceil(t_end / dt - 1e-9)));
 
+  // ---- Restart point (docs/reliability.md): state, time, step index, left-end position --
+  RestartPoint rp;
+  std::string restart_from;
+  if (opt.restart) {
+    restart_from = restart_source(opt.output);
+    rp = read_restart_point(restart_from, static_cast<std::size_t>(N + 1), kPackedNode);
+    if (rp.extra.size() < 4 || rp.extra[3] != dt)
+      throw UsageError{"--restart " + opt.output + ": time.dt = " + scene::format_number(dt) +
+                       " s differs from the run being restarted (" +
+                       (rp.extra.size() < 4 ? std::string("unknown") : scene::format_number(rp.extra[3])) +
+                       " s); a restart keeps the time step"};
+    state.t = rp.time;
+    state.ds = rs.length / N;
+    state.nodes.resize(static_cast<std::size_t>(N + 1));
+    for (int j = 0; j <= N; ++j) state.nodes[static_cast<std::size_t>(j)] = unpack_node(&rp.state[kPackedNode * static_cast<std::size_t>(j)]);
+    stepper.set_state(state);
+  }
+
   // ---- Output ------------------------------------------------------------------------
   const int first = stepper.first_owned_node(), count = stepper.num_owned_nodes();
   output::NodeLayout layout;
@@ -205,8 +257,17 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   layout.first = static_cast<size_t>(first);
   layout.count = static_cast<size_t>(count);
   for (int k = 0; k < count; ++k) layout.s.push_back((first + k) * sc.mesh.ds);
+  // Names of the probes and fields, in declaration order (for a restart's copy).
+  std::vector<std::string> probe_names, field_names = sc.output.fields;
+  for (const auto& pr : sc.output.probes) probe_names.push_back(pr.name);
+  for (const auto& l : sc.loads) probe_names.push_back(l.name + "_position");
+  if (opt.restart) {
+    check_restart_outputs(restart_from, probe_names, field_names);
+    restart_from = move_aside_for_restart(opt.output, comm);
+  }
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod"};
-  output::Writer writer(comm, opt.output, opt.overwrite, info, layout, std::max<size_t>(1, sc.loads.size()));
+  output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, layout,
+                        std::max<size_t>(1, sc.loads.size()));
 
   const std::vector<std::string> xyz{"x", "y", "z"}, d123{"1", "2", "3"};
   bool need_state = false;  // the full state gathered at output steps (probes, centreline)
@@ -243,6 +304,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   // Left-end position: fixed for ends that hold it, else integrated in time (trapezoidal).
   const bool left_moves = sc.left.type == "free" || sc.left.type == "sliding" || sc.left.type == "prescribed";
   Vec3 r0 = Vec3::Zero();
+  if (opt.restart) r0 = Vec3(rp.extra[0], rp.extra[1], rp.extra[2]);
   auto node0_velocity = [&]() -> Vec3 {  // R^T u at node 0, broadcast from its owner
     Vec3 v = Vec3::Zero();
     if (first == 0) v = stepper.owned_node(0).R.transpose() * stepper.owned_node(0).y.segment<3>(rod::var::u);
@@ -302,15 +364,49 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     writer.write_step(t, sigma, probe_values, views);
   };
 
+  RestartSlots restart_slots(comm, kPackedNode, static_cast<std::size_t>(first));
+  std::vector<double> packed(kPackedNode * static_cast<std::size_t>(count));
+  long stored_at = -1;  // time-step index of the newest restart point
+  auto last_stored = std::chrono::steady_clock::now();
+  auto store_restart = [&](long i) {
+    if (i == stored_at) return;
+    for (int k = 0; k < count; ++k) pack_node(stepper.owned_node(k), &packed[kPackedNode * static_cast<std::size_t>(k)]);
+    restart_slots.write(writer, stepper.time(), i, {r0.x(), r0.y(), r0.z(), dt}, packed);
+    stored_at = i;
+    last_stored = std::chrono::steady_clock::now();
+  };
+  // After an output step: a restart point if --restart-interval seconds have passed (rank 0's
+  // clock decides for all ranks).
+  auto restart_due = [&]() {
+    if (opt.restart_interval <= 0.0) return true;
+    int due = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_stored).count() >=
+              opt.restart_interval;
+    MPI_Bcast(&due, 1, MPI_INT, 0, comm);
+    return due != 0;
+  };
+
   // ---- Run ---------------------------------------------------------------------------
   if (rank == 0 && !opt.quiet)
     std::printf("rod scene '%s': %d nodes, %ld steps of dt = %.6g s to t = %.6g s; initial state: %s; linear solver: %s%s\n",
                 sc.file.c_str(), N + 1, steps, dt, t_end, initial.c_str(), stepper.resolved_linear_solver().c_str(),
                 stepper.linear_solver_rerouted() ? " (rerouted: Amesos2 gives wrong answers on 2+ ranks here)" : "");
-  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", 0.0, t_end);
-  write(0.0);
+  long first_step = 1;
+  if (opt.restart) {
+    copy_output_steps(restart_from, writer, rp.steps_written, probe_names, field_names,
+                      static_cast<std::size_t>(first), static_cast<std::size_t>(count));
+    store_restart(rp.step);
+    remove_restart_source(opt.output, comm);
+    first_step = rp.step + 1;
+    if (rank == 0 && !opt.quiet)
+      std::printf("restart from %s: time step %ld at t = %.9g s, %zu output steps kept\n", opt.output.c_str(),
+                  rp.step, rp.time, rp.steps_written);
+  } else {
+    write(0.0);
+    store_restart(0);
+  }
+  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", stepper.time(), t_end);
   long newton = 0, substeps = 0;
-  for (long i = 1; i <= steps; ++i) {
+  for (long i = first_step; i <= steps; ++i) {
     const double t0 = stepper.time();
     const double h = i == steps ? t_end - t0 : dt;
     if (h <= 0.0) break;
@@ -325,13 +421,29 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
       os << "time step " << i << " of " << steps << " (t = " << e.time() << " s, dt = " << e.step()
          << " s) failed after halving it " << e.depth() << " times: " << e.report().status
          << " (residual " << e.report().residual_norm
-         << "); try scheme.rho_inf < 1, a smaller time.dt, or a larger 'Max Subdivision Depth' in solver";
+         << "); try scheme.rho_inf < 1, a smaller time.dt, or a larger 'Max Subdivision Depth' in solver"
+         << " (traverse run --restart " << opt.output << " --set ... continues from t = " << t0 << " s)";
+      store_restart(i - 1);  // the stepper kept the state before the failed step
       writer.fail(os.str());
       throw NumericsError(os.str());
     }
     if (left_moves) r0 += 0.5 * h * (v_old + node0_velocity());
-    if (i % sc.output.every == 0 || i == steps) write(stepper.time());
+    if (i % sc.output.every == 0 || i == steps) {
+      write(stepper.time());
+      if (restart_due()) store_restart(i);
+    }
     progress.update(stepper.time(), i);
+    if (const int sig = i < steps ? interrupt_requested(comm) : 0) {
+      progress.done();
+      std::ostringstream os;
+      os.precision(12);
+      os << "interrupted at t = " << stepper.time() << " s (time step " << i << " of " << steps << ", "
+         << signal_name(sig) << "); " << writer.steps_written() << " output steps written; continue with "
+         << "traverse run --restart " << opt.output;
+      store_restart(i);
+      writer.fail(os.str());
+      throw Interrupted(sig, opt.output, os.str(), os.str());
+    }
   }
   progress.done();
   writer.finish();

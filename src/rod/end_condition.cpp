@@ -31,6 +31,15 @@ EndCondition EndCondition::make_free() {
   return c;
 }
 
+EndCondition EndCondition::make_roller(const Vec3& pin_axis, const Vec3& slide_axis, double axial_force) {
+  EndCondition c;
+  c.type = Type::roller;
+  c.axis = pin_axis;
+  c.slide_axis = slide_axis;
+  c.axial_force = axial_force;
+  return c;
+}
+
 EndCondition EndCondition::make_prescribed(std::function<Vec3(double)> u_fixed,
                                            std::function<Vec3(double)> omega_fixed) {
   EndCondition c;
@@ -47,6 +56,7 @@ int EndCondition::num_rows() const {
     case Type::sliding:
     case Type::free:
     case Type::prescribed:
+    case Type::roller:
       return 6;
     default:
       throw std::logic_error("EndCondition: unknown type");
@@ -112,6 +122,30 @@ void end_condition_rows(const EndCondition& c, const RodProperties& props, doubl
       J.block<1, 3>(5, var::omega) = n.transpose() * hat(e) * G;
       break;
     }
+    case EndCondition::Type::roller: {
+      Vec3 e1, e2, a1, a2;
+      perpendicular_pair(c.slide_axis, e1, e2);
+      perpendicular_pair(c.axis, a1, a2);
+      const Vec3 e = R * c.slide_axis.normalized(), a = R * c.axis.normalized();
+      const Vec3 p1 = R * e1, p2 = R * e2, q1 = R * a1, q2 = R * a2;
+      r(0) = u.dot(p1);
+      r(1) = u.dot(p2);
+      J.block<1, 3>(0, var::u) = p1.transpose();
+      J.block<1, 3>(1, var::u) = p2.transpose();
+      J.block<1, 3>(0, var::omega) = u.transpose() * hat(p1) * G;
+      J.block<1, 3>(1, var::omega) = u.transpose() * hat(p2) * G;
+      r(2) = n.dot(e) - c.axial_force;
+      J.block<1, 3>(2, var::n) = e.transpose();
+      J.block<1, 3>(2, var::omega) = n.transpose() * hat(e) * G;
+      r(3) = w.dot(q1);
+      r(4) = w.dot(q2);
+      J.block<1, 3>(3, var::omega) = q1.transpose() + w.transpose() * hat(q1) * G;
+      J.block<1, 3>(4, var::omega) = q2.transpose() + w.transpose() * hat(q2) * G;
+      r(5) = m.dot(a);
+      J.block<1, 3>(5, var::kappa) = a.cwiseProduct(props.K).transpose();
+      J.block<1, 3>(5, var::omega) = m.transpose() * hat(a) * G;
+      break;
+    }
     case EndCondition::Type::free:
       r.head<3>() = n;
       r.tail<3>() = m;
@@ -138,9 +172,12 @@ namespace {
 std::string check_one(const EndCondition& c, const RodProperties& props, const char* which) {
   const std::string w(which);
   if (c.num_rows() != 6) return w + " end: not 6 rows";
-  if ((c.type == EndCondition::Type::pinned || c.type == EndCondition::Type::sliding) &&
+  if ((c.type == EndCondition::Type::pinned || c.type == EndCondition::Type::sliding ||
+       c.type == EndCondition::Type::roller) &&
       !(c.axis.norm() > 0.0))
     return w + " end: zero axis";
+  if (c.type == EndCondition::Type::roller && !(c.slide_axis.norm() > 0.0))
+    return w + " end: zero slide axis";
   if (c.type == EndCondition::Type::prescribed && (!c.u_fixed || !c.omega_fixed))
     return w + " end: prescribed motion without functions";
   Vec6 r;

@@ -122,6 +122,25 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
   const AlphaParameters& a = model.alpha;
   const int N = model.num_cells;
   const double ds = model.ds(), dt = step.dt;
+  {
+    // Speed: a load touches at most two cells, so most cells get nothing; return the zero
+    // block before the (costly) new-level frames are built. Same weights as below, so the
+    // result is identical.
+    const double tl0[2] = {step.t_new(), step.t_old};
+    auto touches = [&](const PointLoadWeights& W) {
+      return weight_at(W, j - 1) != 0.0 || weight_at(W, j) != 0.0;
+    };
+    bool any = false;
+    for (const PointForce& P : loads.point_forces)
+      for (int lev = 0; lev < 2 && !any; ++lev) any = touches(point_load_weights(P.sigma(tl0[lev]), N, ds, a.bs));
+    for (const MovingMass& M : loads.masses)
+      for (int lev = 0; lev < 2 && !any; ++lev) {
+        const double sigma = M.sigma(tl0[lev]);
+        any = touches(point_load_weights(sigma, N, ds, a.bs)) ||
+              (M.inertia && touches(point_load_weights(sigma, N, ds, a.as)));
+      }
+    if (!any) return b;
+  }
   const Vec12 yn[2] = {new_prev.head<12>(), new_this.head<12>()};
   const RodNode* old[2] = {&old_prev, &old_this};
   const NewLevelNode nn[2] = {new_level_node(old_prev, yn[0], dt, a),

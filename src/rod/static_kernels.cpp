@@ -85,6 +85,32 @@ void end_rows(const StaticModel& m, const StaticEnd& c, const StaticNode& node, 
       J.block<1, 3>(5, svar::theta) = (mm.transpose() * (-hat(Ra))) * D;
       break;
     }
+    case T::roller: {
+      Vec3 e1, e2;
+      perpendicular_pair(c.slide_axis, e1, e2);
+      res(0) = e1.dot(r - c.position);
+      res(1) = e2.dot(r - c.position);
+      J.block<1, 3>(0, svar::r) = e1.transpose();
+      J.block<1, 3>(1, svar::r) = e2.transpose();
+      const Vec3 e = c.slide_axis.normalized(), Re = R * e;
+      res(2) = n.dot(Re) - sign * c.axial_force;
+      J.block<1, 3>(2, svar::n) = Re.transpose();
+      J.block<1, 3>(2, svar::theta) = (n.transpose() * (-hat(Re))) * D;
+      Vec3 b1, b2;
+      perpendicular_pair(c.axis, b1, b2);
+      const Vec3 phi = so3::log(c.frame.transpose() * R);
+      const Mat3 dphi = so3::left_jacobian(phi).inverse() * c.frame.transpose() * D;
+      res(3) = b1.dot(phi);
+      res(4) = b2.dot(phi);
+      J.block<1, 3>(3, svar::theta) = b1.transpose() * dphi;
+      J.block<1, 3>(4, svar::theta) = b2.transpose() * dphi;
+      const Vec3 a = c.axis.normalized(), Ra = R * a;
+      const Vec3 mm = m.props.K.cwiseProduct(k - m.props.kappa0);
+      res(5) = mm.dot(Ra);
+      J.block<1, 3>(5, svar::kappa) = (Ra.cwiseProduct(m.props.K)).transpose();
+      J.block<1, 3>(5, svar::theta) = (mm.transpose() * (-hat(Ra))) * D;
+      break;
+    }
     case T::free: {
       const Vec3 Fb = R * c.end_force;
       res.segment<3>(0) = n - sign * Fb;
@@ -164,6 +190,18 @@ LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev
       res.segment<3>(0) -= 0.5 * w / ds * Fb;
       b.jac[q].block<3, 3>(0, svar::theta) += 0.5 * w / ds * hat(Fb) * D[q];
     }
+  }
+  return b;
+}
+
+LocalBlock static_mass_block(const StaticModel& m, int j, const StaticNode& prev, const StaticNode& self) {
+  LocalBlock b = block(6 + 12 * static_cast<Eigen::Index>(j - 1), {12 * static_cast<Eigen::Index>(j - 1),
+                                                                   12 * static_cast<Eigen::Index>(j)}, 12);
+  const StaticNode* nd[2] = {&prev, &self};
+  for (int q = 0; q < 2; ++q) {
+    b.jac[q].block<3, 3>(0, svar::r) = 0.5 * m.props.rhoA * nd[q]->frame();
+    b.jac[q].block<3, 3>(3, svar::theta) =
+        -0.5 * Mat3(m.props.rhoI.asDiagonal()) * perturbation(nd[q]->x.segment<3>(svar::theta));
   }
   return b;
 }

@@ -126,6 +126,19 @@ std::shared_ptr<TypeRegistry> end_types() {
   r->add({"sliding", "Clamped and sliding along an axis: no rotation, no motion across the axis, no force "
                      "along it (u x axis = 0, omega = 0, n . axis = 0)",
           {vector3("axis", "Sliding axis, fixed frame").def("[0, 0, 1]")}, {nonzero("axis")}});
+  r->add({"roller", "Pin joint that slides: rotation only about the pin axis, motion only along the sliding "
+                    "axis, a given external force along it, no moment about the pin axis",
+          {vector3("axis", "Pin axis, fixed frame").def("[1, 0, 0]"),
+           vector3("slide_axis", "Sliding axis, fixed frame (perpendicular to the pin axis)").def("[0, 0, 1]"),
+           real("force", "External force on the end along the sliding axis (negative: compression at the "
+                         "right end)", "N").def(0.0)},
+          {nonzero("axis"), nonzero("slide_axis"), [](const ParameterList& s, const CheckContext& ctx) {
+             const auto a = s.get<Teuchos::Array<double>>("axis"), e = s.get<Teuchos::Array<double>>("slide_axis");
+             const double dot = a[0] * e[0] + a[1] * e[1] + a[2] * e[2];
+             const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+             const double ne = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+             if (std::abs(dot) > 1e-12 * na * ne) ctx.fail("slide_axis", "a sliding axis perpendicular to the pin axis", "a dot product of " + format_number(dot / (na * ne)));
+           }}});
   r->add({"free", "Free end: n = 0, m = 0", {}, {}});
   r->add({"prescribed", "Prescribed end velocity and rotation rate (constant, fixed frame)",
           {vector3("velocity", "End velocity", "m/s").def("[0, 0, 0]"),
@@ -151,6 +164,25 @@ std::shared_ptr<TypeRegistry> probe_types() {
               ctx.fail("frame", "fixed for quantity " + q + " (it is defined in the fixed frame)", "body");
           }}});
   return r;
+}
+
+std::shared_ptr<TypeRegistry> continuation_probe_types() {
+  auto cprobes = std::make_shared<TypeRegistry>("continuation probe");
+  cprobes->add({"point", "One component of a quantity at a fixed arclength (linear interpolation)",
+                {real("at", "Arclength", "m").non_negative().required(),
+                 choice("quantity", "position r [m], curvature kappa [1/m], force n [N], moment m [N m], director d1, d2, d3",
+                        {"position", "kappa", "n", "m", "d1", "d2", "d3"}).required(),
+                 choice("component", "Component: x, y, z (fixed frame) or 1, 2, 3 (body frame)",
+                        {"x", "y", "z", "1", "2", "3"}).required()},
+                {[](const ParameterList& s, const CheckContext& ctx) {
+                   const auto c = s.get<std::string>("component");
+                   const auto q = s.get<std::string>("quantity");
+                   const bool body = c == "1" || c == "2" || c == "3";
+                   if (body && (q == "position" || q[0] == 'd'))
+                     ctx.fail("component", "x, y or z for quantity " + q + " (defined in the fixed frame)", c);
+                 }}});
+  cprobes->add({"end_compression", "Compressive force at the right end along k, -n(L) . k [N]", {}, {}});
+  return cprobes;
 }
 
 const std::vector<std::string> kBeamFields = {"deflection", "slope", "bending_moment"};
@@ -221,10 +253,56 @@ Param build_schema() {
 
   Param init = section("initial_state", "Where the rod starts");
   init.when("model", kRod);
-  init.add(choice("type", "static: equilibrium under the dead loads (gravity), computed by Newton with load "
-                          "stepping on the static form of the same discretisation; rest: straight and unloaded",
-                  {"static", "rest"}).def("static"));
+  init.add(choice("type", "static: equilibrium under the dead loads (gravity and the loads on the rod at t = 0), "
+                          "computed by Newton with load stepping on the static form of the same discretisation; "
+                          "rest: straight and unloaded; file: a state saved by a continuation run; arch: form an "
+                          "arch (buckle the straight rod upwards by a compressive end load until the ends are "
+                          "end_to_end apart, pin them there, raise gravity from 0 to g)",
+                  {"static", "rest", "file", "arch"}).def("static"));
+  init.add(text("file", "type file: the continuation output file (HDF5) holding the state"));
+  init.add(text("state", "type file: name of the state in the file (/states/<name>)").def("final"));
+  init.add(real("end_to_end", "type arch: distance between the pinned ends along k", "m").positive());
+  init.check([](const ParameterList& s, const CheckContext& ctx) {
+    const auto type = s.get<std::string>("type");
+    if (type == "file" && !s.isParameter("file")) ctx.fail("file", "the continuation output file (type: file)", "nothing");
+    if (type != "file" && s.isParameter("file")) ctx.fail("file", "no file unless type: file", "a file");
+    if (type == "arch" && !s.isParameter("end_to_end"))
+      ctx.fail("end_to_end", "the end-to-end distance of the arch (type: arch)", "nothing");
+    if (type != "arch" && s.isParameter("end_to_end")) ctx.fail("end_to_end", "no end_to_end unless type: arch", "a value");
+  });
   root.add(init);
+
+  Param cont = section("continuation", "Continuation of static states: with this section, traverse run follows a "
+                                       "branch of equilibria in one parameter instead of running the dynamics");
+  cont.when("model", kRod);
+  cont.only_if_given();
+  cont.add(choice("parameter", "The continued parameter: end_load (compressive force on the right end along k, N), "
+                               "end_position (the right end's position along k, m), gravity_factor (times g), "
+                               "load_position (sigma of the scene's single load, m), load_magnitude (its force, N)",
+                  {"end_load", "end_position", "gravity_factor", "load_position", "load_magnitude"}).required());
+  cont.add(real("start", "Start value of the parameter (default: its value in the scene: the load's start and "
+                         "force, gravity factor 1 with gravity > 0, end load 0, the right end's position)", ""));
+  cont.add(real("stop", "The run ends where the parameter reaches this value", "").required());
+  cont.add(real("step", "Initial step of the parameter (its size; the direction is towards stop)", "").positive().required());
+  cont.add(real("min_step", "Smallest step before the run gives up", "").positive().def(1e-8));
+  cont.add(real("max_step", "Largest step (default: 10 times step)", "").positive());
+  cont.add(choice("method", "arclength: pseudo-arclength continuation (passes folds); natural: parameter stepping",
+                  {"arclength", "natural"}).def("arclength"));
+  cont.add(integer("max_steps", "Largest number of continuation steps per branch").at_least(1).def(1000.0));
+  cont.add(boolean("stability", "Compute the small-vibration eigenvalues of every state (unstable-mode count, "
+                                "fold and pitchfork detection)").def("true"));
+  cont.add(integer("eigenvalues", "Eigenvalues computed nearest zero per state").at_least(1).at_most(50).def(6.0));
+  cont.add(boolean("switch_branches", "Follow the symmetry-broken branch from each pitchfork found").def("true"));
+  cont.add(real("branch_amplitude", "Size of the step off the primary branch along the null vector at a pitchfork "
+                                    "(a few percent of the length keeps the first continuation step on the new branch)",
+                "m").positive().def(0.02));
+  cont.add(collection("probes", "Scalars recorded at every continuation point, each under a name of your choice",
+                      continuation_probe_types()));
+  cont.check([](const ParameterList& s, const CheckContext& ctx) {
+    if (s.isParameter("start") && s.get<double>("start") == s.get<double>("stop"))
+      ctx.fail("stop", "a value different from start", format_number(s.get<double>("stop")));
+  });
+  root.add(cont);
 
   root.add(collection("loads", "Moving loads, each under a name of your choice", load_types()));
 
@@ -428,6 +506,8 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
       const auto& e = p.sublist("ends").sublist(key);
       spec->type = e.get<std::string>("type");
       if (e.isParameter("axis")) spec->axis = vec3_of(e, "axis").normalized();
+      if (e.isParameter("slide_axis")) spec->slide_axis = vec3_of(e, "slide_axis").normalized();
+      if (e.isParameter("force")) spec->axial_force = e.get<double>("force");
       if (e.isParameter("velocity")) spec->velocity = vec3_of(e, "velocity");
       if (e.isParameter("rotation_rate")) spec->rotation_rate = vec3_of(e, "rotation_rate");
     }
@@ -444,7 +524,55 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
       sc.scheme.bt = a.get<double>("bt");
       sc.scheme.gt = a.get<double>("gt");
     }
-    sc.initial_state.type = p.sublist("initial_state").get<std::string>("type");
+    const auto& init = p.sublist("initial_state");
+    sc.initial_state.type = init.get<std::string>("type");
+    if (init.isParameter("file")) sc.initial_state.file = init.get<std::string>("file");
+    sc.initial_state.state = init.get<std::string>("state");
+    if (init.isParameter("end_to_end")) {
+      sc.initial_state.end_to_end = init.get<double>("end_to_end");
+      if (sc.initial_state.end_to_end >= sc.rod.length)
+        fail_at(sc, "initial_state.end_to_end", "a distance shorter than the rod, < " + format_number(sc.rod.length),
+                format_number(sc.initial_state.end_to_end));
+    }
+    if (p.isSublist("continuation")) {
+      const auto& c = p.sublist("continuation");
+      auto& cs = sc.continuation;
+      cs.enabled = true;
+      cs.parameter = c.get<std::string>("parameter");
+      cs.start_given = c.isParameter("start");
+      if (cs.start_given) cs.start = c.get<double>("start");
+      cs.stop = c.get<double>("stop");
+      cs.step = c.get<double>("step");
+      cs.min_step = c.get<double>("min_step");
+      cs.max_step = c.isParameter("max_step") ? c.get<double>("max_step") : 10.0 * cs.step;
+      cs.method = c.get<std::string>("method");
+      cs.max_steps = c.get<int>("max_steps");
+      cs.stability = c.get<bool>("stability");
+      cs.eigenvalues = c.get<int>("eigenvalues");
+      cs.switch_branches = c.get<bool>("switch_branches");
+      cs.branch_amplitude = c.get<double>("branch_amplitude");
+      const auto& pr = c.sublist("probes");
+      for (auto it = pr.begin(); it != pr.end(); ++it) {
+        const auto& q = pr.sublist(pr.name(it));
+        ContinuationProbeSpec ps;
+        ps.name = pr.name(it);
+        ps.type = q.get<std::string>("type");
+        if (ps.type == "point") {
+          ps.at = q.get<double>("at");
+          ps.quantity = q.get<std::string>("quantity");
+          const auto comp = q.get<std::string>("component");
+          ps.frame = (comp == "1" || comp == "2" || comp == "3") ? "body" : "fixed";
+          ps.component = comp == "x" || comp == "1" ? 0 : comp == "y" || comp == "2" ? 1 : 2;
+          if (ps.at > sc.rod.length)
+            fail_at(sc, "continuation.probes." + ps.name + ".at", "a position on the rod, in [0, " +
+                    format_number(sc.rod.length) + "]", format_number(ps.at));
+        }
+        cs.probes.push_back(ps);
+      }
+      if ((cs.parameter == "load_position" || cs.parameter == "load_magnitude") && p.sublist("loads").numParams() != 1)
+        fail_at(sc, "continuation.parameter", "exactly one load in the scene to continue in " + cs.parameter,
+                std::to_string(p.sublist("loads").numParams()) + " loads");
+    }
   } else {
     throw std::logic_error("parse_scene: unknown model " + model);
   }
@@ -463,14 +591,14 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
   if (!sc.time.dt_auto) sc.time.dt = t.get<double>("dt");
   sc.time.end_auto = t.isType<std::string>("end");
   if (!sc.time.end_auto) sc.time.end = t.get<double>("end");
-  if (sc.time.end_auto) {
+  if (sc.time.end_auto && !sc.continuation.enabled) {
     if (sc.loads.empty()) fail_at(sc, "time.end", "a number when the scene has no loads ('auto' ends when the last load leaves)", "auto");
     for (const auto& l : sc.loads)
       if (!std::isfinite(l.exit_time(sc.length())))
         fail_at(sc, "time.end", "a number: with 'auto' every load must leave the structure, but load '" + l.name +
                 "' stops before it does", "auto");
   }
-  if (sc.model == Model::Rod && sc.time.dt_auto) {
+  if (sc.model == Model::Rod && sc.time.dt_auto && !sc.continuation.enabled) {
     double v = 0.0;
     for (const auto& l : sc.loads) v = std::max(v, l.speed);
     if (v <= 0.0) fail_at(sc, "time.dt", "a number when no load moves at entry (auto is ds / v)", "auto");
@@ -516,7 +644,7 @@ std::string describe_scene(const Scene& scene, bool with_comments) {
 
 std::string describe_types() {
   std::ostringstream os;
-  for (const auto& reg : {section_types(), end_types(), load_types(), probe_types()}) {
+  for (const auto& reg : {section_types(), end_types(), load_types(), probe_types(), continuation_probe_types()}) {
     os << "# " << reg->category() << " types\n";
     for (const auto& n : reg->names()) {
       const TypeInfo* t = reg->find(n);

@@ -16,6 +16,20 @@
 namespace traverse::solver {
 
 namespace {
+/// The KLU2 shortcut exactly (no pass-through keys), on the ranks it was asked for.
+bool is_plain_klu2(const LinearSolverChoice& choice) {
+  const Teuchos::ParameterList& s = choice.stratimikos;
+  if (choice.rerouted || !s.isType<std::string>("Linear Solver Type") ||
+      s.get<std::string>("Linear Solver Type") != "Amesos2" || !s.isSublist("Linear Solver Types") ||
+      !s.sublist("Linear Solver Types").isSublist("Amesos2"))
+    return false;
+  const Teuchos::ParameterList& a = s.sublist("Linear Solver Types").sublist("Amesos2");
+  if (!a.isType<std::string>("Solver Type") || a.get<std::string>("Solver Type") != "KLU2") return false;
+  for (auto it = a.begin(); it != a.end(); ++it)
+    if (a.name(it) != "Solver Type") return false;
+  return true;
+}
+
 constexpr int kPacked = 45;  // y (12), R (9), yt (12), ys (12)
 
 void pack(const rod::RodNode& n, double* d) {
@@ -48,6 +62,9 @@ struct DistributedStepper::Impl {
   double t = 0.0;
   NewtonReport last;
   int max_depth = 4;
+  int full_newton_retries = 0;
+  std::shared_ptr<DirectSolverStats> direct_stats = std::make_shared<DirectSolverStats>();
+  bool reusing_klu2 = false;
 
   bool attempt(double t0, double dt, StepReport& sr) {
     me->set_old_level(nodes, rod::StepTimes{t0, dt});
@@ -55,6 +72,17 @@ struct DistributedStepper::Impl {
     last = newton->solve(*x);
     sr.newton_iterations += last.iterations;
     sr.linear_iterations += last.linear_iterations;
+    if (!last.converged && me->jacobian_reuse() && me->stale_jacobian_used()) {
+      // Modified Newton failed with a kept W: redo this solve with full Newton.
+      ++full_newton_retries;
+      me->set_full_newton(true);
+      me->set_old_level(nodes, rod::StepTimes{t0, dt});
+      me->old_unknowns(*x);
+      last = newton->solve(*x);
+      me->set_full_newton(false);
+      sr.newton_iterations += last.iterations;
+      sr.linear_iterations += last.linear_iterations;
+    }
     if (!last.converged) return false;
     const std::vector<VecX> xg = me->ghosted_unknowns(*x);
     for (size_t k = 0; k < nodes.size(); ++k) nodes[k] = rod::advance_node(*model, nodes[k], xg[k], dt);
@@ -96,9 +124,18 @@ DistributedStepper::DistributedStepper(rod::RodModel model,
   m.mesh = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(rm.length, rm.num_cells + 1), comm,
                                                   rm.unknowns_per_node()));
   m.me = Teuchos::rcp(new RodStepModel(m.model, m.mesh));
-  const LinearSolverObjects ls = build_linear_solver(m.choice);
-  m.me->set_W_factory(ls.lows);
-  m.me->set_prec_factory(ls.prec);
+  m.me->set_jacobian_reuse(m.params.get<bool>("Jacobian Reuse"), m.params.get<double>("Jacobian Reuse Contraction"));
+  if (m.params.get<std::string>("Direct Solver Path") == "Reuse Symbolic" && comm->getSize() == 1 &&
+      is_plain_klu2(m.choice)) {
+    RodStepModel* model_ptr = m.me.get();  // owned by the stepper, outlives the factory's use
+    m.me->set_W_factory(make_reusing_klu2_factory([model_ptr] { return model_ptr->jacobian_version(); },
+                                                  m.direct_stats));
+    m.reusing_klu2 = true;
+  } else {
+    const LinearSolverObjects ls = build_linear_solver(m.choice);
+    m.me->set_W_factory(ls.lows);
+    m.me->set_prec_factory(ls.prec);
+  }
   m.x = Teuchos::rcp(new Tpetra::Vector<double>(m.mesh->dof_map()));
   set_state(rod::straight_rest_state(rm.num_cells, rm.length));
   m.me->set_old_level(m.nodes, rod::StepTimes{m.t, 0.0});
@@ -174,6 +211,12 @@ ReuseCounters DistributedStepper::reuse_counters() const {
   ReuseCounters c;
   c.jacobian_evaluations = m.me->jacobian_evaluations();
   c.residual_evaluations = m.me->residual_evaluations();
+  c.assembly_seconds = m.me->assembly_seconds();
+  c.linear_setup_seconds = m.me->preconditioner_seconds() + m.direct_stats->seconds;
+  c.jacobian_reuses = m.me->jacobian_reuses();
+  c.full_newton_retries = m.full_newton_retries;
+  c.symbolic_factorizations = m.direct_stats->symbolic;
+  c.numeric_factorizations = m.direct_stats->numeric;
   if (auto f = Teuchos::rcp_dynamic_cast<const ReusableIfpack2Factory>(m.me->prec_factory()); !f.is_null()) {
     c.preconditioners_created = f->counters().created;
     c.preconditioner_initializations = f->counters().initialized;

@@ -3,8 +3,10 @@
 #include <Thyra_DefaultPreconditioner.hpp>
 #include <Thyra_LinearOpSourceBase.hpp>
 #include <Thyra_DefaultLinearOpSource.hpp>
+#include <Teuchos_CommHelpers.hpp>
 #include <Thyra_TpetraThyraWrappers.hpp>
 #include <algorithm>
+#include <chrono>
 #include <stdexcept>
 
 namespace traverse::solver {
@@ -35,6 +37,46 @@ RodStepModel::RodStepModel(std::shared_ptr<const rod::RodModel> model,
   x0_thyra_ = Thyra::createVector(x0_, x_space_);
   x_ghosted_ = Teuchos::rcp(new Vector(mesh_->ghosted_dof_map()));
   W_at_x_ = Teuchos::rcp(new Vector(mesh_->dof_map()));
+  build_offsets();
+}
+
+void RodStepModel::build_offsets() {
+  offsets_.clear();
+  const auto lcl = W_->getLocalMatrixHost();
+  const auto colmap = W_->getColMap();
+  const LO rows = static_cast<LO>(row_end_ - row_begin_);
+  std::vector<long> off(static_cast<size_t>(rows) * 3, -1);
+  for (LO r = 0; r < rows; ++r) {
+    const GO node = (static_cast<GO>(row_begin_) + r) / p_;
+    const size_t b = lcl.graph.row_map(r), e = lcl.graph.row_map(r + 1);
+    for (size_t k = b; k < e; ++k) {
+      const GO g = colmap->getGlobalElement(lcl.graph.entries(k));
+      if (g % p_ != 0) continue;
+      const GO rel = g / p_ - node + 1;
+      if (rel < 0 || rel > 2) return;  // not the expected stencil: keep the generic path
+      // The node's p columns must follow in order.
+      if (k + static_cast<size_t>(p_) > e) return;
+      for (int c = 1; c < p_; ++c)
+        if (colmap->getGlobalElement(lcl.graph.entries(k + static_cast<size_t>(c))) != g + c) return;
+      off[static_cast<size_t>(r) * 3 + static_cast<size_t>(rel)] = static_cast<long>(k);
+    }
+  }
+  offsets_ = std::move(off);
+}
+
+bool RodStepModel::same_x(const Vector& x) const {
+  if (!W_valid_) return false;
+  const auto a = x.getData();
+  const auto b = W_at_x_->getData();
+  int differ = 0;
+  for (size_t i = 0; i < static_cast<size_t>(a.size()); ++i)
+    if (a[i] != b[i]) {
+      differ = 1;
+      break;
+    }
+  int any = 0;
+  Teuchos::reduceAll<int, int>(*mesh_->dof_map()->getComm(), Teuchos::REDUCE_MAX, differ, Teuchos::outArg(any));
+  return any == 0;
 }
 
 void RodStepModel::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes,
@@ -44,7 +86,9 @@ void RodStepModel::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes,
   old_nodes_ = std::move(ghosted_old_nodes);
   step_ = step;
   old_unknowns(*x0_);
-  W_valid_ = false;
+  W_valid_ = false;  // W at the same x differs now (it depends on the old level)
+  f_norms_.clear();
+  stale_used_ = false;
 }
 
 void RodStepModel::set_W_factory(
@@ -66,12 +110,19 @@ void RodStepModel::old_unknowns(Vector& x) const {
 }
 
 std::vector<VecX> RodStepModel::ghosted_unknowns(const Vector& x) const {
+  std::vector<VecX> out;
+  ghosted_unknowns_into(x, out);
+  return out;
+}
+
+void RodStepModel::ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out) const {
   x_ghosted_->doImport(x, *mesh_->dof_importer(), Tpetra::INSERT);
   auto data = x_ghosted_->getData();
-  std::vector<VecX> out(static_cast<size_t>(mesh_->num_ghosted_nodes()), VecX(p_));
-  for (size_t k = 0; k < out.size(); ++k)
+  out.resize(static_cast<size_t>(mesh_->num_ghosted_nodes()));
+  for (size_t k = 0; k < out.size(); ++k) {
+    out[k].resize(p_);
     for (int c = 0; c < p_; ++c) out[k](c) = data[k * p_ + c];
-  return out;
+  }
 }
 
 std::vector<rod::LocalBlock> RodStepModel::blocks(const std::vector<VecX>& xg) const {
@@ -91,7 +142,8 @@ std::vector<rod::LocalBlock> RodStepModel::blocks(const std::vector<VecX>& xg) c
 
 void RodStepModel::fill(const Vector& x, Vector* f, Matrix* W) const {
   if (old_nodes_.empty()) throw std::logic_error("RodStepModel: evaluated before set_old_level");
-  const std::vector<rod::LocalBlock> bl = blocks(ghosted_unknowns(x));
+  ghosted_unknowns_into(x, xg_);
+  const std::vector<rod::LocalBlock> bl = blocks(xg_);
   if (f) {
     f->putScalar(0.0);
     auto fd = f->getDataNonConst();
@@ -102,7 +154,33 @@ void RodStepModel::fill(const Vector& x, Vector* f, Matrix* W) const {
       }
     ++n_f_;
   }
-  if (W) {
+  if (W && !offsets_.empty() && W == W_.get()) {
+    // Direct path: add each kernel row's node blocks into W's local values at the
+    // precomputed offsets (same graph, same sums as sumIntoGlobalValues; no fillComplete
+    // needed since neither the graph nor the maps change).
+    auto lcl = W->getLocalMatrixHost();
+    auto vals = lcl.values;
+    const size_t nnz = vals.extent(0);
+    for (size_t k = 0; k < nnz; ++k) vals(k) = 0.0;
+    for (const auto& b : bl) {
+      for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
+        const Eigen::Index g = b.row + i;
+        if (g < row_begin_ || g >= row_end_) continue;
+        const size_t r = static_cast<size_t>(g - row_begin_);
+        const Eigen::Index node = g / p_;
+        for (size_t k = 0; k < b.cols.size(); ++k) {
+          const Eigen::Index rel = b.cols[k] / p_ - node + 1;
+          const long o = rel >= 0 && rel <= 2 ? offsets_[r * 3 + static_cast<size_t>(rel)] : -1;
+          if (o < 0 || b.cols[k] % p_ != 0 || b.jac[k].cols() != p_)
+            throw std::logic_error("RodStepModel: a kernel entry lies outside the mesh graph");
+          const MatX& J = b.jac[k];
+          for (int c = 0; c < p_; ++c) vals(static_cast<size_t>(o) + static_cast<size_t>(c)) += J(i, c);
+        }
+      }
+    }
+    ++W_version_;
+  } else if (W) {
+    ++W_version_;
     W->resumeFill();
     W->setAllToScalar(0.0);
     std::vector<GO> cols;
@@ -125,7 +203,6 @@ void RodStepModel::fill(const Vector& x, Vector* f, Matrix* W) const {
       }
     }
     W->fillComplete();
-    ++n_W_;
   }
 }
 
@@ -178,27 +255,48 @@ void RodStepModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>
       throw std::invalid_argument("RodStepModel: W_op must be a CrsMatrix on the mesh graph (use create_W_op)");
   }
   const bool want_prec = out.supports(MEB::OUT_ARG_W_prec) && !out.get_W_prec().is_null();
-  Matrix* W_fill = W;
-  if (want_prec && !W) {
-    // Reuse W when it was last filled at this very x.
-    bool same = W_valid_;
-    if (same) {
-      Vector d(*W_at_x_, Teuchos::Copy);
-      d.update(1.0, *x, -1.0);
-      same = d.normInf() == 0.0;
-    }
-    if (!same) W_fill = W_.get();
+  const bool want_W = W || want_prec;
+  if (want_W) ++n_W_;
+
+  // Modified Newton: keep the W already filled (at an earlier iterate or step) unless the last
+  // residual contraction of this solve was too weak or full Newton is forced.
+  bool keep_W = false;
+  if (want_W && reuse_ && W_filled_ && !full_newton_ && (!W || W == W_.get())) {
+    const size_t n = f_norms_.size();
+    const bool weak = n >= 2 && f_norms_[n - 1] > contraction_ * f_norms_[n - 2];
+    keep_W = !weak;
   }
-  fill(*x, f.get(), W_fill);
+
+  Matrix* W_fill = nullptr;
+  if (want_W && !keep_W) {
+    W_fill = W ? W : W_.get();
+    if (W_fill == W_.get() && same_x(*x)) W_fill = nullptr;  // W was filled at this very x
+  }
+  // Without Jacobian reuse, a residual evaluation also fills our W (the kernels compute the
+  // Jacobian blocks anyway): NOX asks for W at the same x next, which is then free.
+  if (f && !want_W && !reuse_) W_fill = W_.get();
+
+  const auto t0 = std::chrono::steady_clock::now();
+  if (f || W_fill) fill(*x, f.get(), W_fill);
+  const auto t1 = std::chrono::steady_clock::now();
+  t_fill_ += std::chrono::duration<double>(t1 - t0).count();
   if (W_fill == W_.get()) {
     Tpetra::deep_copy(*W_at_x_, *x);
     W_valid_ = true;
+    W_filled_ = true;
   } else if (W_fill) {
     W_valid_ = false;  // someone else's matrix on our graph: ours is not at x
+  }
+  if (f && reuse_) f_norms_.push_back(f->normInf());
+  if (keep_W) {
+    ++n_reused_;
+    stale_used_ = true;
+    return;  // the preconditioner built from the kept W stays valid
   }
   if (want_prec) {
     const auto src = Thyra::defaultLinearOpSource<double>(W_op_);
     prec_factory_->initializePrec(src, out.get_W_prec().get(), Thyra::SUPPORT_SOLVE_UNSPECIFIED);
+    t_prec_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   }
 }
 

@@ -37,6 +37,18 @@ Teuchos::RCP<const Teuchos::ParameterList> valid_solver_parameters() {
     pl->sublist("NOX", false, "NOX parameters merged over the defaults").disableRecursiveValidation();
     pl->set("Max Subdivision Depth", 4, "How often a failing step may be halved (0: no retry)");
     pl->set("Verbose", true, "One-line notices on rank 0");
+    pl->set("Jacobian Reuse", false,
+            "Modified Newton: keep W, its factorisation or preconditioner across Newton iterations "
+            "and time steps while max|f| contracts by at least 'Jacobian Reuse Contraction' per "
+            "iteration; a solve that fails with a kept W is redone with full Newton");
+    pl->set("Jacobian Reuse Contraction", 0.25,
+            "Refresh the kept W when max|f_k| > this * max|f_{k-1}| (0 < value < 1)");
+    Teuchos::setStringToIntegralParameter<int>(
+        "Direct Solver Path", "Reuse Symbolic",
+        "How KLU2 runs on 1 rank: Reuse Symbolic (one Amesos2 solver kept by traverse: ordering "
+        "once, numeric refactorisation per new W) or Stratimikos (its Amesos2 adapter, which "
+        "redoes the symbolic factorisation every time)",
+        tuple<std::string>("Reuse Symbolic", "Stratimikos"), pl.get());
     return Teuchos::RCP<const Teuchos::ParameterList>(pl);
   }();
   return valid;
@@ -62,6 +74,10 @@ Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList&
   positive("Residual Tolerance", false);
   positive("Update Relative Tolerance", false);
   positive("Update Absolute Tolerance", false);
+  const double c = p.get<double>("Jacobian Reuse Contraction");
+  if (!(c > 0.0 && c < 1.0))
+    throw std::invalid_argument("rod solver parameters: 'Jacobian Reuse Contraction' must be in (0, 1), found " +
+                                std::to_string(c));
   if (p.get<int>("Max Subdivision Depth") < 0)
     throw std::invalid_argument("rod solver parameters: 'Max Subdivision Depth' must be >= 0, found " +
                                 std::to_string(p.get<int>("Max Subdivision Depth")));

@@ -172,3 +172,59 @@ TEST(Scene, UnreadableFile) {
               std::string::npos) << e.what();
   }
 }
+
+namespace {
+const char* kRod = R"(model: rod
+rod:
+  length: 1.0
+  youngs_modulus: 2.5e8
+  poisson_ratio: 0.25
+  density: 1500
+  section: {type: solid_circle, radius: 0.005}
+ends:
+  left: {type: pinned}
+  right: {type: roller, force: -1.0}
+loads:
+  F: {type: moving_force, force: 2.0, speed: 1.0}
+)";
+}  // namespace
+
+TEST(Scene, RodSceneWithRollerAndDefaults) {
+  const Scene s = parse_scene(kRod, "scene.yaml");
+  EXPECT_EQ(s.model, Model::Rod);
+  EXPECT_NEAR(s.rod.shear_modulus, 1.0e8, 1e-6);
+  EXPECT_NEAR(s.rod.section.J, M_PI * std::pow(0.005, 4) / 2, 1e-20);
+  EXPECT_EQ(s.left.type, "pinned");
+  EXPECT_EQ(s.right.type, "roller");
+  EXPECT_DOUBLE_EQ(s.right.axial_force, -1.0);
+  EXPECT_EQ(s.initial_state.type, "static");
+  EXPECT_DOUBLE_EQ(s.time.dt, 0.01);  // auto: ds / v with 101 nodes and v = 1
+  EXPECT_FALSE(s.continuation.enabled);
+  ASSERT_EQ(s.loads.size(), 1u);
+  EXPECT_EQ(s.loads[0].force, traverse::Vec3(0, -2, 0));
+  expect_error({"ends.right.slide_axis=[1, 0, 0]"}, {"ends.right.slide_axis", "perpendicular to the pin axis"}, kRod);
+  expect_error({"beam.length=1"}, {"beam: expected no 'beam' here: it applies only with model: beam"}, kRod);
+}
+
+TEST(Scene, InitialStatesAndContinuation) {
+  const Scene s = parse_scene(kRod, "scene.yaml",
+                              {"initial_state={type: arch, end_to_end: 0.8}", "continuation.parameter=load_position",
+                               "continuation.stop=1", "continuation.step=0.01",
+                               "continuation.probes={c: {type: end_compression}, y: {type: point, at: 0.5, "
+                               "quantity: position, component: y}}"});
+  EXPECT_EQ(s.initial_state.type, "arch");
+  EXPECT_DOUBLE_EQ(s.initial_state.end_to_end, 0.8);
+  ASSERT_TRUE(s.continuation.enabled);
+  EXPECT_EQ(s.continuation.method, "arclength");
+  EXPECT_DOUBLE_EQ(s.continuation.max_step, 0.1);
+  ASSERT_EQ(s.continuation.probes.size(), 2u);
+  EXPECT_EQ(s.continuation.probes[1].component, 1);
+  expect_error({"initial_state.type=arch"}, {"initial_state.end_to_end", "type: arch"}, kRod);
+  expect_error({"initial_state={type: arch, end_to_end: 1.5}"}, {"initial_state.end_to_end", "shorter than the rod"}, kRod);
+  expect_error({"initial_state.type=file"}, {"initial_state.file", "continuation output file"}, kRod);
+  expect_error({"continuation={parameter: load_position, stop: 1}"}, {"continuation.step", "required"}, kRod);
+  expect_error({"continuation={parameter: twist, stop: 1, step: 0.1}"}, {"continuation.parameter", "one of {end_load"}, kRod);
+  expect_error({"continuation={parameter: load_position, stop: 1, step: 0.1, probes: {p: {type: point, at: 0.5, "
+                "quantity: position, component: '2'}}}"},
+               {"continuation.probes.p.component", "x, y or z for quantity position"}, kRod);
+}

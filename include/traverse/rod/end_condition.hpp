@@ -16,11 +16,19 @@ struct EndCondition {
     sliding,     ///< u . (R b1) = u . (R b2) = 0 (2), omega = 0 (3), n . (R e) = 0 (1)
     free,        ///< n = 0 (3), m = K (kappa - kappa0) = 0 (3)
     prescribed,  ///< u = R u_fixed(t) (3), omega = R omega_fixed(t) (3)
+    roller,      ///< pin about a sliding along e: u . (R b1_e) = u . (R b2_e) = 0 (2),
+                 ///< n . (R e) = axial_force (1), omega . (R b1_a) = omega . (R b2_a) = 0 (2),
+                 ///< m . (R a) = 0 (1)
   };
   Type type = Type::clamped;
   /// Pin axis a (pinned) or sliding axis e (sliding), fixed frame; normalised internally.
   /// b1, b2 complete it to an orthonormal fixed triad (chosen once, see perpendicular_pair).
   Vec3 axis = Vec3::UnitX();
+  /// Roller only: the sliding axis e (fixed frame; normalised internally, should be
+  /// perpendicular to the pin axis) and the contact force component n . e held there [N]
+  /// (at the right end the external force along e; at the left end minus it).
+  Vec3 slide_axis = Vec3::UnitZ();
+  double axial_force = 0.0;
   /// Prescribed end velocity [m/s] and rotation rate [rad/s], fixed components, at time t [s].
   std::function<Vec3(double)> u_fixed;
   std::function<Vec3(double)> omega_fixed;
@@ -29,6 +37,8 @@ struct EndCondition {
   static EndCondition make_pinned(const Vec3& pin_axis);
   static EndCondition make_sliding(const Vec3& slide_axis);
   static EndCondition make_free();
+  /// Pinned about `pin_axis`, sliding along `slide_axis`, with n . e = `axial_force` [N].
+  static EndCondition make_roller(const Vec3& pin_axis, const Vec3& slide_axis, double axial_force = 0.0);
   static EndCondition make_prescribed(std::function<Vec3(double)> u_fixed,
                                       std::function<Vec3(double)> omega_fixed);
 

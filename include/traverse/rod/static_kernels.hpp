@@ -35,13 +35,16 @@ inline constexpr int n = 9;      ///< contact force [N], body components
 ///   sliding:  r - position perpendicular to e is 0 (2), log(R frame^T) = 0 (3),
 ///             external force along e = axial_force (1)
 ///   free:     external force = end_force (3), m = 0 (3)
+///   roller:   r - position perpendicular to slide_axis e is 0 (2), external force along e =
+///             axial_force (1), log(frame^T R) parallel to the pin axis a (2), m . (R a) = 0 (1)
 /// External forces act on the rod at that end: n(L) = F at the right end, n(0) = -F at the left.
 struct StaticEnd {
   EndCondition::Type type = EndCondition::Type::clamped;
-  Vec3 axis = Vec3::UnitX();       ///< pin axis (pinned) or sliding axis (sliding), fixed frame
+  Vec3 axis = Vec3::UnitX();       ///< pin axis (pinned, roller) or sliding axis (sliding), fixed frame
+  Vec3 slide_axis = Vec3::UnitZ(); ///< roller: sliding axis e, fixed frame
   Vec3 position = Vec3::Zero();    ///< [m]
   Mat3 frame = Mat3::Identity();   ///< fixed -> body at the end
-  double axial_force = 0.0;        ///< sliding: external force along the axis [N]
+  double axial_force = 0.0;        ///< sliding, roller: external force along the sliding axis [N]
   Vec3 end_force = Vec3::Zero();   ///< free: external force, fixed frame [N]
 };
 
@@ -74,6 +77,13 @@ struct StaticNode {
 
 /// Cell (j-1, j): 12 rows at 6 + 12 (j-1), Jacobian blocks for nodes j-1 and j.
 LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev, const StaticNode& self);
+/// The inertia of small vibrations about a static state in the rows of cell (j-1, j): the
+/// dynamic rows are (static rows) + M_s x'' with, in the force rows, rhoA (R_a r''_a +
+/// R_b r''_b)/2 (body acceleration u' = R r'') and, in the moment rows, rhoI (omega'_a +
+/// omega'_b)/2 with omega = -D theta' (= theta' at theta = 0). Other rows carry no inertia.
+/// Same row and column layout as static_cell_block; the residual is zero.
+LocalBlock static_mass_block(const StaticModel& m, int j, const StaticNode& prev, const StaticNode& self);
+
 /// End rows: left at rows 0..5 (node 0), right at rows 12 N + 6 .. (node N).
 LocalBlock static_left_block(const StaticModel& m, const StaticNode& node);
 LocalBlock static_right_block(const StaticModel& m, const StaticNode& node);

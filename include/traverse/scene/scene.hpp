@@ -46,8 +46,10 @@ struct RodSpec {
 
 /// One end condition of the rod (fixed-frame vectors).
 struct EndSpec {
-  std::string type;              ///< clamped, pinned, sliding, free, prescribed
-  Vec3 axis = Vec3::UnitX();     ///< pin axis (pinned) or sliding axis (sliding)
+  std::string type;              ///< clamped, pinned, sliding, roller, free, prescribed
+  Vec3 axis = Vec3::UnitX();     ///< pin axis (pinned, roller) or sliding axis (sliding)
+  Vec3 slide_axis = Vec3::UnitZ();  ///< roller: sliding axis
+  double axial_force = 0.0;      ///< roller: external force along the sliding axis [N]
   Vec3 velocity = Vec3::Zero();  ///< prescribed end velocity [m/s]
   Vec3 rotation_rate = Vec3::Zero();  ///< prescribed end rotation rate [rad/s]
 };
@@ -93,7 +95,41 @@ struct SchemeSpec {
 };
 
 struct InitialStateSpec {
-  std::string type;  ///< static (equilibrium under the dead loads) or rest (straight, unloaded)
+  /// static: equilibrium under the dead loads; rest: straight, unloaded; file: a state saved
+  /// by a continuation run; arch: the arch formation pipeline (buckle, pin at end_to_end,
+  /// raise gravity).
+  std::string type;
+  std::string file;         ///< type file: the continuation output file
+  std::string state;        ///< type file: the state's name in it (default "final")
+  double end_to_end = 0.0;  ///< type arch: end-to-end distance dz [m]
+};
+
+/// A scalar measured on each static state of a continuation run.
+struct ContinuationProbeSpec {
+  std::string name;
+  std::string type;       ///< point or end_compression
+  double at = 0.0;        ///< point: arclength [m]
+  std::string quantity;   ///< point: position, kappa, n, m, d1, d2, d3
+  int component = 0;      ///< point: 0, 1, 2 (x, y, z or 1, 2, 3)
+  std::string frame;      ///< point: fixed or body
+};
+
+/// Continuation of static states (a scene with this section runs statics, not dynamics).
+struct ContinuationSpec {
+  bool enabled = false;
+  std::string parameter;  ///< end_load, end_position, gravity_factor, load_position, load_magnitude
+  bool start_given = false;
+  double start = 0.0;     ///< start value of the parameter
+  double stop = 0.0;      ///< the run ends where the parameter reaches this bound
+  double step = 0.0;      ///< initial step size (positive; the direction is towards stop)
+  double min_step = 0.0, max_step = 0.0;
+  std::string method;     ///< arclength or natural
+  int max_steps = 0;
+  bool stability = true;
+  int eigenvalues = 6;
+  bool switch_branches = true;
+  double branch_amplitude = 0.0;  ///< [m]
+  std::vector<ContinuationProbeSpec> probes;
 };
 
 struct ProbeSpec {
@@ -124,6 +160,7 @@ struct Scene {
   EndSpec left, right;   ///< model rod
   SchemeSpec scheme;     ///< model rod
   InitialStateSpec initial_state;  ///< model rod
+  ContinuationSpec continuation;   ///< model rod
   std::vector<MovingLoadSpec> loads;
   TimeSpec time;
   OutputSpec output;

@@ -37,6 +37,17 @@ struct ReuseCounters {
   int preconditioner_computations = 0;     ///< numeric set-ups
   int jacobian_evaluations = 0;
   int residual_evaluations = 0;
+  /// Wall time [s] spent in the kernel evaluation and the assembly of f and W (this rank).
+  double assembly_seconds = 0.0;
+  /// Wall time [s] spent setting up the linear solver: preconditioner initialize/compute, or
+  /// the direct solver's factorisations when it runs through the reusing KLU2 path (this rank).
+  double linear_setup_seconds = 0.0;
+  int jacobian_reuses = 0;          ///< W requests answered with the kept W (Jacobian Reuse)
+  int full_newton_retries = 0;      ///< solves redone with full Newton after a kept W failed
+  /// KLU2 through the reusing path ("Direct Solver Path: Reuse Symbolic", 1 rank); zero
+  /// otherwise (Stratimikos' adapter does not report them).
+  int symbolic_factorizations = 0;
+  int numeric_factorizations = 0;
 };
 
 class DistributedStepper {

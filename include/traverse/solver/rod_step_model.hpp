@@ -10,6 +10,7 @@
 #include <Thyra_StateFuncModelEvaluatorBase.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Vector.hpp>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -17,6 +18,21 @@
 #include "traverse/rod/rod_kernels.hpp"
 
 namespace traverse::solver {
+
+/// Work counters of the reusing KLU2 factory (make_reusing_klu2_factory).
+struct DirectSolverStats {
+  int symbolic = 0;      ///< symbolic + numeric factorisations (new matrix object)
+  int numeric = 0;       ///< numeric factorisations
+  int reused = 0;        ///< initializations that kept the factors (W unchanged)
+  double seconds = 0.0;  ///< wall time in the factory's initializeOp [s]
+};
+
+/// Amesos2 KLU2 (1 rank) as a Thyra LOWS factory that keeps its Amesos2 solver: symbolic
+/// factorisation once per matrix object, then only numeric refactorisations, skipped when
+/// `jacobian_version()` (RodStepModel::jacobian_version) is the one last factored. Defined in
+/// linear_solver_builder.cpp.
+Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_reusing_klu2_factory(
+    std::function<long()> jacobian_version, std::shared_ptr<DirectSolverStats> stats);
 
 class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
  public:
@@ -49,8 +65,27 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   const Teuchos::RCP<Matrix>& jacobian_matrix() const { return W_; }
   const mesh::DistributedMesh& mesh() const { return *mesh_; }
   const rod::RodModel& rod_model() const { return *model_; }
+  /// Modified Newton ("Jacobian Reuse"): a W request keeps the W (and preconditioner)
+  /// already filled - possibly at an earlier iterate or time step - unless the last max|f|
+  /// contraction in this solve was worse than `contraction`, or full Newton is forced.
+  void set_jacobian_reuse(bool on, double contraction) {
+    reuse_ = on;
+    contraction_ = contraction;
+  }
+  bool jacobian_reuse() const { return reuse_; }
+  /// Forces a fresh W at every request (the fallback when a reused W did not converge).
+  void set_full_newton(bool on) { full_newton_ = on; }
+  /// Whether the current solve (since set_old_level) used a W not filled at its own iterate.
+  bool stale_jacobian_used() const { return stale_used_; }
+  /// Incremented whenever W's values change (the direct solver refactors only then).
+  long jacobian_version() const { return W_version_; }
+  /// W requests answered by keeping the previous W (modified Newton).
+  int jacobian_reuses() const { return n_reused_; }
   int residual_evaluations() const { return n_f_; }
   int jacobian_evaluations() const { return n_W_; }
+  /// Wall time [s] spent in fill() (kernels + assembly) and in preconditioner set-up.
+  double assembly_seconds() const { return t_fill_; }
+  double preconditioner_seconds() const { return t_prec_; }
 
   // Thyra::ModelEvaluator
   Teuchos::RCP<const Thyra::VectorSpaceBase<double>> get_x_space() const override;
@@ -71,7 +106,13 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
 
   /// Kernel blocks whose rows include owned rows, given the ghosted new unknowns.
   std::vector<rod::LocalBlock> blocks(const std::vector<VecX>& xg) const;
+  void ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out) const;
   void fill(const Vector& x, Vector* f, Matrix* W) const;
+  /// Position in W's local value array of the first entry of node block (row node - 1 + rel)
+  /// for each owned local row and rel = 0, 1, 2 (-1 when absent); empty when W's rows do not
+  /// hold each node's columns contiguously (then sumIntoGlobalValues is used).
+  void build_offsets();
+  bool same_x(const Vector& x) const;  ///< x == the x at which W was last filled
 
   std::shared_ptr<const rod::RodModel> model_;
   Teuchos::RCP<const mesh::DistributedMesh> mesh_;
@@ -90,6 +131,15 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   mutable Teuchos::RCP<Vector> W_at_x_;  ///< x at which W was last filled
   mutable bool W_valid_ = false;
   mutable int n_f_ = 0, n_W_ = 0;
+  mutable double t_fill_ = 0.0, t_prec_ = 0.0;
+  std::vector<long> offsets_;
+  mutable std::vector<VecX> xg_;  ///< ghosted unknown blocks (reused buffer)
+  bool reuse_ = false, full_newton_ = false;
+  double contraction_ = 0.25;
+  mutable bool W_filled_ = false, stale_used_ = false;
+  mutable std::vector<double> f_norms_;  ///< max|f| of this solve's residual evaluations
+  mutable long W_version_ = 0;
+  mutable int n_reused_ = 0;
 };
 
 }  // namespace traverse::solver

@@ -25,6 +25,22 @@
 //   Max Subdivision Depth  int     how often a failing step may be halved (default 4;
 //                                  0 disables retries)
 //   Verbose                bool    one-line notices on rank 0 (default true)
+//   Jacobian Reuse         bool    modified Newton (default false): a Newton iteration keeps
+//                                  the W already filled (and its KLU2 factors or Ifpack2
+//                                  preconditioner), across iterations and time steps, while
+//                                  max|f| contracts by at least the factor below per
+//                                  iteration; otherwise W is refilled at the current iterate.
+//                                  A solve that fails with a kept W is redone with full Newton
+//                                  before the step is halved. Converged states differ from
+//                                  full Newton's by up to the Newton tolerances.
+//   Jacobian Reuse Contraction double in (0, 1) (default 0.25): refresh W when
+//                                  max|f_k| > value * max|f_{k-1}|
+//   Direct Solver Path     string  "Reuse Symbolic" | "Stratimikos" (default "Reuse
+//                                  Symbolic"): KLU2 on 1 rank through traverse's own Amesos2
+//                                  factory (symbolic factorisation once, numeric per new W,
+//                                  none when W did not change) or through Stratimikos'
+//                                  Amesos2 adapter (symbolic redone every Newton iteration).
+//                                  Pass-through Stratimikos lists always use Stratimikos.
 #include <Teuchos_ParameterList.hpp>
 #include <Teuchos_RCP.hpp>
 

@@ -1,0 +1,70 @@
+#pragma once
+// The static problem with its continuation parameters (physics spec section 3): a base
+// StaticModel plus five scalar parameters that set the end load, the right end's position
+// along an axis, the gravity factor, and the position and magnitude of one point force.
+// Also the scalar probes of a static state used by continuation runs. No Trilinos here.
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "traverse/rod/static_kernels.hpp"
+
+namespace traverse::rod {
+
+/// The continuation parameters, in the order of the parameter vector.
+enum class StaticParameter {
+  end_load = 0,    ///< P [N]: external force on the right end = P * end_load_direction
+  end_position,    ///< [m]: the right end's position component along end_position_axis
+  gravity_factor,  ///< [-]: gravity = factor * StaticProblem::gravity
+  load_position,   ///< sigma [m]: arclength of the point force
+  load_magnitude,  ///< F [N]: point force = F * load_direction
+};
+inline constexpr int num_static_parameters = 5;
+
+/// "end_load", "end_position", "gravity_factor", "load_position", "load_magnitude".
+std::string parameter_name(StaticParameter p);
+/// Inverse of parameter_name; throws std::invalid_argument naming the valid names.
+StaticParameter parameter_from_name(const std::string& name);
+/// SI unit of a parameter ("N", "m", "1").
+std::string parameter_unit(StaticParameter p);
+
+struct StaticProblem {
+  /// Geometry, section, end types, frames and fixed positions; gravity, point forces and the
+  /// fields set by parameters are overwritten by model().
+  StaticModel base;
+  Vec3 gravity = Vec3(0.0, -9.8, 0.0);          ///< gravity at factor 1 [m/s^2], fixed frame
+  /// Direction of the right end's external load: a free end gets end_force = P * d; a
+  /// sliding or roller end gets axial_force = P * (d . e) along its sliding axis e.
+  Vec3 end_load_direction = -Vec3::UnitZ();     ///< default: compression of a rod along +k
+  Vec3 end_position_axis = Vec3::UnitZ();       ///< unit axis of the end_position parameter
+  bool has_point_load = false;                  ///< whether the point force exists
+  Vec3 load_direction = -Vec3::UnitY();         ///< unit direction of the point force
+  std::array<double, num_static_parameters> values{};  ///< current parameter values
+
+  double value(StaticParameter p) const { return values[static_cast<size_t>(p)]; }
+  double& value(StaticParameter p) { return values[static_cast<size_t>(p)]; }
+  /// The base model with the parameters applied (see StaticParameter).
+  StaticModel model() const;
+  /// The same with `vals` in place of `values`.
+  StaticModel model(const std::array<double, num_static_parameters>& vals) const;
+};
+
+/// A scalar measured on a static state (gathered on every rank).
+struct StaticProbe {
+  std::string name;  ///< e.g. "end_compression"
+  std::string unit;  ///< e.g. "N"
+  std::function<double(const StaticModel&, const std::vector<StaticNode>&)> eval;
+};
+
+/// -n(L) . axis: the compressive force carried at the right end along `axis` (fixed frame) [N].
+StaticProbe probe_end_compression(const Vec3& axis = Vec3::UnitZ(), std::string name = "end_compression");
+/// Component `c` (0 = x/i, 1 = y/j, 2 = z/k) of r(s), linear between nodes [m].
+StaticProbe probe_position(double s, int c, std::string name);
+/// (r(L) - r(0)) . k: the end-to-end distance along k [m].
+StaticProbe probe_end_distance(std::string name = "end_distance");
+
+/// r(s) interpolated linearly between nodes [m].
+Vec3 position_at(const StaticModel& m, const std::vector<StaticNode>& nodes, double s);
+
+}  // namespace traverse::rod

@@ -1,0 +1,42 @@
+#include "interrupt.hpp"
+
+#include <csignal>
+#include <cstring>
+
+namespace traverse::app {
+
+namespace {
+
+volatile std::sig_atomic_t g_signal = 0;
+
+extern "C" void on_signal(int sig) { g_signal = sig; }
+
+}  // namespace
+
+void install_interrupt_handlers() {
+  struct sigaction sa;
+  std::memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  // SA_RESETHAND: a second Ctrl-C kills at once. SA_RESTART: MPI/HDF5 calls in progress
+  // resume instead of failing with EINTR.
+  sa.sa_flags = SA_RESETHAND | SA_RESTART;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+
+int local_interrupt_signal() { return static_cast<int>(g_signal); }
+
+int interrupt_requested(MPI_Comm comm) {
+  int mine = local_interrupt_signal(), any = 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm);
+  return any;
+}
+
+std::string signal_name(int signal) {
+  if (signal == SIGINT) return "SIGINT";
+  if (signal == SIGTERM) return "SIGTERM";
+  return "signal " + std::to_string(signal);
+}
+
+}  // namespace traverse::app

@@ -1,0 +1,216 @@
+// A rod scene with a `continuation` section: continuation of static states with stability,
+// bifurcation detection and branch switching, written to a continuation file.
+#include <mpi.h>
+
+#include <Teuchos_DefaultMpiComm.hpp>
+#include <Tpetra_Core.hpp>
+
+#include <cmath>
+#include <sstream>
+
+#include "progress.hpp"
+#include "rod_setup.hpp"
+#include "run.hpp"
+#include "traverse/output/continuation_writer.hpp"
+#include "traverse/output/output_error.hpp"
+#include "traverse/solver/solver_parameters.hpp"
+#include "traverse/solver/static_continuation.hpp"
+#include "traverse/version.hpp"
+
+namespace traverse::app {
+
+namespace {
+
+using rod::StaticParameter;
+
+// A scalar probe of a static state from its scene declaration.
+rod::StaticProbe make_probe(const scene::ContinuationProbeSpec& p) {
+  if (p.type == "end_compression") {
+    rod::StaticProbe q = rod::probe_end_compression(Vec3::UnitZ(), p.name);
+    return q;
+  }
+  if (p.type != "point") throw std::logic_error("make_probe: unknown continuation probe " + p.type);
+  rod::StaticProbe q;
+  q.name = p.name;
+  q.unit = p.quantity == "position" ? "m" : p.quantity == "kappa" ? "1/m" : p.quantity == "n" ? "N"
+           : p.quantity == "m" ? "N m" : "1";
+  const double at = p.at;
+  const int c = p.component;
+  const bool fixed = p.frame == "fixed";
+  const std::string quantity = p.quantity;
+  q.eval = [at, c, fixed, quantity](const rod::StaticModel& m, const std::vector<rod::StaticNode>& nodes) {
+    if (quantity == "position") return rod::position_at(m, nodes, at)(c);
+    const double q = std::clamp(at / m.ds(), 0.0, static_cast<double>(m.num_cells));
+    const int j = std::min(static_cast<int>(std::floor(q)), m.num_cells - 1);
+    const double w = q - j;
+    auto value = [&](const rod::StaticNode& nd) -> Vec3 {
+      const Mat3 R = nd.frame();
+      if (quantity[0] == 'd') return R.row(quantity[1] - '1').transpose();
+      Vec3 v = quantity == "kappa" ? Vec3(nd.x.segment<3>(rod::svar::kappa))
+               : quantity == "n"   ? Vec3(nd.x.segment<3>(rod::svar::n))
+                                   : Vec3(m.props.K.cwiseProduct(nd.x.segment<3>(rod::svar::kappa) - m.props.kappa0));
+      return fixed ? Vec3(R.transpose() * v) : v;
+    };
+    const Vec3 v = (1.0 - w) * value(nodes[static_cast<size_t>(j)]) + w * value(nodes[static_cast<size_t>(j + 1)]);
+    return v(c);
+  };
+  return q;
+}
+
+}  // namespace
+
+rod::StaticProblem static_problem(const scene::Scene& sc) {
+  rod::StaticProblem p;
+  p.base.props = rod_properties(sc.rod);
+  p.base.num_cells = sc.mesh.nodes - 1;
+  p.base.length = sc.rod.length;
+  p.base.left = static_end(sc.left, 0.0);
+  p.base.right = static_end(sc.right, sc.rod.length);
+  p.gravity = Vec3(0.0, -sc.gravity, 0.0);
+  p.end_load_direction = -Vec3::UnitZ();
+  p.end_position_axis = Vec3::UnitZ();
+  p.value(StaticParameter::gravity_factor) = 1.0;  // gravity = factor * the scene's g
+  // The right end's external load along -k: a roller's or sliding end's given force.
+  p.value(StaticParameter::end_load) = -sc.right.axial_force;
+  p.value(StaticParameter::end_position) = sc.rod.length;
+  if (sc.loads.size() == 1) {
+    const auto& l = sc.loads.front();
+    const double F = l.force.norm();
+    p.has_point_load = F > 0.0;
+    if (p.has_point_load) p.load_direction = l.force / F;
+    p.value(StaticParameter::load_magnitude) = F;
+    p.value(StaticParameter::load_position) = l.start;
+  } else if (!sc.loads.empty()) {
+    scene::fail_at(sc, "loads", "at most one load in a continuation scene", std::to_string(sc.loads.size()) + " loads");
+  }
+  return p;
+}
+
+void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int no_argc = 0;
+  char** no_argv = nullptr;
+  Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);
+  auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
+  const auto& cs = sc.continuation;
+
+  Teuchos::ParameterList solver_params;
+  try {
+    solver_params = solver::validated_solver_parameters(sc.solver_parameters());
+  } catch (const std::invalid_argument& e) {
+    scene::fail_at(sc, "solver", "valid solver parameters (see docs/solver.md)", e.what());
+  }
+  rod::StaticProblem problem = static_problem(sc);
+  const StaticParameter par = rod::parameter_from_name(cs.parameter);
+
+  // Starting state: solved at the start values from the scene's initial state.
+  std::vector<rod::StaticNode> state = rod::straight_static_state(problem.base);
+  if (sc.initial_state.type == "arch") {
+    solver::ArchFormation arch;
+    try {
+      arch = form_arch(sc, tcomm, solver_params);
+    } catch (const std::runtime_error& e) {
+      throw NumericsError(e.what());
+    }
+    if (rank == 0 && !opt.quiet) std::printf("%s\n", arch_summary(arch).c_str());
+    // The formed arch's ends and position; the scene's load and parameter values on top.
+    const auto values = problem.values;
+    const bool load = problem.has_point_load;
+    const Vec3 direction = problem.load_direction;
+    problem = arch.problem;
+    problem.has_point_load = load;
+    problem.load_direction = direction;
+    for (auto p : {StaticParameter::load_position, StaticParameter::load_magnitude}) problem.value(p) = values[static_cast<size_t>(p)];
+    state = arch.state;
+  } else if (sc.initial_state.type == "file") {
+    try {
+      state = static_nodes(output::read_state(sc.initial_state.file, sc.initial_state.state), sc, "initial_state.file");
+    } catch (const output::OutputError& e) {
+      scene::fail_at(sc, "initial_state.file", "a continuation file with the state '" + sc.initial_state.state + "'",
+                     e.what());
+    }
+  }
+
+  if (cs.start_given) problem.value(par) = cs.start;
+  const double start = problem.value(par);
+  if (start == cs.stop)
+    scene::fail_at(sc, "continuation.stop", "a value different from the start value " + scene::format_number(start),
+                   scene::format_number(cs.stop));
+
+  solver::ContinuationOptions options;
+  options.parameter = par;
+  options.method = cs.method == "natural" ? "Natural" : "Arc Length";
+  options.min_value = std::min(start, cs.stop);
+  options.max_value = std::max(start, cs.stop);
+  options.initial_step = cs.stop > start ? cs.step : -cs.step;
+  options.min_step = cs.min_step;
+  options.max_step = cs.max_step;
+  options.max_steps = cs.max_steps;
+  options.stability.enabled = cs.stability;
+  options.stability.num_eigenvalues = cs.eigenvalues;
+  options.detect_bifurcations = cs.stability;
+  options.solver = solver_params;
+  std::vector<std::string> names, units;
+  for (const auto& p : cs.probes) {
+    options.probes.push_back(make_probe(p));
+    names.push_back(p.name);
+    units.push_back(options.probes.back().unit);
+  }
+
+  std::vector<double> s(static_cast<size_t>(sc.mesh.nodes));
+  for (size_t j = 0; j < s.size(); ++j) s[j] = static_cast<double>(j) * sc.mesh.ds;
+  output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod"};
+  output::ContinuationWriter writer(comm, opt.output, opt.overwrite, info, s, cs.parameter,
+                                    rod::parameter_unit(par), names, units);
+
+  int branch = 0;
+  long points = 0;
+  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), rod::parameter_name(par),
+                    rod::parameter_unit(par), start, cs.stop);
+  auto on_point = [&](const solver::ContinuationPoint& p) {
+    writer.add_point(branch, p.parameter, p.probes, p.unstable_modes, p.critical_eigenvalue);
+    ++points;
+    progress.update(p.parameter, points);
+  };
+  auto record = [&](const solver::ContinuationResult& r) {
+    for (const auto& b : r.bifurcations)
+      writer.add_bifurcation(solver::to_string(b.type), branch, b.located, b.parameter, b.probes, nodal_state(b.state));
+    if (!r.completed) {
+      progress.done();
+      const std::string why = "continuation in " + cs.parameter + " stopped at " + rod::parameter_name(par) + " = " +
+                              (r.points.empty() ? std::string("its start") : scene::format_number(r.points.back().parameter)) +
+                              ": " + r.message + "; try a smaller continuation.step or min_step";
+      if (!r.points.empty()) writer.write_state("final", nodal_state(r.points.back().state));
+      writer.fail(why);
+      throw NumericsError(why);
+    }
+  };
+
+  const solver::ContinuationResult primary = solver::continue_(problem, state, options, tcomm, on_point);
+  record(primary);
+  writer.write_state("final", nodal_state(primary.points.back().state));
+  int switched = 0;
+  if (cs.switch_branches) {
+    for (const auto& b : primary.bifurcations) {
+      if (b.type != solver::BifurcationType::pitchfork || !b.located) continue;
+      branch = ++switched;
+      const solver::ContinuationResult side = solver::switch_branch(problem, b, cs.branch_amplitude, options, tcomm, on_point);
+      record(side);
+      writer.write_state("branch_" + std::to_string(branch) + "_final", nodal_state(side.points.back().state));
+    }
+  }
+  progress.done();
+  writer.finish();
+  if (rank == 0 && !opt.quiet) {
+    std::printf("continuation of '%s' in %s from %g to %g: %ld points on %d branch(es), %zu bifurcation(s) on the "
+                "primary branch -> %s\n",
+                sc.file.c_str(), cs.parameter.c_str(), start, cs.stop, points, switched + 1,
+                primary.bifurcations.size(), opt.output.c_str());
+    for (const auto& b : primary.bifurcations)
+      std::printf("  %s at %s = %.10g (%s)\n", solver::to_string(b.type).c_str(), cs.parameter.c_str(), b.parameter,
+                  b.located ? "located" : "bracketed");
+  }
+}
+
+}  // namespace traverse::app

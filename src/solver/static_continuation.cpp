@@ -1,0 +1,609 @@
+// Statics and continuation through LOCA (see static_continuation.hpp and docs/statics.md).
+#include "traverse/solver/static_continuation.hpp"
+
+#include <LOCA.H>
+#include <LOCA_Thyra.H>
+#include <LOCA_Thyra_SaveDataStrategy.H>
+#include <LOCA_StatusTest_Abstract.H>
+#include <NOX_StatusTest_Combo.H>
+#include <NOX_StatusTest_FiniteValue.H>
+#include <NOX_StatusTest_MaxIters.H>
+#include <NOX_StatusTest_NormF.H>
+#include <NOX_StatusTest_NormWRMS.H>
+#include <NOX_Thyra_Vector.H>
+#include <Thyra_LinearOpWithSolveFactoryHelpers.hpp>
+#include <Thyra_TpetraThyraWrappers.hpp>
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <stdexcept>
+
+#include "linear_solver_builder.hpp"
+#include "static_context.hpp"
+#include "traverse/solver/solver_parameters.hpp"
+
+namespace traverse::solver {
+
+namespace {
+using Vector = StaticRodModel::Vector;
+using Matrix = StaticRodModel::Matrix;
+using LO = mesh::LO;
+using GO = mesh::GO;
+using Node = mesh::Map::node_type;
+using Extract = Thyra::TpetraOperatorVectorExtraction<double, LO, GO, Node>;
+
+std::vector<rod::StaticNode> rebased(std::vector<rod::StaticNode> nodes) {
+  for (auto& n : nodes) n.rebase();
+  return nodes;
+}
+
+double max_abs(const Vector& v) { return v.normInf(); }
+}  // namespace
+
+std::string to_string(BifurcationType t) {
+  switch (t) {
+    case BifurcationType::fold:
+      return "fold";
+    case BifurcationType::pitchfork:
+      return "pitchfork";
+    default:
+      throw std::logic_error("to_string: unknown bifurcation type");
+  }
+}
+
+double max_position_difference(const std::vector<rod::StaticNode>& a, const std::vector<rod::StaticNode>& b) {
+  double d = 0.0;
+  for (size_t j = 0; j < std::min(a.size(), b.size()); ++j)
+    d = std::max(d, (a[j].x.segment<3>(rod::svar::r) - b[j].x.segment<3>(rod::svar::r)).cwiseAbs().maxCoeff());
+  return d;
+}
+
+// ---------------------------------------------------------------------------------------------
+StaticContext::StaticContext(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state,
+                             const Comm& c, const Teuchos::ParameterList& solver)
+    : comm(c) {
+  const int N = problem.base.num_cells;
+  if (static_cast<int>(state.size()) != N + 1)
+    throw std::invalid_argument("statics: the state must have num_cells + 1 nodes");
+  mesh = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(problem.base.length, N + 1), comm, 12));
+  model = Teuchos::rcp(new StaticRodModel(problem, mesh));
+  model->set_state(state);
+  // On 2+ ranks the default GMRES + Schwarz/KLU2 fails for statics: a rank's overlapped block
+  // is a sub-rod whose cut end acts as a free end, a mechanism when the other end is pinned or
+  // free (singular subdomain matrix; the dynamic step has inertia there). The default here is
+  // GMRES + ILUT with its diagonal shift; an explicit "Preconditioner" is respected.
+  Teuchos::ParameterList given = solver;
+  if (comm->getSize() > 1 && !given.isParameter("Preconditioner") && !given.isSublist("Stratimikos"))
+    given.set("Preconditioner", std::string("ILUT"));
+  choice = LinearSolverChoice::resolve(validated_solver_parameters(given), comm->getSize());
+  LinearSolverObjects objs = build_linear_solver(choice);
+  if (!objs.prec.is_null()) {
+    auto l = Teuchos::rcp_const_cast<Thyra::LinearOpWithSolveFactoryBase<double>>(objs.lows);
+    l->setPreconditionerFactory(objs.prec, "Ifpack2");
+  }
+  lows = objs.lows;
+  model->set_W_factory(lows);
+}
+
+bool StaticContext::solve(const Matrix& W, const Vector& b, Vector& y) const {
+  auto space = model->get_x_space();
+  auto Wc = Teuchos::rcp_const_cast<Matrix>(Teuchos::rcpFromRef(W));
+  auto op = Thyra::tpetraLinearOp<double, LO, GO, Node>(space, space, Wc);
+  auto bt = Thyra::createConstVector(Teuchos::rcpFromRef(b), space);
+  auto yt = Thyra::createVector(Teuchos::rcpFromRef(y), space);
+  try {
+    auto lowsop = Thyra::linearOpWithSolve<double>(*lows, op);
+    const Thyra::SolveStatus<double> st = Thyra::solve<double>(*lowsop, Thyra::NOTRANS, *bt, yt.ptr());
+    if (std::getenv("TRAVERSE_STATICS_DEBUG")) std::cout << "solve: " << st.message << " " << st.achievedTol << "\n";
+    // Belos may flag "unconverged" on a loss-of-accuracy check with a tiny achieved tolerance.
+    const bool ok = st.solveStatus != Thyra::SOLVE_STATUS_UNCONVERGED ||
+                    (st.achievedTol != Thyra::SolveStatus<double>::unknownTolerance() && st.achievedTol <= 1e-9);
+    return ok && std::isfinite(y.normInf());
+  } catch (const std::exception& e) {
+    if (std::getenv("TRAVERSE_STATICS_DEBUG")) std::cout << "solve: " << e.what() << "\n";
+    return false;  // e.g. a singular matrix in the direct solver
+  }
+}
+
+StaticSolveReport bordered_newton(const StaticContext& ctx, Vector& x, Params& p, int iparam, const Vector* a,
+                                  const Vector* x_ref, double c, int max_iterations, double ftol, double xtol) {
+  StaticSolveReport rep;
+  const StaticRodModel& model = *ctx.model;
+  auto W = model.new_matrix();
+  Vector f(x.getMap()), y1(x.getMap()), y2(x.getMap()), fp(x.getMap()), tmp(x.getMap());
+  const bool border = iparam >= 0 && a != nullptr;
+  for (int it = 0; it <= max_iterations; ++it) {
+    model.fill_residual(x, p, f);
+    double g = 0.0;
+    if (border) {
+      tmp.update(1.0, x, -1.0, *x_ref, 0.0);
+      g = a->dot(tmp) - c;
+    }
+    rep.residual_norm = max_abs(f);
+    if (!std::isfinite(rep.residual_norm)) {
+      rep.message = "non-finite residual";
+      return rep;
+    }
+    if (it == max_iterations) break;
+    model.fill_jacobian(x, p, *W);
+    f.scale(-1.0);
+    y1.putScalar(0.0);
+    if (!ctx.solve(*W, f, y1)) {
+      rep.message = "linear solve failed";
+      return rep;
+    }
+    double dp = 0.0;
+    if (border) {
+      // dF/dp by central differences (exact for the linear parameters).
+      const size_t ip = static_cast<size_t>(iparam);
+      const double h = 1e-6 * (1.0 + std::abs(p[ip]));
+      Params pp = p, pm = p;
+      pp[ip] += h;
+      pm[ip] -= h;
+      model.fill_residual(x, pp, fp);
+      model.fill_residual(x, pm, tmp);
+      fp.update(-0.5 / h, tmp, 0.5 / h);
+      y2.putScalar(0.0);
+      if (!ctx.solve(*W, fp, y2)) {
+        rep.message = "linear solve failed";
+        return rep;
+      }
+      // J dx + Fp dp = -F, a . dx = -g  =>  dx = y1 - dp y2.
+      const double den = a->dot(y2);
+      if (!(std::abs(den) > 0.0)) {
+        rep.message = "singular bordered system";
+        return rep;
+      }
+      dp = (a->dot(y1) + g) / den;
+      y1.update(-dp, y2, 1.0);
+      p[ip] += dp;
+    }
+    x.update(1.0, y1, 1.0);
+    ++rep.iterations;
+    const double step = max_abs(y1);
+    if (step <= xtol && std::abs(dp) <= xtol * (1.0 + std::abs(border ? p[static_cast<size_t>(iparam)] : 0.0))) {
+      model.fill_residual(x, p, f);
+      rep.residual_norm = max_abs(f);
+      if (rep.residual_norm <= ftol) {
+        rep.converged = true;
+        return rep;
+      }
+    }
+  }
+  rep.message = "Newton did not converge in " + std::to_string(max_iterations) + " iterations (max|f| = " +
+                std::to_string(rep.residual_norm) + ")";
+  return rep;
+}
+
+// ---------------------------------------------------------------------------------------------
+namespace {
+
+struct Run;
+
+/// Records every accepted LOCA point (gather, probes, stability, callback, stop flag).
+class Recorder : public LOCA::Thyra::SaveDataStrategy {
+ public:
+  explicit Recorder(Run& r) : run_(r) {}
+  void saveSolution(const NOX::Abstract::Vector& x, double p) override;
+
+ private:
+  Run& run_;
+};
+
+/// Stops the stepper: the user's stop flag, parameter bounds, max steps (a LOCA status test
+/// switches off the stepper's own bounds and step limit).
+class StopTest : public LOCA::StatusTest::Abstract {
+ public:
+  explicit StopTest(Run& r) : run_(r) {}
+  LOCA::StatusTest::StatusType checkStatus(const LOCA::Abstract::Iterator& stepper,
+                                           LOCA::StatusTest::CheckType) override;
+  LOCA::StatusTest::StatusType getStatus() const override { return status_; }
+  std::ostream& print(std::ostream& s, int = 0) const override { return s << "traverse statics stop test"; }
+
+ private:
+  Run& run_;
+  LOCA::StatusTest::StatusType status_ = LOCA::StatusTest::Unevaluated;
+};
+
+struct Run {
+  const StaticContext& ctx;
+  const ContinuationOptions& opt;
+  const PointCallback& cb;
+  ContinuationResult& res;
+  std::vector<Teuchos::RCP<Vector>> xs;  ///< distributed state of each point (model frames)
+  std::vector<Params> ps;
+  bool stop_requested = false;
+  bool out_of_bounds = false;
+
+  void record(const Vector& x, const Params& p) {
+    if (!xs.empty()) {  // LOCA re-saves the last point when it finishes on its own target step
+      Vector d(x, Teuchos::Copy);
+      d.update(-1.0, *xs.back(), 1.0);
+      const size_t ip = static_cast<size_t>(opt.parameter);
+      if (d.normInf() <= 1e-9 * (1.0 + x.normInf()) && std::abs(p[ip] - ps.back()[ip]) <= 1e-13 * (1.0 + std::abs(p[ip])))
+        return;
+    }
+    ContinuationPoint pt;
+    pt.step = static_cast<int>(res.points.size());
+    pt.parameter = p[static_cast<size_t>(opt.parameter)];
+    const rod::StaticModel m = ctx.model->problem().model(p);
+    pt.state = rebased(ctx.model->gather(x));
+    for (const auto& pr : opt.probes) pt.probes.push_back(pr.eval(m, pt.state));
+    if (opt.stability.enabled) {
+      const Stability s = compute_stability(ctx, x, p, opt.stability);
+      if (s.converged) {
+        pt.unstable_modes = s.unstable_modes;
+        pt.critical_eigenvalue = s.critical;
+      }
+    }
+    auto xc = Teuchos::rcp(new Vector(x, Teuchos::Copy));
+    xs.push_back(xc);
+    ps.push_back(p);
+    res.points.push_back(pt);
+    if (pt.parameter > opt.max_value || pt.parameter < opt.min_value) out_of_bounds = true;
+    if (res.points.size() >= 2) {  // LOCA creeps towards a bound in ever smaller arclength steps
+      const double prev = res.points[res.points.size() - 2].parameter;
+      const double tol = 1e-6 * (1.0 + std::abs(pt.parameter));
+      if ((pt.parameter > prev && pt.parameter > opt.max_value - tol) ||
+          (pt.parameter < prev && pt.parameter < opt.min_value + tol))
+        out_of_bounds = true;
+    }
+    if (cb) cb(res.points.back());
+    if (opt.stop && opt.stop(res.points.back())) stop_requested = true;
+  }
+};
+
+void Recorder::saveSolution(const NOX::Abstract::Vector& x, double pval) {
+  const auto& nx = dynamic_cast<const NOX::Thyra::Vector&>(x);
+  const Vector& tx = *Extract::getConstTpetraVector(nx.getThyraRCPVector());
+  Params p = run_.ctx.model->problem().values;
+  p[static_cast<size_t>(run_.opt.parameter)] = pval;
+  run_.record(tx, p);
+}
+
+LOCA::StatusTest::StatusType StopTest::checkStatus(const LOCA::Abstract::Iterator& stepper,
+                                                   LOCA::StatusTest::CheckType) {
+  // "Failed" also for a regular stop: with "Finished" the stepper takes one more natural step
+  // towards a target value of its own; how the run ended is judged by run_loca.
+  status_ = LOCA::StatusTest::NotFinished;
+  if (run_.stop_requested || run_.out_of_bounds || stepper.getNumTotalSteps() >= run_.opt.max_steps)
+    status_ = LOCA::StatusTest::Failed;
+  return status_;
+}
+
+int sign_of(double v) { return v > 0.0 ? 1 : (v < 0.0 ? -1 : 0); }
+
+/// Locates the bifurcation between points i-1 and i (see the header).
+Bifurcation locate(Run& run, size_t i) {
+  const StaticContext& ctx = run.ctx;
+  const ContinuationOptions& opt = run.opt;
+  const auto& P = run.res.points;
+  Bifurcation b;
+  b.after_point = static_cast<int>(i);
+  b.unstable_before = P[i - 1].unstable_modes;
+  b.unstable_after = P[i].unstable_modes;
+  const size_t ip = static_cast<size_t>(opt.parameter);
+  const Vector& xa = *run.xs[i - 1];
+  const Vector& xb = *run.xs[i];
+  Vector diff(xa.getMap());
+  diff.update(1.0, xb, -1.0, xa, 0.0);
+  // Local coordinate: the unknown that changes most between the two points.
+  const auto dn = ctx.model->gather(diff);
+  GO k = 0;
+  double dk = 0.0;
+  for (size_t j = 0; j < dn.size(); ++j)
+    for (int c = 0; c < 12; ++c)
+      if (std::abs(dn[j].x(c)) > std::abs(dk)) {
+        dk = dn[j].x(c);
+        k = static_cast<GO>(12 * j + static_cast<size_t>(c));
+      }
+  Vector a(xa.getMap());
+  a.putScalar(0.0);
+  if (a.getMap()->isNodeGlobalElement(k)) a.replaceGlobalValue(k, 1.0);
+  const double pa = run.ps[i - 1][ip], pb = run.ps[i][ip];
+  double ca = 0.0, cb = dk, fa = P[i - 1].critical_eigenvalue, fb = P[i].critical_eigenvalue;
+  Vector x(xa, Teuchos::Copy), best_x(xa, Teuchos::Copy);
+  Params p = run.ps[i - 1], best_p = p;
+  Stability best_s;
+  double c_last = 0.5 * dk;
+  bool have = false;
+  const bool bracket = std::isfinite(fa) && std::isfinite(fb) && sign_of(fa) * sign_of(fb) < 0;
+  int side = 0;
+  for (int it = 0; it < 60; ++it) {
+    double c = bracket ? cb - fb * (cb - ca) / (fb - fa) : 0.5 * (ca + cb);
+    if (!(c > std::min(ca, cb) && c < std::max(ca, cb))) c = 0.5 * (ca + cb);
+    // Guess: linear between the bracketing points (or the last located iterate).
+    const double w = c / dk;
+    if (!have) {
+      x.update(1.0 - w, xa, w, xb, 0.0);
+      p = run.ps[i - 1];
+      p[ip] = (1.0 - w) * pa + w * pb;
+    } else {
+      x.update(1.0, best_x, 0.0);
+      p = best_p;
+    }
+    StaticSolveReport r = bordered_newton(ctx, x, p, static_cast<int>(ip), &a, &xa, c, opt.max_newton_iterations + 10,
+                                          opt.residual_tolerance, opt.update_tolerance);
+    if (!r.converged && !have) {  // retry from the nearer bracketing point itself
+      x.update(1.0, w < 0.5 ? xa : xb, 0.0);
+      p = run.ps[w < 0.5 ? i - 1 : i];
+      r = bordered_newton(ctx, x, p, static_cast<int>(ip), &a, &xa, c, 2 * opt.max_newton_iterations + 20,
+                          opt.residual_tolerance, opt.update_tolerance);
+    }
+    if (!r.converged) {
+      if (opt.verbose && ctx.comm->getRank() == 0)
+        std::cout << "locate: Newton failed at c = " << c << ": " << r.message << "\n";
+      break;
+    }
+    const Stability s = compute_stability(ctx, x, p, opt.stability);
+    if (opt.verbose && ctx.comm->getRank() == 0)
+      std::cout << "locate: c = " << c << " p = " << p[ip] << " test = " << s.critical << " (" << s.converged << ")\n";
+    if (!s.converged) break;
+    ++b.locate_iterations;
+    best_x.update(1.0, x, 0.0);
+    best_p = p;
+    best_s = s;
+    have = true;
+    const double f = s.critical;
+    const bool done = std::abs(c - c_last) <= opt.locate_tolerance * std::abs(dk) ||
+                      std::abs(f) <= 1e-13 * std::abs(stability_shift(ctx.model->problem(), opt.stability)) * 100.0;
+    c_last = c;
+    if (bracket) {
+      if (sign_of(f) == sign_of(fb)) {
+        cb = c;
+        fb = f;
+        if (side == -1) fa *= 0.5;
+        side = -1;
+      } else {
+        ca = c;
+        fa = f;
+        if (side == 1) fb *= 0.5;
+        side = 1;
+      }
+    } else {
+      // No sign change of the test function: bisect on the unstable-mode count.
+      if (s.unstable_modes == b.unstable_after) cb = c;
+      else ca = c;
+    }
+    if (done) {
+      b.located = true;
+      break;
+    }
+  }
+  if (!have) {  // fall back to the bracketing point
+    best_x.update(1.0, xb, 0.0);
+    best_p = run.ps[i];
+  }
+  b.parameter = best_p[ip];
+  b.test_function = best_s.critical;
+  b.null_vector = best_s.critical_mode;
+  b.state = rebased(ctx.model->gather(best_x));
+  const rod::StaticModel m = ctx.model->problem().model(best_p);
+  for (const auto& pr : opt.probes) b.probes.push_back(pr.eval(m, b.state));
+  // Fold or pitchfork: at a fold the null vector lies along the branch (the chord across the
+  // bracket), at a symmetry-breaking pitchfork it is orthogonal to it. Compared on the
+  // frame-independent unknowns r, kappa, n.
+  double dot = 0.0, nphi = 0.0, nt = 0.0;
+  for (size_t j = 0; j < b.null_vector.size(); ++j)
+    for (int c : {0, 1, 2, 6, 7, 8, 9, 10, 11}) {
+      const double t = P[i].state[j].x(c) - P[i - 1].state[j].x(c), f = b.null_vector[j](c);
+      dot += t * f;
+      nphi += f * f;
+      nt += t * t;
+    }
+  const double cosine = (nphi > 0.0 && nt > 0.0) ? std::abs(dot) / std::sqrt(nphi * nt) : 0.0;
+  const bool fold = cosine > 0.3;
+  b.type = fold ? BifurcationType::fold : BifurcationType::pitchfork;
+  return b;
+}
+
+void detect(Run& run) {
+  const auto& P = run.res.points;
+  for (size_t i = 1; i < P.size(); ++i) {
+    if (P[i - 1].unstable_modes < 0 || P[i].unstable_modes < 0) continue;
+    if (P[i - 1].unstable_modes == P[i].unstable_modes) continue;
+    auto inside = [&](double v) { return v >= run.opt.min_value && v <= run.opt.max_value; };
+    if (!inside(P[i - 1].parameter) || !inside(P[i].parameter)) continue;  // a jump past a bound
+    if (run.opt.locate_bifurcations) {
+      run.res.bifurcations.push_back(locate(run, i));
+    } else {
+      Bifurcation b;
+      b.after_point = static_cast<int>(i);
+      b.unstable_before = P[i - 1].unstable_modes;
+      b.unstable_after = P[i].unstable_modes;
+      b.parameter = P[i].parameter;
+      b.probes = P[i].probes;
+      b.state = P[i].state;
+      const bool turn = i >= 2 && sign_of(P[i].parameter - P[i - 1].parameter) != sign_of(P[i - 1].parameter - P[i - 2].parameter);
+      b.type = turn ? BifurcationType::fold : BifurcationType::pitchfork;
+      run.res.bifurcations.push_back(b);
+    }
+  }
+}
+
+Teuchos::RCP<NOX::StatusTest::Generic> newton_tests(const ContinuationOptions& opt) {
+  auto normf = Teuchos::rcp(new NOX::StatusTest::NormF(opt.residual_tolerance, NOX::Abstract::Vector::MaxNorm,
+                                                       NOX::StatusTest::NormF::Unscaled));
+  auto wrms = Teuchos::rcp(new NOX::StatusTest::NormWRMS(opt.update_tolerance, opt.update_tolerance));
+  auto conv = Teuchos::rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::AND, normf, wrms));
+  auto tests = Teuchos::rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::OR));
+  tests->addStatusTest(Teuchos::rcp(new NOX::StatusTest::FiniteValue));
+  tests->addStatusTest(conv);
+  tests->addStatusTest(Teuchos::rcp(new NOX::StatusTest::MaxIters(opt.max_newton_iterations)));
+  return tests;
+}
+
+void run_loca(Run& run, const Vector& x0) {
+  const ContinuationOptions& opt = run.opt;
+  const StaticContext& ctx = run.ctx;
+  const Params& p0 = ctx.model->problem().values;
+  const std::string name = rod::parameter_name(opt.parameter);
+  auto top = Teuchos::rcp(new Teuchos::ParameterList);
+  Teuchos::ParameterList& loca = top->sublist("LOCA");
+  Teuchos::ParameterList& st = loca.sublist("Stepper");
+  st.set("Continuation Method", opt.method);
+  st.set("Continuation Parameter", name);
+  st.set("Initial Value", p0[static_cast<size_t>(opt.parameter)]);
+  st.set("Max Value", std::isfinite(opt.max_value) ? opt.max_value : 1e300);
+  st.set("Min Value", std::isfinite(opt.min_value) ? opt.min_value : -1e300);
+  st.set("Max Steps", opt.max_steps);
+  st.set("Max Nonlinear Iterations", opt.max_newton_iterations);
+  st.set("Compute Eigenvalues", false);
+  // No automatic rescaling of the parameter in the arclength: it explodes where dp/ds ~ 0
+  // (on a branch leaving a pitchfork). The arclength is sqrt(|dx|^2 / n + dp^2).
+  st.set("Enable Arc Length Scaling", false);
+  loca.sublist("Predictor").set("Method", std::string("Tangent"));
+  Teuchos::ParameterList& ss = loca.sublist("Step Size");
+  ss.set("Method", std::string("Adaptive"));
+  ss.set("Initial Step Size", opt.initial_step);
+  ss.set("Min Step Size", opt.min_step);
+  ss.set("Max Step Size", opt.max_step);
+  ss.set("Aggressiveness", opt.step_aggressiveness);
+  Teuchos::ParameterList& nox = top->sublist("NOX");
+  nox.set("Nonlinear Solver", std::string("Line Search Based"));
+  nox.sublist("Line Search").set("Method", std::string("Full Step"));
+  nox.sublist("Direction").set("Method", std::string("Newton"));
+  nox.sublist("Direction").sublist("Newton").sublist("Linear Solver").set("Tolerance", 1e-12);
+  const int quiet = NOX::Utils::Error;
+  const int loud = NOX::Utils::Error | NOX::Utils::Warning | NOX::Utils::StepperIteration;
+  nox.sublist("Printing").set("Output Information", opt.verbose ? loud : quiet);
+  auto gd = LOCA::createGlobalData(top);
+  try {
+    LOCA::ParameterVector pv;
+    for (int q = 0; q < rod::num_static_parameters; ++q)
+      pv.addParameter(rod::parameter_name(static_cast<rod::StaticParameter>(q)), p0[static_cast<size_t>(q)]);
+    auto xt = Thyra::createVector(Teuchos::rcp(new Vector(x0, Teuchos::Copy)), ctx.model->get_x_space());
+    NOX::Thyra::Vector nx(xt);
+    auto grp = Teuchos::rcp(new LOCA::Thyra::Group(gd, nx, ctx.model, pv, 0));
+    grp->setSaveDataStrategy(Teuchos::rcp(new Recorder(run)));
+    auto stop = Teuchos::rcp(new StopTest(run));
+    LOCA::Stepper stepper(gd, grp, stop, newton_tests(opt), top);
+    const LOCA::Abstract::Iterator::IteratorStatus status = stepper.run();
+    if (run.stop_requested) {
+      run.res.completed = true;
+      run.res.message = "stopped by the stop callback";
+    } else if (run.out_of_bounds) {
+      run.res.completed = true;
+      run.res.message = "parameter bound reached";
+    } else if (status == LOCA::Abstract::Iterator::Finished) {
+      run.res.completed = true;
+      run.res.message = "finished";
+    } else if (stepper.getNumTotalSteps() >= opt.max_steps) {
+      run.res.completed = true;
+      run.res.message = "maximum number of steps reached";
+    } else {
+      run.res.message = "LOCA stepper failed (step size below minimum or Newton failure)";
+    }
+  } catch (const std::exception& e) {
+    run.res.message = std::string("LOCA stepper failed: ") + e.what();
+  }
+  LOCA::destroyGlobalData(gd);
+}
+
+/// Replaces a last point beyond a bound by the solution on the bound.
+void land(Run& run) {
+  auto& P = run.res.points;
+  const ContinuationOptions& opt = run.opt;
+  if (!run.out_of_bounds || !opt.land_on_bounds || P.size() < 2) return;
+  const double v = P.back().parameter, vprev = P[P.size() - 2].parameter;
+  const double bound = v > vprev ? opt.max_value : opt.min_value;
+  if (v == bound) return;
+  const size_t ip = static_cast<size_t>(opt.parameter);
+  const size_t n = P.size();
+  const double pa = run.ps[n - 2][ip], pb = run.ps[n - 1][ip];
+  const double w = (bound - pa) / (pb - pa);
+  Vector x(*run.xs[n - 1], Teuchos::Copy);
+  x.update(1.0 - w, *run.xs[n - 2], w, *run.xs[n - 1], 0.0);
+  Params p = run.ps[n - 1];
+  p[ip] = bound;
+  const StaticSolveReport r = bordered_newton(run.ctx, x, p, -1, nullptr, nullptr, 0.0, opt.max_newton_iterations + 10,
+                                              opt.residual_tolerance, opt.update_tolerance);
+  if (!r.converged) {
+    run.res.message += "; could not land on the bound (the last point lies beyond it)";
+    return;
+  }
+  P.pop_back();
+  run.xs.pop_back();
+  run.ps.pop_back();
+  run.record(x, p);
+}
+
+}  // namespace
+
+ContinuationResult continue_(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& start,
+                             const ContinuationOptions& options, const Comm& comm, const PointCallback& on_point) {
+  ContinuationResult res;
+  res.parameter = rod::parameter_name(options.parameter);
+  res.parameter_unit = rod::parameter_unit(options.parameter);
+  for (const auto& pr : options.probes) {
+    res.probe_names.push_back(pr.name);
+    res.probe_units.push_back(pr.unit);
+  }
+  res.final_problem = problem;
+  StaticContext ctx(problem, rebased(start), comm, options.solver);
+  Vector x(*ctx.model->nominal_x(), Teuchos::Copy);
+  Params p = problem.values;
+  const StaticSolveReport r0 = bordered_newton(ctx, x, p, -1, nullptr, nullptr, 0.0, options.max_newton_iterations + 10,
+                                               options.residual_tolerance, options.update_tolerance);
+  if (!r0.converged) {
+    res.message = "the start state does not converge: " + r0.message;
+    return res;
+  }
+  Run run{ctx, options, on_point, res, {}, {}, false, false};
+  run_loca(run, x);
+  land(run);
+  if (options.detect_bifurcations && options.stability.enabled) detect(run);
+  if (!res.points.empty()) res.final_problem.value(options.parameter) = res.points.back().parameter;
+  return res;
+}
+
+StaticSolveReport static_solve(const rod::StaticProblem& problem, std::vector<rod::StaticNode>& state, const Comm& comm,
+                               const Teuchos::ParameterList& solver) {
+  StaticContext ctx(problem, rebased(state), comm, solver);
+  Vector x(*ctx.model->nominal_x(), Teuchos::Copy);
+  Params p = problem.values;
+  StaticSolveReport r = bordered_newton(ctx, x, p, -1, nullptr, nullptr, 0.0, 40, 1e-9, 1e-10);
+  if (r.converged) state = rebased(ctx.model->gather(x));
+  return r;
+}
+
+Stability static_stability(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state,
+                           const Comm& comm, const StabilityOptions& options, const Teuchos::ParameterList& solver) {
+  StaticContext ctx(problem, rebased(state), comm, solver);
+  return compute_stability(ctx, *ctx.model->nominal_x(), problem.values, options);
+}
+
+ContinuationResult switch_branch(const rod::StaticProblem& problem, const Bifurcation& pf, double amplitude,
+                                 const ContinuationOptions& options, const Comm& comm, const PointCallback& on_point) {
+  if (pf.null_vector.size() != pf.state.size() || pf.state.empty())
+    throw std::invalid_argument("switch_branch: the bifurcation has no state or null vector");
+  rod::StaticProblem pb = problem;
+  pb.value(options.parameter) = pf.parameter;
+  StaticContext ctx(pb, pf.state, comm, options.solver);
+  const Vector& xs = *ctx.model->nominal_x();
+  Vector a(xs.getMap()), x(xs, Teuchos::Copy);
+  std::vector<rod::StaticNode> phi = pf.state;
+  for (size_t j = 0; j < phi.size(); ++j) phi[j].x = pf.null_vector[j];
+  ctx.model->scatter(phi, a);
+  x.update(amplitude, a, 1.0);
+  Params p = pb.values;
+  const double c = amplitude * a.dot(a);
+  const StaticSolveReport r = bordered_newton(ctx, x, p, static_cast<int>(options.parameter), &a, &xs, c,
+                                              options.max_newton_iterations + 10, options.residual_tolerance,
+                                              options.update_tolerance);
+  if (!r.converged) {
+    ContinuationResult res;
+    res.parameter = rod::parameter_name(options.parameter);
+    res.message = "branch switching: no solution with the perturbation amplitude fixed: " + r.message;
+    return res;
+  }
+  rod::StaticProblem pn = pb;
+  pn.values = p;
+  ContinuationOptions o = options;
+  const double dp = p[static_cast<size_t>(options.parameter)] - pf.parameter;
+  o.initial_step = (dp < 0.0 ? -1.0 : 1.0) * std::abs(options.initial_step);
+  return continue_(pn, ctx.model->gather(x), o, comm, on_point);
+}
+
+}  // namespace traverse::solver

@@ -1,0 +1,231 @@
+#include "traverse/solver/static_rod_model.hpp"
+
+#include <Thyra_DefaultLinearOpSource.hpp>
+#include <Thyra_TpetraThyraWrappers.hpp>
+#include <algorithm>
+#include <stdexcept>
+
+namespace traverse::solver {
+
+namespace {
+using MEB = Thyra::ModelEvaluatorBase;
+using LO = mesh::LO;
+using GO = mesh::GO;
+using Node = mesh::Map::node_type;
+using Extract = Thyra::TpetraOperatorVectorExtraction<double, LO, GO, Node>;
+using Params = std::array<double, rod::num_static_parameters>;
+}  // namespace
+
+StaticRodModel::StaticRodModel(const rod::StaticProblem& problem, Teuchos::RCP<const mesh::DistributedMesh> mesh)
+    : problem_(problem), mesh_(std::move(mesh)) {
+  if (mesh_.is_null()) throw std::invalid_argument("StaticRodModel: null mesh");
+  if (mesh_->unknowns_per_node() != 12 || mesh_->mesh().num_nodes() != problem_.base.num_cells + 1)
+    throw std::invalid_argument("StaticRodModel: the mesh must have num_cells + 1 nodes and 12 unknowns per node");
+  row_begin_ = 12 * static_cast<Eigen::Index>(mesh_->first_owned_node());
+  row_end_ = row_begin_ + 12 * static_cast<Eigen::Index>(mesh_->num_owned_nodes());
+  const auto comm = mesh_->dof_map()->getComm();
+  x_space_ = Thyra::createVectorSpace<double, LO, GO, Node>(mesh_->dof_map());
+  auto pmap = Teuchos::rcp(new mesh::Map(rod::num_static_parameters, 0, comm, Tpetra::LocallyReplicated));
+  p_space_ = Thyra::createVectorSpace<double, LO, GO, Node>(pmap);
+  auto names = Teuchos::rcp(new Teuchos::Array<std::string>);
+  for (int i = 0; i < rod::num_static_parameters; ++i)
+    names->push_back(rod::parameter_name(static_cast<rod::StaticParameter>(i)));
+  p_names_ = names;
+  const GO n = 12 * static_cast<GO>(problem_.base.num_cells + 1);
+  full_map_ = Teuchos::rcp(new mesh::Map(n, 0, comm, Tpetra::LocallyReplicated));
+  full_import_ = Teuchos::rcp(new mesh::Import(mesh_->dof_map(), full_map_));
+  W_ = new_matrix();
+  W_op_ = Thyra::tpetraLinearOp<double, LO, GO, Node>(x_space_, x_space_, W_);
+  x0_ = Teuchos::rcp(new Vector(mesh_->dof_map()));
+  x0_thyra_ = Thyra::createVector(x0_, x_space_);
+  p0_thyra_ = Thyra::createMember(p_space_);
+  x_ghosted_ = Teuchos::rcp(new Vector(mesh_->ghosted_dof_map()));
+  Rbar_.assign(static_cast<size_t>(problem_.base.num_cells + 1), Mat3::Identity());
+  set_problem(problem_);
+}
+
+Teuchos::RCP<StaticRodModel::Matrix> StaticRodModel::new_matrix() const {
+  auto M = Teuchos::rcp(new Matrix(mesh_->graph()));
+  M->fillComplete();
+  return M;
+}
+
+void StaticRodModel::set_problem(const rod::StaticProblem& problem) {
+  if (problem.base.num_cells != problem_.base.num_cells)
+    throw std::invalid_argument("StaticRodModel::set_problem: the number of cells cannot change");
+  problem_ = problem;
+  auto p = Extract::getTpetraVector(p0_thyra_);
+  auto d = p->getDataNonConst();
+  for (int i = 0; i < rod::num_static_parameters; ++i) d[i] = problem_.values[static_cast<size_t>(i)];
+}
+
+void StaticRodModel::set_state(const std::vector<rod::StaticNode>& nodes) {
+  if (static_cast<int>(nodes.size()) != problem_.base.num_cells + 1)
+    throw std::invalid_argument("StaticRodModel::set_state: expected num_cells + 1 nodes");
+  for (size_t j = 0; j < nodes.size(); ++j) Rbar_[j] = nodes[j].Rbar;
+  scatter(nodes, *x0_);
+}
+
+void StaticRodModel::scatter(const std::vector<rod::StaticNode>& nodes, Vector& x) const {
+  auto d = x.getDataNonConst();
+  const int first = mesh_->first_owned_node();
+  for (int k = 0; k < mesh_->num_owned_nodes(); ++k)
+    for (int c = 0; c < 12; ++c) d[static_cast<size_t>(12 * k + c)] = nodes[static_cast<size_t>(first + k)].x(c);
+}
+
+std::vector<rod::StaticNode> StaticRodModel::gather(const Vector& x) const {
+  Vector full(full_map_);
+  full.doImport(x, *full_import_, Tpetra::INSERT);
+  auto d = full.getData();
+  std::vector<rod::StaticNode> out(Rbar_.size());
+  for (size_t j = 0; j < out.size(); ++j) {
+    out[j].Rbar = Rbar_[j];
+    for (int c = 0; c < 12; ++c) out[j].x(c) = d[12 * j + static_cast<size_t>(c)];
+  }
+  return out;
+}
+
+std::vector<rod::LocalBlock> StaticRodModel::blocks(const Vector& x, const rod::StaticModel& m, Kind kind) const {
+  x_ghosted_->doImport(x, *mesh_->dof_importer(), Tpetra::INSERT);
+  auto data = x_ghosted_->getData();
+  const int g0 = mesh_->first_ghosted_node();
+  std::vector<rod::StaticNode> nd(static_cast<size_t>(mesh_->num_ghosted_nodes()));
+  for (size_t k = 0; k < nd.size(); ++k) {
+    nd[k].Rbar = Rbar_[static_cast<size_t>(g0) + k];
+    for (int c = 0; c < 12; ++c) nd[k].x(c) = data[12 * k + static_cast<size_t>(c)];
+  }
+  auto X = [&](int j) -> const rod::StaticNode& { return nd[static_cast<size_t>(j - g0)]; };
+  const int N = m.num_cells;
+  const int first = mesh_->first_owned_node(), last = first + mesh_->num_owned_nodes() - 1;
+  std::vector<rod::LocalBlock> out;
+  if (kind == Kind::residual_jacobian && first == 0) out.push_back(rod::static_left_block(m, X(0)));
+  for (int j = std::max(1, first); j <= std::min(N, last + 1); ++j)
+    out.push_back(kind == Kind::mass ? rod::static_mass_block(m, j, X(j - 1), X(j))
+                                     : rod::static_cell_block(m, j, X(j - 1), X(j)));
+  if (kind == Kind::residual_jacobian && last == N) out.push_back(rod::static_right_block(m, X(N)));
+  return out;
+}
+
+void StaticRodModel::fill(const std::vector<rod::LocalBlock>& bl, Vector* f, Matrix* W) const {
+  if (f) {
+    f->putScalar(0.0);
+    auto fd = f->getDataNonConst();
+    for (const auto& b : bl)
+      for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
+        const Eigen::Index g = b.row + i;
+        if (g >= row_begin_ && g < row_end_) fd[static_cast<size_t>(g - row_begin_)] += b.residual(i);
+      }
+  }
+  if (W) {
+    W->resumeFill();
+    W->setAllToScalar(0.0);
+    std::vector<GO> cols;
+    std::vector<double> vals;
+    for (const auto& b : bl)
+      for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
+        const Eigen::Index g = b.row + i;
+        if (g < row_begin_ || g >= row_end_) continue;
+        cols.clear();
+        vals.clear();
+        for (size_t k = 0; k < b.cols.size(); ++k)
+          for (Eigen::Index c = 0; c < b.jac[k].cols(); ++c) {
+            cols.push_back(static_cast<GO>(b.cols[k] + c));
+            vals.push_back(b.jac[k](i, c));
+          }
+        const LO n = W->sumIntoGlobalValues(static_cast<GO>(g), static_cast<LO>(cols.size()), vals.data(), cols.data());
+        if (n != static_cast<LO>(cols.size()))
+          throw std::logic_error("StaticRodModel: a kernel entry lies outside the mesh graph");
+      }
+    W->fillComplete();
+  }
+}
+
+void StaticRodModel::fill_jacobian(const Vector& x, const Params& p, Matrix& W) const {
+  fill(blocks(x, problem_.model(p), Kind::residual_jacobian), nullptr, &W);
+}
+
+void StaticRodModel::fill_residual(const Vector& x, const Params& p, Vector& f) const {
+  fill(blocks(x, problem_.model(p), Kind::residual_jacobian), &f, nullptr);
+}
+
+void StaticRodModel::fill_mass(const Vector& x, Matrix& M) const {
+  const rod::StaticModel m = problem_.model();
+  std::vector<rod::LocalBlock> bl = blocks(x, m, Kind::mass);
+  fill(bl, nullptr, &M);
+}
+
+Teuchos::RCP<const Thyra::VectorSpaceBase<double>> StaticRodModel::get_x_space() const { return x_space_; }
+Teuchos::RCP<const Thyra::VectorSpaceBase<double>> StaticRodModel::get_f_space() const { return x_space_; }
+Teuchos::RCP<const Thyra::VectorSpaceBase<double>> StaticRodModel::get_p_space(int l) const {
+  if (l != 0) throw std::out_of_range("StaticRodModel: only parameter vector 0 exists");
+  return p_space_;
+}
+Teuchos::RCP<const Teuchos::Array<std::string>> StaticRodModel::get_p_names(int l) const {
+  if (l != 0) throw std::out_of_range("StaticRodModel: only parameter vector 0 exists");
+  return p_names_;
+}
+
+Thyra::ModelEvaluatorBase::InArgs<double> StaticRodModel::getNominalValues() const {
+  MEB::InArgs<double> in = createInArgs();
+  in.set_x(x0_thyra_);
+  in.set_p(0, p0_thyra_);
+  return in;
+}
+
+Thyra::ModelEvaluatorBase::InArgs<double> StaticRodModel::createInArgs() const {
+  MEB::InArgsSetup<double> in;
+  in.setModelEvalDescription("traverse static rod");
+  in.setSupports(MEB::IN_ARG_x);
+  in.set_Np(1);
+  return std::move(in);
+}
+
+Thyra::ModelEvaluatorBase::OutArgs<double> StaticRodModel::createOutArgsImpl() const {
+  MEB::OutArgsSetup<double> out;
+  out.setModelEvalDescription("traverse static rod");
+  out.set_Np_Ng(1, 0);
+  out.setSupports(MEB::OUT_ARG_f);
+  out.setSupports(MEB::OUT_ARG_W_op);
+  out.setSupports(MEB::OUT_ARG_W_prec, !prec_factory_.is_null());
+  return std::move(out);
+}
+
+Teuchos::RCP<Thyra::LinearOpBase<double>> StaticRodModel::create_W_op() const { return W_op_; }
+
+Teuchos::RCP<Thyra::PreconditionerBase<double>> StaticRodModel::create_W_prec() const {
+  if (prec_factory_.is_null()) return Teuchos::null;
+  return prec_factory_->createPrec();
+}
+
+Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> StaticRodModel::get_W_factory() const {
+  return W_factory_;
+}
+
+void StaticRodModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>& in,
+                                   const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const {
+  const Teuchos::RCP<const Vector> x = Extract::getConstTpetraVector(in.get_x());
+  Params p = problem_.values;
+  if (!in.get_p(0).is_null()) {
+    auto pv = Extract::getConstTpetraVector(in.get_p(0));
+    auto d = pv->getData();
+    for (int i = 0; i < rod::num_static_parameters; ++i) p[static_cast<size_t>(i)] = d[i];
+  }
+  Teuchos::RCP<Vector> f;
+  if (!out.get_f().is_null()) f = Extract::getTpetraVector(out.get_f());
+  Matrix* W = nullptr;
+  if (!out.get_W_op().is_null()) {
+    auto op = Extract::getTpetraOperator(out.get_W_op());
+    W = dynamic_cast<Matrix*>(op.get());
+    if (!W || W->getCrsGraph().get() != mesh_->graph().get())
+      throw std::invalid_argument("StaticRodModel: W_op must be a CrsMatrix on the mesh graph (use create_W_op)");
+  }
+  const bool want_prec = out.supports(MEB::OUT_ARG_W_prec) && !out.get_W_prec().is_null();
+  if (want_prec && !W) W = W_.get();
+  if (f || W) fill(blocks(*x, problem_.model(p), Kind::residual_jacobian), f.get(), W);
+  if (want_prec) {
+    const auto src = Thyra::defaultLinearOpSource<double>(W_op_);
+    prec_factory_->initializePrec(src, out.get_W_prec().get(), Thyra::SUPPORT_SOLVE_UNSPECIFIED);
+  }
+}
+
+}  // namespace traverse::solver

@@ -1,0 +1,163 @@
+// Small-vibration eigenvalues of a static state: K_s phi = omega^2 M_s phi by Anasazi
+// Block Krylov-Schur on T = (K_s - sigma M_s)^-1 M_s (largest |theta| = omega^2 nearest sigma,
+// omega^2 = sigma + 1/theta). M_s is singular (constraint rows): its infinite eigenvalues map
+// to theta = 0 and stay out of the way; the start vector is T applied to a fixed vector.
+#include <AnasaziBasicEigenproblem.hpp>
+#include <AnasaziBlockKrylovSchurSolMgr.hpp>
+#include <AnasaziTpetraAdapter.hpp>
+#include <Tpetra_Operator.hpp>
+#include <algorithm>
+#include <cmath>
+
+#include "static_context.hpp"
+#include "traverse/core/so3.hpp"
+
+namespace traverse::solver {
+
+namespace {
+
+using Vector = StaticRodModel::Vector;
+using Matrix = StaticRodModel::Matrix;
+using MV = Tpetra::MultiVector<double>;
+using OP = Tpetra::Operator<double>;
+
+class ShiftInvert : public OP {
+ public:
+  ShiftInvert(const StaticContext& ctx, Teuchos::RCP<Matrix> A, Teuchos::RCP<Matrix> M)
+      : ctx_(ctx), A_(std::move(A)), M_(std::move(M)) {}
+  Teuchos::RCP<const Tpetra::Map<>> getDomainMap() const override { return M_->getDomainMap(); }
+  Teuchos::RCP<const Tpetra::Map<>> getRangeMap() const override { return M_->getRangeMap(); }
+  void apply(const MV& X, MV& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS, double alpha = 1.0,
+             double beta = 0.0) const override {
+    if (mode != Teuchos::NO_TRANS) throw std::logic_error("ShiftInvert: transpose not available");
+    Vector b(M_->getRangeMap()), y(M_->getRangeMap());
+    for (size_t k = 0; k < X.getNumVectors(); ++k) {
+      M_->apply(*X.getVector(k), b);
+      y.putScalar(0.0);
+      if (!ctx_.solve(*A_, b, y)) failed_ = true;
+      Y.getVectorNonConst(k)->update(alpha, y, beta);
+    }
+  }
+  bool failed() const { return failed_; }
+
+ private:
+  const StaticContext& ctx_;
+  Teuchos::RCP<Matrix> A_, M_;
+  mutable bool failed_ = false;
+};
+
+}  // namespace
+
+double stability_shift(const rod::StaticProblem& problem, const StabilityOptions& options) {
+  if (std::isfinite(options.shift)) return options.shift;
+  const auto& b = problem.base;
+  const double EI = b.props.K.head<2>().minCoeff();
+  return -0.01 * EI / (b.props.rhoA * std::pow(b.length, 4));
+}
+
+Stability compute_stability(const StaticContext& ctx, const Vector& x, const Params& p,
+                            const StabilityOptions& options) {
+  Stability out;
+  const StaticRodModel& model = *ctx.model;
+  const double sigma = stability_shift(model.problem(), options);
+  auto A = model.new_matrix(), M = model.new_matrix();
+  model.fill_jacobian(x, p, *A);
+  model.fill_mass(x, *M);
+  // A = K - sigma M on the same graph.
+  A->resumeFill();
+  const size_t nrows = A->getNodeNumRows();
+  for (size_t r = 0; r < nrows; ++r) {
+    typename Matrix::local_inds_host_view_type idx;
+    typename Matrix::values_host_view_type val;
+    M->getLocalRowView(static_cast<mesh::LO>(r), idx, val);
+    std::vector<mesh::LO> ii(idx.extent(0));
+    std::vector<double> vv(idx.extent(0));
+    for (size_t k = 0; k < ii.size(); ++k) {
+      ii[k] = idx(k);
+      vv[k] = -sigma * val(k);
+    }
+    A->sumIntoLocalValues(static_cast<mesh::LO>(r), static_cast<mesh::LO>(ii.size()), vv.data(), ii.data());
+  }
+  A->fillComplete();
+  auto op = Teuchos::rcp(new ShiftInvert(ctx, A, M));
+  // Deterministic start vector (independent of the rank count), mapped through T.
+  auto v0 = Teuchos::rcp(new MV(M->getRowMap(), 1));
+  {
+    auto d = v0->getDataNonConst(0);
+    const auto& map = *M->getRowMap();
+    for (Teuchos_Ordinal i = 0; i < d.size(); ++i) {
+      const double g = static_cast<double>(map.getGlobalElement(static_cast<mesh::LO>(i)));
+      d[i] = std::sin(0.37 * g + 0.1) + 0.5 * std::cos(1.91 * g);
+    }
+  }
+  auto init = Teuchos::rcp(new MV(M->getRowMap(), 1));
+  op->apply(*v0, *init);
+  const int nev = std::max(1, options.num_eigenvalues);
+  auto problem = Teuchos::rcp(new Anasazi::BasicEigenproblem<double, MV, OP>(op, init));
+  problem->setHermitian(false);
+  problem->setNEV(nev);
+  if (!problem->setProblem()) return out;
+  Teuchos::ParameterList pl;
+  pl.set("Which", std::string("LM"));
+  pl.set("Block Size", 1);
+  pl.set("Num Blocks", std::max(3 * nev + 10, 30));
+  pl.set("Maximum Restarts", 200);
+  pl.set("Convergence Tolerance", options.tolerance);
+  pl.set("Verbosity", static_cast<int>(Anasazi::Errors));
+  Anasazi::BlockKrylovSchurSolMgr<double, MV, OP> mgr(problem, pl);
+  Anasazi::ReturnType ret = Anasazi::Unconverged;
+  try {
+    ret = mgr.solve();
+  } catch (const std::exception&) {
+    return out;
+  }
+  const auto& sol = problem->getSolution();
+  out.converged = ret == Anasazi::Converged && !op->failed() && sol.numVecs >= nev;
+  struct Ev {
+    double re, im;
+    int col;
+  };
+  std::vector<Ev> ev;
+  for (int i = 0; i < sol.numVecs; ++i) {
+    const double tr = sol.Evals[static_cast<size_t>(i)].realpart, ti = sol.Evals[static_cast<size_t>(i)].imagpart;
+    const double m2 = tr * tr + ti * ti;
+    if (!(m2 > 0.0)) continue;
+    ev.push_back({sigma + tr / m2, -ti / m2, i});
+  }
+  std::sort(ev.begin(), ev.end(), [](const Ev& a, const Ev& b) { return a.re < b.re; });
+  double best = std::numeric_limits<double>::infinity();
+  int best_col = -1;
+  for (const Ev& e : ev) {
+    out.eigenvalues.push_back(e.re);
+    out.imaginary.push_back(e.im);
+    if (e.re < 0.0) ++out.unstable_modes;
+    if (std::abs(e.re) < best) {
+      best = std::abs(e.re);
+      best_col = e.col;
+      out.critical = e.re;
+    }
+  }
+  if (best_col >= 0) {
+    Vector phi(M->getRowMap());
+    phi.update(1.0, *sol.Evecs->getVector(best_col), 0.0);
+    auto nodes = model.gather(phi);
+    // Rotation part in the coordinates of the rebased state (theta = 0): dtheta' = -D(theta) dtheta.
+    const auto base = model.gather(x);
+    for (size_t j = 0; j < nodes.size(); ++j)
+      nodes[j].x.segment<3>(rod::svar::theta) =
+          so3::left_jacobian(-base[j].x.segment<3>(rod::svar::theta)) * nodes[j].x.segment<3>(rod::svar::theta);
+    double scale = 0.0;
+    for (const auto& n : nodes) scale = std::max(scale, n.x.segment<3>(rod::svar::r).cwiseAbs().maxCoeff());
+    if (!(scale > 0.0)) scale = 1.0;
+    // Deterministic sign: the largest displacement component positive.
+    double big = 0.0;
+    for (const auto& n : nodes)
+      for (int c = 0; c < 3; ++c)
+        if (std::abs(n.x(c)) > std::abs(big) * (1.0 + 1e-9)) big = n.x(c);
+    if (big < 0.0) scale = -scale;
+    for (const auto& n : nodes) out.critical_mode.push_back(n.x / scale);
+  }
+  return out;
+}
+
+}  // namespace traverse::solver

@@ -1,0 +1,351 @@
+// Rod benchmarks (not tests: no assertions on time; they print tables and append CSV rows).
+//
+//   bench_rod accuracy [--force F] [--solvers KLU2,GMRES+SCHWARZ,...] [--csv FILE]
+//       Hanging cable (scene rod, L = 1, clamped / sliding along k, static initial state under
+//       gravity, F moving at alpha v1 = 0.5 * 7.2684 m/s, dt = ds / v) for ds = 0.04 .. 0.0025:
+//       run time (time-stepping only) and error of the midspan-height history against the
+//       ds = 0.00125 run (same ranks, first solver), at the times of the ds = 0.04 grid.
+//   bench_rod cost --nodes N [--solver S] [--steps K] [--csv FILE] [--label TEXT]
+//       Per-step and per-Newton-iteration cost of the same scene at N nodes, the cost of one
+//       block-tridiagonal LU (12x12 blocks) of the same size measured in the same run (the
+//       floor), their ratio, linear (Belos) iterations, and peak memory (getrusage maxrss,
+//       summed over ranks) per node. One N per process so that maxrss belongs to that N.
+//
+// Solver names: KLU2, GMRES+SCHWARZ, GMRES+ILUT, GMRES+RILUK, with optional suffixes
+// ":modified" (Jacobian Reuse = modified Newton) and ":stratimikos-klu2" (KLU2 through
+// Stratimikos' own Amesos2 adapter).
+#include <sys/resource.h>
+
+#include <Teuchos_CommHelpers.hpp>
+#include <Tpetra_Core.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "block_tridiagonal_lu.hpp"
+#include "traverse/rod/static_solver.hpp"
+#include "traverse/solver/distributed_stepper.hpp"
+
+using namespace traverse;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+constexpr double kV1 = 7.2684;  // first-resonance speed of the hanging cable [m/s]
+constexpr double kAlpha = 0.5;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+Teuchos::RCP<const Teuchos::Comm<int>> comm() { return Tpetra::getDefaultComm(); }
+bool root() { return comm()->getRank() == 0; }
+
+Teuchos::ParameterList solver_params(const std::string& full) {
+  Teuchos::ParameterList p;
+  p.set("Verbose", false);
+  std::string name = full;
+  std::string opts;
+  if (auto c = full.find(':'); c != std::string::npos) {
+    name = full.substr(0, c);
+    opts = full.substr(c);
+  }
+  if (name == "KLU2") {
+    p.set("Linear Solver", "KLU2");
+  } else if (name.rfind("GMRES+", 0) == 0) {
+    p.set("Linear Solver", "GMRES");
+    p.set("Preconditioner", name.substr(6));
+  } else {
+    throw std::invalid_argument("bench_rod: unknown solver " + full);
+  }
+  if (opts.find(":modified") != std::string::npos) p.set("Jacobian Reuse", true);
+  if (opts.find(":stratimikos-klu2") != std::string::npos) p.set("Direct Solver Path", "Stratimikos");
+  return p;
+}
+
+struct Scene {
+  rod::RodModel model;
+  rod::RodState initial;
+  double v = 0.0, dt = 0.0, t_end = 0.0;
+  int steps = 0;
+  int static_iterations = 0;
+  double static_seconds = 0.0;
+};
+
+/// The hanging cable with F [N] at alpha v1, N cells, dt = ds / v.
+Scene hanging_cable(int N, double F) {
+  Scene s;
+  rod::RodModel& m = s.model;
+  m.props = rod::RodProperties::scene_rod();  // r = 5 mm, E = 250 MPa, nu = 0.25, rho = 1500
+  m.num_cells = N;
+  m.length = 1.0;
+  m.left = rod::EndCondition::make_clamped();
+  m.right = rod::EndCondition::make_sliding(Vec3::UnitZ());
+  m.loads.gravity = Vec3(0.0, -9.8, 0.0);
+  s.v = kAlpha * kV1;
+  const double v = s.v;
+  const Vec3 force(0.0, -F, 0.0);
+  m.loads.point_forces.push_back({[force](double) { return force; }, [v](double t) { return v * t; }});
+  s.dt = m.ds() / v;
+  s.t_end = m.length / v;
+  s.steps = static_cast<int>(std::ceil(s.t_end / s.dt - 1e-9));
+
+  rod::StaticModel sm;
+  sm.props = m.props;
+  sm.num_cells = N;
+  sm.length = m.length;
+  sm.left.type = rod::EndCondition::Type::clamped;
+  sm.right.type = rod::EndCondition::Type::sliding;
+  sm.right.axis = Vec3::UnitZ();
+  sm.right.position = Vec3(0.0, 0.0, m.length);
+  sm.gravity = m.loads.gravity;
+  sm.point_forces.push_back({force, 0.0});  // the load sits on the left end at t = 0
+  auto nodes = rod::straight_static_state(sm);
+  const auto t0 = Clock::now();
+  const auto rep = rod::StaticSolver().solve_with_load_steps(sm, nodes);
+  s.static_seconds = seconds_since(t0);
+  if (!rep.converged) throw std::runtime_error("bench_rod: static initial state failed: " + rep.message);
+  s.static_iterations = rep.iterations;
+  s.initial = rod::dynamic_state_from_static(sm, nodes);
+  return s;
+}
+
+/// Height (fixed j component) of the centreline at s = L/2 (linear between nodes).
+double midspan_height(const rod::RodState& st) {
+  const std::vector<Vec3> r = rod::centreline_in_space(st);
+  const int N = st.num_cells();
+  const double x = 0.5 * N;
+  const int j = std::min(static_cast<int>(std::floor(x)), N - 1);
+  const double xi = x - j;
+  return (1.0 - xi) * r[static_cast<size_t>(j)](1) + xi * r[static_cast<size_t>(j + 1)](1);
+}
+
+struct History {
+  std::vector<double> t, h;
+  double step_seconds = 0.0, setup_seconds = 0.0;
+  long newton = 0, linear = 0, substeps = 0;
+  std::string resolved;
+};
+
+History run_history(int N, double F, const std::string& solver) {
+  Scene sc = hanging_cable(N, F);
+  History H;
+  const auto t0 = Clock::now();
+  solver::DistributedStepper st(sc.model, comm(), solver_params(solver));
+  st.set_state(sc.initial);
+  H.setup_seconds = seconds_since(t0);
+  H.resolved = st.resolved_linear_solver();
+  H.t.push_back(0.0);
+  H.h.push_back(midspan_height(st.gather_state()));
+  for (int i = 1; i <= sc.steps; ++i) {
+    const double h = i == sc.steps ? sc.t_end - st.time() : sc.dt;
+    if (h <= 0.0) break;
+    comm()->barrier();
+    const auto ts = Clock::now();
+    const auto rep = st.step(h);
+    H.step_seconds += seconds_since(ts);
+    H.newton += rep.newton_iterations;
+    H.linear += rep.linear_iterations;
+    H.substeps += rep.substeps;
+    H.t.push_back(st.time());
+    H.h.push_back(midspan_height(st.gather_state()));  // gathering is not timed
+  }
+  return H;
+}
+
+/// max over the reference grid times t_k (those of `coarse`) of |a(t_k) - b(t_k)|: every run
+/// contains the coarse grid's times exactly (dt halves with ds), matched to 1e-9 s.
+double history_error(const History& a, const History& ref, const std::vector<double>& times) {
+  auto at = [](const History& H, double t) {
+    for (size_t k = 0; k < H.t.size(); ++k)
+      if (std::abs(H.t[k] - t) < 1e-9) return H.h[k];
+    throw std::runtime_error("bench_rod: time not on the grid");
+  };
+  double e = 0.0;
+  for (double t : times) e = std::max(e, std::abs(at(a, t) - at(ref, t)));
+  return e;
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, sep))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+std::string arg(int argc, char** argv, const char* key, const std::string& fallback) {
+  for (int i = 1; i + 1 < argc; ++i)
+    if (std::strcmp(argv[i], key) == 0) return argv[i + 1];
+  return fallback;
+}
+
+void append_csv(const std::string& file, const std::string& header, const std::string& row) {
+  if (file.empty() || !root()) return;
+  const bool fresh = !std::ifstream(file).good();
+  std::ofstream out(file, std::ios::app);
+  if (fresh) out << header << "\n";
+  out << row << "\n";
+}
+
+int accuracy(int argc, char** argv) {
+  const double F = std::stod(arg(argc, argv, "--force", "2"));
+  const int ranks = comm()->getSize();
+  const std::string default_solvers = ranks == 1 ? "KLU2,GMRES+SCHWARZ,GMRES+ILUT" : "GMRES+SCHWARZ,GMRES+ILUT";
+  const auto solvers = split(arg(argc, argv, "--solvers", default_solvers), ',');
+  const std::string csv = arg(argc, argv, "--csv", "");
+  const std::vector<int> Ns = {25, 50, 100, 200, 400};  // ds = 0.04 .. 0.0025
+  const int Nref = 800;                                 // ds = 0.00125
+
+  const History ref = run_history(Nref, F, solvers.front());
+  const History coarse_grid = run_history(Ns.front(), F, solvers.front());
+  const std::vector<double> times = coarse_grid.t;
+  if (root())
+    std::printf("# hanging cable, F = %g N, alpha = %g, %d rank(s); reference: ds = %g with %s "
+                "(%.2f s, %ld Newton its)\n"
+                "%-16s %8s %6s %10s %10s %8s %10s %10s %12s\n",
+                F, kAlpha, ranks, 1.0 / Nref, solvers.front().c_str(), ref.step_seconds, ref.newton, "solver",
+                "ds", "steps", "run [s]", "setup [s]", "Newton", "Newton/st", "lin/Newton", "max|dh| [m]");
+  std::map<int, History> finest;  // per N of the first solver (Richardson estimate)
+  for (const auto& s : solvers) {
+    for (int N : Ns) {
+      const History H = run_history(N, F, s);
+      const double err = history_error(H, ref, times);
+      const double per_step = H.substeps ? double(H.newton) / H.substeps : 0.0;
+      const double lin = H.newton ? double(H.linear) / H.newton : 0.0;
+      if (root())
+        std::printf("%-16s %8.5f %6ld %10.4f %10.4f %8ld %10.2f %10.1f %12.4e\n", s.c_str(), 1.0 / N, H.substeps,
+                    H.step_seconds, H.setup_seconds, H.newton, per_step, lin, err);
+      append_csv(csv, "force,ranks,solver,ds,nodes,steps,run_seconds,setup_seconds,newton,linear,error,reference_ds",
+                 std::to_string(F) + "," + std::to_string(ranks) + "," + s + "," + std::to_string(1.0 / N) + "," +
+                     std::to_string(N + 1) + "," + std::to_string(H.substeps) + "," + std::to_string(H.step_seconds) +
+                     "," + std::to_string(H.setup_seconds) + "," + std::to_string(H.newton) + "," +
+                     std::to_string(H.linear) + "," + std::to_string(err) + "," + std::to_string(1.0 / Nref));
+      if (&s == &solvers.front()) finest[N] = H;
+    }
+  }
+  // Observed order from the last three ds of the first solver and the reference's own error
+  // estimated by Richardson extrapolation (e_ref ~ |h_ref - h_{2 ds_ref}| / (2^p - 1)).
+  const double e1 = history_error(finest[100], finest[200], times);
+  const double e2 = history_error(finest[200], finest[400], times);
+  const double p = std::log2(e1 / e2);
+  const double e3 = history_error(finest[400], ref, times);
+  if (root())
+    std::printf("# observed order (ds 0.01/0.005/0.0025, %s): %.2f; Richardson estimate of the reference's own "
+                "error: %.2e m (errors below about that are not resolved)\n",
+                solvers.front().c_str(), p, e3 / (std::pow(2.0, p) - 1.0));
+  return 0;
+}
+
+int cost(int argc, char** argv) {
+  const int nodes = std::stoi(arg(argc, argv, "--nodes", "1001"));
+  const std::string solver = arg(argc, argv, "--solver", comm()->getSize() == 1 ? "KLU2" : "GMRES+SCHWARZ");
+  const std::string csv = arg(argc, argv, "--csv", "");
+  const std::string label = arg(argc, argv, "--label", "");
+  int steps = std::stoi(arg(argc, argv, "--steps", "0"));
+  const double F = std::stod(arg(argc, argv, "--force", "2"));
+  const int N = nodes - 1;
+  Scene sc = hanging_cable(N, F);
+  const auto t0 = Clock::now();
+  solver::DistributedStepper st(sc.model, comm(), solver_params(solver));
+  st.set_state(sc.initial);
+  const double setup = seconds_since(t0);
+  // One warm-up step (first factorisations, first preconditioner), then timed steps.
+  st.step(sc.dt);
+  const solver::ReuseCounters c0 = st.reuse_counters();
+  if (steps <= 0) steps = nodes <= 2000 ? 40 : nodes <= 20000 ? 12 : 5;
+  // The machine is shared: per step, the median of the step times (per Newton iteration:
+  // the median over steps of step time / its Newton iterations) is reported, which a burst
+  // of load on a few steps does not move; the mean goes to the CSV as well.
+  long newton = 0, linear = 0;
+  std::vector<double> per_step_times, per_newton_times;
+  comm()->barrier();
+  const auto ts = Clock::now();
+  for (int i = 0; i < steps; ++i) {
+    const auto t1 = Clock::now();
+    const auto rep = st.step(sc.dt);
+    const double el_local = seconds_since(t1);
+    double el = el_local;
+    Teuchos::reduceAll(*comm(), Teuchos::REDUCE_MAX, 1, &el_local, &el);
+    per_step_times.push_back(el);
+    per_newton_times.push_back(el / std::max(1, rep.newton_iterations));
+    newton += rep.newton_iterations;
+    linear += rep.linear_iterations;
+  }
+  comm()->barrier();
+  const double run = seconds_since(ts);
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  };
+  const solver::ReuseCounters c1 = st.reuse_counters();
+
+  // Floor: one block-tridiagonal LU of the same size (N + 1 blocks of 12x12), rank 0 only.
+  double floor = 0.0, floor_res = 0.0;
+  if (root()) {  // median of five timings
+    std::vector<double> f;
+    for (int k = 0; k < 5; ++k) f.push_back(bench::time_block_tridiagonal(nodes, 0.1, &floor_res));
+    std::sort(f.begin(), f.end());
+    floor = f[2];
+  }
+  Teuchos::broadcast(*comm(), 0, &floor);
+
+  struct rusage ru {};
+  getrusage(RUSAGE_SELF, &ru);
+  double kb = static_cast<double>(ru.ru_maxrss), kb_sum = 0.0;
+  Teuchos::reduceAll(*comm(), Teuchos::REDUCE_SUM, 1, &kb, &kb_sum);
+
+  const double per_step = median(per_step_times), per_newton = median(per_newton_times);
+  const double mean_step = run / steps;
+  const double assembly = (c1.assembly_seconds - c0.assembly_seconds) / std::max(1L, newton);
+  const double lin_setup = (c1.linear_setup_seconds - c0.linear_setup_seconds) / std::max(1L, newton);
+  if (root()) {
+    std::printf("%-28s %2d %9d %4d %10.3e %10.3e %6.2f %10.3e %7.2f %9.3e %9.3e %8.1f %8.2f %s\n", solver.c_str(),
+                comm()->getSize(), nodes, steps, per_step, per_newton, double(newton) / steps, floor,
+                per_newton / floor, assembly, lin_setup, newton ? double(linear) / newton : 0.0,
+                kb_sum / 1024.0 / nodes * 1024.0, st.resolved_linear_solver().c_str());
+    std::fflush(stdout);
+  }
+  append_csv(csv,
+             "label,solver,ranks,nodes,steps,step_seconds,newton_seconds,newton_per_step,floor_seconds,ratio,"
+             "assembly_seconds_per_newton,linear_setup_seconds_per_newton,linear_per_newton,maxrss_kb_total,"
+             "kb_per_node,setup_seconds,static_seconds,mean_step_seconds",
+             label + "," + solver + "," + std::to_string(comm()->getSize()) + "," + std::to_string(nodes) + "," +
+                 std::to_string(steps) + "," + std::to_string(per_step) + "," + std::to_string(per_newton) + "," +
+                 std::to_string(double(newton) / steps) + "," + std::to_string(floor) + "," +
+                 std::to_string(per_newton / floor) + "," + std::to_string(assembly) + "," +
+                 std::to_string(lin_setup) + "," + std::to_string(newton ? double(linear) / newton : 0.0) + "," +
+                 std::to_string(kb_sum) + "," + std::to_string(kb_sum / nodes) + "," + std::to_string(setup) + "," +
+                 std::to_string(sc.static_seconds) + "," + std::to_string(mean_step));
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Tpetra::ScopeGuard guard(&argc, &argv);
+  const std::string mode = argc > 1 ? argv[1] : "";
+  try {
+    if (mode == "accuracy") return accuracy(argc, argv);
+    if (mode == "cost") return cost(argc, argv);
+    if (mode == "cost-header") {
+      std::printf("%-28s %2s %9s %4s %10s %10s %6s %10s %7s %9s %9s %8s %8s %s\n", "solver", "rk", "nodes", "st",
+                  "s/step", "s/Newton", "N/st", "floor [s]", "ratio", "asm/N", "linset/N", "lin/N", "kB/node",
+                  "resolved");
+      return 0;
+    }
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "bench_rod: %s\n", e.what());
+    return 1;
+  }
+  std::fprintf(stderr, "usage: bench_rod accuracy|cost|cost-header [options] (see the source's header)\n");
+  return 2;
+}
