@@ -1,78 +1,87 @@
-#!/usr/bin/python3
-"""Static diagrams of a continuation run (docs/statics.md, "HDF5 layout").
+#!/usr/bin/env python3
+"""Static diagram of a continuation run (layout: docs/output.md, "Continuation files"):
+a probe against the continued parameter, one curve per branch (/continuation/branch),
+stable stretches solid, unstable ones dashed (from /continuation/unstable_modes), and the
+bifurcations of /bifurcations marked and labelled.
 
-Reads, for each continuation group /continuation[/<branch>] in the file:
-  /continuation/<parameter>       (n,) the continued parameter (e.g. load_position [m])
-  /continuation/<probe>           (n,) probe values (e.g. end_compression [N], mid_x [m])
-  /continuation/unstable_modes    (n,) int, -1 = unknown
-and the table /bifurcations with datasets type (strings "fold"/"pitchfork"), parameter,
-and one dataset per probe name. Stable stretches are drawn solid, unstable dashed (red),
-bifurcations as markers.
-
-Usage: plot_statics_diagram.py FILE.h5 --parameter load_position --probe end_compression [-o out.png]
-       (shallow arch: --probe end_compression; deep arch: --probe mid_x)
+Usage: plot_statics_diagram.py RUN.h5 --probe end_compression [--abs] [-o FIGURE.png]
+       (shallow arch: --probe end_compression --abs; deep arch: --probe mid_x)
 """
 import argparse
+import os
+import sys
 
 import h5py
 import matplotlib
 
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
-import numpy as np
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 
-def groups(f):
+def parameter_name(f):
+    reserved = {"unstable_modes", "critical_eigenvalue", "branch"}
+    names = [n for n in f["continuation"] if n not in reserved]
+    # The parameter is the dataset described as such.
+    for n in names:
+        if f["continuation"][n].attrs.get("description", b"") in (b"the continued parameter", "the continued parameter"):
+            return n
+    raise SystemExit("plot_statics_diagram: no continued parameter in the file")
+
+
+def text(v):
+    return v.decode() if isinstance(v, bytes) else str(v)
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("run")
+    ap.add_argument("--probe", required=True)
+    ap.add_argument("--abs", action="store_true", help="plot the absolute value of the probe")
+    ap.add_argument("-o", "--output")
+    a = ap.parse_args(argv)
+    f = h5py.File(a.run, "r")
     c = f["continuation"]
-    if "unstable_modes" in c:
-        yield "main", c
-    for name, g in c.items():
-        if isinstance(g, h5py.Group) and "unstable_modes" in g:
-            yield name, g
-
-
-def draw(ax, p, y, u, label):
-    first = True
-    start = 0
-    for i in range(1, len(p) + 1):
-        if i == len(p) or (u[i] > 0) != (u[start] > 0):
-            seg = slice(start, min(i + 1, len(p)))
-            unstable = u[start] > 0
-            ax.plot(p[seg], y[seg], "--" if unstable else "-", color="tab:red" if unstable else "tab:blue",
-                    label=(label if first else None))
-            first = False
-            start = i
-
-
-def main():
-    ap = argparse.ArgumentParser()
-    ap.add_argument("file")
-    ap.add_argument("--parameter", default="load_position")
-    ap.add_argument("--probe", default="end_compression")
-    ap.add_argument("--absolute", action="store_true", help="plot |probe|")
-    ap.add_argument("-o", "--output", default=None)
-    a = ap.parse_args()
-    with h5py.File(a.file, "r") as f:
-        fig, ax = plt.subplots(figsize=(6, 4))
-        for name, g in groups(f):
-            p = np.asarray(g[a.parameter])
-            y = np.asarray(g[a.probe])
-            u = np.asarray(g["unstable_modes"])
-            draw(ax, p, np.abs(y) if a.absolute else y, u, name)
-        if "bifurcations" in f and a.probe in f["bifurcations"]:
-            b = f["bifurcations"]
-            types = [t.decode() if isinstance(t, bytes) else str(t) for t in b["type"][()]]
-            bp = np.asarray(b["parameter"])
-            by = np.asarray(b[a.probe])
-            for t, x, y in zip(types, bp, by):
-                ax.plot([x], [abs(y) if a.absolute else y], "o" if t == "fold" else "s", color="k", ms=6)
-                ax.annotate(t, (x, abs(y) if a.absolute else y), textcoords="offset points", xytext=(5, 5))
-        ax.set_xlabel(a.parameter)
-        ax.set_ylabel(a.probe)
-        ax.set_title("solid: stable, dashed: unstable")
-        ax.legend()
-        fig.tight_layout()
-        fig.savefig(a.output or a.file.rsplit(".", 1)[0] + "_" + a.probe + ".png", dpi=150)
+    par = parameter_name(f)
+    n = int(f.attrs["points_written"])
+    p = c[par][:n]
+    q = c[a.probe][:n]
+    if a.abs:
+        q = np.abs(q)
+    u = c["unstable_modes"][:n]
+    b = c["branch"][:n]
+    fig, ax = plt.subplots(figsize=(7.5, 4.8))
+    for k in np.unique(b):
+        idx = np.where(b == k)[0]
+        idx = idx[np.argsort(idx)]
+        color = "C0" if k == 0 else f"C{int(k) + 1}"
+        for i0, i1 in zip(idx[:-1], idx[1:]):
+            unstable = u[i0] > 0 or u[i1] > 0
+            ax.plot(p[[i0, i1]], q[[i0, i1]], "--" if unstable else "-", color="C3" if unstable else color, lw=1.6)
+        ax.plot([], [], "-", color=color, label="primary branch" if k == 0 else f"switched branch {int(k)}")
+    ax.plot([], [], "--", color="C3", label="unstable")
+    if "bifurcations" in f and len(f["bifurcations/type"]) > 0:
+        for i, (t, pv, qv, ok) in enumerate(zip(f["bifurcations/type"][:], f["bifurcations"][par][:],
+                                                f["bifurcations"][a.probe][:], f["bifurcations/located"][:])):
+            qv = abs(qv) if a.abs else qv
+            ax.plot(pv, qv, "ko" if text(t) == "fold" else "ks", ms=7, mfc="none" if not ok else "k")
+            ax.annotate(f"{text(t)} {pv:.4g}", (pv, qv), textcoords="offset points", xytext=(6, 6 + 12 * (i % 3)),
+                        fontsize=8)
+    units_p = text(c[par].attrs.get("units", ""))
+    units_q = text(c[a.probe].attrs.get("units", ""))
+    ax.set_xlabel(f"{par} [{units_p}]")
+    ax.set_ylabel(f"{'|' + a.probe + '|' if a.abs else a.probe} [{units_q}]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=8)
+    for line in text(f.attrs.get("scene", "")).splitlines():
+        if line.startswith("title:"):
+            ax.set_title(line.split(":", 1)[1].strip().strip("'\""))
+    fig.tight_layout()
+    out = a.output or os.path.splitext(a.run)[0] + ".png"
+    fig.savefig(out, dpi=130)
+    print(f"plot_statics_diagram: wrote {out}")
 
 
 if __name__ == "__main__":

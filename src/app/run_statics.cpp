@@ -168,7 +168,10 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   long points = 0;
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), rod::parameter_name(par),
                     rod::parameter_unit(par), start, cs.stop);
+  const double lo = std::min(start, cs.stop), hi = std::max(start, cs.stop), slack = 1e-12 * (1.0 + hi - lo);
   auto on_point = [&](const solver::ContinuationPoint& p) {
+    // The stepper shows the point that overshot a bound before landing on the bound: skip it.
+    if (p.parameter < lo - slack || p.parameter > hi + slack) return;
     writer.add_point(branch, p.parameter, p.probes, p.unstable_modes, p.critical_eigenvalue);
     ++points;
     progress.update(p.parameter, points);

@@ -1,0 +1,140 @@
+// Statics and arch scenes through the traverse executable: a continuation scene finds the
+// Euler pitchfork and writes the continuation layout; an arch scene forms the arch and runs
+// the dynamics from it; a dynamic scene starts from a state saved by a continuation run.
+#include <gtest/gtest.h>
+#include <hdf5.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "traverse/output/continuation_writer.hpp"
+#include "traverse/output/reader.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+int run(const std::string& args, std::string* out = nullptr) {
+  const std::string cmd = std::string(TRAVERSE_EXE) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string text;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p)) text.append(buf, n);
+  const int status = pclose(p);
+  if (out) *out = text;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+std::vector<double> dataset(const std::string& file, const std::string& name) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  const hid_t sp = H5Dget_space(d);
+  hsize_t n = 0;
+  H5Sget_simple_extent_dims(sp, &n, nullptr);
+  std::vector<double> v(n);
+  if (n) H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Sclose(sp);
+  H5Dclose(d);
+  H5Fclose(f);
+  return v;
+}
+
+const fs::path kInputs = fs::path(TRAVERSE_SOURCE_DIR) / "inputs";
+
+fs::path scratch() {
+  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / "scenes";
+  fs::create_directories(d);
+  return d;
+}
+
+}  // namespace
+
+TEST(ScenesCli, EulerBucklingSceneFindsThePitchfork) {
+  const std::string out = (scratch() / "euler.h5").string();
+  std::string log;
+  ASSERT_EQ(run("run " + (kInputs / "statics" / "euler_buckling.yaml").string() + " -o " + out +
+                    " --overwrite --set mesh.ds=0.05",
+                &log),
+            0)
+      << log;
+  const auto types = dataset(out, "/bifurcations/end_load");
+  ASSERT_GE(types.size(), 1u) << log;
+  const double EI = 2.5e8 * M_PI * std::pow(0.005, 4) / 4.0, PE = M_PI * M_PI * EI;
+  std::cout << "  pitchfork at P = " << types[0] << " N, pi^2 EI / L^2 = " << PE << " N\n";
+  EXPECT_NEAR(types[0], PE, 5e-3 * PE);  // 20 cells: discretisation error ~ 2.6e-3 relative
+  const auto unstable = dataset(out, "/continuation/unstable_modes");
+  const auto P = dataset(out, "/continuation/end_load");
+  const auto branch = dataset(out, "/continuation/branch");
+  ASSERT_EQ(P.size(), unstable.size());
+  for (size_t i = 0; i < P.size(); ++i) {
+    if (branch[i] != 0) continue;
+    EXPECT_EQ(unstable[i], P[i] < types[0] ? 0.0 : 1.0) << "P = " << P[i];
+  }
+  // The switched branch is buckled and stable.
+  const auto y = dataset(out, "/continuation/mid_y");
+  double lifted = 0.0;
+  for (size_t i = 0; i < y.size(); ++i)
+    if (branch[i] == 1) lifted = std::max(lifted, std::abs(y[i]));
+  EXPECT_GT(lifted, 0.05);
+  const auto final_state = traverse::output::read_state(out, "final");
+  EXPECT_EQ(final_state.r.size(), 21u * 3u);
+}
+
+TEST(ScenesCli, ArchSceneFormsTheArchAndRunsFromIt) {
+  const std::string out = (scratch() / "arch.h5").string();
+  std::string log;
+  ASSERT_EQ(run("run " + (kInputs / "arch" / "shallow_arch_v2.0.yaml").string() + " -o " + out +
+                    " --overwrite --set mesh.ds=0.05 --set time.end=0.05",
+                &log),
+            0)
+      << log;
+  EXPECT_NE(log.find("arch formed"), std::string::npos) << log;
+  traverse::output::Reader f(out);
+  const auto mid = f.probe("midpoint").values;
+  // Elastica rise of the shallow arch without gravity: w/L = k/K = 0.2242; gravity lowers it.
+  std::cout << "  formed shallow arch: midpoint (" << mid[0] << ", " << mid[1] << ", " << mid[2] << ") m\n";
+  EXPECT_NEAR(mid[1], 0.2242, 0.01);
+  EXPECT_NEAR(mid[2], 0.864545 / 2, 1e-9);
+  EXPECT_NEAR(mid[0], 0.0, 1e-12);
+}
+
+TEST(ScenesCli, DynamicsStartFromAStateSavedByAContinuationRun) {
+  const std::string statics = (scratch() / "sag.h5").string();
+  std::string log;
+  // Gravity raised on the hanging cable by continuation; its final state starts the dynamics.
+  ASSERT_EQ(run("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " + statics +
+                    " --overwrite --set mesh.ds=0.05 --set initial_state.type=rest"
+                    " --set 'continuation={parameter: gravity_factor, start: 0, stop: 1, step: 0.25, method: natural,"
+                    " stability: false}'",
+                &log),
+            0)
+      << log;
+  const std::string dyn = (scratch() / "from_file.h5").string();
+  ASSERT_EQ(run("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " + dyn +
+                    " --overwrite --set mesh.ds=0.05 --set 'initial_state={type: file, file: " + statics + "}'",
+                &log),
+            0)
+      << log;
+  const std::string ref = (scratch() / "static_start.h5").string();
+  ASSERT_EQ(run("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " + ref +
+                    " --overwrite --set mesh.ds=0.05 --set loads.F.start=0.0 --set loads.F.entry_time=0.0",
+                &log),
+            0)
+      << log;
+  // Same initial sag (the static start also carries the load at s = 0, which goes to the clamp).
+  const double a = traverse::output::Reader(dyn).probe("midspan").values[1];
+  const double b = traverse::output::Reader(ref).probe("midspan").values[1];
+  std::cout << "  initial midspan height from the file " << a << " m, from the static start " << b << " m\n";
+  EXPECT_NEAR(a, b, 1e-8);
+  // A state with another node count is refused, naming the key.
+  ASSERT_EQ(run("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " +
+                    (scratch() / "bad.h5").string() + " --overwrite --set 'initial_state={type: file, file: " + statics + "}'",
+                &log),
+            2)
+      << log;
+  EXPECT_NE(log.find("initial_state.file"), std::string::npos) << log;
+}
