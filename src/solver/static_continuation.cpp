@@ -1,6 +1,8 @@
 // Statics and continuation through LOCA (see static_continuation.hpp and docs/statics.md).
 #include "traverse/solver/static_continuation.hpp"
 
+#include <Teuchos_oblackholestream.hpp>
+
 #include <LOCA.H>
 #include <LOCA_Thyra.H>
 #include <LOCA_Thyra_SaveDataStrategy.H>
@@ -468,6 +470,10 @@ void run_loca(Run& run, const Vector& x0) {
   const int quiet = NOX::Utils::Error;
   const int loud = NOX::Utils::Error | NOX::Utils::Warning | NOX::Utils::StepperIteration;
   nox.sublist("Printing").set("Output Information", opt.verbose ? loud : quiet);
+  // LOCA prints its final status-test summary whatever the print level: send the normal
+  // output stream to a black hole unless asked to be verbose (errors still reach stderr).
+  if (!opt.verbose)
+    nox.sublist("Printing").set<Teuchos::RCP<std::ostream>>("Output Stream", Teuchos::rcp(new Teuchos::oblackholestream));
   auto gd = LOCA::createGlobalData(top);
   try {
     LOCA::ParameterVector pv;
