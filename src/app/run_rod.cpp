@@ -25,42 +25,6 @@ namespace traverse::app {
 
 namespace {
 
-rod::RodProperties properties_of(const scene::RodSpec& r) {
-  rod::RodProperties p;
-  const auto& s = r.section;
-  p.rhoA = r.density * s.area;
-  p.rhoI = r.density * Vec3(s.I1, s.I2, s.J);
-  p.K = Vec3(r.youngs_modulus * s.I1, r.youngs_modulus * s.I2, r.shear_modulus * s.J);
-  p.kappa0 = r.intrinsic_curvature;
-  return p;
-}
-
-rod::EndCondition end_of(const scene::EndSpec& e) {
-  if (e.type == "clamped") return rod::EndCondition::make_clamped();
-  if (e.type == "pinned") return rod::EndCondition::make_pinned(e.axis);
-  if (e.type == "sliding") return rod::EndCondition::make_sliding(e.axis);
-  if (e.type == "free") return rod::EndCondition::make_free();
-  if (e.type == "prescribed") {
-    const Vec3 v = e.velocity, w = e.rotation_rate;
-    return rod::EndCondition::make_prescribed([v](double) { return v; }, [w](double) { return w; });
-  }
-  throw std::logic_error("run_rod: unknown end condition " + e.type);
-}
-
-// The static reading of an end at the straight reference position s_end along k.
-rod::StaticEnd static_end_of(const scene::EndSpec& e, double s_end) {
-  rod::StaticEnd s;
-  s.position = Vec3(0.0, 0.0, s_end);
-  s.axis = e.axis;
-  using T = rod::EndCondition::Type;
-  if (e.type == "clamped" || e.type == "prescribed") s.type = T::clamped;  // prescribed motion starts from rest
-  else if (e.type == "pinned") s.type = T::pinned;
-  else if (e.type == "sliding") s.type = T::sliding;
-  else if (e.type == "free") s.type = T::free;
-  else throw std::logic_error("run_rod: unknown end condition " + e.type);
-  return s;
-}
-
 // A load is on the structure at time t when it has started and lies in [0, L].
 double load_sigma(const scene::MovingLoadSpec& l, double t) {
   return t < l.entry_time ? std::numeric_limits<double>::quiet_NaN() : l.position(t);
@@ -122,7 +86,7 @@ rod::RodModel build_rod_model(const scene::Scene& sc, Teuchos::ParameterList& so
     scene::fail_at(sc, "solver", "valid solver parameters (see docs/solver.md)", e.what());
   }
   rod::RodModel model;
-  model.props = properties_of(rs);
+  model.props = rod_properties(rs);
   if (sc.scheme.explicit_parameters) {
     model.alpha = {sc.scheme.as, sc.scheme.bs, sc.scheme.gs, sc.scheme.at, sc.scheme.bt, sc.scheme.gt};
   } else {
@@ -130,8 +94,8 @@ rod::RodModel build_rod_model(const scene::Scene& sc, Teuchos::ParameterList& so
   }
   model.num_cells = N;
   model.length = rs.length;
-  model.left = end_of(sc.left);
-  model.right = end_of(sc.right);
+  model.left = rod_end(sc.left);
+  model.right = rod_end(sc.right);
   const auto check = rod::validate_end_conditions(model.left, model.right);
   if (!check.ok) scene::fail_at(sc, "ends", "a well-posed pair of end conditions", check.message);
   model.loads.gravity = Vec3(0.0, -sc.gravity, 0.0);
@@ -195,8 +159,8 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     sm.props = model.props;
     sm.num_cells = N;
     sm.length = rs.length;
-    sm.left = static_end_of(sc.left, 0.0);
-    sm.right = static_end_of(sc.right, rs.length);
+    sm.left = static_end(sc.left, 0.0);
+    sm.right = static_end(sc.right, rs.length);
     sm.gravity = model.loads.gravity;
     for (const auto& l : sc.loads) {
       const double s0 = load_sigma(l, 0.0);
