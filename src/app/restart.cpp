@@ -80,6 +80,9 @@ std::string move_aside_for_restart(const std::string& path, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const std::string backup = before_restart(path);
+  // Every rank has finished reading the file (scene, restart point, outputs) before rank 0
+  // renames it: a rank still opening `path` would otherwise fail alone and deadlock the rest.
+  MPI_Barrier(comm);
   int ok = 1;
   std::string err;
   if (rank == 0) {
