@@ -73,6 +73,27 @@ void perpendicular_pair(const Vec3& a, Vec3& b1, Vec3& b2) {
   b2 = e.cross(b1);
 }
 
+namespace {
+
+// Rows 3..5 of a pin about the fixed axis `axis`: omega perpendicular to it is zero (2) and
+// there is no moment about it (1).
+void pin_rows(const Vec3& axis, const RodProperties& props, const Vec3& w, const Vec3& m, const Mat3& R,
+              const Mat3& G, Vec6& r, Eigen::Matrix<double, 6, 12>& J) {
+  using so3::hat;
+  Vec3 b1, b2;
+  perpendicular_pair(axis, b1, b2);
+  const Vec3 a = R * axis.normalized(), p1 = R * b1, p2 = R * b2;
+  r(3) = w.dot(p1);
+  r(4) = w.dot(p2);
+  J.block<1, 3>(3, var::omega) = p1.transpose() + w.transpose() * hat(p1) * G;
+  J.block<1, 3>(4, var::omega) = p2.transpose() + w.transpose() * hat(p2) * G;
+  r(5) = m.dot(a);
+  J.block<1, 3>(5, var::kappa) = a.cwiseProduct(props.K).transpose();
+  J.block<1, 3>(5, var::omega) = m.transpose() * hat(a) * G;
+}
+
+}  // namespace
+
 void end_condition_rows(const EndCondition& c, const RodProperties& props, double t,
                         const Vec12& y, const Mat3& R, const Mat3& G, Vec6& r,
                         Eigen::Matrix<double, 6, 12>& J) {
@@ -91,18 +112,9 @@ void end_condition_rows(const EndCondition& c, const RodProperties& props, doubl
       J.block<3, 3>(3, var::omega) = I;
       break;
     case EndCondition::Type::pinned: {
-      Vec3 b1, b2;
-      perpendicular_pair(c.axis, b1, b2);
-      const Vec3 a = R * c.axis.normalized(), p1 = R * b1, p2 = R * b2;
       r.head<3>() = u;
       J.block<3, 3>(0, var::u) = I;
-      r(3) = w.dot(p1);
-      r(4) = w.dot(p2);
-      J.block<1, 3>(3, var::omega) = p1.transpose() + w.transpose() * hat(p1) * G;
-      J.block<1, 3>(4, var::omega) = p2.transpose() + w.transpose() * hat(p2) * G;
-      r(5) = m.dot(a);
-      J.block<1, 3>(5, var::kappa) = a.cwiseProduct(props.K).transpose();
-      J.block<1, 3>(5, var::omega) = m.transpose() * hat(a) * G;
+      pin_rows(c.axis, props, w, m, R, G, r, J);
       break;
     }
     case EndCondition::Type::sliding: {
@@ -123,11 +135,9 @@ void end_condition_rows(const EndCondition& c, const RodProperties& props, doubl
       break;
     }
     case EndCondition::Type::roller: {
-      Vec3 e1, e2, a1, a2;
+      Vec3 e1, e2;
       perpendicular_pair(c.slide_axis, e1, e2);
-      perpendicular_pair(c.axis, a1, a2);
-      const Vec3 e = R * c.slide_axis.normalized(), a = R * c.axis.normalized();
-      const Vec3 p1 = R * e1, p2 = R * e2, q1 = R * a1, q2 = R * a2;
+      const Vec3 e = R * c.slide_axis.normalized(), p1 = R * e1, p2 = R * e2;
       r(0) = u.dot(p1);
       r(1) = u.dot(p2);
       J.block<1, 3>(0, var::u) = p1.transpose();
@@ -137,13 +147,7 @@ void end_condition_rows(const EndCondition& c, const RodProperties& props, doubl
       r(2) = n.dot(e) - c.axial_force;
       J.block<1, 3>(2, var::n) = e.transpose();
       J.block<1, 3>(2, var::omega) = n.transpose() * hat(e) * G;
-      r(3) = w.dot(q1);
-      r(4) = w.dot(q2);
-      J.block<1, 3>(3, var::omega) = q1.transpose() + w.transpose() * hat(q1) * G;
-      J.block<1, 3>(4, var::omega) = q2.transpose() + w.transpose() * hat(q2) * G;
-      r(5) = m.dot(a);
-      J.block<1, 3>(5, var::kappa) = a.cwiseProduct(props.K).transpose();
-      J.block<1, 3>(5, var::omega) = m.transpose() * hat(a) * G;
+      pin_rows(c.axis, props, w, m, R, G, r, J);
       break;
     }
     case EndCondition::Type::free:

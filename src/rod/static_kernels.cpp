@@ -31,6 +31,25 @@ double weight_at(const PointLoadWeights& w, int node) {
   return s;
 }
 
+// Rows 3..5 of a pin about c.axis: rotation relative to c.frame only about the axis (2) and
+// no moment about it (1).
+void pin_rows(const StaticModel& m, const StaticEnd& c, const Vec3& k, const Mat3& R, const Mat3& D, VecX& res,
+              MatX& J) {
+  Vec3 b1, b2;
+  perpendicular_pair(c.axis, b1, b2);
+  const Vec3 phi = so3::log(c.frame.transpose() * R);
+  const Mat3 dphi = so3::left_jacobian(phi).inverse() * c.frame.transpose() * D;
+  res(3) = b1.dot(phi);
+  res(4) = b2.dot(phi);
+  J.block<1, 3>(3, svar::theta) = b1.transpose() * dphi;
+  J.block<1, 3>(4, svar::theta) = b2.transpose() * dphi;
+  const Vec3 a = c.axis.normalized(), Ra = R * a;
+  const Vec3 mm = m.props.K.cwiseProduct(k - m.props.kappa0);
+  res(5) = mm.dot(Ra);
+  J.block<1, 3>(5, svar::kappa) = (Ra.cwiseProduct(m.props.K)).transpose();
+  J.block<1, 3>(5, svar::theta) = (mm.transpose() * (-hat(Ra))) * D;
+}
+
 // Rows of one end (6), with the sign of external forces: +1 right end, -1 left end.
 void end_rows(const StaticModel& m, const StaticEnd& c, const StaticNode& node, double sign, LocalBlock& b) {
   const Vec3 r = node.x.segment<3>(svar::r), th = node.x.segment<3>(svar::theta);
@@ -70,19 +89,7 @@ void end_rows(const StaticModel& m, const StaticEnd& c, const StaticNode& node, 
     case T::pinned: {
       res.segment<3>(0) = r - c.position;
       J.block<3, 3>(0, svar::r).setIdentity();
-      Vec3 b1, b2;
-      perpendicular_pair(c.axis, b1, b2);
-      const Vec3 phi = so3::log(c.frame.transpose() * R);
-      const Mat3 dphi = so3::left_jacobian(phi).inverse() * c.frame.transpose() * D;
-      res(3) = b1.dot(phi);
-      res(4) = b2.dot(phi);
-      J.block<1, 3>(3, svar::theta) = b1.transpose() * dphi;
-      J.block<1, 3>(4, svar::theta) = b2.transpose() * dphi;
-      const Vec3 a = c.axis.normalized(), Ra = R * a;
-      const Vec3 mm = m.props.K.cwiseProduct(k - m.props.kappa0);
-      res(5) = mm.dot(Ra);
-      J.block<1, 3>(5, svar::kappa) = (Ra.cwiseProduct(m.props.K)).transpose();
-      J.block<1, 3>(5, svar::theta) = (mm.transpose() * (-hat(Ra))) * D;
+      pin_rows(m, c, k, R, D, res, J);
       break;
     }
     case T::roller: {
@@ -96,19 +103,7 @@ void end_rows(const StaticModel& m, const StaticEnd& c, const StaticNode& node, 
       res(2) = n.dot(Re) - sign * c.axial_force;
       J.block<1, 3>(2, svar::n) = Re.transpose();
       J.block<1, 3>(2, svar::theta) = (n.transpose() * (-hat(Re))) * D;
-      Vec3 b1, b2;
-      perpendicular_pair(c.axis, b1, b2);
-      const Vec3 phi = so3::log(c.frame.transpose() * R);
-      const Mat3 dphi = so3::left_jacobian(phi).inverse() * c.frame.transpose() * D;
-      res(3) = b1.dot(phi);
-      res(4) = b2.dot(phi);
-      J.block<1, 3>(3, svar::theta) = b1.transpose() * dphi;
-      J.block<1, 3>(4, svar::theta) = b2.transpose() * dphi;
-      const Vec3 a = c.axis.normalized(), Ra = R * a;
-      const Vec3 mm = m.props.K.cwiseProduct(k - m.props.kappa0);
-      res(5) = mm.dot(Ra);
-      J.block<1, 3>(5, svar::kappa) = (Ra.cwiseProduct(m.props.K)).transpose();
-      J.block<1, 3>(5, svar::theta) = (mm.transpose() * (-hat(Ra))) * D;
+      pin_rows(m, c, k, R, D, res, J);
       break;
     }
     case T::free: {
