@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Static diagram of a continuation run (layout: docs/output.md, "Continuation files"):
-a probe against the continued parameter, one curve per branch (/continuation/branch),
-stable stretches solid, unstable ones dashed (from /continuation/unstable_modes), and the
-bifurcations of /bifurcations marked and labelled.
+a probe against the continued parameter, one colour per branch (/continuation/branch),
+stable stretches solid, unstable ones dashed (from /continuation/unstable_modes, the count
+written on each stretch), and the bifurcations of /bifurcations marked (filled: located,
+open: bracketed) and labelled with their parameter value (folds also with the probe value).
 
 Usage: plot_statics_diagram.py RUN.h5 --probe end_compression [--abs] [-o FIGURE.png]
        (shallow arch: --probe end_compression --abs; deep arch: --probe mid_x)
@@ -57,18 +58,34 @@ def main(argv=None):
         idx = np.where(b == k)[0]
         idx = idx[np.argsort(idx)]
         color = "C0" if k == 0 else f"C{int(k) + 1}"
+        # Stable stretches solid, unstable dashed (a segment is unstable when either end is);
+        # the number of unstable modes is written where it changes.
         for i0, i1 in zip(idx[:-1], idx[1:]):
             unstable = u[i0] > 0 or u[i1] > 0
-            ax.plot(p[[i0, i1]], q[[i0, i1]], "--" if unstable else "-", color="C3" if unstable else color, lw=1.6)
+            ax.plot(p[[i0, i1]], q[[i0, i1]], "--" if unstable else "-", color=color, lw=1.6)
+        span_p = max(np.ptp(p), 1e-300)
+        span_q = max(np.ptp(q), 1e-300)
+        start = 0
+        for j in range(1, len(idx) + 1):  # label each stretch of constant count at its middle
+            if j == len(idx) or u[idx[j]] != u[idx[start]]:
+                run = idx[start:j]
+                d = np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(p[run]) / span_p, np.diff(q[run]) / span_q))])
+                m = run[int(np.argmin(np.abs(d - 0.5 * d[-1])))]
+                if u[m] >= 0 and d[-1] > 0.05:
+                    ax.annotate(f"{u[m]} unstable", (p[m], q[m]), textcoords="offset points", xytext=(4, -12),
+                                fontsize=7, color=color)
+                start = j
         ax.plot([], [], "-", color=color, label="primary branch" if k == 0 else f"switched branch {int(k)}")
-    ax.plot([], [], "--", color="C3", label="unstable")
+    ax.plot([], [], "-", color="0.4", label="stable")
+    ax.plot([], [], "--", color="0.4", label="unstable")
     if "bifurcations" in f and len(f["bifurcations/type"]) > 0:
         for i, (t, pv, qv, ok) in enumerate(zip(f["bifurcations/type"][:], f["bifurcations"][par][:],
                                                 f["bifurcations"][a.probe][:], f["bifurcations/located"][:])):
             qv = abs(qv) if a.abs else qv
-            ax.plot(pv, qv, "ko" if text(t) == "fold" else "ks", ms=7, mfc="none" if not ok else "k")
-            ax.annotate(f"{text(t)} {pv:.4g}", (pv, qv), textcoords="offset points", xytext=(6, 6 + 12 * (i % 3)),
-                        fontsize=8)
+            kind = text(t)
+            ax.plot(pv, qv, "ko" if kind == "fold" else "ks", ms=7, mfc="none" if not ok else "k")
+            label = f"{kind} {pv:.4g}" + (f", {qv:.4g}" if kind == "fold" else "") + ("" if ok else " (bracketed)")
+            ax.annotate(label, (pv, qv), textcoords="offset points", xytext=(6, 6 + 12 * (i % 3)), fontsize=8)
     units_p = text(c[par].attrs.get("units", ""))
     units_q = text(c[a.probe].attrs.get("units", ""))
     ax.set_xlabel(f"{par} [{units_p}]")

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzz the scene reader + validator (tests/fuzz/fuzz_scene.cpp) with libFuzzer for a given time.
 #   bash scripts/fuzz.sh [SECONDS]        default 600; builds in $TRAVERSE_FUZZ_BUILD_DIR
-#                                         (default /tmp/build-fuzz) with clang, then runs
+#                                         (default build-fuzz/ in the repository) with clang, then runs
 # Needs clang and libclang-rt-14-dev (Debian 12: apt-get install clang libclang-rt-14-dev).
 # New inputs found go to $TRAVERSE_FUZZ_BUILD_DIR/corpus (the checked-in seeds in
 # tests/fuzz/corpus/scene are read, never written); crashes, leaks and hangs are written
@@ -10,7 +10,7 @@
 set -euo pipefail
 seconds=${1:-600}
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
-build=${TRAVERSE_FUZZ_BUILD_DIR:-/tmp/build-fuzz}
+build=${TRAVERSE_FUZZ_BUILD_DIR:-$here/build-fuzz}
 jobs=${TRAVERSE_JOBS:-1}
 if [ ! -f "$build/CMakeCache.txt" ]; then
   CC=clang CXX=clang++ cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo \

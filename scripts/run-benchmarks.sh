@@ -53,7 +53,7 @@ if [ "$REPORT_ONLY" = 0 ]; then
   if [ "$MILLION" = 1 ]; then BIG+=(1000001); fi
   "$BR" cost-header | tee "$OUT/cost.txt"
   for n in "${SIZES[@]}" "${BIG[@]}"; do
-    for s in KLU2 KLU2:modified; do
+    for s in GMRES+BLOCK_TRIDIAGONAL GMRES+BLOCK_TRIDIAGONAL:modified KLU2 KLU2:modified; do
       "$BR" cost --nodes "$n" --solver "$s" --label scaling --csv "$OUT/cost.csv" | tee -a "$OUT/cost.txt"
     done
   done
@@ -67,7 +67,7 @@ if [ "$REPORT_ONLY" = 0 ]; then
   if [ "$QUICK" = 0 ]; then STRONG=(10001 100001); fi
   if [ "$MILLION" = 1 ]; then STRONG+=(1000001); fi
   for n in "${STRONG[@]}"; do
-    for s in GMRES+SCHWARZ GMRES+SCHWARZ:modified; do
+    for s in GMRES+BLOCK_TRIDIAGONAL GMRES+BLOCK_TRIDIAGONAL:modified GMRES+SCHWARZ; do
       "$BR" cost --nodes "$n" --solver "$s" --label strong --csv "$OUT/cost.csv" | tee -a "$OUT/cost.txt"
       "${MPIRUN[@]}" "$BR" cost --nodes "$n" --solver "$s" --label strong --csv "$OUT/cost.csv" | tee -a "$OUT/cost.txt"
     done

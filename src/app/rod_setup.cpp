@@ -122,5 +122,67 @@ rod::RodState static_start(const scene::Scene& sc, const Teuchos::RCP<const Teuc
   throw std::logic_error("static_start: initial state " + sc.initial_state.type);
 }
 
+std::vector<Vec3> point_force_vectors(const scene::Scene& sc) {
+  std::vector<Vec3> v;
+  for (const auto& l : sc.loads)
+    if (!l.inertia) v.push_back(l.force);
+  return v;
+}
+
+void precheck_planar(const scene::Scene& sc, const rod::RodModel& model) {
+  if (sc.scheme.planar != "on") return;
+  const rod::PlanarCheck c =
+      rod::check_planar(model, rod::straight_rest_state(model.num_cells, model.length), point_force_vectors(sc));
+  if (!c.planar)
+    scene::fail_at(sc, "scheme.planar",
+                   "a planar scene for 'on' (rod, loads, gravity and end conditions symmetric about one plane; "
+                   "use auto or off)",
+                   "a scene that is not planar: " + c.reason);
+}
+
+PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const rod::RodState& state, int stored,
+                       MPI_Comm comm) {
+  PathChoice out;
+  const std::string& mode = sc.scheme.planar;
+  if (mode == "off") {
+    out.detail = "scheme.planar: off";
+    return out;
+  }
+  rod::PlanarCheck c = rod::check_planar(model, state, point_force_vectors(sc));
+  int mine = c.planar ? 1 : 0, all = 0;
+  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, comm);
+  if (mine && !all) {
+    c.planar = false;
+    c.reason = "another rank found the state not planar";
+  }
+  if (mode == "on") {
+    if (!c.planar)
+      scene::fail_at(sc, "scheme.planar",
+                     "a planar scene for 'on' (initial state, loads, gravity and end conditions symmetric about one "
+                     "plane; use auto or off)",
+                     "a scene whose initial state is not planar: " + c.reason);
+    out.detail = "scheme.planar: on";
+  } else if (mode == "auto") {
+    if (stored == 0) {
+      out.detail = "the path of the run being restarted (scheme.planar: auto)";
+      return out;
+    }
+    if (stored == 1 && !c.planar)
+      scene::fail_at(sc, "scheme.planar", "the planar path of the run being restarted, from a planar restart state",
+                     "a restart state that is not planar: " + c.reason + " (restart with --set scheme.planar=off)");
+    if (!c.planar) {
+      out.detail = "not planar: " + c.reason;
+      return out;
+    }
+    out.detail = stored == 1 ? "the path of the run being restarted (scheme.planar: auto)"
+                             : "detected (scheme.planar: auto)";
+  } else {
+    throw std::logic_error("choose_path: scheme.planar " + mode);
+  }
+  out.planar = true;
+  out.symmetry = c.symmetry;
+  return out;
+}
+
 }  // namespace traverse::app
 

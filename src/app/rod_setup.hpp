@@ -1,7 +1,11 @@
 #pragma once
 // Scene -> rod structures shared by the dynamic and the static runners.
+#include <mpi.h>
+
 #include "traverse/output/continuation_writer.hpp"
 #include "traverse/rod/end_condition.hpp"
+#include "traverse/rod/planar.hpp"
+#include "traverse/rod/rod_model.hpp"
 #include "traverse/rod/static_kernels.hpp"
 #include "traverse/rod/static_problem.hpp"
 #include "traverse/rod/rod_state.hpp"
@@ -42,5 +46,29 @@ std::string arch_summary(const solver::ArchFormation& arch);
 /// SceneError for a bad file and std::runtime_error when forming fails.
 rod::RodState static_start(const scene::Scene& sc, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
                            const Teuchos::ParameterList& solver, std::string& description);
+
+/// The fixed-frame vector of each point force of the scene's rod model, in model order (the
+/// loads without inertia; a moving mass's weight comes from gravity).
+std::vector<Vec3> point_force_vectors(const scene::Scene& sc);
+
+/// Which system a dynamic rod run solves (scheme.planar, docs/solver.md "Planar fast path").
+struct PathChoice {
+  bool planar = false;
+  rod::PlanarSymmetry symmetry;  ///< when planar
+  std::string detail;            ///< how it was chosen, or why the scene is not planar
+};
+
+/// scheme.planar: on, checked before any initial state is computed: the model (loads,
+/// gravity, end conditions, intrinsic curvature) against the straight reference state along
+/// k. Throws SceneError located at scheme.planar when it cannot be planar.
+void precheck_planar(const scene::Scene& sc, const rod::RodModel& model);
+
+/// The path for a run starting from `state` (replicated): scheme.planar off -> 3D; on ->
+/// planar or SceneError at scheme.planar; auto -> planar when rod::check_planar says so.
+/// `stored` is the path of the run being restarted (-1 none or unknown, 0 3D, 1 planar): with
+/// auto a restart keeps it (UsageError-free: a stored planar path whose state is no longer
+/// planar throws SceneError). Collective: planar only if every rank finds it planar.
+PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const rod::RodState& state, int stored,
+                       MPI_Comm comm);
 
 }  // namespace traverse::app

@@ -123,7 +123,8 @@ rod::RodModel build_rod_model(const scene::Scene& sc, Teuchos::ParameterList& so
 
 void check_rod(const scene::Scene& sc) {
   Teuchos::ParameterList solver_params;
-  build_rod_model(sc, solver_params);
+  const rod::RodModel model = build_rod_model(sc, solver_params);
+  precheck_planar(sc, model);
 }
 
 void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
@@ -149,6 +150,10 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(tcomm->getSize()) + " rank(s)",
                    e.what());
   }
+  // scheme.planar: on with a scene that cannot be planar is bad input, found before any
+  // initial state is computed (the state itself is checked below).
+  if (!opt.restart) precheck_planar(sc, model);
+
   // ---- Initial state -----------------------------------------------------------------
   rod::RodState state = rod::straight_rest_state(N, rs.length);
   std::string initial = "straight, at rest, unloaded";
@@ -214,6 +219,13 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     stepper.set_state(state);
   }
 
+  // ---- Path: the planar fast path or the 3D system (docs/solver.md) ------------------------
+  // A restart keeps the path of the run it continues (restart extra[4]: 1 planar, 0 3D).
+  const int stored_path = opt.restart && rp.extra.size() >= 5 ? (rp.extra[4] != 0.0 ? 1 : 0) : -1;
+  const PathChoice path = choose_path(sc, model, state, stored_path, comm);
+  if (path.planar) stepper.set_planar(&path.symmetry);
+  const std::string path_text = stepper.path_description() + "; " + path.detail;
+
   // ---- Output ------------------------------------------------------------------------
   const int first = stepper.first_owned_node(), count = stepper.num_owned_nodes();
   output::NodeLayout layout;
@@ -229,7 +241,8 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     check_restart_outputs(restart_from, probe_names, field_names);
     restart_from = move_aside_for_restart(opt.output, comm);
   }
-  output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod"};
+  output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod", {}};
+  info.attributes = {{"rod_path", path.planar ? "planar" : "3D"}, {"rod_path_detail", path_text}};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, layout,
                         std::max<size_t>(1, sc.loads.size()));
 
@@ -335,7 +348,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   auto store_restart = [&](long i) {
     if (i == stored_at) return;
     for (int k = 0; k < count; ++k) pack_node(stepper.owned_node(k), &packed[kPackedNode * static_cast<std::size_t>(k)]);
-    restart_slots.write(writer, stepper.time(), i, {r0.x(), r0.y(), r0.z(), dt}, packed);
+    restart_slots.write(writer, stepper.time(), i, {r0.x(), r0.y(), r0.z(), dt, path.planar ? 1.0 : 0.0}, packed);
     stored_at = i;
     last_stored = std::chrono::steady_clock::now();
   };
@@ -351,9 +364,11 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
 
   // ---- Run ---------------------------------------------------------------------------
   if (rank == 0 && !opt.quiet)
-    std::printf("rod scene '%s': %d nodes, %ld steps of dt = %.6g s to t = %.6g s; initial state: %s; linear solver: %s%s\n",
+    std::printf("rod scene '%s': %d nodes, %ld steps of dt = %.6g s to t = %.6g s; initial state: %s; linear solver: %s%s; "
+                "path: %s\n",
                 sc.file.c_str(), N + 1, steps, dt, t_end, initial.c_str(), stepper.resolved_linear_solver().c_str(),
-                stepper.linear_solver_rerouted() ? " (rerouted: Amesos2 gives wrong answers on 2+ ranks here)" : "");
+                stepper.linear_solver_rerouted() ? " (rerouted: Amesos2 gives wrong answers on 2+ ranks here)" : "",
+                path_text.c_str());
   long first_step = 1;
   if (opt.restart) {
     copy_output_steps(restart_from, writer, rp.steps_written, probe_names, field_names,
@@ -390,6 +405,13 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
       store_restart(i - 1);  // the stepper kept the state before the failed step
       writer.fail(os.str());
       throw NumericsError(os.str());
+    } catch (const solver::PlanarityLost& e) {
+      progress.done();
+      const std::string msg = "time step " + std::to_string(i) + " of " + std::to_string(steps) + ": " + e.what() +
+                              "; traverse run --restart " + opt.output + " --set scheme.planar=off continues on the 3D path";
+      store_restart(i - 1);
+      writer.fail(msg);
+      throw NumericsError(msg);
     }
     if (left_moves) r0 += 0.5 * h * (v_old + node0_velocity());
     if (i % sc.output.every == 0 || i == steps) {
@@ -412,8 +434,9 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   progress.done();
   writer.finish();
   if (rank == 0 && !opt.quiet)
-    std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve); %zu output steps -> %s\n", newton, substeps,
-                substeps ? double(newton) / double(substeps) : 0.0, writer.steps_written(), opt.output.c_str());
+    std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve) on the %s path; %zu output steps -> %s\n",
+                newton, substeps, substeps ? double(newton) / double(substeps) : 0.0, path.planar ? "planar" : "3D",
+                writer.steps_written(), opt.output.c_str());
 }
 
 }  // namespace traverse::app

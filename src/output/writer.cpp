@@ -310,6 +310,7 @@ Writer::Writer(MPI_Comm comm, const std::string& path, bool overwrite, const Run
     detail::write_string_attribute(root, "scene", info.scene_text);
     detail::write_string_attribute(root, "scene_file", info.scene_file);
     detail::write_string_attribute(root, "model", info.model);
+    for (const auto& [name, value] : info.attributes) detail::write_string_attribute(root, name, value);
 
     // /time, /sigma
     w.time_ds = create_extendible(root, "time", {}, {series_chunk_rows(1)});

@@ -50,6 +50,43 @@ LocalBlock make_block(Eigen::Index row, int rows, int p, std::vector<Eigen::Inde
   return b;
 }
 
+/// make_block's result in place, reusing b's storage when the sizes match (no allocation).
+void prepare_block(LocalBlock& b, Eigen::Index row, int rows, int p, Eigen::Index col0, Eigen::Index col1) {
+  b.row = row;
+  b.residual.setZero(rows);
+  b.cols.resize(2);
+  b.cols[0] = col0;
+  b.cols[1] = col1;
+  b.jac.resize(2);
+  for (MatX& J : b.jac) J.setZero(rows, p);
+}
+
+}  // namespace
+
+bool loads_touch_cell(const RodModel& model, const StepTimes& step, int j) {
+  const auto& loads = model.loads;
+  if (loads.point_forces.empty() && loads.masses.empty()) return false;
+  const AlphaParameters& a = model.alpha;
+  const int N = model.num_cells;
+  const double ds = model.ds();
+  const double tl0[2] = {step.t_new(), step.t_old};
+  auto touches = [&](const PointLoadWeights& W) {
+    return weight_at(W, j - 1) != 0.0 || weight_at(W, j) != 0.0;
+  };
+  bool any = false;
+  for (const PointForce& P : loads.point_forces)
+    for (int lev = 0; lev < 2 && !any; ++lev) any = touches(point_load_weights(P.sigma(tl0[lev]), N, ds, a.bs));
+  for (const MovingMass& M : loads.masses)
+    for (int lev = 0; lev < 2 && !any; ++lev) {
+      const double sigma = M.sigma(tl0[lev]);
+      any = touches(point_load_weights(sigma, N, ds, a.bs)) ||
+            (M.inertia && touches(point_load_weights(sigma, N, ds, a.as)));
+    }
+  return any;
+}
+
+namespace {
+
 void check_unknowns(const RodModel& model, const VecX& x) {
   if (x.size() != model.unknowns_per_node())
     throw std::invalid_argument("rod kernels: node unknown block has the wrong size");
@@ -122,25 +159,10 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
   const AlphaParameters& a = model.alpha;
   const int N = model.num_cells;
   const double ds = model.ds(), dt = step.dt;
-  {
-    // Speed: a load touches at most two cells, so most cells get nothing; return the zero
-    // block before the (costly) new-level frames are built. Same weights as below, so the
-    // result is identical.
-    const double tl0[2] = {step.t_new(), step.t_old};
-    auto touches = [&](const PointLoadWeights& W) {
-      return weight_at(W, j - 1) != 0.0 || weight_at(W, j) != 0.0;
-    };
-    bool any = false;
-    for (const PointForce& P : loads.point_forces)
-      for (int lev = 0; lev < 2 && !any; ++lev) any = touches(point_load_weights(P.sigma(tl0[lev]), N, ds, a.bs));
-    for (const MovingMass& M : loads.masses)
-      for (int lev = 0; lev < 2 && !any; ++lev) {
-        const double sigma = M.sigma(tl0[lev]);
-        any = touches(point_load_weights(sigma, N, ds, a.bs)) ||
-              (M.inertia && touches(point_load_weights(sigma, N, ds, a.as)));
-      }
-    if (!any) return b;
-  }
+  // Speed: a load touches at most two cells, so most cells get nothing; return the zero
+  // block before the (costly) new-level frames are built. Same weights as below, so the
+  // result is identical.
+  if (!loads_touch_cell(model, step, j)) return b;
   const Vec12 yn[2] = {new_prev.head<12>(), new_this.head<12>()};
   const RodNode* old[2] = {&old_prev, &old_this};
   const NewLevelNode nn[2] = {new_level_node(old_prev, yn[0], dt, a),
@@ -217,9 +239,37 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
   return b;
 }
 
+NodeFlux old_level_flux(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node) {
+  return node_flux(model, old_node.y, old_node.R, j * model.ds(), step.t_old);
+}
+
+void new_level_quantities(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node,
+                          const VecX& new_node, NodeLevels& out) {
+  check_unknowns(model, new_node);
+  const Vec12 y = new_node.head<12>();
+  out.nn = new_level_node(old_node, y, step.dt, model.alpha);
+  out.F_new = node_flux(model, y, out.nn.R, j * model.ds(), step.t_new());
+}
+
 LocalBlock cell_block(const RodModel& model, const StepTimes& step, int j,
                       const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
                       const VecX& new_this) {
+  if (j < 1 || j > model.num_cells) throw std::out_of_range("cell_block: cell index");
+  check_unknowns(model, new_prev);
+  check_unknowns(model, new_this);
+  NodeLevels lp, lc;
+  lp.F_old = old_level_flux(model, step, j - 1, old_prev);
+  lc.F_old = old_level_flux(model, step, j, old_this);
+  new_level_quantities(model, step, j - 1, old_prev, new_prev, lp);
+  new_level_quantities(model, step, j, old_this, new_this, lc);
+  LocalBlock b;
+  cell_block_into(b, model, step, j, old_prev, old_this, new_prev, new_this, lp, lc);
+  return b;
+}
+
+void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step, int j,
+                     const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
+                     const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur) {
   if (j < 1 || j > model.num_cells) throw std::out_of_range("cell_block: cell index");
   check_unknowns(model, new_prev);
   check_unknowns(model, new_this);
@@ -228,18 +278,16 @@ LocalBlock cell_block(const RodModel& model, const StepTimes& step, int j,
   const bool carried = model.carries_ys();
   const int p = model.unknowns_per_node();
   const double ds = model.ds(), dt = step.dt;
-  const double s_prev = (j - 1) * ds, s_this = j * ds;
   const Mat12 Mm = Mm_matrix(P), Kk = Kk_matrix(P);
 
-  LocalBlock b = make_block(model.cell_row(j), model.cell_rows(), p,
-                            {model.node_col(j - 1), model.node_col(j)});
+  prepare_block(b, model.cell_row(j), model.cell_rows(), p, model.node_col(j - 1), model.node_col(j));
   const Vec12 yp = new_prev.head<12>(), yc = new_this.head<12>();
-  const NewLevelNode np = new_level_node(old_prev, yp, dt, a);
-  const NewLevelNode nc = new_level_node(old_this, yc, dt, a);
-  const NodeFlux Fop = node_flux(model, old_prev.y, old_prev.R, s_prev, step.t_old);
-  const NodeFlux Foc = node_flux(model, old_this.y, old_this.R, s_this, step.t_old);
-  const NodeFlux Fnp = node_flux(model, yp, np.R, s_prev, step.t_new());
-  const NodeFlux Fnc = node_flux(model, yc, nc.R, s_this, step.t_new());
+  const NewLevelNode& np = prev.nn;
+  const NewLevelNode& nc = cur.nn;
+  const NodeFlux& Fop = prev.F_old;
+  const NodeFlux& Foc = cur.F_old;
+  const NodeFlux& Fnp = prev.F_new;
+  const NodeFlux& Fnc = cur.F_new;
 
   const Vec12 At = (1.0 - a.at) * ((1.0 - a.as) * nc.yt + a.as * np.yt) +
                    a.at * ((1.0 - a.as) * old_this.yt + a.as * old_prev.yt);
@@ -275,11 +323,12 @@ LocalBlock cell_block(const RodModel& model, const StepTimes& step, int j,
     Jp.block<12, 12>(0, 0) -= (1.0 - a.bt) / ds * Kk;
   }
 
-  const LocalBlock lb = load_block(model, step, j, old_prev, old_this, new_prev, new_this);
-  b.residual.head<12>() += lb.residual;
-  Jp.topRows(12) += lb.jac[0];
-  Jc.topRows(12) += lb.jac[1];
-  return b;
+  if (loads_touch_cell(model, step, j)) {  // else load_block is zero
+    const LocalBlock lb = load_block(model, step, j, old_prev, old_this, new_prev, new_this);
+    b.residual.head<12>() += lb.residual;
+    Jp.topRows(12) += lb.jac[0];
+    Jc.topRows(12) += lb.jac[1];
+  }
 }
 
 namespace {

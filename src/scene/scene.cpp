@@ -245,6 +245,11 @@ Param build_schema() {
   for (const char* k : {"as", "bs", "gs", "at", "bt", "gt"})
     alpha.add(real(k, std::string("Parameter ") + k, "").above(0.0).at_most(1.0).required());
   scheme.add(alpha);
+  scheme.add(choice("planar", "Planar fast path (docs/solver.md): auto = solve the in-plane system (6 unknowns per "
+                              "node instead of 12, same answers) when the rod, its initial state, the loads, gravity "
+                              "and the end conditions are symmetric about one plane; on = require it (a scene that is "
+                              "not planar is refused); off = always the 3D system",
+                    {"auto", "on", "off"}).def("auto"));
   scheme.check([](const ParameterList& s, const CheckContext& ctx) {
     if (s.isSublist("parameters") && (s.get<double>("rho_inf") != 1.0 || s.get<double>("rho_inf_space") != 1.0))
       ctx.fail("parameters", "either 'parameters' or rho_inf / rho_inf_space, not both", "both");
@@ -514,6 +519,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
     const auto& s = p.sublist("scheme");
     sc.scheme.rho_inf = s.get<double>("rho_inf");
     sc.scheme.rho_inf_space = s.get<double>("rho_inf_space");
+    sc.scheme.planar = s.get<std::string>("planar");
     if (s.isSublist("parameters")) {
       const auto& a = s.sublist("parameters");
       sc.scheme.explicit_parameters = true;

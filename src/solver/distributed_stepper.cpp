@@ -2,7 +2,9 @@
 
 #include <Teuchos_CommHelpers.hpp>
 #include <algorithm>
+#include <cmath>
 #include <iostream>
+#include <sstream>
 #include <stdexcept>
 
 #include "linear_solver_builder.hpp"
@@ -65,6 +67,70 @@ struct DistributedStepper::Impl {
   int full_newton_retries = 0;
   std::shared_ptr<DirectSolverStats> direct_stats = std::make_shared<DirectSolverStats>();
   bool reusing_klu2 = false;
+  std::shared_ptr<const rod::PlanarReduction> planar;  ///< null on the 3D path
+  double planar_tolerance = 1e-8;  ///< largest dropped residual accepted at a converged iterate
+
+  /// Mesh, model evaluator, linear solver and Newton solver for p unknowns per node (the
+  /// model's, or the planar reduction's).
+  void build() {
+    const rod::RodModel& rm = *model;
+    const int p = planar ? planar->unknowns_per_node() : rm.unknowns_per_node();
+    newton.reset();
+    me = Teuchos::null;
+    direct_stats = std::make_shared<DirectSolverStats>();
+    reusing_klu2 = false;
+    mesh = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(rm.length, rm.num_cells + 1), comm, p));
+    me = Teuchos::rcp(new RodStepModel(model, mesh, planar));
+    me->set_jacobian_reuse(params.get<bool>("Jacobian Reuse"), params.get<double>("Jacobian Reuse Contraction"));
+    if (params.get<std::string>("Direct Solver Path") == "Reuse Symbolic" && comm->getSize() == 1 &&
+        is_plain_klu2(choice)) {
+      RodStepModel* model_ptr = me.get();  // owned by the stepper, outlives the factory's use
+      me->set_W_factory(make_reusing_klu2_factory([model_ptr] { return model_ptr->jacobian_version(); },
+                                                  direct_stats));
+      reusing_klu2 = true;
+    } else if (choice.block_tridiagonal_direct && comm->getSize() == 1) {
+      RodStepModel* model_ptr = me.get();
+      me->set_W_factory(make_block_tridiagonal_solve_factory(
+          [model_ptr] { return model_ptr->jacobian_version(); }, direct_stats, choice.linear_tolerance));
+    } else {
+      const LinearSolverObjects ls = build_linear_solver(choice);
+      me->set_W_factory(ls.lows);
+      me->set_prec_factory(ls.prec);
+    }
+    x = Teuchos::rcp(new Tpetra::Vector<double>(mesh->dof_map()));
+  }
+
+  /// The Newton parameters. Planar path: NOX's update test is a WRMS norm, sqrt(sum w_i^2 / n)
+  /// over the n unknowns; the 3D solve's out-of-plane updates are zero, so over the in-plane
+  /// unknowns only (n / 2) the same updates give a norm sqrt(2) larger. Both update tolerances
+  /// are scaled by sqrt(p / q) = sqrt(2) so that the planar solve stops at the same iterate as
+  /// the 3D one (the max-norm residual test needs no change).
+  Teuchos::ParameterList newton_params() const {
+    Teuchos::ParameterList p = params;
+    if (planar) {
+      const double c = std::sqrt(double(planar->full_unknowns_per_node()) / planar->unknowns_per_node());
+      p.set("Update Relative Tolerance", c * params.get<double>("Update Relative Tolerance"));
+      p.set("Update Absolute Tolerance", c * params.get<double>("Update Absolute Tolerance"));
+    }
+    return p;
+  }
+
+  /// Planar path: the out-of-plane residual at the converged iterate (max over ranks) must be
+  /// within the Newton residual tolerance, else the problem was not planar after all.
+  void check_planarity(double t0, double dt) const {
+    if (!planar) return;
+    const double local = me->last_dropped_residual();
+    double d = local;
+    Teuchos::reduceAll<int, double>(*comm, Teuchos::REDUCE_MAX, 1, &local, &d);
+    if (!(d <= planar_tolerance)) {
+      std::ostringstream os;
+      os << "planar path: the out-of-plane residual is " << d << " at the converged state of the step from t = "
+         << t0 << " s (dt = " << dt << " s), above the residual tolerance " << planar_tolerance
+         << ": the problem is not symmetric about the " << planar->symmetry().describe()
+         << " (run it on the 3D path)";
+      throw PlanarityLost(os.str());
+    }
+  }
 
   bool attempt(double t0, double dt, StepReport& sr) {
     me->set_old_level(nodes, rod::StepTimes{t0, dt});
@@ -84,6 +150,7 @@ struct DistributedStepper::Impl {
       sr.linear_iterations += last.linear_iterations;
     }
     if (!last.converged) return false;
+    check_planarity(t0, dt);
     const std::vector<VecX> xg = me->ghosted_unknowns(*x);
     for (size_t k = 0; k < nodes.size(); ++k) nodes[k] = rod::advance_node(*model, nodes[k], xg[k], dt);
     t = t0 + dt;
@@ -116,33 +183,45 @@ DistributedStepper::DistributedStepper(rod::RodModel model,
   m.comm = comm;
   m.params = validated_solver_parameters(params);
   m.max_depth = m.params.get<int>("Max Subdivision Depth");
-  m.choice = LinearSolverChoice::resolve(m.params, comm->getSize());
+  m.choice = LinearSolverChoice::resolve(m.params, comm->getSize(), LinearSolverChoice::Use::time_step);
   if (m.choice.rerouted && m.params.get<bool>("Verbose") && comm->getRank() == 0)
     std::cout << "traverse notice: linear solver " << m.choice.resolved << std::endl;
 
+  m.planar_tolerance = m.params.get<double>("Residual Tolerance");
   const rod::RodModel& rm = *m.model;
-  m.mesh = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(rm.length, rm.num_cells + 1), comm,
-                                                  rm.unknowns_per_node()));
-  m.me = Teuchos::rcp(new RodStepModel(m.model, m.mesh));
-  m.me->set_jacobian_reuse(m.params.get<bool>("Jacobian Reuse"), m.params.get<double>("Jacobian Reuse Contraction"));
-  if (m.params.get<std::string>("Direct Solver Path") == "Reuse Symbolic" && comm->getSize() == 1 &&
-      is_plain_klu2(m.choice)) {
-    RodStepModel* model_ptr = m.me.get();  // owned by the stepper, outlives the factory's use
-    m.me->set_W_factory(make_reusing_klu2_factory([model_ptr] { return model_ptr->jacobian_version(); },
-                                                  m.direct_stats));
-    m.reusing_klu2 = true;
-  } else {
-    const LinearSolverObjects ls = build_linear_solver(m.choice);
-    m.me->set_W_factory(ls.lows);
-    m.me->set_prec_factory(ls.prec);
-  }
-  m.x = Teuchos::rcp(new Tpetra::Vector<double>(m.mesh->dof_map()));
+  m.build();
   set_state(rod::straight_rest_state(rm.num_cells, rm.length));
   m.me->set_old_level(m.nodes, rod::StepTimes{m.t, 0.0});
-  m.newton = std::make_unique<NewtonSolver>(m.me, m.params);
+  m.newton = std::make_unique<NewtonSolver>(m.me, m.newton_params());
 }
 
 DistributedStepper::~DistributedStepper() = default;
+
+void DistributedStepper::set_planar(const rod::PlanarSymmetry* symmetry) {
+  Impl& m = *impl_;
+  if (!symmetry && !m.planar) return;
+  const rod::RodState state = gather_state();  // collective; the partition does not change
+  m.planar = symmetry ? std::make_shared<const rod::PlanarReduction>(*m.model, *symmetry) : nullptr;
+  m.build();
+  set_state(state);
+  m.me->set_old_level(m.nodes, rod::StepTimes{m.t, 0.0});
+  m.newton = std::make_unique<NewtonSolver>(m.me, m.newton_params());
+}
+
+bool DistributedStepper::planar() const { return impl_->planar != nullptr; }
+
+const rod::PlanarSymmetry* DistributedStepper::planar_symmetry() const {
+  return impl_->planar ? &impl_->planar->symmetry() : nullptr;
+}
+
+int DistributedStepper::unknowns_per_node() const { return impl_->me->unknowns_per_node(); }
+
+std::string DistributedStepper::path_description() const {
+  const Impl& m = *impl_;
+  const int p = m.me->unknowns_per_node();
+  if (m.planar) return "planar (" + std::to_string(p) + " unknowns per node, " + m.planar->symmetry().describe() + ")";
+  return "3D (" + std::to_string(p) + " unknowns per node)";
+}
 
 void DistributedStepper::set_state(const rod::RodState& full) {
   Impl& m = *impl_;
@@ -163,7 +242,7 @@ StepReport DistributedStepper::step(double dt) {
   StepReport sr;
   try {
     m.advance(t0, dt, 0, sr, t0, dt);
-  } catch (const StepFailure&) {
+  } catch (const std::exception&) {  // StepFailure, PlanarityLost
     m.nodes = saved;
     m.t = t0;
     throw;

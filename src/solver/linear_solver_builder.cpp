@@ -8,8 +8,12 @@
 #include <Thyra_TpetraThyraWrappers.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <chrono>
+#include <algorithm>
 #include <functional>
+#include <string>
+#include <vector>
 
+#include "block_tridiagonal_preconditioner.hpp"
 #include "reusable_ifpack2_factory.hpp"
 #include "traverse/solver/rod_step_model.hpp"
 
@@ -83,6 +87,149 @@ class ReusingKlu2Factory : public Thyra::Amesos2LinearOpWithSolveFactory<double>
   mutable long factored_version_ = -2;
 };
 
+/// The block-tridiagonal LU as a LinearOpWithSolve (see make_block_tridiagonal_solve_factory).
+class BlockTridiagonalLows : public Thyra::LinearOpWithSolveBase<double> {
+ public:
+  void initialize(const Teuchos::RCP<const Thyra::LinearOpBase<double>>& fwd,
+                  const Teuchos::RCP<const Thyra::LinearOpSourceBase<double>>& src,
+                  const Teuchos::RCP<const BlockTridiagonalPreconditioner>& lu, double tolerance) {
+    fwd_ = fwd;
+    src_ = src;
+    lu_ = lu;
+    tolerance_ = tolerance;
+  }
+  const Teuchos::RCP<const Thyra::LinearOpSourceBase<double>>& source() const { return src_; }
+  void uninitialize() {
+    fwd_ = Teuchos::null;
+    src_ = Teuchos::null;
+  }
+
+  Teuchos::RCP<const Thyra::VectorSpaceBase<double>> range() const override {
+    return fwd_.is_null() ? Teuchos::null : fwd_->range();
+  }
+  Teuchos::RCP<const Thyra::VectorSpaceBase<double>> domain() const override {
+    return fwd_.is_null() ? Teuchos::null : fwd_->domain();
+  }
+
+ protected:
+  bool opSupportedImpl(Thyra::EOpTransp t) const override { return t == Thyra::NOTRANS; }
+  void applyImpl(const Thyra::EOpTransp t, const Thyra::MultiVectorBase<double>& X,
+                 const Teuchos::Ptr<Thyra::MultiVectorBase<double>>& Y, const double alpha,
+                 const double beta) const override {
+    Thyra::apply(*fwd_, t, X, Y, alpha, beta);
+  }
+  bool solveSupportsImpl(Thyra::EOpTransp t) const override { return t == Thyra::NOTRANS; }
+  bool solveSupportsSolveMeasureTypeImpl(Thyra::EOpTransp t, const Thyra::SolveMeasureType&) const override {
+    return t == Thyra::NOTRANS;
+  }
+  Thyra::SolveStatus<double> solveImpl(const Thyra::EOpTransp t, const Thyra::MultiVectorBase<double>& B,
+                                       const Teuchos::Ptr<Thyra::MultiVectorBase<double>>& X,
+                                       const Teuchos::Ptr<const Thyra::SolveCriteria<double>>) const override {
+    TEUCHOS_TEST_FOR_EXCEPTION(t != Thyra::NOTRANS, std::invalid_argument,
+                               "block-tridiagonal LU: only NOTRANS solves are supported");
+    const auto b = Converter::getConstTpetraMultiVector(Teuchos::rcpFromRef(B));
+    const auto x = Converter::getTpetraMultiVector(Teuchos::rcpFromPtr(X));
+    lu_->apply(*b, *x);
+    // Residual check and iterative refinement (x += LU^{-1} (b - A x)).
+    const size_t nv = b->getNumVectors();
+    MV r(b->getMap(), nv), dx(b->getMap(), nv);
+    std::vector<double> nb(nv), nr(nv);
+    b->normInf(Teuchos::ArrayView<double>(nb));
+    double worst = 0.0;
+    for (int pass = 0; pass <= 2; ++pass) {
+      lu_->matrix()->apply(*x, r);
+      r.update(1.0, *b, -1.0);
+      r.normInf(Teuchos::ArrayView<double>(nr));
+      worst = 0.0;
+      for (size_t j = 0; j < nv; ++j) worst = std::max(worst, nb[j] > 0.0 ? nr[j] / nb[j] : nr[j]);
+      if (worst <= tolerance_ || pass == 2) break;
+      lu_->apply(r, dx);
+      x->update(1.0, dx, 1.0);
+    }
+    Thyra::SolveStatus<double> st;
+    st.solveStatus = worst <= tolerance_ ? Thyra::SOLVE_STATUS_CONVERGED : Thyra::SOLVE_STATUS_UNCONVERGED;
+    st.achievedTol = worst;
+    st.message = "block-tridiagonal LU, max|b - A x| / max|b| = " + std::to_string(worst);
+    return st;
+  }
+
+ private:
+  Teuchos::RCP<const Thyra::LinearOpBase<double>> fwd_;
+  Teuchos::RCP<const Thyra::LinearOpSourceBase<double>> src_;
+  Teuchos::RCP<const BlockTridiagonalPreconditioner> lu_;
+  double tolerance_ = 1e-12;
+};
+
+class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<double> {
+ public:
+  BlockTridiagonalSolveFactory(std::function<long()> version, std::shared_ptr<DirectSolverStats> stats,
+                               double tolerance)
+      : version_(std::move(version)), stats_(std::move(stats)), tolerance_(tolerance) {}
+
+  bool isCompatible(const Thyra::LinearOpSourceBase<double>& src) const override {
+    return !Teuchos::rcp_dynamic_cast<const Matrix>(Converter::getConstTpetraOperator(src.getOp())).is_null();
+  }
+  Teuchos::RCP<Thyra::LinearOpWithSolveBase<double>> createOp() const override {
+    return Teuchos::rcp(new BlockTridiagonalLows);
+  }
+  void initializeOp(const Teuchos::RCP<const Thyra::LinearOpSourceBase<double>>& src,
+                    Thyra::LinearOpWithSolveBase<double>* op, const Thyra::ESupportSolveUse) const override {
+    TEUCHOS_TEST_FOR_EXCEPT(op == nullptr || src.is_null() || src->getOp().is_null());
+    const auto t0 = std::chrono::steady_clock::now();
+    const Teuchos::RCP<const Thyra::LinearOpBase<double>> fwd = src->getOp();
+    const auto A = Teuchos::rcp_dynamic_cast<const Matrix>(Converter::getConstTpetraOperator(fwd), true);
+    const long v = version_ ? version_() : -1;
+    if (lu_.is_null() || lu_->matrix().get() != A.get()) {
+      lu_ = Teuchos::rcp(new BlockTridiagonalPreconditioner(A));
+      lu_->compute();
+      ++stats_->symbolic;
+      ++stats_->numeric;
+    } else if (v < 0 || v != factored_version_) {
+      lu_->compute();
+      ++stats_->numeric;
+    } else {
+      ++stats_->reused;  // values unchanged since the last factorisation (modified Newton)
+    }
+    factored_version_ = v;
+    Teuchos::dyn_cast<BlockTridiagonalLows>(*op).initialize(fwd, src, lu_, tolerance_);
+    stats_->seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  }
+  void uninitializeOp(Thyra::LinearOpWithSolveBase<double>* op,
+                      Teuchos::RCP<const Thyra::LinearOpSourceBase<double>>* src,
+                      Teuchos::RCP<const Thyra::PreconditionerBase<double>>* prec,
+                      Teuchos::RCP<const Thyra::LinearOpSourceBase<double>>* approx,
+                      Thyra::ESupportSolveUse*) const override {
+    auto& lows = Teuchos::dyn_cast<BlockTridiagonalLows>(*op);
+    if (src) *src = lows.source();
+    if (prec) *prec = Teuchos::null;
+    if (approx) *approx = Teuchos::null;
+    lows.uninitialize();
+  }
+  bool supportsPreconditionerInputType(const Thyra::EPreconditionerInputType) const override { return false; }
+  void initializePreconditionedOp(const Teuchos::RCP<const Thyra::LinearOpSourceBase<double>>&,
+                                  const Teuchos::RCP<const Thyra::PreconditionerBase<double>>&,
+                                  Thyra::LinearOpWithSolveBase<double>*, const Thyra::ESupportSolveUse) const override {
+    TEUCHOS_TEST_FOR_EXCEPTION(true, std::logic_error, "block-tridiagonal LU: takes no preconditioner");
+  }
+
+  void setParameterList(const Teuchos::RCP<Teuchos::ParameterList>& pl) override { params_ = pl; }
+  Teuchos::RCP<Teuchos::ParameterList> getNonconstParameterList() override { return params_; }
+  Teuchos::RCP<Teuchos::ParameterList> unsetParameterList() override {
+    auto old = params_;
+    params_ = Teuchos::null;
+    return old;
+  }
+  std::string description() const override { return "traverse::solver::BlockTridiagonalSolveFactory"; }
+
+ private:
+  std::function<long()> version_;
+  std::shared_ptr<DirectSolverStats> stats_;
+  double tolerance_;
+  Teuchos::RCP<Teuchos::ParameterList> params_;
+  mutable Teuchos::RCP<BlockTridiagonalPreconditioner> lu_;
+  mutable long factored_version_ = -2;
+};
+
 }  // namespace
 
 LinearSolverObjects build_linear_solver(const LinearSolverChoice& choice) {
@@ -99,6 +246,12 @@ LinearSolverObjects build_linear_solver(const LinearSolverChoice& choice) {
   }
   out.lows = lows;
   return out;
+}
+
+Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_block_tridiagonal_solve_factory(
+    std::function<long()> jacobian_version, std::shared_ptr<DirectSolverStats> stats, double tolerance) {
+  if (!stats) stats = std::make_shared<DirectSolverStats>();
+  return Teuchos::rcp(new BlockTridiagonalSolveFactory(std::move(jacobian_version), std::move(stats), tolerance));
 }
 
 Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_reusing_klu2_factory(

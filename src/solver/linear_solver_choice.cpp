@@ -1,5 +1,6 @@
 #include "traverse/solver/linear_solver_choice.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "traverse/solver/solver_parameters.hpp"
@@ -11,6 +12,8 @@ namespace {
 std::string get_or(const Teuchos::ParameterList& pl, const std::string& key, const std::string& fallback) {
   return pl.isType<std::string>(key) ? pl.get<std::string>(key) : fallback;
 }
+
+constexpr int kBlockTridiagonalRestart = 40;
 
 const char* const kSchwarzText = "Ifpack2 SCHWARZ (overlap 1, Amesos2 KLU2 subdomains)";
 
@@ -50,6 +53,14 @@ Teuchos::ParameterList gmres_list(const Teuchos::ParameterList& p, const std::st
     sub.set("Amesos2 solver name", "klu2");
     sub.sublist("Amesos2");
     text += std::string(" + ") + kSchwarzText;
+  } else if (prec == "BLOCK_TRIDIAGONAL") {
+    // traverse's block-tridiagonal LU of each rank's rows (block_tridiagonal_preconditioner.hpp):
+    // exact on one rank (GMRES converges in one iteration), block Jacobi across ranks.
+    ip.set("Prec Type", "BLOCK_TRIDIAGONAL");
+    // One iteration on one rank, about 7 on two: a long restart cycle only costs memory (the
+    // Krylov basis is allocated up front: 200 vectors are 19 kB per node of the rod).
+    g.set("Num Blocks", std::min(p.get<int>("Krylov Subspace Size"), kBlockTridiagonalRestart));
+    text += " + block-tridiagonal LU of each rank's rows";
   } else if (prec == "ILUT") {
     ip.set("Prec Type", "ILUT");
     settings.set("fact: ilut level-of-fill", 3.0);
@@ -85,7 +96,7 @@ std::string describe_pass_through(const Teuchos::ParameterList& s) {
 
 }  // namespace
 
-LinearSolverChoice LinearSolverChoice::resolve(const Teuchos::ParameterList& given, int ranks) {
+LinearSolverChoice LinearSolverChoice::resolve(const Teuchos::ParameterList& given, int ranks, Use use) {
   const Teuchos::ParameterList p = validated_solver_parameters(given);
   LinearSolverChoice c;
   const Teuchos::ParameterList& pass = p.sublist("Stratimikos");
@@ -94,8 +105,10 @@ LinearSolverChoice LinearSolverChoice::resolve(const Teuchos::ParameterList& giv
     c.requested = describe_pass_through(pass);
   } else {
     std::string solver = p.get<std::string>("Linear Solver");
-    if (solver == "auto") solver = ranks > 1 ? "GMRES" : "KLU2";
-    if (solver == "KLU2") {
+    if (solver == "auto") solver = use == Use::time_step ? "auto-time-step" : ranks > 1 ? "GMRES" : "KLU2";
+    if (solver == "auto-time-step") {
+      c.stratimikos = gmres_list(p, "BLOCK_TRIDIAGONAL", c.requested);
+    } else if (solver == "KLU2") {
       c.stratimikos = amesos2_list();
       c.requested = "Amesos2 KLU2 (direct)";
     } else {
@@ -103,6 +116,14 @@ LinearSolverChoice LinearSolverChoice::resolve(const Teuchos::ParameterList& giv
     }
   }
   c.resolved = c.requested;
+  c.linear_tolerance = p.get<double>("Linear Tolerance");
+  if (ranks == 1 && pass.numParams() == 0 && c.stratimikos.isSublist("Preconditioner Types") &&
+      c.stratimikos.sublist("Preconditioner Types").isSublist("Ifpack2") &&
+      c.stratimikos.sublist("Preconditioner Types").sublist("Ifpack2").get<std::string>("Prec Type", "") ==
+          "BLOCK_TRIDIAGONAL") {
+    c.block_tridiagonal_direct = true;
+    c.resolved = "block-tridiagonal LU (direct on 1 rank, residual-checked)";
+  }
   const std::string lst = get_or(c.stratimikos, "Linear Solver Type", "Amesos");
   c.direct = lst == "Amesos2" || lst == "Amesos";
   if (lst == "Amesos2" && ranks > 1) {

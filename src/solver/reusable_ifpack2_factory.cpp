@@ -1,5 +1,7 @@
 #include "reusable_ifpack2_factory.hpp"
 
+#include "block_tridiagonal_preconditioner.hpp"
+
 #include <Ifpack2_Factory.hpp>
 #include <Thyra_DefaultPreconditioner.hpp>
 #include <Thyra_TpetraLinearOp.hpp>
@@ -60,6 +62,23 @@ void ReusableIfpack2Factory::initializePrec(
   if (type == "SCHWARZ" && !settings.isParameter("schwarz: overlap level"))
     settings.set("schwarz: overlap level", overlap);
 
+  if (type == "BLOCK_TRIDIAGONAL") {  // traverse's own exact block-tridiagonal LU
+    Teuchos::RCP<BlockTridiagonalPreconditioner> bt;
+    if (auto held = Teuchos::rcp_dynamic_cast<const ThyraTpetraOp>(dp->getUnspecifiedPrecOp()); !held.is_null()) {
+      auto op = Teuchos::rcp_const_cast<TpetraOp>(held->getConstTpetraOperator());
+      bt = Teuchos::rcp_dynamic_cast<BlockTridiagonalPreconditioner>(op);
+      if (!bt.is_null() && bt->matrix().get() != A.get()) bt = Teuchos::null;
+    }
+    if (bt.is_null()) {
+      bt = Teuchos::rcp(new BlockTridiagonalPreconditioner(A));
+      ++counters_.created;
+      ++counters_.initialized;
+      dp->initializeUnspecified(Thyra::createLinearOp(Teuchos::RCP<TpetraOp>(bt)));
+    }
+    bt->compute();
+    ++counters_.computed;
+    return;
+  }
   // The Ifpack2 object already held by this preconditioner, if it was built for A.
   Teuchos::RCP<Prec> ip;
   if (auto held = Teuchos::rcp_dynamic_cast<const ThyraTpetraOp>(dp->getUnspecifiedPrecOp());
@@ -76,6 +95,11 @@ void ReusableIfpack2Factory::initializePrec(
     ++counters_.created;
     ++counters_.initialized;
     dp->initializeUnspecified(Thyra::createLinearOp(Teuchos::RCP<TpetraOp>(ip)));
+  } else if (type == "BLOCK_RELAXATION") {
+    // Ifpack2 13.2's Banded (and other) containers zero their block storage in initialize()
+    // only, so compute() on new values would add to stale factors: initialize again.
+    ip->initialize();
+    ++counters_.initialized;
   } else if (type == "SCHWARZ" && overlap > 0 && A->getComm()->getSize() > 1) {
     ip->initialize();  // refresh the copied overlap rows
     ++counters_.initialized;
@@ -112,7 +136,7 @@ Teuchos::RCP<const Teuchos::ParameterList> ReusableIfpack2Factory::getParameterL
 Teuchos::RCP<const Teuchos::ParameterList> ReusableIfpack2Factory::getValidParameters() const {
   static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
     auto pl = Teuchos::rcp(new Teuchos::ParameterList("Ifpack2"));
-    pl->set("Prec Type", "ILUT", "Ifpack2 preconditioner type (ILUT, RILUK, SCHWARZ, RELAXATION, ...)");
+    pl->set("Prec Type", "ILUT", "Ifpack2 preconditioner type (ILUT, RILUK, SCHWARZ, RELAXATION, ...) or BLOCK_TRIDIAGONAL (traverse's own)");
     pl->set("Overlap", 0, "Additive Schwarz overlap (used when 'schwarz: overlap level' is absent)");
     pl->sublist("Ifpack2 Settings", false, "Handed to Ifpack2, which validates it")
         .disableRecursiveValidation();

@@ -20,10 +20,14 @@ using Extract = Thyra::TpetraOperatorVectorExtraction<double, LO, GO, Node>;
 }  // namespace
 
 RodStepModel::RodStepModel(std::shared_ptr<const rod::RodModel> model,
-                           Teuchos::RCP<const mesh::DistributedMesh> mesh)
-    : model_(std::move(model)), mesh_(std::move(mesh)) {
+                           Teuchos::RCP<const mesh::DistributedMesh> mesh,
+                           std::shared_ptr<const rod::PlanarReduction> planar)
+    : model_(std::move(model)), mesh_(std::move(mesh)), planar_(std::move(planar)) {
   if (!model_ || mesh_.is_null()) throw std::invalid_argument("RodStepModel: null model or mesh");
-  p_ = model_->unknowns_per_node();
+  full_p_ = model_->unknowns_per_node();
+  p_ = planar_ ? planar_->unknowns_per_node() : full_p_;
+  if (planar_ && planar_->full_unknowns_per_node() != full_p_)
+    throw std::invalid_argument("RodStepModel: the planar reduction belongs to another layout");
   if (mesh_->unknowns_per_node() != p_ || mesh_->mesh().num_nodes() != model_->num_cells + 1)
     throw std::invalid_argument(
         "RodStepModel: the mesh must have num_cells + 1 nodes and unknowns_per_node() unknowns per node");
@@ -85,6 +89,11 @@ void RodStepModel::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes,
     throw std::invalid_argument("RodStepModel::set_old_level: expected one node per ghosted node");
   old_nodes_ = std::move(ghosted_old_nodes);
   step_ = step;
+  // Old-level fluxes: fixed during the step's Newton iterations.
+  levels_.resize(old_nodes_.size());
+  const int g0 = mesh_->first_ghosted_node();
+  for (size_t k = 0; k < old_nodes_.size(); ++k)
+    levels_[k].F_old = rod::old_level_flux(*model_, step_, g0 + static_cast<int>(k), old_nodes_[k]);
   old_unknowns(*x0_);
   W_valid_ = false;  // W at the same x differs now (it depends on the old level)
   f_norms_.clear();
@@ -104,7 +113,8 @@ void RodStepModel::old_unknowns(Vector& x) const {
   const int off = mesh_->first_owned_node() - mesh_->first_ghosted_node();
   auto data = x.getDataNonConst();
   for (int k = 0; k < mesh_->num_owned_nodes(); ++k) {
-    const VecX u = rod::node_unknowns(*model_, old_nodes_[static_cast<size_t>(off + k)]);
+    VecX u = rod::node_unknowns(*model_, old_nodes_[static_cast<size_t>(off + k)]);
+    if (planar_) u = planar_->restrict_unknowns(u);
     for (int c = 0; c < p_; ++c) data[static_cast<size_t>(k) * p_ + c] = u(c);
   }
 }
@@ -120,31 +130,57 @@ void RodStepModel::ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out
   auto data = x_ghosted_->getData();
   out.resize(static_cast<size_t>(mesh_->num_ghosted_nodes()));
   for (size_t k = 0; k < out.size(); ++k) {
+    if (planar_) {
+      planar_->embed(&data[k * p_], out[k]);
+      continue;
+    }
     out[k].resize(p_);
     for (int c = 0; c < p_; ++c) out[k](c) = data[k * p_ + c];
   }
 }
 
-std::vector<rod::LocalBlock> RodStepModel::blocks(const std::vector<VecX>& xg) const {
+const std::vector<rod::LocalBlock>& RodStepModel::blocks(const std::vector<VecX>& xg, double* dropped_out) const {
   const int N = model_->num_cells;
   const int first = mesh_->first_owned_node(), last = first + mesh_->num_owned_nodes() - 1;
   const int g0 = mesh_->first_ghosted_node();
   auto O = [&](int j) -> const rod::RodNode& { return old_nodes_[static_cast<size_t>(j - g0)]; };
   auto X = [&](int j) -> const VecX& { return xg[static_cast<size_t>(j - g0)]; };
-  std::vector<rod::LocalBlock> out;
+  auto L = [&](int j) -> rod::NodeLevels& { return levels_[static_cast<size_t>(j - g0)]; };
   // Rows of node k are [p k, p (k+1)): they come from the end blocks and cells k, k+1.
-  if (first == 0) out.push_back(rod::left_block(*model_, step_, O(0), X(0)));
-  for (int j = std::max(1, first); j <= std::min(N, last + 1); ++j)
-    out.push_back(rod::cell_block(*model_, step_, j, O(j - 1), O(j), X(j - 1), X(j)));
-  if (last == N) out.push_back(rod::right_block(*model_, step_, O(N), X(N)));
+  const int c0 = std::max(1, first), c1 = std::min(N, last + 1);
+  const size_t count = static_cast<size_t>(std::max(0, c1 - c0 + 1)) + (first == 0) + (last == N);
+  // Each node's new-level frame and flux once (shared by its two cells); the old-level
+  // fluxes were computed in set_old_level. Same arithmetic as cell_block.
+  for (int j = c0 - 1; j <= c1 && c0 <= c1; ++j) rod::new_level_quantities(*model_, step_, j, O(j), X(j), L(j));
+  std::vector<rod::LocalBlock>& out = planar_ ? planar_blocks_ : blocks_;
+  out.resize(count);
+  size_t i = 0;
+  if (!planar_) {
+    if (first == 0) out[i++] = rod::left_block(*model_, step_, O(0), X(0));
+    for (int j = c0; j <= c1; ++j)
+      rod::cell_block_into(out[i++], *model_, step_, j, O(j - 1), O(j), X(j - 1), X(j), L(j - 1), L(j));
+    if (last == N) out[i++] = rod::right_block(*model_, step_, O(N), X(N));
+    return out;
+  }
+  // Planar layout (row r still belongs to node r / q): the in-plane rows and columns, the cells
+  // computed directly in-plane; note the largest dropped (out-of-plane) residual.
+  double dropped = 0.0;
+  if (first == 0) dropped = std::max(dropped, planar_->restrict_block(rod::left_block(*model_, step_, O(0), X(0)), out[i++]));
+  for (int j = c0; j <= c1; ++j)
+    dropped = std::max(dropped, planar_->cell_block_into(out[i++], *model_, step_, j, O(j - 1), O(j), X(j - 1), X(j),
+                                                         L(j - 1), L(j)));
+  if (last == N) dropped = std::max(dropped, planar_->restrict_block(rod::right_block(*model_, step_, O(N), X(N)), out[i++]));
+  if (dropped_out) *dropped_out = dropped;
   return out;
 }
 
 void RodStepModel::fill(const Vector& x, Vector* f, Matrix* W) const {
   if (old_nodes_.empty()) throw std::logic_error("RodStepModel: evaluated before set_old_level");
   ghosted_unknowns_into(x, xg_);
-  const std::vector<rod::LocalBlock> bl = blocks(xg_);
+  double dropped = 0.0;
+  const std::vector<rod::LocalBlock>& bl = blocks(xg_, &dropped);
   if (f) {
+    dropped_ = dropped;
     f->putScalar(0.0);
     auto fd = f->getDataNonConst();
     for (const auto& b : bl)

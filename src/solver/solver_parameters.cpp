@@ -11,12 +11,15 @@ Teuchos::RCP<const Teuchos::ParameterList> valid_solver_parameters() {
     auto pl = Teuchos::rcp(new Teuchos::ParameterList("Rod Solver"));
     Teuchos::setStringToIntegralParameter<int>(
         "Linear Solver", "auto",
-        "Linear solver: auto (KLU2 on 1 rank, GMRES on more), KLU2 (Amesos2 direct), GMRES (Belos)",
+        "Linear solver: auto (rod time step: GMRES + BLOCK_TRIDIAGONAL on any rank count; statics: "
+        "KLU2 on 1 rank, GMRES + SCHWARZ on more), KLU2 (Amesos2 direct), GMRES (Belos)",
         tuple<std::string>("auto", "KLU2", "GMRES"), pl.get());
     Teuchos::setStringToIntegralParameter<int>(
         "Preconditioner", "SCHWARZ",
-        "Ifpack2 preconditioner of GMRES: SCHWARZ (overlap 1, KLU2 subdomains), ILUT, RILUK, None",
-        tuple<std::string>("SCHWARZ", "ILUT", "RILUK", "None"), pl.get());
+        "Ifpack2 preconditioner of GMRES: SCHWARZ (overlap 1, KLU2 subdomains), BLOCK_TRIDIAGONAL "
+        "(block-tridiagonal LU of each rank's rows: exact on 1 rank, block Jacobi across ranks), "
+        "ILUT, RILUK, None",
+        tuple<std::string>("SCHWARZ", "BLOCK_TRIDIAGONAL", "ILUT", "RILUK", "None"), pl.get());
     pl->set("Linear Tolerance", 1e-12, "Relative residual reduction of each Krylov solve");
     pl->set("Max Linear Iterations", 500, "Maximum Krylov iterations per linear solve");
     pl->set("Krylov Subspace Size", 200, "GMRES restart length");

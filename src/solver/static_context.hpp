@@ -23,7 +23,7 @@ struct StaticContext {
   /// Frames of `state` become the model's references (state should be rebased).
   StaticContext(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state, const Comm& comm,
                 const Teuchos::ParameterList& solver);
-  /// Solves W y = b (Stratimikos); false when the solver reports failure.
+  /// Solves W y = b (Stratimikos); false on every rank when the solver reports failure on any.
   bool solve(const StaticRodModel::Matrix& W, const StaticRodModel::Vector& b, StaticRodModel::Vector& y) const;
 };
 

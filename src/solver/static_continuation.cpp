@@ -1,11 +1,14 @@
 // Statics and continuation through LOCA (see static_continuation.hpp and docs/statics.md).
 #include "traverse/solver/static_continuation.hpp"
 
+#include <Teuchos_CommHelpers.hpp>
 #include <Teuchos_oblackholestream.hpp>
 
 #include <LOCA.H>
 #include <LOCA_Thyra.H>
 #include <LOCA_Thyra_SaveDataStrategy.H>
+#include <LOCA_MultiContinuation_AbstractStrategy.H>
+#include <LOCA_MultiContinuation_ExtendedVector.H>
 #include <LOCA_StatusTest_Abstract.H>
 #include <NOX_StatusTest_Combo.H>
 #include <NOX_StatusTest_FiniteValue.H>
@@ -19,6 +22,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <limits>
 #include <stdexcept>
 
 #include "linear_solver_builder.hpp"
@@ -89,23 +93,41 @@ StaticContext::StaticContext(const rod::StaticProblem& problem, const std::vecto
 }
 
 bool StaticContext::solve(const Matrix& W, const Vector& b, Vector& y) const {
+  // Every verdict is collective: a direct solver can fail on one rank's block only (a singular
+  // subdomain factorisation throws there), and all ranks must then take the same branch.
+  auto everywhere = [this](bool local) {
+    const int l = local ? 1 : 0;
+    int g = 0;
+    Teuchos::reduceAll<int, int>(*comm, Teuchos::REDUCE_MIN, l, Teuchos::outArg(g));
+    return g == 1;
+  };
+  const bool debug = std::getenv("TRAVERSE_STATICS_DEBUG") != nullptr;
   auto space = model->get_x_space();
   auto Wc = Teuchos::rcp_const_cast<Matrix>(Teuchos::rcpFromRef(W));
   auto op = Thyra::tpetraLinearOp<double, LO, GO, Node>(space, space, Wc);
   auto bt = Thyra::createConstVector(Teuchos::rcpFromRef(b), space);
   auto yt = Thyra::createVector(Teuchos::rcpFromRef(y), space);
+  Teuchos::RCP<Thyra::LinearOpWithSolveBase<double>> lowsop;
+  bool ok = true;
   try {
-    auto lowsop = Thyra::linearOpWithSolve<double>(*lows, op);
-    const Thyra::SolveStatus<double> st = Thyra::solve<double>(*lowsop, Thyra::NOTRANS, *bt, yt.ptr());
-    if (std::getenv("TRAVERSE_STATICS_DEBUG")) std::cout << "solve: " << st.message << " " << st.achievedTol << "\n";
-    // Belos may flag "unconverged" on a loss-of-accuracy check with a tiny achieved tolerance.
-    const bool ok = st.solveStatus != Thyra::SOLVE_STATUS_UNCONVERGED ||
-                    (st.achievedTol != Thyra::SolveStatus<double>::unknownTolerance() && st.achievedTol <= 1e-9);
-    return ok && std::isfinite(y.normInf());
+    lowsop = Thyra::linearOpWithSolve<double>(*lows, op);  // factorisation / preconditioner set-up
   } catch (const std::exception& e) {
-    if (std::getenv("TRAVERSE_STATICS_DEBUG")) std::cout << "solve: " << e.what() << "\n";
-    return false;  // e.g. a singular matrix in the direct solver
+    if (debug) std::cout << "solve set-up: " << e.what() << "\n";
+    ok = false;
   }
+  if (!everywhere(ok)) return false;
+  try {
+    const Thyra::SolveStatus<double> st = Thyra::solve<double>(*lowsop, Thyra::NOTRANS, *bt, yt.ptr());
+    if (debug) std::cout << "solve: " << st.message << " " << st.achievedTol << "\n";
+    // Belos may flag "unconverged" on a loss-of-accuracy check with a tiny achieved tolerance.
+    ok = st.solveStatus != Thyra::SOLVE_STATUS_UNCONVERGED ||
+         (st.achievedTol != Thyra::SolveStatus<double>::unknownTolerance() && st.achievedTol <= 1e-9);
+  } catch (const std::exception& e) {
+    if (debug) std::cout << "solve: " << e.what() << "\n";
+    ok = false;
+  }
+  if (!everywhere(ok)) return false;
+  return std::isfinite(y.normInf());
 }
 
 StaticSolveReport bordered_newton(const StaticContext& ctx, Vector& x, Params& p, int iparam, const Vector* a,
@@ -208,51 +230,156 @@ class StopTest : public LOCA::StatusTest::Abstract {
   LOCA::StatusTest::StatusType status_ = LOCA::StatusTest::Unevaluated;
 };
 
+int sign_of(double v) { return v > 0.0 ? 1 : (v < 0.0 ? -1 : 0); }
+
+bool debug_output() { return std::getenv("TRAVERSE_STATICS_DEBUG") != nullptr; }
+
 struct Run {
+  Run(const StaticContext& c, const ContinuationOptions& o, const PointCallback& f, ContinuationResult& r)
+      : ctx(c), opt(o), cb(f), res(r) {}
   const StaticContext& ctx;
   const ContinuationOptions& opt;
   const PointCallback& cb;
   ContinuationResult& res;
   std::vector<Teuchos::RCP<Vector>> xs;  ///< distributed state of each point (model frames)
   std::vector<Params> ps;
+  std::vector<Stability> stab;           ///< per point (converged = false when not computed)
   bool stop_requested = false;
   bool out_of_bounds = false;
+  bool landing_failed = false;
+  /// Stability of the last point that passed the acceptance test (reused when it is recorded).
+  Teuchos::RCP<Vector> pending_x;
+  double pending_p = std::numeric_limits<double>::quiet_NaN();
+  Stability pending_s;
+  double lambda_ref = 0.0;  ///< largest |lowest omega^2| seen
 
+  size_t ip() const { return static_cast<size_t>(opt.parameter); }
+  bool verbose() const { return (opt.verbose || debug_output()) && ctx.comm->getRank() == 0; }
+
+  Stability stability_at(const Vector& x, const Params& p) {
+    if (pending_x != Teuchos::null && p[ip()] == pending_p) {
+      Vector d(x, Teuchos::Copy);
+      d.update(-1.0, *pending_x, 1.0);
+      if (d.normInf() == 0.0) return pending_s;
+    }
+    return compute_stability(ctx, x, p, opt.stability);
+  }
+
+  /// Records an accepted point. A point beyond a bound of the parameter, or one that creeps
+  /// up to it (closer than 1e-3 max_step), is replaced by the solution on the bound (a
+  /// fixed-parameter Newton solve from the interpolation between it and the previous point)
+  /// when land_on_bounds; the run then stops.
   void record(const Vector& x, const Params& p) {
     if (!xs.empty()) {  // LOCA re-saves the last point when it finishes on its own target step
       Vector d(x, Teuchos::Copy);
       d.update(-1.0, *xs.back(), 1.0);
-      const size_t ip = static_cast<size_t>(opt.parameter);
-      if (d.normInf() <= 1e-9 * (1.0 + x.normInf()) && std::abs(p[ip] - ps.back()[ip]) <= 1e-13 * (1.0 + std::abs(p[ip])))
+      if (d.normInf() <= 1e-9 * (1.0 + x.normInf()) && std::abs(p[ip()] - ps.back()[ip()]) <= 1e-13 * (1.0 + std::abs(p[ip()])))
         return;
     }
+    const double v = p[ip()];
+    if (xs.empty() || !opt.land_on_bounds) {
+      add(x, p);
+      return;
+    }
+    const double prev = ps.back()[ip()];
+    const double near = std::max(1e-6 * (1.0 + std::abs(v)), 1e-3 * std::abs(opt.max_step));
+    double bound = std::numeric_limits<double>::quiet_NaN();
+    if (v > opt.max_value || (v > prev && v > opt.max_value - near)) bound = opt.max_value;
+    if (v < opt.min_value || (v < prev && v < opt.min_value + near)) bound = opt.min_value;
+    if (!std::isfinite(bound) || v == bound) {
+      add(x, p);
+      return;
+    }
+    const double w = (bound - prev) / (v - prev);
+    Vector xl(x, Teuchos::Copy);
+    xl.update(1.0 - w, *xs.back(), w, x, 0.0);
+    Params pl = p;
+    pl[ip()] = bound;
+    const StaticSolveReport r = bordered_newton(ctx, xl, pl, -1, nullptr, nullptr, 0.0, opt.max_newton_iterations + 10,
+                                                opt.residual_tolerance, opt.update_tolerance);
+    if (r.converged) {
+      add(xl, pl);
+    } else {
+      landing_failed = true;
+      add(x, p);
+    }
+    out_of_bounds = true;
+  }
+
+  void add(const Vector& x, const Params& p) {
     ContinuationPoint pt;
     pt.step = static_cast<int>(res.points.size());
-    pt.parameter = p[static_cast<size_t>(opt.parameter)];
+    pt.parameter = p[ip()];
     const rod::StaticModel m = ctx.model->problem().model(p);
     pt.state = rebased(ctx.model->gather(x));
     for (const auto& pr : opt.probes) pt.probes.push_back(pr.eval(m, pt.state));
+    Stability s;
     if (opt.stability.enabled) {
-      const Stability s = compute_stability(ctx, x, p, opt.stability);
+      s = stability_at(x, p);
       if (s.converged) {
         pt.unstable_modes = s.unstable_modes;
         pt.critical_eigenvalue = s.critical;
+        if (!s.eigenvalues.empty()) lambda_ref = std::max(lambda_ref, std::abs(s.eigenvalues.front()));
       }
     }
+    s.critical_mode.clear();  // not needed per point
+    stab.push_back(std::move(s));
     auto xc = Teuchos::rcp(new Vector(x, Teuchos::Copy));
     xs.push_back(xc);
     ps.push_back(p);
     res.points.push_back(pt);
-    if (pt.parameter > opt.max_value || pt.parameter < opt.min_value) out_of_bounds = true;
-    if (res.points.size() >= 2) {  // LOCA creeps towards a bound in ever smaller arclength steps
+    if (res.points.size() >= 2) {
       const double prev = res.points[res.points.size() - 2].parameter;
-      const double tol = 1e-6 * (1.0 + std::abs(pt.parameter));
-      if ((pt.parameter > prev && pt.parameter > opt.max_value - tol) ||
-          (pt.parameter < prev && pt.parameter < opt.min_value + tol))
+      if ((pt.parameter > prev && pt.parameter >= opt.max_value) || (pt.parameter < prev && pt.parameter <= opt.min_value))
         out_of_bounds = true;
     }
     if (cb) cb(res.points.back());
     if (opt.stop && opt.stop(res.points.back())) stop_requested = true;
+  }
+
+  /// Floor of the eigenvalue-change test [1/s^2].
+  double eigenvalue_floor() const {
+    const auto& b = ctx.model->problem().base;
+    const double EI = b.props.K.head<2>().minCoeff();
+    return std::max(opt.eigenvalue_floor * lambda_ref, 10.0 * EI / (b.props.rhoA * std::pow(b.length, 4)));
+  }
+
+  /// Acceptance test of a converged continuation step (size h) from the last recorded point to
+  /// (xb, pb): the eigenvalue-change test of ContinuationOptions::eigenvalue_change.
+  bool accept(const Vector& xb, double pb, double h) {
+    if (xs.empty()) return true;
+    const double pa = ps.back()[ip()];
+    bool ok = true;
+    std::string why;
+    Params p = ps.back();
+    p[ip()] = pb;
+    pending_x = Teuchos::null;
+    if (opt.stability.enabled && opt.eigenvalue_change > 0.0 && stab.back().converged) {
+      Stability s = compute_stability(ctx, xb, p, opt.stability);
+      if (s.converged) {
+        const auto& la = stab.back().eigenvalues;
+        const auto& lb = s.eigenvalues;
+        const size_t m = std::min({static_cast<size_t>(std::max(stab.back().unstable_modes, s.unstable_modes) + 1),
+                                   la.size(), lb.size()});
+        const double floor = eigenvalue_floor();
+        for (size_t i = 0; i < m && ok; ++i)
+          if (std::abs(lb[i] - la[i]) > opt.eigenvalue_change * std::max(std::abs(la[i]), floor)) {
+            ok = false;
+            why = "eigenvalue " + std::to_string(i) + " " + std::to_string(la[i]) + " -> " + std::to_string(lb[i]) +
+                  " (floor " + std::to_string(floor) + ")";
+          }
+      }
+      if (ok) {
+        pending_x = Teuchos::rcp(new Vector(xb, Teuchos::Copy));
+        pending_p = pb;
+        pending_s = std::move(s);
+      }
+    }
+    if (verbose())
+      std::cout << "step " << pa << " -> " << pb << " (h = " << h << ")" << (ok ? " accepted" : " REJECTED: " + why)
+                << "\n";
+    if (!ok) ++res.rejected_steps;
+    return ok;
   }
 };
 
@@ -267,16 +394,54 @@ void Recorder::saveSolution(const NOX::Abstract::Vector& x, double pval) {
 LOCA::StatusTest::StatusType StopTest::checkStatus(const LOCA::Abstract::Iterator& stepper,
                                                    LOCA::StatusTest::CheckType) {
   // "Failed" also for a regular stop: with "Finished" the stepper takes one more natural step
-  // towards a target value of its own; how the run ended is judged by run_loca.
+  // towards a target value of its own; how the run ended is judged by run_loca. Steps count
+  // accepted points; rejected and failed steps are bounded separately.
   status_ = LOCA::StatusTest::NotFinished;
-  if (run_.stop_requested || run_.out_of_bounds || stepper.getNumTotalSteps() >= run_.opt.max_steps)
+  if (run_.stop_requested || run_.out_of_bounds || stepper.getStepNumber() > run_.opt.max_steps ||
+      stepper.getNumFailedSteps() > std::max(100, run_.opt.max_steps))
     status_ = LOCA::StatusTest::Failed;
   return status_;
 }
 
-int sign_of(double v) { return v > 0.0 ? 1 : (v < 0.0 ? -1 : 0); }
+const Vector& tpetra_of(const NOX::Abstract::Vector& v) {
+  const auto& nx = dynamic_cast<const NOX::Thyra::Vector&>(v);
+  return *Extract::getConstTpetraVector(nx.getThyraRCPVector());
+}
 
-/// Locates the bifurcation between points i-1 and i (see the header).
+/// LOCA's stepper with an acceptance test of every converged step (Run::accept): a rejected
+/// step counts as a failed one (LOCA restores the previous point and halves the step).
+class GuardedStepper : public LOCA::Stepper {
+ public:
+  GuardedStepper(const Teuchos::RCP<LOCA::GlobalData>& gd, const Teuchos::RCP<LOCA::MultiContinuation::AbstractGroup>& g,
+                 const Teuchos::RCP<LOCA::StatusTest::Abstract>& st, const Teuchos::RCP<NOX::StatusTest::Generic>& nt,
+                 const Teuchos::RCP<Teuchos::ParameterList>& p, Run& run)
+      : LOCA::Stepper(gd, g, st, nt, p), run_(run) {}
+
+ protected:
+  LOCA::Abstract::Iterator::StepStatus postprocess(LOCA::Abstract::Iterator::StepStatus status) override {
+    if (status == LOCA::Abstract::Iterator::Successful && !curGroupPtr.is_null()) {
+      const auto& xb = dynamic_cast<const LOCA::MultiContinuation::ExtendedVector&>(curGroupPtr->getX());
+      if (!run_.accept(tpetra_of(*xb.getXVec()), xb.getScalar(0), stepSize))
+        status = LOCA::Abstract::Iterator::Unsuccessful;
+    }
+    return LOCA::Stepper::postprocess(status);
+  }
+
+ private:
+  Run& run_;
+};
+
+/// The test function of a crossing between points i-1 and i: the eigenvalue omega^2 that
+/// changes sign, the k-th smallest with k the smaller unstable-mode count of the two.
+double crossing_eigenvalue(const Stability& s, int k) {
+  if (!s.converged || k < 0 || static_cast<size_t>(k) >= s.eigenvalues.size())
+    return std::numeric_limits<double>::quiet_NaN();
+  return s.eigenvalues[static_cast<size_t>(k)];
+}
+
+/// Locates the bifurcation between points i-1 and i (see the header): the states on the chord
+/// hyperplanes a . (x - x_a) = c |a|^2, a = x_b - x_a, c in (0, 1), p free (bordered Newton),
+/// with an Illinois iteration on c for the crossing eigenvalue.
 Bifurcation locate(Run& run, size_t i) {
   const StaticContext& ctx = run.ctx;
   const ContinuationOptions& opt = run.opt;
@@ -285,71 +450,66 @@ Bifurcation locate(Run& run, size_t i) {
   b.after_point = static_cast<int>(i);
   b.unstable_before = P[i - 1].unstable_modes;
   b.unstable_after = P[i].unstable_modes;
-  const size_t ip = static_cast<size_t>(opt.parameter);
+  const int k = std::min(b.unstable_before, b.unstable_after);
+  const size_t ip = run.ip();
   const Vector& xa = *run.xs[i - 1];
   const Vector& xb = *run.xs[i];
-  Vector diff(xa.getMap());
-  diff.update(1.0, xb, -1.0, xa, 0.0);
-  // Local coordinate: the unknown that changes most between the two points.
-  const auto dn = ctx.model->gather(diff);
-  GO k = 0;
-  double dk = 0.0;
-  for (size_t j = 0; j < dn.size(); ++j)
-    for (int c = 0; c < 12; ++c)
-      if (std::abs(dn[j].x(c)) > std::abs(dk)) {
-        dk = dn[j].x(c);
-        k = static_cast<GO>(12 * j + static_cast<size_t>(c));
-      }
   Vector a(xa.getMap());
-  a.putScalar(0.0);
-  if (a.getMap()->isNodeGlobalElement(k)) a.replaceGlobalValue(k, 1.0);
+  a.update(1.0, xb, -1.0, xa, 0.0);
+  const double aa = a.dot(a);
   const double pa = run.ps[i - 1][ip], pb = run.ps[i][ip];
-  double ca = 0.0, cb = dk, fa = P[i - 1].critical_eigenvalue, fb = P[i].critical_eigenvalue;
+  double ca = 0.0, cb = 1.0;
+  double fa = crossing_eigenvalue(run.stab[i - 1], k), fb = crossing_eigenvalue(run.stab[i], k);
+  const double fscale = std::max(std::abs(fa), std::abs(fb));
   Vector x(xa, Teuchos::Copy), best_x(xa, Teuchos::Copy);
   Params p = run.ps[i - 1], best_p = p;
   Stability best_s;
-  double c_last = 0.5 * dk;
-  bool have = false;
+  double c_last = std::numeric_limits<double>::quiet_NaN(), best_c = 0.0;
+  double best_f = std::numeric_limits<double>::quiet_NaN();
+  bool have = false, c_converged = false;
   const bool bracket = std::isfinite(fa) && std::isfinite(fb) && sign_of(fa) * sign_of(fb) < 0;
   int side = 0;
   for (int it = 0; it < 60; ++it) {
     double c = bracket ? cb - fb * (cb - ca) / (fb - fa) : 0.5 * (ca + cb);
     if (!(c > std::min(ca, cb) && c < std::max(ca, cb))) c = 0.5 * (ca + cb);
-    // Guess: linear between the bracketing points (or the last located iterate).
-    const double w = c / dk;
+    // Guess: the last iterate when there is one, else linear between the bracketing points.
     if (!have) {
-      x.update(1.0 - w, xa, w, xb, 0.0);
+      x.update(1.0 - c, xa, c, xb, 0.0);
       p = run.ps[i - 1];
-      p[ip] = (1.0 - w) * pa + w * pb;
+      p[ip] = (1.0 - c) * pa + c * pb;
     } else {
-      x.update(1.0, best_x, 0.0);
+      x.update(1.0, best_x, c - best_c, a, 0.0);
       p = best_p;
     }
-    StaticSolveReport r = bordered_newton(ctx, x, p, static_cast<int>(ip), &a, &xa, c, opt.max_newton_iterations + 10,
+    StaticSolveReport r = bordered_newton(ctx, x, p, static_cast<int>(ip), &a, &xa, c * aa, opt.max_newton_iterations + 10,
                                           opt.residual_tolerance, opt.update_tolerance);
-    if (!r.converged && !have) {  // retry from the nearer bracketing point itself
-      x.update(1.0, w < 0.5 ? xa : xb, 0.0);
-      p = run.ps[w < 0.5 ? i - 1 : i];
-      r = bordered_newton(ctx, x, p, static_cast<int>(ip), &a, &xa, c, 2 * opt.max_newton_iterations + 20,
+    if (!r.converged) {  // retry from the nearer bracketing point itself
+      const bool near_a = c < 0.5;
+      x.update(1.0, near_a ? xa : xb, 0.0);
+      p = run.ps[near_a ? i - 1 : i];
+      r = bordered_newton(ctx, x, p, static_cast<int>(ip), &a, &xa, c * aa, 2 * opt.max_newton_iterations + 20,
                           opt.residual_tolerance, opt.update_tolerance);
     }
     if (!r.converged) {
-      if (opt.verbose && ctx.comm->getRank() == 0)
-        std::cout << "locate: Newton failed at c = " << c << ": " << r.message << "\n";
+      if (run.verbose()) std::cout << "locate: Newton failed at c = " << c << ": " << r.message << "\n";
       break;
     }
     const Stability s = compute_stability(ctx, x, p, opt.stability);
-    if (opt.verbose && ctx.comm->getRank() == 0)
-      std::cout << "locate: c = " << c << " p = " << p[ip] << " test = " << s.critical << " (" << s.converged << ")\n";
-    if (!s.converged) break;
+    const double f = crossing_eigenvalue(s, k);
+    if (run.verbose())
+      std::cout << "locate: c = " << c << " p = " << p[ip] << " test = " << f << " (" << s.converged << ")\n";
+    if (!s.converged || !std::isfinite(f)) break;
     ++b.locate_iterations;
-    best_x.update(1.0, x, 0.0);
-    best_p = p;
-    best_s = s;
+    if (!have || !bracket || std::abs(f) <= std::abs(best_f)) {  // keep the iterate nearest the crossing
+      best_x.update(1.0, x, 0.0);
+      best_p = p;
+      best_s = s;
+      best_c = c;
+      best_f = f;
+    }
     have = true;
-    const double f = s.critical;
-    const bool done = std::abs(c - c_last) <= opt.locate_tolerance * std::abs(dk) ||
-                      std::abs(f) <= 1e-13 * std::abs(stability_shift(ctx.model->problem(), opt.stability)) * 100.0;
+    const bool small = std::abs(f) <= 1e-9 * fscale;
+    const bool still = std::isfinite(c_last) && std::abs(c - c_last) <= opt.locate_tolerance;
     c_last = c;
     if (bracket) {
       if (sign_of(f) == sign_of(fb)) {
@@ -368,17 +528,22 @@ Bifurcation locate(Run& run, size_t i) {
       if (s.unstable_modes == b.unstable_after) cb = c;
       else ca = c;
     }
-    if (done) {
-      b.located = true;
+    if (small || still) {
+      c_converged = still;
       break;
     }
   }
+  // Located: the crossing eigenvalue at the reported state is below 1e-5 of its values at the
+  // bracketing points (the iteration ends when it is below 1e-9, when c stops moving, or when a
+  // solve fails - near the singular point with an iterative linear solver on several ranks);
+  // without a sign change, when the bisection on the mode count has converged.
+  if (have) b.located = bracket ? std::abs(best_f) <= 1e-5 * fscale : c_converged;
   if (!have) {  // fall back to the bracketing point
     best_x.update(1.0, xb, 0.0);
     best_p = run.ps[i];
   }
   b.parameter = best_p[ip];
-  b.test_function = best_s.critical;
+  b.test_function = best_s.converged ? crossing_eigenvalue(best_s, k) : std::numeric_limits<double>::quiet_NaN();
   b.null_vector = best_s.critical_mode;
   b.state = rebased(ctx.model->gather(best_x));
   const rod::StaticModel m = ctx.model->problem().model(best_p);
@@ -396,6 +561,7 @@ Bifurcation locate(Run& run, size_t i) {
     }
   const double cosine = (nphi > 0.0 && nt > 0.0) ? std::abs(dot) / std::sqrt(nphi * nt) : 0.0;
   const bool fold = cosine > 0.3;
+  if (run.verbose()) std::cout << "locate: null vector . chord cosine " << cosine << "\n";
   b.type = fold ? BifurcationType::fold : BifurcationType::pitchfork;
   return b;
 }
@@ -484,7 +650,7 @@ void run_loca(Run& run, const Vector& x0) {
     auto grp = Teuchos::rcp(new LOCA::Thyra::Group(gd, nx, ctx.model, pv, 0));
     grp->setSaveDataStrategy(Teuchos::rcp(new Recorder(run)));
     auto stop = Teuchos::rcp(new StopTest(run));
-    LOCA::Stepper stepper(gd, grp, stop, newton_tests(opt), top);
+    GuardedStepper stepper(gd, grp, stop, newton_tests(opt), top, run);
     const LOCA::Abstract::Iterator::IteratorStatus status = stepper.run();
     if (run.stop_requested) {
       run.res.completed = true;
@@ -495,7 +661,7 @@ void run_loca(Run& run, const Vector& x0) {
     } else if (status == LOCA::Abstract::Iterator::Finished) {
       run.res.completed = true;
       run.res.message = "finished";
-    } else if (stepper.getNumTotalSteps() >= opt.max_steps) {
+    } else if (stepper.getStepNumber() > opt.max_steps) {
       run.res.completed = true;
       run.res.message = "maximum number of steps reached";
     } else {
@@ -505,34 +671,6 @@ void run_loca(Run& run, const Vector& x0) {
     run.res.message = std::string("LOCA stepper failed: ") + e.what();
   }
   LOCA::destroyGlobalData(gd);
-}
-
-/// Replaces a last point beyond a bound by the solution on the bound.
-void land(Run& run) {
-  auto& P = run.res.points;
-  const ContinuationOptions& opt = run.opt;
-  if (!run.out_of_bounds || !opt.land_on_bounds || P.size() < 2) return;
-  const double v = P.back().parameter, vprev = P[P.size() - 2].parameter;
-  const double bound = v > vprev ? opt.max_value : opt.min_value;
-  if (v == bound) return;
-  const size_t ip = static_cast<size_t>(opt.parameter);
-  const size_t n = P.size();
-  const double pa = run.ps[n - 2][ip], pb = run.ps[n - 1][ip];
-  const double w = (bound - pa) / (pb - pa);
-  Vector x(*run.xs[n - 1], Teuchos::Copy);
-  x.update(1.0 - w, *run.xs[n - 2], w, *run.xs[n - 1], 0.0);
-  Params p = run.ps[n - 1];
-  p[ip] = bound;
-  const StaticSolveReport r = bordered_newton(run.ctx, x, p, -1, nullptr, nullptr, 0.0, opt.max_newton_iterations + 10,
-                                              opt.residual_tolerance, opt.update_tolerance);
-  if (!r.converged) {
-    run.res.message += "; could not land on the bound (the last point lies beyond it)";
-    return;
-  }
-  P.pop_back();
-  run.xs.pop_back();
-  run.ps.pop_back();
-  run.record(x, p);
 }
 
 }  // namespace
@@ -556,9 +694,9 @@ ContinuationResult continue_(const rod::StaticProblem& problem, const std::vecto
     res.message = "the start state does not converge: " + r0.message;
     return res;
   }
-  Run run{ctx, options, on_point, res, {}, {}, false, false};
+  Run run(ctx, options, on_point, res);
   run_loca(run, x);
-  land(run);
+  if (run.landing_failed) res.message += "; could not land on the bound (the last point lies beyond it)";
   if (options.detect_bifurcations && options.stability.enabled) detect(run);
   if (!res.points.empty()) res.final_problem.value(options.parameter) = res.points.back().parameter;
   return res;

@@ -14,8 +14,9 @@ namespace {
 using test::say;
 
 std::vector<std::string> solvers_for_this_rank_count() {
-  if (test::ranks() == 1) return {"KLU2", "GMRES+SCHWARZ", "GMRES+ILUT", "GMRES+RILUK"};
-  return {"KLU2", "GMRES+SCHWARZ", "GMRES+ILUT"};
+  if (test::ranks() == 1)
+    return {"KLU2", "GMRES+SCHWARZ", "GMRES+BLOCK_TRIDIAGONAL", "GMRES+ILUT", "GMRES+RILUK"};
+  return {"KLU2", "GMRES+SCHWARZ", "GMRES+BLOCK_TRIDIAGONAL", "GMRES+ILUT"};
 }
 
 /// Steps both steppers `steps` times by dt, returns the max difference seen at any step.

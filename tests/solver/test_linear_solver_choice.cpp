@@ -43,7 +43,25 @@ TEST(SolverParameters, DefaultsAndErrors) {
   EXPECT_NO_THROW(validated_solver_parameters(nox));
 }
 
-TEST(LinearSolverChoice, AutoPicksKlu2OnOneRankAndGmresOnMore) {
+TEST(LinearSolverChoice, AutoForTheTimeStepIsGmresWithTheBlockTridiagonalLu) {
+  for (int ranks : {1, 2}) {
+    const LinearSolverChoice c =
+        LinearSolverChoice::resolve(Teuchos::ParameterList(), ranks, LinearSolverChoice::Use::time_step);
+    std::printf("auto, time step, %d rank(s): %s\n", ranks, c.resolved.c_str());
+    EXPECT_FALSE(c.rerouted);
+    EXPECT_FALSE(c.direct);
+    EXPECT_EQ(c.stratimikos.get<std::string>("Linear Solver Type"), "Belos");
+    const auto& ifp = c.stratimikos.sublist("Preconditioner Types").sublist("Ifpack2");
+    EXPECT_EQ(ifp.get<std::string>("Prec Type"), "BLOCK_TRIDIAGONAL");
+  }
+  // An explicit choice is kept for the time step too.
+  Teuchos::ParameterList klu;
+  klu.set("Linear Solver", "KLU2");
+  EXPECT_EQ(LinearSolverChoice::resolve(klu, 1, LinearSolverChoice::Use::time_step).resolved,
+            "Amesos2 KLU2 (direct)");
+}
+
+TEST(LinearSolverChoice, AutoForStaticsPicksKlu2OnOneRankAndGmresOnMore) {
   const LinearSolverChoice one = LinearSolverChoice::resolve(Teuchos::ParameterList(), 1);
   EXPECT_EQ(one.resolved, "Amesos2 KLU2 (direct)");
   EXPECT_TRUE(one.direct);

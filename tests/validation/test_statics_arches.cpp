@@ -2,7 +2,7 @@
 // branch switching, continuation to dz, pin, gravity), then continuation in the load position
 // sigma with stability. Deep arch, F = 3.8 N: an out-of-plane pitchfork and the restabilising
 // reverse pitchfork, symmetric about L/2, located at order 2 in ds; the out-of-plane branch by
-// branch switching. Shallow arch: the in-plane fold, located at order 2 in ds.
+// branch switching. (The shallow arch's fold: test_statics_shallow_arch.cpp.)
 #include <gtest/gtest.h>
 
 #include <Tpetra_Core.hpp>
@@ -52,7 +52,7 @@ TEST(StaticsArches, DeepArchPitchforkPairSymmetricAndConvergent) {
     const auto &b1 = r.bifurcations[0], &b2 = r.bifurcations[1];
     for (const auto* b : {&b1, &b2}) {
       EXPECT_EQ(b->type, solver::BifurcationType::pitchfork);
-      if (!b->located) continue;  // bracketed only (see docs/statics.md)
+      EXPECT_TRUE(b->located);
       // Out-of-plane null vector: max |x| = 1, in-plane components negligible.
       double mx = 0.0, myz = 0.0;
       for (const auto& v : b->null_vector) {
@@ -74,9 +74,8 @@ TEST(StaticsArches, DeepArchPitchforkPairSymmetricAndConvergent) {
     std::printf("  deep arch N=%d: formed at P = %.6f N (Euler %.6f N); pitchfork sigma1 = %.10f m (|n(L).k| = %.6f N),"
                 " reverse pitchfork sigma2 = %.10f m; sigma1 + sigma2 - L = %.2e\n",
                 N, a.forming_load, a.euler_load, b1.parameter, b1.probes[0], b2.parameter, b1.parameter + b2.parameter - 1.0);
-    if (b1.located && b2.located) {
-      EXPECT_NEAR(b1.parameter + b2.parameter, 1.0, 1e-8);
-    }
+    // Symmetric about L/2 to the location accuracy (the discretisation is mirror-symmetric).
+    EXPECT_NEAR(b1.parameter + b2.parameter, 1.0, 1e-8);
     std::printf("    located: %d %d (%d, %d iterations)\n", b1.located, b2.located, b1.locate_iterations, b2.locate_iterations);
     if (N == 40) {
       // Branch switching onto the out-of-plane branch at sigma1: it carries lateral midpoint
@@ -109,50 +108,4 @@ TEST(StaticsArches, DeepArchPitchforkPairSymmetricAndConvergent) {
   // The pitchfork pair at F = 3.8 N is close to merging (on 25 cells it has not formed yet), so
   // the asymptotic range starts late: the order of sigma1 is asserted loosely.
   EXPECT_NEAR(o1, 2.0, 0.3);
-}
-
-TEST(StaticsArches, ShallowArchFirstInstability) {
-  const double dz = 0.864545;
-  {
-    // F = 2 N (the scene's load): measured here, the planar path stays stable (no fold).
-    const auto a = arch(50, dz);
-    ASSERT_TRUE(a.ok);
-    const auto r = solver::sweep_load_position(a, 2.0, 0.0, 1.0, sweep_options(), comm());
-    double lowest = 1e300, comp_max = 0.0;
-    for (const auto& p : r.points) {
-      lowest = std::min(lowest, p.critical_eigenvalue);
-      comp_max = std::max(comp_max, p.probes[0]);
-    }
-    std::printf("  shallow arch N=50, F = 2 N: %zu points, %zu bifurcations, lowest omega^2 %.3f 1/s^2, max |n(L).k| %.4f N\n",
-                r.points.size(), r.bifurcations.size(), lowest, comp_max);
-  }
-  // F = 2.5 N: the in-plane fold (snap).
-  std::vector<double> sf, cf;
-  for (int N : {20, 40, 80}) {
-    const auto a = arch(N, dz);
-    ASSERT_TRUE(a.ok);
-    auto o = sweep_options();
-    o.stop = [](const solver::ContinuationPoint& p) { return p.unstable_modes > 0; };  // just past the snap
-    const auto r = solver::sweep_load_position(a, 2.5, 0.0, 1.0, o, comm());
-    ASSERT_GE(r.bifurcations.size(), 1u) << r.message;
-    const auto& f = r.bifurcations[0];
-    std::printf("    type %s, located %d\n", solver::to_string(f.type).c_str(), f.located);
-    EXPECT_EQ(f.unstable_before, 0);
-    EXPECT_EQ(f.unstable_after, 1);
-    double mx = 0.0;
-    for (const auto& v : f.null_vector) mx = std::max(mx, std::abs(v(0)));
-    std::printf("    null vector max |x| = %.2e (0: in-plane fold; 1: out-of-plane pitchfork)\n", mx);
-    // The parameter turns there: the points before it lie below, the next ones come back.
-    sf.push_back(f.parameter);
-    cf.push_back(f.probes[0]);
-    std::printf("  shallow arch N=%d, F = 2.5 N: fold at sigma = %.10f m, |n(L).k| = %.8f N (%d locate iterations)\n", N,
-                f.parameter, f.probes[0], f.locate_iterations);
-  }
-  const double o = order(sf), oc = order(cf);
-  std::printf("  shallow arch fold: order sigma %.3f, |n(L).k| %.3f; Richardson sigma = %.8f m\n", o, oc,
-              sf[2] + (sf[2] - sf[1]) / 3.0);
-  // Known issue (see docs/statics.md): the fold location along the planar path is not yet
-  // robust (local coordinate choice), so its order is printed, not asserted.
-  for (double v : sf) EXPECT_GT(v, 0.1);
-  (void)o;
 }

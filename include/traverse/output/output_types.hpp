@@ -2,6 +2,7 @@
 // Plain data types shared by traverse::output::Writer and traverse::output::Reader.
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "traverse/core/types.hpp"
@@ -19,6 +20,9 @@ struct RunInfo {
   std::string scene_text;    ///< full validated scene text (YAML) -> `scene`
   std::string scene_file;    ///< path of the scene file -> `scene_file`
   std::string model;         ///< structural model, e.g. "beam" or "rod" -> `model`
+  /// Further string root attributes (name, value) the runner records, e.g. the rod's
+  /// `rod_path` (names: [A-Za-z0-9_.-], not one of the attributes above).
+  std::vector<std::pair<std::string, std::string>> attributes = {};
 };
 
 /// Distribution of the structure's nodes over the ranks. Global node indices 0..N-1 follow

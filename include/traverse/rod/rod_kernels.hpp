@@ -61,6 +61,30 @@ LocalBlock cell_block(const RodModel& model, const StepTimes& step, int j,
                       const RodNode& old_prev, const RodNode& old_this,
                       const VecX& new_prev, const VecX& new_this);
 
+/// What a cell needs from one of its nodes, computed once per node and shared by the node's
+/// two cells (cell_block_into): the new-level orientation/history and the fluxes at the new
+/// and the old level (the old-level flux does not change during a step's Newton iterations).
+struct NodeLevels {
+  NewLevelNode nn;  ///< new_level_node(old, y_new, dt, alpha)
+  NodeFlux F_new;   ///< node_flux(y_new, nn.R, s_j, t_new)
+  NodeFlux F_old;   ///< node_flux(old.y, old.R, s_j, t_old)
+};
+/// F_old of node j (s_j = j ds) at t_old.
+NodeFlux old_level_flux(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node);
+/// nn and F_new of node j from its new unknown block; leaves out.F_old alone.
+void new_level_quantities(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node,
+                          const VecX& new_node, NodeLevels& out);
+/// cell_block with the nodes' quantities precomputed (as above, for nodes j-1 and j), written
+/// into `out` reusing its storage. Identical arithmetic, so identical bits: cell_block is
+/// this function with the NodeLevels computed on the spot.
+void cell_block_into(LocalBlock& out, const RodModel& model, const StepTimes& step, int j,
+                     const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
+                     const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur);
+
+/// Whether a point force or moving mass acts on cell j at either level of the step (when not,
+/// load_block is zero).
+bool loads_touch_cell(const RodModel& model, const StepTimes& step, int j);
+
 /// Only the point-force and moving-mass contributions to the 12 PDE rows of cell j (the
 /// load kernel; already included in cell_block).
 LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,

@@ -92,6 +92,8 @@ struct SchemeSpec {
   double rho_inf_space = 1.0;  ///< spectral radius in space (1: plain box scheme in s)
   bool explicit_parameters = false;  ///< the six parameters below were given directly
   double as = 0.5, bs = 0.5, gs = 0.5, at = 0.5, bt = 0.5, gt = 0.5;
+  /// Planar fast path: "auto" (when the scene is planar), "on" (required), "off" (always 3D).
+  std::string planar = "auto";
 };
 
 struct InitialStateSpec {

@@ -11,9 +11,11 @@
 #include <Teuchos_ParameterList.hpp>
 #include <Teuchos_RCP.hpp>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
+#include "traverse/rod/planar.hpp"
 #include "traverse/rod/rod_kernels.hpp"
 #include "traverse/solver/newton_report.hpp"
 #include "traverse/solver/step_failure.hpp"
@@ -28,6 +30,14 @@ struct StepReport {
   int newton_iterations = 0;  ///< summed over all attempts
   int linear_iterations = 0;  ///< summed over all attempts
   NewtonReport last;          ///< the last converged Newton solve
+};
+
+/// Thrown by DistributedStepper::step on the planar path when the converged state's
+/// out-of-plane residual (the rows the planar system drops) exceeds the Newton residual
+/// tolerance: the problem was not reflection-symmetric after all. The state is unchanged.
+class PlanarityLost : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 /// Counts of preconditioner set-up work (zero without an Ifpack2 preconditioner).
@@ -62,6 +72,21 @@ class DistributedStepper {
 
   /// Every rank passes the same full state (N + 1 nodes); each keeps its nodes and ghosts.
   void set_state(const rod::RodState& full);
+
+  /// Planar fast path (collective): with a symmetry (from rod::check_planar on the model and
+  /// the current state) the steps solve the in-plane system only (6 unknowns per node, or 12
+  /// with carried ys); null returns to the 3D path. Rebuilds the mesh maps, W, the linear and
+  /// the Newton solver; keeps the state (always stored in full 12-unknown node form). The
+  /// caller is responsible for the symmetry holding; a step whose converged out-of-plane
+  /// residual exceeds the residual tolerance throws PlanarityLost.
+  void set_planar(const rod::PlanarSymmetry* symmetry);
+  bool planar() const;
+  /// The symmetry in use (null on the 3D path).
+  const rod::PlanarSymmetry* planar_symmetry() const;
+  /// Unknowns per node of the system solved (12 or 24 in 3D, 6 or 12 planar).
+  int unknowns_per_node() const;
+  /// e.g. "planar (6 unknowns per node, plane normal (1, 0, 0) = d1)" or "3D (12 unknowns per node)".
+  std::string path_description() const;
   /// Advance by dt [s] (collective). Throws StepFailure (state unchanged) when it fails.
   StepReport step(double dt);
 

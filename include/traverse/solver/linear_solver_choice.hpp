@@ -13,12 +13,23 @@ struct LinearSolverChoice {
   std::string resolved;    ///< what will run, e.g. "Belos GMRES + Ifpack2 SCHWARZ (...)"
   bool rerouted = false;   ///< true when the request was replaced by the broken-solver rule
   bool direct = false;     ///< resolved solver is a direct (Amesos2) solver
+  /// One rank with the block-tridiagonal LU: the rod stepper solves with it directly
+  /// (make_block_tridiagonal_solve_factory, residual-checked) instead of through Belos.
+  bool block_tridiagonal_direct = false;
+  double linear_tolerance = 1e-12;  ///< 'Linear Tolerance' (relative residual of each solve)
   Teuchos::ParameterList stratimikos;  ///< the list handed to Stratimikos
+
+  /// What the solver is for: 'Linear Solver: auto' means GMRES + the block-tridiagonal LU
+  /// for the rod time step (its Jacobian is block tridiagonal by node with invertible Schur
+  /// complements), and KLU2 on 1 rank / GMRES + Schwarz on more for statics (the static
+  /// Jacobian at a straight, unloaded state has singular node blocks).
+  enum class Use { time_step, statics };
 
   /// `params` as accepted by validated_solver_parameters (defaults filled in here too);
   /// `ranks` the communicator size. Throws std::invalid_argument when the request is refused
   /// ("On Broken Direct Solver: refuse") or names an unknown solver/preconditioner.
-  static LinearSolverChoice resolve(const Teuchos::ParameterList& params, int ranks);
+  static LinearSolverChoice resolve(const Teuchos::ParameterList& params, int ranks,
+                                    Use use = Use::statics);
 };
 
 }  // namespace traverse::solver

@@ -4,6 +4,11 @@
 // the owner of node r / p, W = its exact Jacobian in one Tpetra::CrsMatrix on the mesh's fixed
 // graph, refilled in place at every evaluation.
 //
+// Planar fast path: with a rod::PlanarReduction the unknowns and rows are those of the planar
+// layout (q = 6 or 12 per node, see rod/planar.hpp); the kernels still see full node blocks
+// (the in-plane unknowns embedded, zeros elsewhere) and their blocks are restricted to the
+// in-plane rows and columns.
+//
 // Solver-module header: it exposes Thyra and Tpetra types; the app uses DistributedStepper.
 #include <Thyra_LinearOpWithSolveFactoryBase.hpp>
 #include <Thyra_PreconditionerFactoryBase.hpp>
@@ -15,6 +20,7 @@
 #include <vector>
 
 #include "traverse/mesh/distributed_mesh.hpp"
+#include "traverse/rod/planar.hpp"
 #include "traverse/rod/rod_kernels.hpp"
 
 namespace traverse::solver {
@@ -34,15 +40,26 @@ struct DirectSolverStats {
 Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_reusing_klu2_factory(
     std::function<long()> jacobian_version, std::shared_ptr<DirectSolverStats> stats);
 
+/// The block-tridiagonal LU (src/solver/block_tridiagonal_preconditioner.hpp) as a direct
+/// Thyra LOWS factory for one rank, without a Krylov method around it: factorised once per
+/// new `jacobian_version()`, each solve followed by a residual check and at most two steps of
+/// iterative refinement until max|b - A x| <= tolerance max|b| (column-wise); a solve that
+/// does not get there reports SOLVE_STATUS_UNCONVERGED (Newton then fails the step).
+/// Defined in linear_solver_builder.cpp; the stats count numeric factorisations and time.
+Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_block_tridiagonal_solve_factory(
+    std::function<long()> jacobian_version, std::shared_ptr<DirectSolverStats> stats, double tolerance);
+
 class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
  public:
   using Vector = Tpetra::Vector<double>;
   using Matrix = Tpetra::CrsMatrix<double>;
 
-  /// `mesh` must have model->unknowns_per_node() unknowns per node and model->num_cells + 1
-  /// nodes. Creates the single W matrix on mesh->graph().
+  /// `mesh` must have model->unknowns_per_node() unknowns per node (planar->unknowns_per_node()
+  /// with a planar reduction) and model->num_cells + 1 nodes. Creates the single W matrix on
+  /// mesh->graph().
   RodStepModel(std::shared_ptr<const rod::RodModel> model,
-               Teuchos::RCP<const mesh::DistributedMesh> mesh);
+               Teuchos::RCP<const mesh::DistributedMesh> mesh,
+               std::shared_ptr<const rod::PlanarReduction> planar = nullptr);
 
   /// Old-level states of this rank's ghosted nodes (mesh->first_ghosted_node() ...) and the
   /// step. Sets the nominal x to the old unknowns.
@@ -59,8 +76,16 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
 
   /// The old unknowns of the owned nodes (the Newton initial guess), on the dof map.
   void old_unknowns(Vector& x) const;
-  /// Import owned x to the ghosted map and return per ghosted node its unknown block.
+  /// Import owned x to the ghosted map and return per ghosted node its full unknown block
+  /// (model->unknowns_per_node() entries; on the planar path the in-plane ones embedded).
   std::vector<VecX> ghosted_unknowns(const Vector& x) const;
+  /// The planar reduction in use, or null (3D path).
+  const rod::PlanarReduction* planar() const { return planar_.get(); }
+  /// Unknowns per node of x, f and W (12 or 24; 6 or 12 on the planar path).
+  int unknowns_per_node() const { return p_; }
+  /// Planar path: the largest |residual| of the out-of-plane rows (dropped) at the last
+  /// residual evaluation on this rank; 0 on the 3D path.
+  double last_dropped_residual() const { return dropped_; }
 
   const Teuchos::RCP<Matrix>& jacobian_matrix() const { return W_; }
   const mesh::DistributedMesh& mesh() const { return *mesh_; }
@@ -105,7 +130,9 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
                      const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const override;
 
   /// Kernel blocks whose rows include owned rows, given the ghosted new unknowns.
-  std::vector<rod::LocalBlock> blocks(const std::vector<VecX>& xg) const;
+  /// On the planar path the blocks are restricted and *dropped_out receives the largest
+  /// dropped residual.
+  const std::vector<rod::LocalBlock>& blocks(const std::vector<VecX>& xg, double* dropped_out = nullptr) const;
   void ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out) const;
   void fill(const Vector& x, Vector* f, Matrix* W) const;
   /// Position in W's local value array of the first entry of node block (row node - 1 + rel)
@@ -116,7 +143,10 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
 
   std::shared_ptr<const rod::RodModel> model_;
   Teuchos::RCP<const mesh::DistributedMesh> mesh_;
-  int p_ = 12;
+  std::shared_ptr<const rod::PlanarReduction> planar_;
+  int p_ = 12;       ///< unknowns per node of the Tpetra objects
+  int full_p_ = 12;  ///< unknowns per node of the kernels (model->unknowns_per_node())
+  mutable double dropped_ = 0.0;
   Eigen::Index row_begin_ = 0, row_end_ = 0;  ///< owned global rows [begin, end)
   Teuchos::RCP<const Thyra::VectorSpaceBase<double>> x_space_;
   Teuchos::RCP<Matrix> W_;
@@ -134,6 +164,8 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   mutable double t_fill_ = 0.0, t_prec_ = 0.0;
   std::vector<long> offsets_;
   mutable std::vector<VecX> xg_;  ///< ghosted unknown blocks (reused buffer)
+  mutable std::vector<rod::NodeLevels> levels_;  ///< per ghosted node (F_old set per step)
+  mutable std::vector<rod::LocalBlock> blocks_, planar_blocks_;  ///< reused kernel blocks
   bool reuse_ = false, full_newton_ = false;
   double contraction_ = 0.25;
   mutable bool W_filled_ = false, stale_used_ = false;

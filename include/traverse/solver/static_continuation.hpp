@@ -1,14 +1,16 @@
 #pragma once
 // Statics and continuation of the rod (physics spec section 3) on the distributed static model
 // (StaticRodModel, a Thyra model evaluator with parameters) through LOCA::Thyra::Group and
-// LOCA::Stepper (natural or pseudo-arclength continuation with adaptive steps), with
+// LOCA::Stepper (natural or pseudo-arclength continuation with adaptive steps; every converged
+// step also has to pass an eigenvalue-change test, see ContinuationOptions::eigenvalue_change),
+// with
 //  - stability of every computed state: the eigenvalues omega^2 of K_s phi = omega^2 M_s phi
 //    nearest zero (Anasazi Block Krylov-Schur, shift-and-invert), K_s the static Jacobian and
 //    M_s the small-vibration inertia (rod::static_mass_block); unstable modes = omega^2 < 0;
 //  - detection of folds and pitchforks (the unstable-mode count changes between two points:
-//    a fold when the parameter reverses there, a pitchfork otherwise) and their location by
-//    a bordered Newton in a local coordinate (the state component that changes most) with an
-//    Illinois/secant iteration on the crossing eigenvalue;
+//    a fold when the null vector lies along the branch, a pitchfork when it is orthogonal to
+//    it) and their location by a bordered Newton on the hyperplanes across the chord of the
+//    bracketing points with an Illinois/secant iteration on the crossing eigenvalue;
 //  - branch switching at a pitchfork (perturb along the null vector, solve with the
 //    amplitude fixed and the parameter free, continue from there).
 // Everything here is plain data except the communicator; LOCA, Anasazi, NOX and Stratimikos
@@ -73,8 +75,9 @@ struct Bifurcation {
 struct ContinuationOptions {
   rod::StaticParameter parameter = rod::StaticParameter::end_load;
   std::string method = "Arc Length";  ///< LOCA "Continuation Method": "Arc Length" or "Natural"
-  /// Bounds of the parameter: the run stops at the first point outside them and lands on the
-  /// bound crossed (a final natural solve there, when land_on_bounds).
+  /// Bounds of the parameter: the run stops at the first point outside them (or closer to the
+  /// bound it heads for than 1e-3 max_step) and, when land_on_bounds, replaces that point by
+  /// the solution on the bound (a fixed-parameter solve) before it is recorded.
   double min_value = -std::numeric_limits<double>::infinity();
   double max_value = std::numeric_limits<double>::infinity();
   bool land_on_bounds = true;
@@ -89,7 +92,16 @@ struct ContinuationOptions {
   StabilityOptions stability;
   bool detect_bifurcations = true;    ///< needs stability
   bool locate_bifurcations = true;
-  double locate_tolerance = 1e-11;    ///< relative step of the local coordinate
+  double locate_tolerance = 1e-11;    ///< step of the chord coordinate c (0..1) that ends the location
+  /// Step acceptance (needs stability): a converged step is rejected, and retried with half
+  /// the step, when one of the eigenvalues omega^2 up to the one that crosses zero changes by
+  /// more than eigenvalue_change * max(|its value|, floor), floor = eigenvalue_floor times
+  /// the largest |lowest omega^2| seen on the run (at least 10 EI/(rhoA L^4)). So the steps
+  /// shrink where an eigenvalue heads for zero (a fold or a pitchfork ahead), a step that jumps
+  /// past a fold onto a state with different eigenvalues is retried, and the bracket of a
+  /// crossing is small. 0: off.
+  double eigenvalue_change = 0.5;
+  double eigenvalue_floor = 0.05;
   /// Called after each point is recorded; return true to stop the run after it.
   std::function<bool(const ContinuationPoint&)> stop;
   /// Linear solver keys of solver_parameters.hpp ("Linear Solver", ...; KLU2 is rerouted
@@ -105,6 +117,7 @@ struct ContinuationResult {
   std::vector<ContinuationPoint> points;
   std::vector<Bifurcation> bifurcations;
   bool completed = false;   ///< reached a bound, the stop callback or max_steps without failure
+  int rejected_steps = 0;   ///< converged steps rejected by the acceptance tests (and retried smaller)
   std::string message;      ///< how it ended
   rod::StaticProblem final_problem;  ///< the problem with the parameter of the last point
 };

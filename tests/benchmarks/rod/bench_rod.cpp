@@ -11,7 +11,16 @@
 //       floor), their ratio, linear (Belos) iterations, and peak memory (getrusage maxrss,
 //       summed over ranks) per node. One N per process so that maxrss belongs to that N.
 //
-// Solver names: KLU2, GMRES+SCHWARZ, GMRES+ILUT, GMRES+RILUK, with optional suffixes
+//   bench_rod planar [--nodes N] [--solver S] [--steps K] [--force F] [--csv FILE] [--label TEXT]
+//       Planar fast path against the 3D path on the same hanging cable (N nodes, default 101 =
+//       the scene's ds = 0.01; K steps, default the whole crossing of the load): the planar
+//       detection's verdict, then both steppers advanced alternately step by step in this one
+//       process (so both see the same machine load), each step timed; per path: run time,
+//       per-Newton time split into assembly (kernels + W/f fill), linear set-up (factorisation or
+//       preconditioner) and the rest (solve, NOX), and the ratio 3D / planar; finally the largest
+//       difference of the two final states (y, R; yt scaled by gt dt).
+//
+// Solver names: KLU2, GMRES+BLOCK_TRIDIAGONAL, GMRES+SCHWARZ, GMRES+ILUT, GMRES+RILUK, with optional suffixes
 // ":modified" (Jacobian Reuse = modified Newton) and ":stratimikos-klu2" (KLU2 through
 // Stratimikos' own Amesos2 adapter).
 #include <sys/resource.h>
@@ -30,6 +39,7 @@
 #include <vector>
 
 #include "block_tridiagonal_lu.hpp"
+#include "traverse/rod/planar.hpp"
 #include "traverse/rod/static_solver.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
 
@@ -72,6 +82,7 @@ Teuchos::ParameterList solver_params(const std::string& full) {
 
 struct Scene {
   rod::RodModel model;
+  std::vector<Vec3> force_vectors;  ///< fixed-frame vector of each point force (planar check)
   rod::RodState initial;
   double v = 0.0, dt = 0.0, t_end = 0.0;
   int steps = 0;
@@ -93,6 +104,7 @@ Scene hanging_cable(int N, double F) {
   const double v = s.v;
   const Vec3 force(0.0, -F, 0.0);
   m.loads.point_forces.push_back({[force](double) { return force; }, [v](double t) { return v * t; }});
+  s.force_vectors.push_back(force);
   s.dt = m.ds() / v;
   s.t_end = m.length / v;
   s.steps = static_cast<int>(std::ceil(s.t_end / s.dt - 1e-9));
@@ -199,7 +211,8 @@ void append_csv(const std::string& file, const std::string& header, const std::s
 int accuracy(int argc, char** argv) {
   const double F = std::stod(arg(argc, argv, "--force", "2"));
   const int ranks = comm()->getSize();
-  const std::string default_solvers = ranks == 1 ? "KLU2,GMRES+SCHWARZ,GMRES+ILUT" : "GMRES+SCHWARZ,GMRES+ILUT";
+  const std::string default_solvers =
+      ranks == 1 ? "GMRES+BLOCK_TRIDIAGONAL,KLU2,GMRES+SCHWARZ,GMRES+ILUT" : "GMRES+BLOCK_TRIDIAGONAL,GMRES+SCHWARZ,GMRES+ILUT";
   const auto solvers = split(arg(argc, argv, "--solvers", default_solvers), ',');
   const std::string csv = arg(argc, argv, "--csv", "");
   const std::vector<int> Ns = {25, 50, 100, 200, 400};  // ds = 0.04 .. 0.0025
@@ -328,6 +341,99 @@ int cost(int argc, char** argv) {
   return 0;
 }
 
+int planar(int argc, char** argv) {
+  const int nodes = std::stoi(arg(argc, argv, "--nodes", "101"));
+  const std::string solver = arg(argc, argv, "--solver", comm()->getSize() == 1 ? "KLU2" : "GMRES+SCHWARZ");
+  const std::string csv = arg(argc, argv, "--csv", "");
+  const std::string label = arg(argc, argv, "--label", "");
+  const double F = std::stod(arg(argc, argv, "--force", "2"));
+  Scene sc = hanging_cable(nodes - 1, F);
+  int steps = std::stoi(arg(argc, argv, "--steps", "0"));
+  if (steps <= 0) steps = sc.steps;
+  const rod::PlanarCheck chk = rod::check_planar(sc.model, sc.initial, sc.force_vectors);
+  if (!chk.planar) throw std::runtime_error("the cable is not planar: " + chk.reason);
+
+  solver::DistributedStepper s3(sc.model, comm(), solver_params(solver));
+  s3.set_state(sc.initial);
+  solver::DistributedStepper s2(sc.model, comm(), solver_params(solver));
+  s2.set_state(sc.initial);
+  s2.set_planar(&chk.symmetry);
+  if (root())
+    std::printf("# hanging cable, F = %g N, %d nodes, %d steps of dt = %g s, %s, %d rank(s)\n"
+                "# planar check: planar, %s\n# paths: %s | %s\n",
+                F, nodes, steps, sc.dt, solver.c_str(), comm()->getSize(), chk.symmetry.describe().c_str(),
+                s3.path_description().c_str(), s2.path_description().c_str());
+
+  struct Path {
+    solver::DistributedStepper* st = nullptr;
+    double seconds = 0.0;
+    long newton = 0, linear = 0;
+    std::vector<double> per_newton;
+  };
+  Path P[2];
+  P[0].st = &s3;
+  P[1].st = &s2;
+  for (int i = 0; i < steps; ++i) {
+    const double h = i + 1 == sc.steps ? sc.t_end - s3.time() : sc.dt;
+    if (h <= 0.0) break;
+    for (Path& p : P) {  // alternately, so that both paths see the same machine load
+      comm()->barrier();
+      const auto t1 = Clock::now();
+      const auto rep = p.st->step(h);
+      const double local = seconds_since(t1);
+      double el = local;
+      Teuchos::reduceAll(*comm(), Teuchos::REDUCE_MAX, 1, &local, &el);
+      p.seconds += el;
+      p.newton += rep.newton_iterations;
+      p.linear += rep.linear_iterations;
+      p.per_newton.push_back(el / std::max(1, rep.newton_iterations));
+    }
+  }
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  };
+  // Agreement of the final states.
+  const rod::RodState a = s3.gather_state(), b = s2.gather_state();
+  double dy = 0.0, dR = 0.0, dyt = 0.0;
+  const double gtdt = sc.model.alpha.gt * sc.dt;
+  for (size_t j = 0; j < a.nodes.size(); ++j) {
+    dy = std::max(dy, (a.nodes[j].y - b.nodes[j].y).cwiseAbs().maxCoeff());
+    dR = std::max(dR, (a.nodes[j].R - b.nodes[j].R).cwiseAbs().maxCoeff());
+    dyt = std::max(dyt, gtdt * (a.nodes[j].yt - b.nodes[j].yt).cwiseAbs().maxCoeff());
+  }
+  const char* names[2] = {"3D", "planar"};
+  double per_newton[2], run[2];
+  if (root())
+    std::printf("%-7s %4s %10s %8s %10s %10s %10s %10s %10s %8s\n", "path", "p", "run [s]", "Newton", "s/Newton",
+                "median", "asm/N", "linset/N", "rest/N", "lin/N");
+  for (int k = 0; k < 2; ++k) {
+    const Path& p = P[k];
+    const solver::ReuseCounters c = p.st->reuse_counters();
+    const double nN = static_cast<double>(std::max(1L, p.newton));
+    per_newton[k] = p.seconds / nN;
+    run[k] = p.seconds;
+    const double asmN = c.assembly_seconds / nN, linN = c.linear_setup_seconds / nN;
+    if (root())
+      std::printf("%-7s %4d %10.4f %8ld %10.3e %10.3e %10.3e %10.3e %10.3e %8.1f\n", names[k],
+                  p.st->unknowns_per_node(), p.seconds, p.newton, per_newton[k], median(p.per_newton), asmN, linN,
+                  per_newton[k] - asmN - linN, double(p.linear) / nN);
+    append_csv(csv,
+               "label,solver,ranks,nodes,steps,path,unknowns_per_node,run_seconds,newton,newton_seconds,"
+               "median_newton_seconds,assembly_seconds_per_newton,linear_setup_seconds_per_newton,linear_per_newton",
+               label + "," + solver + "," + std::to_string(comm()->getSize()) + "," + std::to_string(nodes) + "," +
+                   std::to_string(steps) + "," + names[k] + "," + std::to_string(p.st->unknowns_per_node()) + "," +
+                   std::to_string(p.seconds) + "," + std::to_string(p.newton) + "," + std::to_string(per_newton[k]) +
+                   "," + std::to_string(median(p.per_newton)) + "," + std::to_string(asmN) + "," +
+                   std::to_string(linN) + "," + std::to_string(double(p.linear) / nN));
+  }
+  if (root())
+    std::printf("# speed-up 3D / planar: run time %.2fx, per Newton iteration %.2fx\n"
+                "# final states differ by max|dy| %.2e, max|dR| %.2e, max gt dt |dyt| %.2e\n",
+                run[0] / run[1], per_newton[0] / per_newton[1], dy, dR, dyt);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -336,6 +442,7 @@ int main(int argc, char** argv) {
   try {
     if (mode == "accuracy") return accuracy(argc, argv);
     if (mode == "cost") return cost(argc, argv);
+    if (mode == "planar") return planar(argc, argv);
     if (mode == "cost-header") {
       std::printf("%-28s %2s %9s %4s %10s %10s %6s %10s %7s %9s %9s %8s %8s %s\n", "solver", "rk", "nodes", "st",
                   "s/step", "s/Newton", "N/st", "floor [s]", "ratio", "asm/N", "linset/N", "lin/N", "kB/node",
@@ -346,6 +453,6 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "bench_rod: %s\n", e.what());
     return 1;
   }
-  std::fprintf(stderr, "usage: bench_rod accuracy|cost|cost-header [options] (see the source's header)\n");
+  std::fprintf(stderr, "usage: bench_rod accuracy|cost|cost-header|planar [options] (see the source's header)\n");
   return 2;
 }

@@ -1,0 +1,117 @@
+#pragma once
+// Planar fast path (issue #7): when a rod problem is symmetric under the reflection through a
+// fixed plane, the out-of-plane unknowns stay exactly zero and the step's Jacobian splits into
+// an in-plane and an out-of-plane block, so the step can be solved with the in-plane half of
+// the unknowns and rows only. This header detects the symmetry and maps kernel blocks (12 or 24
+// unknowns per node, RodModel layout) to the planar layout (6 or 12 per node). Eigen only.
+//
+// Parity. Under the reflection x -> P x, P = I - 2 n n^T (n the plane's unit normal), a state
+// whose body axis d_a (a = 0 or 1) is n at every node maps to the state with the frame
+// (d_a, P d_b, P d3): in body components polar vectors (u, n, the momentum and
+// inextensibility rows) change the sign of component a, axial vectors (omega, kappa, m, the
+// angular-momentum and compatibility rows) change the sign of the two components other than
+// a. The even ("in-plane") components of y = (u, omega, kappa, n) are therefore
+//   a = 0 (normal d1): u2, u3, omega1, kappa1, n2, n3   (indices 1, 2, 3, 6, 10, 11)
+//   a = 1 (normal d2): u1, u3, omega2, kappa2, n1, n3   (indices 0, 2, 4, 7, 9, 11)
+// and the cell rows split the same way (same indices). Each end's 6 rows split 3 + 3,
+// depending on the condition and its axes (found by probing the end rows, see check_planar).
+#include <array>
+#include <string>
+#include <vector>
+
+#include "traverse/rod/rod_kernels.hpp"
+#include "traverse/rod/rod_model.hpp"
+#include "traverse/rod/rod_state.hpp"
+
+namespace traverse::rod {
+
+/// The reflection symmetry of one rod problem.
+struct PlanarSymmetry {
+  Vec3 normal = Vec3::UnitX();  ///< unit normal of the plane, fixed components
+  int axis = 0;                 ///< body axis equal to the normal at every node: 0 (d1) or 1 (d2)
+  std::array<int, 3> left_rows{{0, 0, 0}};   ///< the in-plane rows among the left end's 6
+  std::array<int, 3> right_rows{{0, 0, 0}};  ///< the in-plane rows among the right end's 6
+  /// One line, e.g. "plane normal (1, 0, 0) = d1".
+  std::string describe() const;
+};
+
+/// Result of check_planar.
+struct PlanarCheck {
+  bool planar = false;
+  PlanarSymmetry symmetry;  ///< valid when planar
+  std::string reason;       ///< why the problem is not planar (empty when planar)
+};
+
+/// Indices in y = (u, omega, kappa, n) of the 6 in-plane components for normal axis a.
+std::array<int, 6> in_plane_components(int axis);
+
+/// Whether `model` with the state `state` is reflection-symmetric about a plane whose
+/// normal is a body axis d1 or d2 (tried in this order; d_a must be the same fixed vector at
+/// every node). Checks, with relative tolerance `tol`:
+///  * the intrinsic curvature kappa0 has only its component a;
+///  * every node: d_a = normal, the out-of-plane components of y, yt and ys are zero
+///    (relative to the largest entry of each);
+///  * gravity and every point force vector lie in the plane; `point_force_vectors` holds the
+///    (constant) fixed-frame vector of each entry of model.loads.point_forces (the functions
+///    themselves are not inspected); moving masses need only gravity in the plane;
+///    distributed loads given as functions (f_fixed, l_fixed) are not checked and make the
+///    problem non-planar;
+///  * each end's 6 rows split into 3 in-plane rows (no out-of-plane unknown enters them) and
+///    3 out-of-plane rows (no in-plane unknown enters them and they vanish at symmetric
+///    states): probed with end_condition_rows at random symmetric states at the state's time
+///    and 3 later times (a prescribed motion is assumed to keep its direction).
+/// The reason names what failed for each candidate axis.
+PlanarCheck check_planar(const RodModel& model, const RodState& state,
+                         const std::vector<Vec3>& point_force_vectors, double tol = 1e-12);
+
+/// The planar layout of a RodModel and the maps between it and the full one.
+///
+/// Unknowns: node j owns [q j, q (j+1)), q = 6 (box scheme) or 12 (carried ys: the 6
+/// in-plane components of y, then those of ys).
+/// Rows, box scheme (6 (N+1)): [3 left-end rows, 6 per cell j = 1..N, 3 right-end rows];
+/// carried ys (12 (N+1)): [3 left-end rows, 6 collocation rows, 12 per cell (6 PDE, 6
+/// recursion), 3 right-end rows]. As in the full layout, row r belongs to node r / q and the
+/// rows of node k come from the end blocks and cells k, k + 1 (nodes k-1..k+1 only).
+class PlanarReduction {
+ public:
+  PlanarReduction(const RodModel& model, const PlanarSymmetry& symmetry);
+
+  const PlanarSymmetry& symmetry() const { return sym_; }
+  int unknowns_per_node() const { return q_; }      ///< q: 6 or 12
+  int full_unknowns_per_node() const { return p_; }  ///< p: 12 or 24
+  Eigen::Index num_rows() const { return static_cast<Eigen::Index>(q_) * (num_cells_ + 1); }
+  /// Positions in a full node block (size p) of the q planar unknowns, in planar order.
+  const std::vector<int>& kept_unknowns() const { return cols_; }
+
+  /// Full node block (y, and ys when carried) -> its q in-plane entries.
+  VecX restrict_unknowns(const VecX& full) const;
+  /// q in-plane entries -> full node block with zeros in the out-of-plane entries.
+  void embed(const double* planar, VecX& full) const;
+
+  /// The in-plane rows and columns of a kernel block (left_block, cell_block or right_block
+  /// of the same model) with global indices of the planar layout. Returns the largest
+  /// |residual| of the dropped (out-of-plane) rows: zero to round-off when the symmetry holds.
+  double restrict_block(const LocalBlock& full, LocalBlock& out) const;
+
+  /// restrict_block(cell_block(...)) computed directly: the full residual rows (needed for the
+  /// dropped residual) but only the in-plane Jacobian entries (a quarter of them), from the
+  /// nodes' precomputed NodeLevels (see cell_block_into). Same formulas as cell_block_into,
+  /// equal to its restricted block up to the order of a few floating-point sums. Returns the
+  /// largest |dropped residual|. `model` must be the one this reduction was built for.
+  double cell_block_into(LocalBlock& out, const RodModel& model, const StepTimes& step, int j,
+                         const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
+                         const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur) const;
+
+ private:
+  PlanarSymmetry sym_;
+  int num_cells_ = 1;
+  bool carried_ = false;
+  int p_ = 12, q_ = 6;
+  Eigen::Index full_left_row_ = 0, full_right_row_ = 0;
+  std::vector<int> cols_;                               ///< kept entries of a node block
+  std::vector<int> left_keep_, cell_keep_, right_keep_;  ///< kept local rows per block kind
+  std::vector<int> left_drop_, cell_drop_, right_drop_;  ///< the others
+  Mat12 Mm_, Kk_;  ///< the model's Mm and Kk (apply_Mm, apply_Kk as matrices)
+};
+
+}  // namespace traverse::rod

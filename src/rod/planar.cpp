@@ -1,0 +1,377 @@
+#include "traverse/rod/planar.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "traverse/core/so3.hpp"
+#include "traverse/rod/end_condition.hpp"
+
+namespace traverse::rod {
+
+namespace {
+
+/// Frames: d_a may differ from the normal by this much (absolute; R's entries are O(1)).
+constexpr double kFrameTolerance = 1e-10;
+/// End-row probe: an entry is "zero" below this fraction of the row's largest entry.
+constexpr double kProbeTolerance = 1e-10;
+
+std::string vec_text(const Vec3& v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << "(" << v.x() << ", " << v.y() << ", " << v.z() << ")";
+  return os.str();
+}
+
+/// Whether entry k of a 12-vector is in-plane for normal axis a.
+std::array<bool, 12> even_mask(int axis) {
+  std::array<bool, 12> m{};
+  for (int c : in_plane_components(axis)) m[static_cast<size_t>(c)] = true;
+  return m;
+}
+
+/// Largest |out-of-plane entry| and largest |entry| of a 12-vector.
+void parity_norms(const Vec12& v, const std::array<bool, 12>& even, double& odd_max, double& all_max) {
+  for (int k = 0; k < 12; ++k) {
+    const double a = std::abs(v(k));
+    all_max = std::max(all_max, a);
+    if (!even[static_cast<size_t>(k)]) odd_max = std::max(odd_max, a);
+  }
+}
+
+/// Splits one end's 6 rows into 3 in-plane and 3 out-of-plane rows by probing
+/// end_condition_rows at random symmetric states; returns "" or what is wrong.
+std::string split_end_rows(const EndCondition& c, const RodModel& model, const RodNode& node, int axis,
+                           const Vec3& normal, double t0, const char* which, std::array<int, 3>& rows) {
+  const std::array<int, 6> S = in_plane_components(axis);
+  const std::array<bool, 12> even = even_mask(axis);
+  std::mt19937 rng(12345u + static_cast<unsigned>(axis));
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  // +1 in-plane, -1 out-of-plane, 0 not classified yet.
+  std::array<int, 6> kind{};
+  const double times[4] = {t0, t0 + 0.37, t0 + 3.1, t0 + 29.0};
+  for (double t : times) {
+    RodNode old;
+    old.R = node.R * so3::exp(U(rng) * normal).transpose();  // the frame turned about the normal
+    Vec12 y = Vec12::Zero();
+    for (int k : S) {
+      old.y(k) = U(rng);
+      old.yt(k) = U(rng);
+      y(k) = U(rng);
+    }
+    const double dt = 0.01 + 0.1 * std::abs(U(rng));
+    const NewLevelNode nn = new_level_node(old, y, dt, model.alpha);
+    Vec6 r;
+    Eigen::Matrix<double, 6, 12> J;
+    end_condition_rows(c, model.props, t, y, nn.R, nn.G, r, J);
+    for (int i = 0; i < 6; ++i) {
+      double je = 0.0, jo = 0.0;
+      for (int k = 0; k < 12; ++k) {
+        const double v = std::abs(J(i, k));
+        if (even[static_cast<size_t>(k)]) je = std::max(je, v);
+        else jo = std::max(jo, v);
+      }
+      const double jm = std::max(je, jo);
+      if (!(jm > 0.0)) return std::string(which) + " end: row " + std::to_string(i) + " depends on no unknown";
+      int k = 0;
+      if (jo <= kProbeTolerance * jm) k = +1;
+      else if (je <= kProbeTolerance * jm &&
+               std::abs(r(i)) <= kProbeTolerance * std::max(1.0, jm * y.cwiseAbs().maxCoeff()))
+        k = -1;
+      if (k == 0 || (kind[static_cast<size_t>(i)] != 0 && kind[static_cast<size_t>(i)] != k))
+        return std::string(which) + " end: its condition row " + std::to_string(i) +
+               " mixes in-plane and out-of-plane components (or is not zero out of the plane) for the plane "
+               "normal " + vec_text(normal);
+      kind[static_cast<size_t>(i)] = k;
+    }
+  }
+  int n_even = 0;
+  for (int i = 0; i < 6; ++i)
+    if (kind[static_cast<size_t>(i)] > 0) {
+      if (n_even < 3) rows[static_cast<size_t>(n_even)] = i;
+      ++n_even;
+    }
+  if (n_even != 3)
+    return std::string(which) + " end: " + std::to_string(n_even) +
+           " of its 6 rows are in-plane (3 needed) for the plane normal " + vec_text(normal);
+  return "";
+}
+
+/// "" when the problem is symmetric about the plane normal to d_axis, else the reason.
+std::string check_axis(const RodModel& model, const RodState& state, const std::vector<Vec3>& forces, double tol,
+                       int axis, PlanarSymmetry& sym) {
+  if (state.nodes.size() != static_cast<size_t>(model.num_cells) + 1)
+    return "the state has " + std::to_string(state.nodes.size()) + " nodes, the model " +
+           std::to_string(model.num_cells + 1);
+  const std::array<bool, 12> even = even_mask(axis);
+  const Vec3 normal = state.nodes.front().R.row(axis).transpose().normalized();
+  // The frames: d_axis is the same fixed vector at every node.
+  for (size_t j = 0; j < state.nodes.size(); ++j) {
+    const double dev = (state.nodes[j].R.row(axis).transpose() - normal).cwiseAbs().maxCoeff();
+    if (!(dev <= kFrameTolerance)) {
+      std::ostringstream os;
+      os << "the frame at node " << j << " is turned out of the plane normal to " << vec_text(normal) << " (|d"
+         << axis + 1 << " - normal| = " << dev << ")";
+      return os.str();
+    }
+  }
+  // Intrinsic curvature: only its component about the normal.
+  const Vec3& k0 = model.props.kappa0;
+  for (int c = 0; c < 3; ++c)
+    if (c != axis && !(std::abs(k0(c)) <= tol * k0.cwiseAbs().maxCoeff()))
+      return "the intrinsic curvature " + vec_text(k0) + " has a component out of the plane";
+  // The state: out-of-plane components of y, yt, ys zero relative to each array's largest entry.
+  const char* names[3] = {"y (u, omega, kappa, n)", "yt", "ys"};
+  for (int a = 0; a < 3; ++a) {
+    double odd = 0.0, all = 0.0;
+    size_t where = 0;
+    for (size_t j = 0; j < state.nodes.size(); ++j) {
+      const RodNode& nd = state.nodes[j];
+      const Vec12& v = a == 0 ? nd.y : a == 1 ? nd.yt : nd.ys;
+      const double before = odd;
+      parity_norms(v, even, odd, all);
+      if (odd > before) where = j;
+    }
+    if (!(odd <= tol * all)) {
+      std::ostringstream os;
+      os << "the state's " << names[a] << " has out-of-plane components (largest " << odd << " at node " << where
+         << ", relative " << odd / all << ")";
+      return os.str();
+    }
+  }
+  // Loads.
+  const Vec3& g = model.loads.gravity;
+  if (!(std::abs(g.dot(normal)) <= tol * g.norm())) return "gravity " + vec_text(g) + " is not in the plane";
+  if (model.loads.f_fixed || model.loads.l_fixed)
+    return "distributed loads given as functions (f_fixed, l_fixed) are not checked for planarity";
+  if (forces.size() != model.loads.point_forces.size())
+    return "the vectors of the point forces were not given (" + std::to_string(forces.size()) + " for " +
+           std::to_string(model.loads.point_forces.size()) + " forces)";
+  for (size_t i = 0; i < forces.size(); ++i)
+    if (!(std::abs(forces[i].dot(normal)) <= tol * forces[i].norm()))
+      return "point force " + std::to_string(i) + " " + vec_text(forces[i]) + " has a component " +
+             vec_text(forces[i].dot(normal) * normal) + " out of the plane";
+  // End conditions.
+  sym.normal = normal;
+  sym.axis = axis;
+  if (std::string e = split_end_rows(model.left, model, state.nodes.front(), axis, normal, state.t, "left",
+                                     sym.left_rows);
+      !e.empty())
+    return e;
+  if (std::string e = split_end_rows(model.right, model, state.nodes.back(), axis, normal, state.t, "right",
+                                     sym.right_rows);
+      !e.empty())
+    return e;
+  return "";
+}
+
+}  // namespace
+
+std::string PlanarSymmetry::describe() const {
+  return "plane normal " + vec_text(normal) + " = d" + std::to_string(axis + 1);
+}
+
+std::array<int, 6> in_plane_components(int axis) {
+  if (axis != 0 && axis != 1) throw std::invalid_argument("in_plane_components: axis must be 0 or 1");
+  const int b = axis == 0 ? 1 : 0, c = 2;
+  // polar (u, n): the two components other than a; axial (omega, kappa): component a.
+  std::array<int, 6> s{{var::u + b, var::u + c, var::omega + axis, var::kappa + axis, var::n + b, var::n + c}};
+  return s;
+}
+
+PlanarCheck check_planar(const RodModel& model, const RodState& state, const std::vector<Vec3>& point_force_vectors,
+                         double tol) {
+  PlanarCheck out;
+  std::string reasons;
+  for (int axis = 0; axis < 2; ++axis) {
+    PlanarSymmetry sym;
+    const std::string why = check_axis(model, state, point_force_vectors, tol, axis, sym);
+    if (why.empty()) {
+      out.planar = true;
+      out.symmetry = sym;
+      out.reason.clear();
+      return out;
+    }
+    reasons += std::string(reasons.empty() ? "" : "; ") + "about d" + std::to_string(axis + 1) + ": " + why;
+  }
+  out.reason = reasons;
+  return out;
+}
+
+PlanarReduction::PlanarReduction(const RodModel& model, const PlanarSymmetry& symmetry)
+    : sym_(symmetry), num_cells_(model.num_cells), carried_(model.carries_ys()) {
+  p_ = model.unknowns_per_node();
+  q_ = p_ / 2;
+  full_left_row_ = model.left_row();
+  full_right_row_ = model.right_row();
+  const std::array<int, 6> S = in_plane_components(sym_.axis);
+  for (int c : S) cols_.push_back(c);
+  if (carried_)
+    for (int c : S) cols_.push_back(12 + c);
+  for (int r : sym_.left_rows) left_keep_.push_back(r);
+  if (carried_)
+    for (int c : S) left_keep_.push_back(6 + c);  // the PDE collocated at node 0
+  cell_keep_ = cols_;                              // PDE rows like y, recursion rows like ys
+  for (int r : sym_.right_rows) right_keep_.push_back(r);
+  auto complement = [](const std::vector<int>& keep, int n) {
+    std::vector<int> d;
+    for (int i = 0; i < n; ++i)
+      if (std::find(keep.begin(), keep.end(), i) == keep.end()) d.push_back(i);
+    return d;
+  };
+  left_drop_ = complement(left_keep_, carried_ ? 18 : 6);
+  cell_drop_ = complement(cell_keep_, model.cell_rows());
+  right_drop_ = complement(right_keep_, 6);
+  if (left_keep_.size() + left_drop_.size() != (carried_ ? 18u : 6u) || right_keep_.size() != 3 ||
+      right_drop_.size() != 3)
+    throw std::invalid_argument("PlanarReduction: the end rows must split 3 + 3");
+  for (int k = 0; k < 12; ++k) {
+    const Vec12 e = Vec12::Unit(k);
+    Mm_.col(k) = apply_Mm(model.props, e);
+    Kk_.col(k) = apply_Kk(model.props, e);
+  }
+}
+
+double PlanarReduction::cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step, int j,
+                                        const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
+                                        const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur) const {
+  if (j < 1 || j > num_cells_) throw std::out_of_range("PlanarReduction::cell_block_into: cell index");
+  if (new_prev.size() != p_ || new_this.size() != p_)
+    throw std::invalid_argument("PlanarReduction::cell_block_into: node unknown block has the wrong size");
+  const AlphaParameters& a = model.alpha;
+  const double ds = model.ds(), dt = step.dt;
+  const Vec12 yp = new_prev.head<12>(), yc = new_this.head<12>();
+  const NewLevelNode& np = prev.nn;
+  const NewLevelNode& nc = cur.nn;
+
+  // Residual: every row, exactly as cell_block_into (the dropped rows are monitored).
+  VecX r(carried_ ? 24 : 12);
+  const Vec12 At = (1.0 - a.at) * ((1.0 - a.as) * nc.yt + a.as * np.yt) +
+                   a.at * ((1.0 - a.as) * old_this.yt + a.as * old_prev.yt);
+  Vec12 As;
+  if (carried_) {
+    As = (1.0 - a.bt) * ((1.0 - a.bs) * new_this.tail<12>() + a.bs * new_prev.tail<12>()) +
+         a.bt * ((1.0 - a.bs) * old_this.ys + a.bs * old_prev.ys);
+  } else {
+    As = (1.0 - a.bt) * (yc - yp) / ds + a.bt * (old_this.y - old_prev.y) / ds;
+  }
+  const Vec12 AF = (1.0 - a.bt) * ((1.0 - a.bs) * cur.F_new.F + a.bs * prev.F_new.F) +
+                   a.bt * ((1.0 - a.bs) * cur.F_old.F + a.bs * prev.F_old.F);
+  r.head<12>() = Mm_ * At + Kk_ * As + AF;
+  if (carried_)
+    r.tail<12>() = a.gs * new_this.tail<12>() + (1.0 - a.gs) * new_prev.tail<12>() - (yc - yp) / ds;
+
+  // In-plane Jacobian entries only. The flux Jacobian's omega columns carry the frame's
+  // sensitivity dF_dRrot G (new_level_flux_jacobian); of them only column a is in-plane.
+  const std::array<int, 6> S = in_plane_components(sym_.axis);
+  const int wa = var::omega + sym_.axis;
+  const double ct = (1.0 - a.at) / (a.gt * dt);
+  const double cm[2] = {ct * a.as, ct * (1.0 - a.as)};                      // Mm weight: prev, this
+  const double cf[2] = {(1.0 - a.bt) * a.bs, (1.0 - a.bt) * (1.0 - a.bs)};  // new flux weight
+  const NodeLevels* lv[2] = {&prev, &cur};
+  b.row = (carried_ ? 9 : 3) + static_cast<Eigen::Index>(q_) * (j - 1);
+  b.residual.resize(q_);
+  b.cols.resize(2);
+  b.cols[0] = static_cast<Eigen::Index>(q_) * (j - 1);
+  b.cols[1] = static_cast<Eigen::Index>(q_) * j;
+  b.jac.resize(2);
+  for (int side = 0; side < 2; ++side) {
+    const NodeFlux& F = lv[side]->F_new;
+    const Mat3& G = lv[side]->nn.G;
+    MatX& Jq = b.jac[static_cast<size_t>(side)];
+    Jq.setZero(q_, q_);
+    for (int ic = 0; ic < 6; ++ic) {
+      const int c = S[static_cast<size_t>(ic)];
+      for (int ir = 0; ir < 6; ++ir) {
+        const int i = S[static_cast<size_t>(ir)];
+        double jf = F.dF_dy(i, c);
+        if (c == wa)
+          jf += F.dF_dRrot(i, 0) * G(0, sym_.axis) + F.dF_dRrot(i, 1) * G(1, sym_.axis) +
+                F.dF_dRrot(i, 2) * G(2, sym_.axis);
+        double v = cm[side] * Mm_(i, c) + cf[side] * jf;
+        if (!carried_) v += (side == 1 ? 1.0 : -1.0) * ((1.0 - a.bt) / ds) * Kk_(i, c);
+        Jq(ir, ic) = v;
+        if (carried_) {
+          Jq(ir, 6 + ic) = cf[side] * Kk_(i, c);
+          if (ir == ic) {
+            Jq(6 + ir, 6 + ic) = side == 1 ? a.gs : 1.0 - a.gs;
+            Jq(6 + ir, ic) = side == 1 ? -1.0 / ds : 1.0 / ds;
+          }
+        }
+      }
+    }
+  }
+  if (loads_touch_cell(model, step, j)) {  // a point force or moving mass on this cell (rare)
+    const LocalBlock lb = load_block(model, step, j, old_prev, old_this, new_prev, new_this);
+    r.head<12>() += lb.residual;
+    for (int side = 0; side < 2; ++side)
+      for (int ic = 0; ic < 6; ++ic)
+        for (int ir = 0; ir < 6; ++ir)
+          b.jac[static_cast<size_t>(side)](ir, ic) += lb.jac[static_cast<size_t>(side)](S[ir], S[ic]);
+  }
+  for (int k = 0; k < q_; ++k) b.residual(k) = r(cell_keep_[static_cast<size_t>(k)]);
+  double dropped = 0.0;
+  for (int k : cell_drop_) dropped = std::max(dropped, std::abs(r(k)));
+  return dropped;
+}
+
+VecX PlanarReduction::restrict_unknowns(const VecX& full) const {
+  if (full.size() != p_) throw std::invalid_argument("PlanarReduction::restrict_unknowns: wrong block size");
+  VecX q(q_);
+  for (int c = 0; c < q_; ++c) q(c) = full(cols_[static_cast<size_t>(c)]);
+  return q;
+}
+
+void PlanarReduction::embed(const double* planar, VecX& full) const {
+  full.setZero(p_);
+  for (int c = 0; c < q_; ++c) full(cols_[static_cast<size_t>(c)]) = planar[c];
+}
+
+double PlanarReduction::restrict_block(const LocalBlock& full, LocalBlock& out) const {
+  const std::vector<int>* keep = nullptr;
+  const std::vector<int>* drop = nullptr;
+  const Eigen::Index first_cell = carried_ ? 18 : 6, cell_rows = carried_ ? 24 : 12;
+  const Eigen::Index planar_first_cell = carried_ ? 9 : 3, planar_cell_rows = q_;
+  if (full.row == full_left_row_) {
+    keep = &left_keep_;
+    drop = &left_drop_;
+    out.row = 0;
+  } else if (full.row == full_right_row_) {
+    keep = &right_keep_;
+    drop = &right_drop_;
+    out.row = planar_first_cell + planar_cell_rows * num_cells_;
+  } else {
+    const Eigen::Index off = full.row - first_cell;
+    if (off < 0 || off % cell_rows != 0 || off / cell_rows >= num_cells_)
+      throw std::invalid_argument("PlanarReduction::restrict_block: not a block of this model");
+    keep = &cell_keep_;
+    drop = &cell_drop_;
+    out.row = planar_first_cell + planar_cell_rows * (off / cell_rows);
+  }
+  if (full.residual.size() != static_cast<Eigen::Index>(keep->size() + drop->size()))
+    throw std::invalid_argument("PlanarReduction::restrict_block: unexpected number of rows");
+  const Eigen::Index n = static_cast<Eigen::Index>(keep->size());
+  out.residual.resize(n);
+  for (Eigen::Index i = 0; i < n; ++i) out.residual(i) = full.residual((*keep)[static_cast<size_t>(i)]);
+  out.cols.resize(full.cols.size());
+  out.jac.resize(full.jac.size());
+  for (size_t k = 0; k < full.cols.size(); ++k) {
+    if (full.cols[k] % p_ != 0 || full.jac[k].cols() != p_)
+      throw std::invalid_argument("PlanarReduction::restrict_block: unexpected columns");
+    out.cols[k] = full.cols[k] / p_ * q_;
+    const MatX& J = full.jac[k];
+    MatX& Jq = out.jac[k];
+    Jq.resize(n, q_);
+    for (int c = 0; c < q_; ++c) {
+      const Eigen::Index src = cols_[static_cast<size_t>(c)];
+      for (Eigen::Index i = 0; i < n; ++i) Jq(i, c) = J((*keep)[static_cast<size_t>(i)], src);
+    }
+  }
+  double dropped = 0.0;
+  for (int r : *drop) dropped = std::max(dropped, std::abs(full.residual(r)));
+  return dropped;
+}
+
+}  // namespace traverse::rod

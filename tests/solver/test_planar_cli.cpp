@@ -1,0 +1,171 @@
+// Planar fast path through the traverse executable: the path each scene gets
+// (scheme.planar: auto), the output attribute and run summary that say so, planar against
+// forced-3D output files on 1 and 2 ranks, and 'on' refused (exit 2, naming the key) for a
+// scene that is not planar.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <signal.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "process.hpp"
+#include "traverse/output/reader.hpp"
+
+namespace fs = std::filesystem;
+using traverse::output::Reader;
+
+namespace {
+
+const std::string kInputs = std::string(TRAVERSE_SOURCE_DIR) + "/inputs";
+const std::string kCable = kInputs + "/default.yaml";
+const std::string kDeepArch = kInputs + "/arch/deep_arch_v0.01.yaml";
+const std::string kShallowArch = kInputs + "/arch/shallow_arch_v0.5.yaml";
+// Every field, so that the comparison covers the whole state.
+const std::string kFields = " --set output.fields=[r,R,u,omega,kappa,n,m] -q";
+
+struct Result {
+  int code;
+  std::string out;  // stdout and stderr together
+};
+
+Result run(const std::string& prefix, const std::string& args) {
+  const std::string cmd = prefix + std::string(TRAVERSE_EXE) + " " + args + " 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return {-1, "popen failed"};
+  std::string out;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::string mpirun(int ranks) {
+  return ranks == 1 ? "" : std::string(TRAVERSE_MPIEXEC) + " --allow-run-as-root --oversubscribe -n " +
+                               std::to_string(ranks) + " ";
+}
+
+// The linear solver is named so that these tests do not depend on the default choice.
+std::string solver(int ranks) {
+  return ranks == 1 ? " --set 'solver.Linear Solver=KLU2'" : " --set 'solver.Linear Solver=GMRES'";
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// The hanging cable (default scene, 21 nodes) on the planar path (auto) and forced 3D: same
+// output to 1e-10, on 1 and 2 ranks; the attribute and the summary line name the path.
+TEST(PlanarCli, CablePlanarEquals3D) {
+  for (int ranks : {1, 2}) {
+    const fs::path d = scratch("planar_cable_np" + std::to_string(ranks));
+    const std::string a = (d / "auto.h5").string(), b = (d / "off.h5").string();
+    const std::string common = " --set mesh.ds=0.05" + solver(ranks);
+    const Result ra = run(mpirun(ranks), "run " + kCable + " -o " + a + common + " --set output.fields=[r,R,u,omega,kappa,n,m]");
+    ASSERT_EQ(ra.code, 0) << ra.out;
+    const Result rb = run(mpirun(ranks), "run " + kCable + " -o " + b + common + " --set scheme.planar=off" + kFields);
+    ASSERT_EQ(rb.code, 0) << rb.out;
+    EXPECT_NE(ra.out.find("path: planar (6 unknowns per node, plane normal (1, 0, 0) = d1); detected"),
+              std::string::npos)
+        << ra.out;
+    EXPECT_NE(ra.out.find("on the planar path"), std::string::npos) << ra.out;
+    EXPECT_EQ(Reader(a).attribute("rod_path"), "planar");
+    EXPECT_EQ(Reader(b).attribute("rod_path"), "3D");
+    EXPECT_EQ(Reader(b).attribute("rod_path_detail"), "3D (12 unknowns per node); scheme.planar: off");
+    std::string why;
+    const double diff = traverse::testing::max_file_difference(a, b, why);
+    std::printf("  cable, %d rank(s): planar vs 3D output max |difference| %.2e (%s); %s\n", ranks, diff,
+                why.c_str(), Reader(a).attribute("rod_path_detail").c_str());
+    EXPECT_LE(diff, 1e-10) << why;
+  }
+}
+
+// The arches: the shallow arch is planar (and equal to its 3D run), the deep arch with its
+// lateral trigger runs in 3D and says why. Two time steps each at ds = 0.05.
+TEST(PlanarCli, ArchPaths) {
+  const fs::path d = scratch("planar_arches");
+  const std::string sa = (d / "shallow.h5").string(), sb = (d / "shallow_off.h5").string();
+  const std::string shallow = " --set mesh.ds=0.05 --set time.end=0.2" + solver(1) + kFields;
+  const Result r1 = run("", "run " + kShallowArch + " -o " + sa + shallow);
+  ASSERT_EQ(r1.code, 0) << r1.out;
+  const Result r2 = run("", "run " + kShallowArch + " -o " + sb + shallow + " --set scheme.planar=off");
+  ASSERT_EQ(r2.code, 0) << r2.out;
+  EXPECT_EQ(Reader(sa).attribute("rod_path"), "planar");
+  std::string why;
+  const double diff = traverse::testing::max_file_difference(sa, sb, why);
+  std::printf("  shallow arch: %s; planar vs 3D max |difference| %.2e (%s)\n",
+              Reader(sa).attribute("rod_path_detail").c_str(), diff, why.c_str());
+  EXPECT_LE(diff, 1e-10) << why;
+
+  const std::string da = (d / "deep.h5").string();
+  const Result r3 = run("", "run " + kDeepArch + " -o " + da + " --set mesh.ds=0.05 --set time.end=10" + solver(1) + " -q");
+  ASSERT_EQ(r3.code, 0) << r3.out;
+  const std::string detail = Reader(da).attribute("rod_path_detail");
+  std::printf("  deep arch: %s\n", detail.c_str());
+  EXPECT_EQ(Reader(da).attribute("rod_path"), "3D");
+  EXPECT_NE(detail.find("not planar: about d1: point force 0 (3.8e-06, -3.8, 0) has a component"), std::string::npos)
+      << detail;
+}
+
+// A killed planar run restarts on the planar path (the path is stored with the restart
+// point) and ends bit for bit equal to the uninterrupted run; restarted with
+// scheme.planar=off it continues on the 3D path, equal to 1e-10.
+TEST(PlanarCli, RestartKeepsThePath) {
+  using namespace traverse::testing;
+  const fs::path d = scratch("planar_restart");
+  const std::string ref = (d / "reference.h5").string();
+  const std::string args = " --set mesh.ds=0.02" + solver(1) + kFields;
+  ASSERT_EQ(run("", "run " + kCable + " -o " + ref + args).code, 0);
+  for (const std::string mode : {"", " --set scheme.planar=off"}) {
+    const std::string out = (d / (mode.empty() ? "run.h5" : "run_off.h5")).string();
+    const Child c = spawn(split_args(std::string(TRAVERSE_EXE) + " run " + kCable + " -o " + out + args),
+                          (d / "stopped.log").string());
+    ASSERT_TRUE(wait_for_steps(c, out, 5)) << read_text((d / "stopped.log").string());
+    kill(c.pid, SIGKILL);
+    ASSERT_EQ(wait_exit(c), 128 + SIGKILL);
+    const long kept = static_cast<long>(Reader(out).steps_written());
+    const Result r = run("", "run --restart " + out + mode);
+    ASSERT_EQ(r.code, 0) << r.out;
+    std::string why;
+    const double diff = max_file_difference(ref, out, why);
+    const std::string detail = Reader(out).attribute("rod_path_detail");
+    std::printf("  killed after %ld of 51 output steps, restarted%s: %s; vs uninterrupted max |difference| %.2e\n",
+                kept, mode.c_str(), detail.c_str(), diff);
+    EXPECT_LT(kept, 51);
+    if (mode.empty()) {
+      EXPECT_EQ(diff, 0.0) << why;
+      EXPECT_EQ(detail, "planar (6 unknowns per node, plane normal (1, 0, 0) = d1); the path of the run being restarted "
+                        "(scheme.planar: auto)");
+    } else {
+      EXPECT_LE(diff, 1e-10) << why;
+      EXPECT_EQ(Reader(out).attribute("rod_path"), "3D");
+    }
+  }
+}
+
+// scheme.planar: on for a scene that is not planar: exit 2 before anything is computed, the
+// message names the key and the reason, no output file.
+TEST(PlanarCli, OnRefusesANonPlanarScene) {
+  const fs::path d = scratch("planar_on");
+  const std::string out = (d / "deep.h5").string();
+  for (const std::string& cmd : {"check " + kDeepArch + " --set scheme.planar=on",
+                                "run " + kDeepArch + " --set scheme.planar=on -o " + out,
+                                "run " + kCable + " --set scheme.planar=on --set ends.right.axis=[0.6,0,0.8] -o " + out}) {
+    const Result r = run("", cmd);
+    std::printf("  %s\n    -> exit %d: %s", cmd.substr(0, cmd.find(' ')).c_str(), r.code, r.out.c_str());
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("scheme.planar"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("not planar"), std::string::npos) << r.out;
+    EXPECT_FALSE(fs::exists(out));
+  }
+  // 'on' for the planar cable is accepted.
+  const Result ok = run("", "check " + kCable + " --set scheme.planar=on");
+  EXPECT_EQ(ok.code, 0) << ok.out;
+}
+
+}  // namespace

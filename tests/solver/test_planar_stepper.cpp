@@ -1,0 +1,195 @@
+// Planar fast path of the distributed stepper (1 and 2 ranks): the planar solve against the 3D
+// solve of the same planar problems, step by step (hanging cable with its static initial
+// state and moving force; a curved pinned rod with carried ys, numerical damping and a moving
+// mass), the out-of-plane guard (PlanarityLost), and switching paths.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "rod_mpi_test_util.hpp"
+#include "traverse/rod/planar.hpp"
+#include "traverse/rod/static_solver.hpp"
+
+namespace traverse::solver {
+namespace {
+
+using test::say;
+
+struct Problem {
+  rod::RodModel model;
+  rod::RodState initial;
+  std::vector<Vec3> forces;  // point force vectors (for check_planar)
+  double dt = 0.0;
+  int steps = 0;
+};
+
+/// The hanging cable (scene rod, clamped / sliding along k, gravity -9.8 j) at ds = 1/N, in
+/// static equilibrium with the 2 N force on its left end, the force moving at 0.5 v1.
+Problem hanging_cable(int N) {
+  Problem p;
+  rod::RodModel& m = p.model;
+  m.props = rod::RodProperties::scene_rod();
+  m.num_cells = N;
+  m.length = 1.0;
+  m.left = rod::EndCondition::make_clamped();
+  m.right = rod::EndCondition::make_sliding(Vec3::UnitZ());
+  m.loads.gravity = Vec3(0.0, -9.8, 0.0);
+  const Vec3 F(0.0, -2.0, 0.0);
+  const double v = 0.5 * 7.2684;
+  m.loads.point_forces.push_back({[F](double) { return F; }, [v](double t) { return v * t; }});
+  p.forces = {F};
+  p.dt = m.ds() / v;
+  p.steps = N;  // the whole crossing
+  rod::StaticModel sm;
+  sm.props = m.props;
+  sm.num_cells = N;
+  sm.length = m.length;
+  sm.left.type = rod::EndCondition::Type::clamped;
+  sm.right.type = rod::EndCondition::Type::sliding;
+  sm.right.axis = Vec3::UnitZ();
+  sm.right.position = Vec3(0.0, 0.0, m.length);
+  sm.gravity = m.loads.gravity;
+  sm.point_forces.push_back({F, 0.0});
+  auto nodes = rod::straight_static_state(sm);
+  const auto rep = rod::StaticSolver().solve_with_load_steps(sm, nodes);
+  EXPECT_TRUE(rep.converged) << rep.message;
+  p.initial = rod::dynamic_state_from_static(sm, nodes);
+  return p;
+}
+
+/// A circular arc (curvature -2 about d1) pinned about i at both ends, released under gravity
+/// with a 0.2 kg moving mass, rho_inf 0.8 in time and 0.7 in space (carried ys, 24 unknowns
+/// per node, 12 on the planar path).
+Problem damped_arch(int N) {
+  Problem p;
+  rod::RodModel& m = p.model;
+  m.props = rod::RodProperties::scene_rod();
+  m.alpha = rod::AlphaParameters::from_rho_inf(0.8, 0.7);
+  m.num_cells = N;
+  m.length = 1.0;
+  m.left = rod::EndCondition::make_pinned(Vec3::UnitX());
+  m.right = rod::EndCondition::make_pinned(Vec3::UnitX());
+  m.loads.gravity = Vec3(0.0, -9.8, 0.0);
+  rod::MovingMass M;
+  M.mass = 0.2;
+  M.sigma = [](double t) { return 0.2 + 5.0 * t; };
+  M.speed = [](double) { return 5.0; };
+  M.accel = [](double) { return 0.0; };
+  m.loads.masses.push_back(M);
+  p.initial = rod::state_from_curvature(N, 1.0, [](double) { return Vec3(-2.0, 0.0, 0.0); });
+  p.dt = 2e-3;
+  p.steps = 25;
+  return p;
+}
+
+std::vector<std::string> solvers() {
+  if (test::ranks() == 1) return {"KLU2", "GMRES+SCHWARZ"};
+  return {"GMRES+SCHWARZ"};
+}
+
+struct Agreement {
+  double unknowns = 0.0;  // max |diff| of y, ys, R over nodes and steps
+  double yt = 0.0;        // max gt dt |diff yt|
+  double out_of_plane = 0.0;  // max |out-of-plane component| of the planar run's y
+  long newton_3d = 0, newton_planar = 0;
+  std::string path;
+};
+
+Agreement compare_paths(const Problem& pb, const std::string& solver) {
+  const rod::PlanarCheck chk = rod::check_planar(pb.model, pb.initial, pb.forces);
+  EXPECT_TRUE(chk.planar) << chk.reason;
+  DistributedStepper s3(pb.model, test::comm(), test::solver_params(solver));
+  DistributedStepper s2(pb.model, test::comm(), test::solver_params(solver));
+  s3.set_state(pb.initial);
+  s2.set_state(pb.initial);
+  s2.set_planar(&chk.symmetry);
+  EXPECT_TRUE(s2.planar());
+  EXPECT_FALSE(s3.planar());
+  EXPECT_EQ(s2.unknowns_per_node() * 2, s3.unknowns_per_node());
+  Agreement a;
+  a.path = s2.path_description();
+  const std::array<int, 6> S = rod::in_plane_components(chk.symmetry.axis);
+  const double gtdt = pb.model.alpha.gt * pb.dt;
+  for (int i = 0; i < pb.steps; ++i) {
+    a.newton_3d += s3.step(pb.dt).newton_iterations;
+    a.newton_planar += s2.step(pb.dt).newton_iterations;
+    const rod::RodState x = s3.gather_state(), y = s2.gather_state();
+    a.unknowns = std::max(a.unknowns, test::max_difference(x, y));
+    a.yt = std::max(a.yt, gtdt * test::max_yt_difference(x, y));
+    for (const auto& nd : y.nodes)
+      for (int k = 0; k < 12; ++k)
+        if (std::find(S.begin(), S.end(), k) == S.end()) a.out_of_plane = std::max(a.out_of_plane, std::abs(nd.y(k)));
+    EXPECT_EQ(s2.time(), s3.time());
+  }
+  return a;
+}
+
+void check_agreement(const char* name, const Problem& pb) {
+  for (const auto& solver : solvers()) {
+    const Agreement a = compare_paths(pb, solver);
+    say("[%d ranks] %s, %s, %d steps: planar vs 3D max|diff| y,ys,R %.2e, gt dt |diff yt| %.2e; planar "
+        "out-of-plane |y| %.1e; Newton iterations 3D %ld, planar %ld; %s\n",
+        test::ranks(), name, solver.c_str(), pb.steps, a.unknowns, a.yt, a.out_of_plane, a.newton_3d,
+        a.newton_planar, a.path.c_str());
+    EXPECT_LT(a.unknowns, 1e-10) << name << " " << solver;
+    EXPECT_LT(a.yt, 1e-10) << name << " " << solver;
+    EXPECT_EQ(a.out_of_plane, 0.0) << "the planar path embeds zeros";
+  }
+}
+
+TEST(PlanarStepper, HangingCableMatches3D) { check_agreement("hanging cable N = 50", hanging_cable(50)); }
+
+TEST(PlanarStepper, CarriedYsDampedArchWithMovingMassMatches3D) {
+  check_agreement("pinned arc, carried ys, rho 0.8/0.7, moving mass, N = 40", damped_arch(40));
+}
+
+// A problem that is not planar (gravity tilted out of the plane by 1e-3) forced onto the
+// planar path: the converged step's out-of-plane residual exceeds the tolerance, the step
+// throws PlanarityLost and leaves the state as it was.
+TEST(PlanarStepper, OutOfPlaneResidualThrowsPlanarityLost) {
+  Problem pb = hanging_cable(20);
+  const rod::PlanarCheck chk = rod::check_planar(pb.model, pb.initial, pb.forces);
+  ASSERT_TRUE(chk.planar) << chk.reason;
+  pb.model.loads.gravity = Vec3(9.8e-3, -9.8, 0.0);
+  EXPECT_FALSE(rod::check_planar(pb.model, pb.initial, pb.forces).planar);
+  DistributedStepper st(pb.model, test::comm(), test::solver_params(solvers().front()));
+  st.set_state(pb.initial);
+  st.set_planar(&chk.symmetry);
+  const rod::RodState before = st.gather_state();
+  try {
+    st.step(pb.dt);
+    ADD_FAILURE() << "no PlanarityLost";
+  } catch (const PlanarityLost& e) {
+    say("[%d ranks] forced planar path on tilted gravity: %s\n", test::ranks(), e.what());
+    EXPECT_NE(std::string(e.what()).find("out-of-plane residual"), std::string::npos);
+  }
+  EXPECT_EQ(st.time(), before.t);
+  EXPECT_EQ(test::max_difference(st.gather_state(), before), 0.0);
+}
+
+// Switching paths keeps the state and the time; null returns to the 3D system.
+TEST(PlanarStepper, SwitchingPathsKeepsTheState) {
+  const Problem pb = hanging_cable(20);
+  const rod::PlanarCheck chk = rod::check_planar(pb.model, pb.initial, pb.forces);
+  ASSERT_TRUE(chk.planar) << chk.reason;
+  DistributedStepper st(pb.model, test::comm(), test::solver_params(solvers().front()));
+  st.set_state(pb.initial);
+  st.step(pb.dt);
+  const rod::RodState a = st.gather_state();
+  st.set_planar(&chk.symmetry);
+  EXPECT_EQ(st.unknowns_per_node(), 6);
+  EXPECT_EQ(st.path_description(), "planar (6 unknowns per node, plane normal (1, 0, 0) = d1)");
+  EXPECT_EQ(test::max_difference(st.gather_state(), a), 0.0);
+  EXPECT_EQ(st.time(), a.t);
+  st.step(pb.dt);
+  st.set_planar(nullptr);
+  EXPECT_FALSE(st.planar());
+  EXPECT_EQ(st.unknowns_per_node(), 12);
+  EXPECT_EQ(st.path_description(), "3D (12 unknowns per node)");
+  EXPECT_NO_THROW(st.step(pb.dt));
+  EXPECT_NEAR(st.time(), 3 * pb.dt, 1e-15);
+}
+
+}  // namespace
+}  // namespace traverse::solver
