@@ -95,9 +95,12 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
   const auto& cs = sc.continuation;
 
-  Teuchos::ParameterList solver_params;
+  // Validated here for the error message; handed on as given, so that the statics' own
+  // default for 2+ ranks (GMRES + ILUT, see StaticContext) applies when the scene names no
+  // preconditioner (validation would fill in the dynamic default, Schwarz).
+  const Teuchos::ParameterList solver_params = sc.solver_parameters();
   try {
-    solver_params = solver::validated_solver_parameters(sc.solver_parameters());
+    (void)solver::validated_solver_parameters(solver_params);
   } catch (const std::invalid_argument& e) {
     scene::fail_at(sc, "solver", "valid solver parameters (see docs/solver.md)", e.what());
   }
