@@ -3,7 +3,6 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
-#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -29,24 +28,20 @@ struct Factors final : FactorsBase {
 
   std::vector<Eigen::PartialPivLU<Mat>> lu;  ///< LU of the Schur complements S_k
   std::vector<Mat> C;                        ///< S_k^{-1} U_k
-  double rcond = 1.0;
 
   void factor(const double* blocks, int n, int b) override {
     const Eigen::Index bb = static_cast<Eigen::Index>(b) * b;
     lu.resize(static_cast<size_t>(n));
     C.resize(static_cast<size_t>(n));
     Mat S(b, b);
-    rcond = std::numeric_limits<double>::infinity();
     for (int k = 0; k < n; ++k) {
       const double* base = blocks + 3 * bb * k;
       S = CMap(base + bb, b, b);
       if (k > 0) S.noalias() -= CMap(base, b, b) * C[static_cast<size_t>(k - 1)];
       auto& f = lu[static_cast<size_t>(k)];
       f.compute(S);
-      rcond = std::min(rcond, f.rcond());
       if (k + 1 < n) C[static_cast<size_t>(k)] = f.solve(CMap(base + 2 * bb, b, b));
     }
-    if (n == 0) rcond = 1.0;
   }
 
   void solve(const double* x, double* y, const double* blocks, int n, int b) const override {
@@ -64,7 +59,11 @@ struct Factors final : FactorsBase {
           C[static_cast<size_t>(k)] * Eigen::Map<const Vec>(y + static_cast<Eigen::Index>(k + 1) * b, b);
   }
 
-  double min_rcond() const override { return rcond; }
+  double min_rcond() const override {  // a diagnostic: estimated on request, not per factorisation
+    double r = 1.0;
+    for (const auto& f : lu) r = std::min(r, f.rcond());
+    return r;
+  }
 };
 
 std::unique_ptr<FactorsBase> make_factors(int b) {

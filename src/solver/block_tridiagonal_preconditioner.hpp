@@ -39,7 +39,8 @@ class BlockTridiagonalPreconditioner : public Tpetra::Operator<double> {
   void compute();
 
   int block_size() const;
-  /// Smallest reciprocal condition estimate of the factorised diagonal blocks (this rank).
+  /// Smallest reciprocal condition estimate of the factorised diagonal blocks (this rank),
+  /// estimated when asked (about b^2 work per block), 1 when there are none.
   double min_rcond() const;
   const Teuchos::RCP<const Matrix>& matrix() const;
 

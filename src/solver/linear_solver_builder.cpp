@@ -130,9 +130,15 @@ class BlockTridiagonalLows : public Thyra::LinearOpWithSolveBase<double> {
     const auto b = Converter::getConstTpetraMultiVector(Teuchos::rcpFromRef(B));
     const auto x = Converter::getTpetraMultiVector(Teuchos::rcpFromPtr(X));
     lu_->apply(*b, *x);
-    // Residual check and iterative refinement (x += LU^{-1} (b - A x)).
+    // Residual check and iterative refinement (x += LU^{-1} (b - A x)); the two work vectors
+    // are kept between solves (Newton solves once per iteration with the same map).
     const size_t nv = b->getNumVectors();
-    MV r(b->getMap(), nv), dx(b->getMap(), nv);
+    if (r_.is_null() || r_->getNumVectors() != nv || !r_->getMap()->isSameAs(*b->getMap())) {
+      r_ = Teuchos::rcp(new MV(b->getMap(), nv));
+      dx_ = Teuchos::rcp(new MV(b->getMap(), nv));
+    }
+    MV& r = *r_;
+    MV& dx = *dx_;
     std::vector<double> nb(nv), nr(nv);
     b->normInf(Teuchos::ArrayView<double>(nb));
     double worst = 0.0;
@@ -158,6 +164,7 @@ class BlockTridiagonalLows : public Thyra::LinearOpWithSolveBase<double> {
   Teuchos::RCP<const Thyra::LinearOpSourceBase<double>> src_;
   Teuchos::RCP<const BlockTridiagonalPreconditioner> lu_;
   double tolerance_ = 1e-12;
+  mutable Teuchos::RCP<MV> r_, dx_;
 };
 
 class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<double> {

@@ -30,6 +30,13 @@ Teuchos::RCP<const Matrix> matrix_of(const Thyra::LinearOpSourceBase<double>& sr
   return Teuchos::rcp_dynamic_cast<const Matrix>(op->getConstTpetraOperator());
 }
 
+/// The Tpetra operator this preconditioner already holds (null when it holds none).
+Teuchos::RCP<TpetraOp> held_operator(const Thyra::DefaultPreconditioner<double>& dp) {
+  const auto held = Teuchos::rcp_dynamic_cast<const ThyraTpetraOp>(dp.getUnspecifiedPrecOp());
+  if (held.is_null()) return Teuchos::null;
+  return Teuchos::rcp_const_cast<TpetraOp>(held->getConstTpetraOperator());
+}
+
 std::string upper(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::toupper(c); });
   return s;
@@ -63,12 +70,8 @@ void ReusableIfpack2Factory::initializePrec(
     settings.set("schwarz: overlap level", overlap);
 
   if (type == "BLOCK_TRIDIAGONAL") {  // traverse's own exact block-tridiagonal LU
-    Teuchos::RCP<BlockTridiagonalPreconditioner> bt;
-    if (auto held = Teuchos::rcp_dynamic_cast<const ThyraTpetraOp>(dp->getUnspecifiedPrecOp()); !held.is_null()) {
-      auto op = Teuchos::rcp_const_cast<TpetraOp>(held->getConstTpetraOperator());
-      bt = Teuchos::rcp_dynamic_cast<BlockTridiagonalPreconditioner>(op);
-      if (!bt.is_null() && bt->matrix().get() != A.get()) bt = Teuchos::null;
-    }
+    auto bt = Teuchos::rcp_dynamic_cast<BlockTridiagonalPreconditioner>(held_operator(*dp));
+    if (!bt.is_null() && bt->matrix().get() != A.get()) bt = Teuchos::null;
     if (bt.is_null()) {
       bt = Teuchos::rcp(new BlockTridiagonalPreconditioner(A));
       ++counters_.created;
@@ -80,13 +83,8 @@ void ReusableIfpack2Factory::initializePrec(
     return;
   }
   // The Ifpack2 object already held by this preconditioner, if it was built for A.
-  Teuchos::RCP<Prec> ip;
-  if (auto held = Teuchos::rcp_dynamic_cast<const ThyraTpetraOp>(dp->getUnspecifiedPrecOp());
-      !held.is_null()) {
-    auto op = Teuchos::rcp_const_cast<TpetraOp>(held->getConstTpetraOperator());
-    ip = Teuchos::rcp_dynamic_cast<Prec>(op);
-    if (!ip.is_null() && ip->getMatrix().get() != static_cast<const RowMatrix*>(A.get())) ip = Teuchos::null;
-  }
+  Teuchos::RCP<Prec> ip = Teuchos::rcp_dynamic_cast<Prec>(held_operator(*dp));
+  if (!ip.is_null() && ip->getMatrix().get() != static_cast<const RowMatrix*>(A.get())) ip = Teuchos::null;
   if (ip.is_null()) {
     ip = Ifpack2::Factory::create<RowMatrix>(type, Teuchos::RCP<const RowMatrix>(A));
     if (ip.is_null()) throw std::invalid_argument("ReusableIfpack2Factory: unknown Ifpack2 'Prec Type' " + type);
