@@ -4,8 +4,9 @@
 #
 #   bash scripts/run-benchmarks.sh [--quick] [--million] [--report-only]
 #
-#   --quick        smaller sweep (N <= 10^4, no 20 N / 2-rank accuracy runs): a few minutes
-#   --million      also N = 10^6 nodes (about 6 GB of memory per run; long)
+#   --quick        smaller sweep (N <= 10^4, no 20 N / 2-rank accuracy runs, arches down to
+#                  ds = 0.005 only): a few minutes
+#   --million      also N = 10^6 nodes (about 17 GB of memory on one rank; long)
 #   --report-only  only regenerate docs/benchmarks.md and the figures from existing CSV
 # Environment: BUILD (default build/), OUT (default $BUILD/bench), JOBS (make -j, default 1).
 # Benchmarks are never ctest tests; every number is a wall time or a ratio measured within
@@ -37,11 +38,11 @@ if [ "$REPORT_ONLY" = 0 ]; then
   else
     cmake -S "$ROOT" -B "$BUILD" -DTRAVERSE_BUILD_BENCHMARKS=ON > /dev/null
   fi
-  make -C "$BUILD" -j"$JOBS" bench_rod bench_beam
+  make -C "$BUILD" -j"$JOBS" bench_rod bench_beam traverse
   BR="$BUILD/tests/benchmarks/rod/bench_rod"
   BB="$BUILD/tests/benchmarks/beam/bench_beam"
   mkdir -p "$OUT"
-  rm -f "$OUT"/accuracy.csv "$OUT"/cost.csv "$OUT"/*.txt
+  rm -f "$OUT"/accuracy.csv "$OUT"/cost.csv "$OUT"/arches.csv "$OUT"/*.txt
 
   echo "== beam: run time against error" | tee "$OUT/beam.txt"
   "$BB" | tee -a "$OUT/beam.txt"
@@ -53,7 +54,7 @@ if [ "$REPORT_ONLY" = 0 ]; then
   if [ "$MILLION" = 1 ]; then BIG+=(1000001); fi
   "$BR" cost-header | tee "$OUT/cost.txt"
   for n in "${SIZES[@]}" "${BIG[@]}"; do
-    for s in GMRES+BLOCK_TRIDIAGONAL GMRES+BLOCK_TRIDIAGONAL:modified KLU2 KLU2:modified; do
+    for s in auto auto:modified KLU2 KLU2:modified; do
       "$BR" cost --nodes "$n" --solver "$s" --label scaling --csv "$OUT/cost.csv" | tee -a "$OUT/cost.txt"
     done
   done
@@ -67,7 +68,7 @@ if [ "$REPORT_ONLY" = 0 ]; then
   if [ "$QUICK" = 0 ]; then STRONG=(10001 100001); fi
   if [ "$MILLION" = 1 ]; then STRONG+=(1000001); fi
   for n in "${STRONG[@]}"; do
-    for s in GMRES+BLOCK_TRIDIAGONAL GMRES+BLOCK_TRIDIAGONAL:modified GMRES+SCHWARZ; do
+    for s in auto auto:modified GMRES+BLOCK_TRIDIAGONAL GMRES+SCHWARZ; do
       "$BR" cost --nodes "$n" --solver "$s" --label strong --csv "$OUT/cost.csv" | tee -a "$OUT/cost.txt"
       "${MPIRUN[@]}" "$BR" cost --nodes "$n" --solver "$s" --label strong --csv "$OUT/cost.csv" | tee -a "$OUT/cost.txt"
     done
@@ -79,6 +80,11 @@ if [ "$REPORT_ONLY" = 0 ]; then
     "$BR" accuracy --force 20 --solvers KLU2,GMRES+SCHWARZ --csv "$OUT/accuracy.csv" | tee "$OUT/accuracy_F20_np1.txt"
     "${MPIRUN[@]}" "$BR" accuracy --force 2 --csv "$OUT/accuracy.csv" | tee "$OUT/accuracy_F2_np2.txt"
   fi
+  echo "== arches: run time against error (shallow arch 5 m/s, deep arch 0.05 m/s; planar and 3D; two solvers)"
+  QA=()
+  if [ "$QUICK" = 1 ]; then QA=(--quick); fi
+  /usr/bin/python3 "$ROOT/tests/benchmarks/arches/bench_arches.py" "$BUILD/traverse" "${QA[@]}" \
+    --csv "$OUT/arches.csv" | tee "$OUT/arches.txt"
 
 fi
 
@@ -89,7 +95,7 @@ out, root = sys.argv[1], sys.argv[2]
 def rows(name):
     p = os.path.join(out, name)
     return list(csv.DictReader(open(p))) if os.path.exists(p) else []
-acc, cost = rows("accuracy.csv"), rows("cost.csv")
+acc, cost, arches = rows("accuracy.csv"), rows("cost.csv"), rows("arches.csv")
 f = lambda x, d=3: f"{float(x):.{d}g}"
 md = []
 if acc:
@@ -103,6 +109,23 @@ if acc:
         n = int(r["newton"])
         md.append(f"| {f(r['force'])} | {r['ranks']} | {r['solver']} | {float(r['ds']):g} | {r['steps']} | "
                   f"{float(r['run_seconds']):.3g} | {n} | {int(r['linear'])/max(n,1):.1f} | {float(r['error']):.2e} |")
+    md.append("")
+if arches:
+    md.append("### Run time against error (hinged arches)\n")
+    md.append("`tests/benchmarks/arches/bench_arches.py`: the shipped scenes at ds = 0.04 .. (dt = ds / v); "
+              "error: max over the coarsest run's output times of |q(t) - q_ref(t)|, q_ref from the ds = "
+              f"{float(arches[0]['reference_ds']):g} run of the same variant. Run time: the executable's time "
+              "stepping (probes only, no restart points between steps).\n")
+    md.append("| case | quantity | solver | path | ranks | ds | steps | run [s] | Newton its | max abs(dq) [m] | observed order |")
+    md.append("|---|---|---|---|---|---|---|---|---|---|---|")
+    prev = {}
+    for r in arches:
+        key = (r["case"], r["quantity"], r["solver"], r["path"], r["ranks"])
+        e = float(r["error"])
+        order = f"{math.log2(prev[key] / e):.2f}" if key in prev and e > 0 else ""
+        prev[key] = e
+        md.append(f"| {r['case']} | {r['quantity']} | {r['solver']} | {r['path']} | {r['ranks']} | {float(r['ds']):g} | "
+                  f"{r['steps']} | {float(r['run_seconds']):.3g} | {r['newton']} | {e:.2e} | {order} |")
     md.append("")
 def fit(points):  # least-squares slope of log(cost) against log(N)
     if len(points) < 2: return float("nan")

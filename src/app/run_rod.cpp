@@ -4,6 +4,7 @@
 #include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_Core.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -30,15 +31,6 @@ double load_sigma(const scene::MovingLoadSpec& l, double t) {
   return t < l.entry_time ? std::numeric_limits<double>::quiet_NaN() : l.position(t);
 }
 
-struct Interpolation {
-  int j;      // left node
-  double xi;  // weight of node j + 1
-};
-Interpolation locate(double s, double ds, int cells) {
-  int j = static_cast<int>(std::floor(s / ds));
-  j = std::clamp(j, 0, cells - 1);
-  return {j, std::clamp(s / ds - j, 0.0, 1.0)};
-}
 
 // Value of a probe quantity at one node (3 components).
 Vec3 node_quantity(const rod::RodNode& nd, const Vec3& r, const rod::RodProperties& props, const std::string& q,
@@ -74,6 +66,20 @@ rod::RodNode unpack_node(const double* o) {
   for (int i = 0; i < 12; ++i) nd.yt(i) = o[21 + i];
   for (int i = 0; i < 12; ++i) nd.ys(i) = o[33 + i];
   return nd;
+}
+
+/// The global nodes `wanted` of the distributed state, on every rank (each rank packs the
+/// ones it owns; one sum-reduction of wanted.size() nodes, as gather_state does for all).
+std::vector<rod::RodNode> gather_nodes(const solver::DistributedStepper& st, const std::vector<int>& wanted,
+                                       MPI_Comm comm) {
+  const int first = st.first_owned_node(), count = st.num_owned_nodes();
+  std::vector<double> local(kPackedNode * wanted.size(), 0.0), all(local.size());
+  for (size_t i = 0; i < wanted.size(); ++i)
+    if (wanted[i] >= first && wanted[i] < first + count) pack_node(st.owned_node(wanted[i] - first), &local[kPackedNode * i]);
+  MPI_Allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, comm);
+  std::vector<rod::RodNode> out(wanted.size());
+  for (size_t i = 0; i < wanted.size(); ++i) out[i] = unpack_node(&all[kPackedNode * i]);
+  return out;
 }
 
 /// The rod model of a scene, with its solver parameters validated; throws SceneError.
@@ -247,7 +253,11 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
                         std::max<size_t>(1, sc.loads.size()));
 
   const std::vector<std::string> xyz{"x", "y", "z"}, d123{"1", "2", "3"};
-  bool need_state = false;  // the full state gathered at output steps (probes, centreline)
+  // What the outputs read at an output step: the full state and the centreline only for a
+  // position probe or the field r; otherwise just the nodes around the probes.
+  std::vector<rod::PointOutput> points;
+  for (const auto& pr : sc.output.probes) points.push_back({pr.at, pr.quantity});
+  const rod::OutputNeeds needs = rod::output_needs(N, sc.mesh.ds, points, sc.output.fields);
   for (const auto& pr : sc.output.probes) {
     const bool fixed = pr.frame == "fixed";
     std::string units = pr.quantity == "position" ? "m" : pr.quantity == "u" ? "m/s" : pr.quantity == "omega" ? "rad/s"
@@ -256,7 +266,6 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
                       pr.quantity + " at s = " + scene::format_number(pr.at) + " m, " +
                           (fixed ? "fixed-frame components (i, j, k)" : "body components (d1, d2, d3)"),
                       fixed ? xyz : d123});
-    need_state = true;
   }
   for (const auto& l : sc.loads)
     writer.add_probe({l.name + "_position", 1, "m", "arclength sigma(t) of load '" + l.name + "'", {}});
@@ -269,7 +278,6 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     else if (f == "m") writer.add_field({"m", 3, "N m", "contact moment K (kappa - kappa0), body components", d123, false});
     else if (f == "r") {
       writer.add_field({"r", 3, "m", "centreline, fixed components", xyz, true});
-      need_state = true;
     } else if (f == "R") {
       writer.add_field({"R", 9, "1", "orientation: rows d1, d2, d3 in fixed components",
                         {"d1x", "d1y", "d1z", "d2x", "d2y", "d2z", "d3x", "d3y", "d3z"}, false});
@@ -299,18 +307,27 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   auto write = [&](double t) {
     rod::RodState full;
     std::vector<Vec3> r;
-    if (need_state) {
+    std::vector<rod::RodNode> near;  // needs.nodes, when the full state is not gathered
+    if (needs.centreline) {
       full = stepper.gather_state();
       r = rod::centreline_in_space(full, r0);
+    } else if (!needs.nodes.empty()) {
+      near = gather_nodes(stepper, needs.nodes, comm);
     }
+    auto node = [&](int j) -> const rod::RodNode& {
+      if (needs.centreline) return full.nodes[static_cast<size_t>(j)];
+      const auto it = std::lower_bound(needs.nodes.begin(), needs.nodes.end(), j);
+      return near[static_cast<size_t>(it - needs.nodes.begin())];
+    };
+    auto position = [&](int j) { return needs.centreline ? r[static_cast<size_t>(j)] : Vec3(Vec3::Zero()); };
     for (size_t i = 0; i < sc.output.probes.size(); ++i) {
       const auto& pr = sc.output.probes[i];
-      const auto loc = locate(pr.at, sc.mesh.ds, N);
-      const auto& a = full.nodes[static_cast<size_t>(loc.j)];
-      const auto& b = full.nodes[static_cast<size_t>(loc.j + 1)];
+      const auto loc = rod::locate_on_nodes(pr.at, sc.mesh.ds, N);
+      const auto& a = node(loc.j);
+      const auto& b = node(loc.j + 1);
       const bool fixed = pr.frame == "fixed";
-      const Vec3 v = (1.0 - loc.xi) * node_quantity(a, r[static_cast<size_t>(loc.j)], model.props, pr.quantity, fixed) +
-                     loc.xi * node_quantity(b, r[static_cast<size_t>(loc.j + 1)], model.props, pr.quantity, fixed);
+      const Vec3 v = (1.0 - loc.xi) * node_quantity(a, position(loc.j), model.props, pr.quantity, fixed) +
+                     loc.xi * node_quantity(b, position(loc.j + 1), model.props, pr.quantity, fixed);
       probe_values[i].assign(v.data(), v.data() + 3);
     }
     for (size_t i = 0; i < sc.loads.size(); ++i) {
@@ -369,6 +386,21 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
                 sc.file.c_str(), N + 1, steps, dt, t_end, initial.c_str(), stepper.resolved_linear_solver().c_str(),
                 stepper.linear_solver_rerouted() ? " (rerouted: Amesos2 gives wrong answers on 2+ ranks here)" : "",
                 path_text.c_str());
+  // A load that crosses more than one cell per time step is resolved by the space grid but
+  // not in time: the run goes on (it converges as dt falls), with a warning naming the keys.
+  if (rank == 0) {
+    const double ds = sc.mesh.ds;
+    for (const auto& l : sc.loads) {
+      const double t_leave = std::min(t_end, l.exit_time(sc.mesh.ds * N));
+      const double v = std::max(std::abs(l.velocity(l.entry_time)),
+                                std::abs(l.velocity(std::max(l.entry_time, t_leave))));
+      if (v > 0.0 && dt * v > ds * (1.0 + 1e-9))
+        std::fprintf(stderr,
+                     "traverse: warning: %s: time.dt = %.6g s moves load '%s' (up to %.6g m/s) %.3g cells per step "
+                     "(mesh.ds = %.6g m): its path is under-resolved in time (time.dt: auto gives ds / v)\n",
+                     sc.file.c_str(), dt, l.name.c_str(), v, dt * v / ds, ds);
+    }
+  }
   long first_step = 1;
   if (opt.restart) {
     copy_output_steps(restart_from, writer, rp.steps_written, probe_names, field_names,
@@ -385,6 +417,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   }
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", stepper.time(), t_end);
   long newton = 0, substeps = 0;
+  const auto stepping_start = std::chrono::steady_clock::now();
   for (long i = first_step; i <= steps; ++i) {
     const double t0 = stepper.time();
     const double h = i == steps ? t_end - t0 : dt;
@@ -433,10 +466,12 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   }
   progress.done();
   writer.finish();
+  const double stepping = std::chrono::duration<double>(std::chrono::steady_clock::now() - stepping_start).count();
   if (rank == 0 && !opt.quiet)
-    std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve) on the %s path; %zu output steps -> %s\n",
+    std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve) on the %s path; %zu output steps -> %s; "
+                "time stepping %.3f s (wall, output included)\n",
                 newton, substeps, substeps ? double(newton) / double(substeps) : 0.0, path.planar ? "planar" : "3D",
-                writer.steps_written(), opt.output.c_str());
+                writer.steps_written(), opt.output.c_str(), stepping);
 }
 
 }  // namespace traverse::app

@@ -287,7 +287,7 @@ double PlanarReduction::cell_block_into(LocalBlock& b, const RodModel& model, co
       for (int ir = 0; ir < 6; ++ir) {
         const int i = S[static_cast<size_t>(ir)];
         double jf = F.dF_dy(i, c);
-        if (c == wa)
+        if (c == wa && F.frame_loads)  // dF_dRrot = 0 without fixed-frame loads
           jf += F.dF_dRrot(i, 0) * G(0, sym_.axis) + F.dF_dRrot(i, 1) * G(1, sym_.axis) +
                 F.dF_dRrot(i, 2) * G(2, sym_.axis);
         double v = cm[side] * Mm_(i, c) + cf[side] * jf;

@@ -30,7 +30,7 @@ Mat12 Kk_matrix(const RodProperties& p) {
 /// Jacobian of the flux with respect to the new-level y, R's dependence on omega included.
 Mat12 new_level_flux_jacobian(const NodeFlux& f, const Mat3& G) {
   Mat12 J = f.dF_dy;
-  J.block<12, 3>(0, var::omega) += f.dF_dRrot * G;
+  if (f.frame_loads) J.block<12, 3>(0, var::omega) += f.dF_dRrot * G;  // else dF_dRrot = 0
   return J;
 }
 
@@ -112,14 +112,21 @@ NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double 
   const Vec3 u = y.segment<3>(var::u), w = y.segment<3>(var::omega);
   const Vec3 k = y.segment<3>(var::kappa), n = y.segment<3>(var::n);
   const Vec3 m = p.K.cwiseProduct(k - p.kappa0);
-  Vec3 f_fixed = p.rhoA * model.loads.gravity;
-  if (model.loads.f_fixed) f_fixed += model.loads.f_fixed(s, t);
-  Vec3 l_fixed = Vec3::Zero();
-  if (model.loads.l_fixed) l_fixed = model.loads.l_fixed(s, t);
-  const Vec3 fb = R * f_fixed, lb = R * l_fixed;
+  NodeFlux out;
+  // Fixed-frame loads in body components; a scene without gravity and distributed loads
+  // skips them (fb = lb = 0 exactly, no products with R).
+  out.frame_loads = model.loads.has_frame_loads();
+  Vec3 fb = Vec3::Zero(), lb = Vec3::Zero();
+  if (out.frame_loads) {
+    Vec3 f_fixed = p.rhoA * model.loads.gravity;
+    if (model.loads.f_fixed) f_fixed += model.loads.f_fixed(s, t);
+    Vec3 l_fixed = Vec3::Zero();
+    if (model.loads.l_fixed) l_fixed = model.loads.l_fixed(s, t);
+    fb = R * f_fixed;
+    lb = R * l_fixed;
+  }
   const Vec3 Iw = p.rhoI.cwiseProduct(w);
 
-  NodeFlux out;
   out.F.segment<3>(0) = -k.cross(n) + p.rhoA * w.cross(u) - fb;
   out.F.segment<3>(3) = -k.cross(m) - e3.cross(n) + w.cross(Iw) - lb;
   out.F.segment<3>(6) = -k.cross(w);
@@ -141,8 +148,10 @@ NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double 
   J.block<3, 3>(9, var::kappa) = -hat(u);
 
   out.dF_dRrot.setZero();
-  out.dF_dRrot.block<3, 3>(0, 0) = -hat(fb);
-  out.dF_dRrot.block<3, 3>(3, 0) = -hat(lb);
+  if (out.frame_loads) {
+    out.dF_dRrot.block<3, 3>(0, 0) = -hat(fb);
+    out.dF_dRrot.block<3, 3>(3, 0) = -hat(lb);
+  }
   return out;
 }
 
@@ -192,7 +201,9 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
     }
   }
 
+  const bool gravity = loads.has_gravity();
   for (const MovingMass& M : loads.masses) {
+    if (!gravity && !M.inertia) continue;  // a mass without inertia exerts only its weight
     PointLoadWeights Wa[2];
     for (int lev = 0; lev < 2; ++lev) {
       const double t = tl[lev];
@@ -210,12 +221,12 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
         const Mat3& R = lev == 0 ? nn[q].R : old[q]->R;
         const Vec3 u = y.segment<3>(var::u), om = y.segment<3>(var::omega);
         const Vec3 k = y.segment<3>(var::kappa);
-        const Vec3 Rg = R * loads.gravity;
+        const Vec3 Rg = gravity ? Vec3(R * loads.gravity) : Vec3::Zero();  // no gravity: no R g
         Vec3 qv = Rg;
         if (M.inertia) qv += -om.cross(u) - 2.0 * v * om.cross(e3) - v * v * k.cross(e3) - acc * e3;
         b.residual.head<3>() -= c * qv;
         if (lev == 0) {
-          b.jac[q].block<3, 3>(0, var::omega) -= c * hat(Rg) * nn[q].G;
+          if (gravity) b.jac[q].block<3, 3>(0, var::omega) -= c * hat(Rg) * nn[q].G;
           if (M.inertia) {
             b.jac[q].block<3, 3>(0, var::u) -= c * (-hat(om));
             b.jac[q].block<3, 3>(0, var::omega) -= c * (hat(u) + 2.0 * v * hat(e3));

@@ -1,5 +1,7 @@
 #include "traverse/rod/rod_state.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "traverse/core/so3.hpp"
@@ -72,6 +74,28 @@ std::vector<Vec3> centreline_in_space(const RodState& state, const Vec3& r0) {
     r[j] = r[j - 1] + 0.5 * state.ds *
                           (state.nodes[j - 1].R.row(2).transpose() + state.nodes[j].R.row(2).transpose());
   return r;
+}
+
+NodeInterpolation locate_on_nodes(double s, double ds, int num_cells) {
+  int j = static_cast<int>(std::floor(s / ds));
+  j = std::clamp(j, 0, num_cells - 1);
+  return {j, std::clamp(s / ds - j, 0.0, 1.0)};
+}
+
+OutputNeeds output_needs(int num_cells, double ds, const std::vector<PointOutput>& points,
+                         const std::vector<std::string>& fields) {
+  OutputNeeds n;
+  for (const auto& p : points) n.centreline = n.centreline || p.quantity == "position";
+  for (const auto& f : fields) n.centreline = n.centreline || f == "r";
+  if (n.centreline) return n;
+  for (const auto& p : points) {
+    const NodeInterpolation loc = locate_on_nodes(p.s, ds, num_cells);
+    n.nodes.push_back(loc.j);
+    n.nodes.push_back(loc.j + 1);
+  }
+  std::sort(n.nodes.begin(), n.nodes.end());
+  n.nodes.erase(std::unique(n.nodes.begin(), n.nodes.end()), n.nodes.end());
+  return n;
 }
 
 std::vector<Vec3> advance_centreline_in_time(const std::vector<Vec3>& r_old,

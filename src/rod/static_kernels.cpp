@@ -136,6 +136,8 @@ LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev
   LocalBlock b = block(6 + 12 * static_cast<Eigen::Index>(j - 1), {12 * static_cast<Eigen::Index>(j - 1),
                                                                    12 * static_cast<Eigen::Index>(j)}, 12);
   const StaticNode* nd[2] = {&prev, &self};
+  // Without gravity no gravity terms are formed (R f_fixed and its frame sensitivity).
+  const bool gravity = m.gravity.x() != 0.0 || m.gravity.y() != 0.0 || m.gravity.z() != 0.0;
   const Vec3 f_fixed = m.props.rhoA * m.gravity;
   Mat3 R[2], D[2];
   for (int q = 0; q < 2; ++q) {
@@ -149,13 +151,17 @@ LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev
     auto& J = b.jac[q];
     const Vec3 k = x.segment<3>(svar::kappa), n = x.segment<3>(svar::n);
     const Vec3 mm = m.props.K.cwiseProduct(k - m.props.kappa0);
-    const Vec3 fb = R[q] * f_fixed;
     const Vec3 t = R[q].transpose() * e3;
     // Force balance.
-    res.segment<3>(0) += -sgn[q] * n / ds + 0.5 * (-k.cross(n) - fb);
+    if (gravity) {
+      const Vec3 fb = R[q] * f_fixed;
+      res.segment<3>(0) += -sgn[q] * n / ds + 0.5 * (-k.cross(n) - fb);
+      J.block<3, 3>(0, svar::theta) += 0.5 * hat(fb) * D[q];
+    } else {
+      res.segment<3>(0) += -sgn[q] * n / ds + 0.5 * (-k.cross(n));
+    }
     J.block<3, 3>(0, svar::n) += -sgn[q] / ds * Mat3::Identity() - 0.5 * hat(k);
     J.block<3, 3>(0, svar::kappa) += 0.5 * hat(n);
-    J.block<3, 3>(0, svar::theta) += 0.5 * hat(fb) * D[q];
     // Moment balance.
     res.segment<3>(3) += -sgn[q] * mm / ds + 0.5 * (-k.cross(mm) - e3.cross(n));
     J.block<3, 3>(3, svar::kappa) += -sgn[q] / ds * Mat3(m.props.K.asDiagonal()) +

@@ -377,6 +377,11 @@ Param build_schema() {
       if (std::abs(cells - std::round(cells)) > 1e-9 * std::max(1.0, cells) || std::round(cells) < 1.0)
         ctx.fail("mesh.ds", "a spacing that divides the length " + format_number(length) + " into whole cells",
                  format_number(ds) + " (" + format_number(cells) + " cells)");
+      else if (model != kBeam && std::round(cells) < 2.0)
+        ctx.fail("mesh.ds", "at least 2 cells along a rod (ds <= " + format_number(length / 2.0) + ")",
+                 format_number(ds) + " (1 cell)");
+    } else if (model != kBeam && mesh.isParameter("nodes") && mesh.get<int>("nodes") < 3) {
+      ctx.fail("mesh.nodes", "at least 3 nodes (2 cells) along a rod", std::to_string(mesh.get<int>("nodes")));
     }
   });
   return root;

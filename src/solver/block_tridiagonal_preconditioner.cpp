@@ -1,8 +1,12 @@
 #include "block_tridiagonal_preconditioner.hpp"
 
 #include <Eigen/Dense>
+#include <Teuchos_CommHelpers.hpp>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -11,13 +15,154 @@ namespace traverse::solver {
 
 namespace {
 
-/// The block Thomas algorithm for one block size. `blocks` holds, per node k, the three
-/// b x b column-major blocks L_k (coupling to node k-1), D_k, U_k (node k+1).
+/// Per node k of this rank, blocks holds three b x b column-major blocks: L_k (coupling to
+/// node k-1), D_k, U_k (node k+1). Rank p's nodes are split into its interior (all but its
+/// last node when a rank follows, all otherwise) and, when a rank follows, its separator
+/// (its last node). See the header for the algorithm.
 struct FactorsBase {
   virtual ~FactorsBase() = default;
-  virtual void factor(const double* blocks, int n, int b) = 0;
-  virtual void solve(const double* x, double* y, const double* blocks, int n, int b) const = 0;
+  /// Factorises this rank's part; `exchange` is called once with this rank's packed
+  /// contribution to the separator system and must return every rank's (rank order).
+  virtual void factor(const double* blocks, int n, int b, int rank, int ranks,
+                      const std::function<std::vector<double>(const std::vector<double>&)>& exchange) = 0;
+  virtual void solve(const double* x, double* y, const double* blocks,
+                     const std::function<std::vector<double>(const std::vector<double>&)>& exchange) const = 0;
   virtual double min_rcond() const = 0;
+};
+
+/// The block Thomas algorithm on a chain of m blocks, visited in a given order (natural or
+/// reversed): position i has the coupling Lp[i] to position i-1, Dp[i], the coupling Up[i]
+/// to position i+1, and its vector block at offset off[i] (in blocks). The first q positions
+/// are eliminated together (one LU of q b x q b): q = 1 unless the first diagonal block is
+/// singular on its own, which happens at a rod end eliminated first in the reversed order
+/// (the right end's rows there are its end conditions and the kinematic rows of the last
+/// cell, which leave the force unknowns out), then q grows until the start block is regular.
+template <int B>
+struct Chain {
+  using Mat = Eigen::Matrix<double, B, B>;
+  using Vec = Eigen::Matrix<double, B, 1>;
+  using CMap = Eigen::Map<const Mat>;
+  using Dyn = Eigen::MatrixXd;
+  static constexpr int kMaxMerge = 4;
+  static constexpr double kStartPivot = 1e-13;
+  int b = 0, m = 0, q = 1;
+  std::vector<const double*> Lp, Dp, Up;
+  std::vector<long> off;
+  Eigen::PartialPivLU<Dyn> lu0;              ///< LU of the start block (positions 0..q-1)
+  Dyn E0;                                    ///< start block^-1 [0; ..; 0; U_{q-1}]
+  std::vector<Eigen::PartialPivLU<Mat>> lu;  ///< LU of the Schur complements S_i, i >= q
+  std::vector<Mat> C;                        ///< S_i^{-1} U_i (i = q-1: E0's last block)
+  mutable Eigen::VectorXd zq;
+
+  /// Positions 0..m_-1 over the blocks first..first+m_-1 of a [L, D, U] array, natural
+  /// order or reversed (then "previous" is the next node: L and U swap roles).
+  void bind(const double* blocks, int bsz, int first, int m_, bool reversed) {
+    b = bsz;
+    m = m_;
+    const long bb = static_cast<long>(b) * b;
+    Lp.assign(static_cast<size_t>(m), nullptr);
+    Dp = Up = Lp;
+    off.assign(static_cast<size_t>(m), 0);
+    for (int i = 0; i < m; ++i) {
+      const long j = first + (reversed ? m - 1 - i : i);
+      const double* base = blocks + 3 * bb * j;
+      Lp[static_cast<size_t>(i)] = reversed ? base + 2 * bb : base;
+      Dp[static_cast<size_t>(i)] = base + bb;
+      Up[static_cast<size_t>(i)] = reversed ? base : base + 2 * bb;
+      off[static_cast<size_t>(i)] = j;
+    }
+  }
+
+  /// The start block's LU has no pivot below kStartPivot times its largest (Eigen's rcond()
+  /// estimate is no test: it returns 1 for an exactly singular matrix).
+  bool regular_start() const {
+    const Eigen::VectorXd d = lu0.matrixLU().diagonal().cwiseAbs();
+    const double lo = d.minCoeff(), hi = d.maxCoeff();
+    return std::isfinite(lo) && std::isfinite(hi) && hi > 0.0 && lo > kStartPivot * hi;
+  }
+
+  void factor() {
+    lu.resize(static_cast<size_t>(m));
+    C.resize(static_cast<size_t>(m));
+    if (m == 0) return;
+    for (int want = 1;; ++want) {
+      q = std::min(want, m);
+      Dyn M = Dyn::Zero(q * b, q * b);
+      for (int i = 0; i < q; ++i) {
+        const auto I = static_cast<size_t>(i);
+        M.block(i * b, i * b, b, b) = CMap(Dp[I], b, b);
+        if (i > 0) M.block(i * b, (i - 1) * b, b, b) = CMap(Lp[I], b, b);
+        if (i + 1 < q) M.block(i * b, (i + 1) * b, b, b) = CMap(Up[I], b, b);
+      }
+      lu0.compute(M);
+      if (q == m || want == kMaxMerge || regular_start()) break;
+    }
+    if (q < m) {
+      Dyn R = Dyn::Zero(q * b, b);
+      R.bottomRows(b) = CMap(Up[static_cast<size_t>(q - 1)], b, b);
+      E0 = lu0.solve(R);
+      C[static_cast<size_t>(q - 1)] = E0.bottomRows(b);
+    }
+    Mat S(b, b);
+    for (int k = q; k < m; ++k) {
+      const auto K = static_cast<size_t>(k);
+      S = CMap(Dp[K], b, b);
+      S.noalias() -= CMap(Lp[K], b, b) * C[K - 1];
+      lu[K].compute(S);
+      if (k + 1 < m) C[K] = lu[K].solve(CMap(Up[K], b, b));
+    }
+  }
+
+  /// y = A^{-1} x on this chain's blocks (x and y in natural layout; other blocks untouched).
+  void solve(const double* x, double* y) const {
+    if (m == 0) return;
+    zq.resize(static_cast<Eigen::Index>(q) * b);
+    for (int i = 0; i < q; ++i) zq.segment(i * b, b) = Eigen::Map<const Vec>(x + off[static_cast<size_t>(i)] * b, b);
+    zq = lu0.solve(zq);
+    for (int i = 0; i < q; ++i) Eigen::Map<Vec>(y + off[static_cast<size_t>(i)] * b, b) = zq.segment(i * b, b);
+    Vec z(b);
+    for (int k = q; k < m; ++k) {
+      const auto K = static_cast<size_t>(k);
+      z = Eigen::Map<const Vec>(x + off[K] * b, b);
+      z.noalias() -= CMap(Lp[K], b, b) * Eigen::Map<const Vec>(y + off[K - 1] * b, b);
+      Eigen::Map<Vec>(y + off[K] * b, b) = lu[K].solve(z);
+    }
+    for (int k = m - 2; k >= q; --k) {
+      const auto K = static_cast<size_t>(k);
+      Eigen::Map<Vec>(y + off[K] * b, b).noalias() -= C[K] * Eigen::Map<const Vec>(y + off[K + 1] * b, b);
+    }
+    if (q < m) {
+      const Vec yq = Eigen::Map<const Vec>(y + off[static_cast<size_t>(q)] * b, b);
+      for (int i = 0; i < q; ++i)
+        Eigen::Map<Vec>(y + off[static_cast<size_t>(i)] * b, b).noalias() -= E0.middleRows(i * b, b) * yq;
+    }
+  }
+
+  /// (A^{-1})_{last,last} R.
+  Mat last_last(const Mat& R) const {
+    if (m > q) return lu.back().solve(R);
+    Dyn Z = Dyn::Zero(q * b, b);
+    Z.bottomRows(b) = R;
+    return lu0.solve(Z).bottomRows(b);
+  }
+  /// (A^{-1})_{last,first} R: forward elimination of the right-hand side e_first R (the
+  /// last block of the solution is the last block after the forward sweep).
+  Mat last_first(const Mat& R) const {
+    Dyn Z = Dyn::Zero(q * b, b);
+    Z.topRows(b) = R;
+    Mat W = lu0.solve(Z).bottomRows(b);
+    for (int k = q; k < m; ++k) {
+      const auto K = static_cast<size_t>(k);
+      W = lu[K].solve(-(CMap(Lp[K], b, b) * W));
+    }
+    return W;
+  }
+
+  double min_rcond() const {
+    double r = m > 0 ? lu0.rcond() : 1.0;
+    for (int k = q; k < m; ++k) r = std::min(r, lu[static_cast<size_t>(k)].rcond());
+    return r;
+  }
 };
 
 template <int B>
@@ -25,43 +170,136 @@ struct Factors final : FactorsBase {
   using Mat = Eigen::Matrix<double, B, B>;
   using Vec = Eigen::Matrix<double, B, 1>;
   using CMap = Eigen::Map<const Mat>;
+  using VMap = Eigen::Map<const Vec>;
 
-  std::vector<Eigen::PartialPivLU<Mat>> lu;  ///< LU of the Schur complements S_k
-  std::vector<Mat> C;                        ///< S_k^{-1} U_k
+  int b = 0, n = 0, m = 0, rank = 0, ranks = 1;
+  bool has_left = false, has_sep = false;
+  Chain<B> fwd, rev;        ///< interior in natural order (when a separator follows) / reversed
+  const Chain<B>* solver = nullptr;
+  std::vector<double> red;  ///< separator system, [L, D, U] per separator
+  std::vector<double> usep; ///< every rank's U of its separator (coupling to the next rank)
+  Chain<B> red_chain;
+  mutable std::vector<double> z, w, xs, rhs;
 
-  void factor(const double* blocks, int n, int b) override {
-    const Eigen::Index bb = static_cast<Eigen::Index>(b) * b;
-    lu.resize(static_cast<size_t>(n));
-    C.resize(static_cast<size_t>(n));
-    Mat S(b, b);
-    for (int k = 0; k < n; ++k) {
-      const double* base = blocks + 3 * bb * k;
-      S = CMap(base + bb, b, b);
-      if (k > 0) S.noalias() -= CMap(base, b, b) * C[static_cast<size_t>(k - 1)];
-      auto& f = lu[static_cast<size_t>(k)];
-      f.compute(S);
-      if (k + 1 < n) C[static_cast<size_t>(k)] = f.solve(CMap(base + 2 * bb, b, b));
+  const double* L(const double* blocks, long j) const { return blocks + 3L * b * b * j; }
+  const double* D(const double* blocks, long j) const { return blocks + 3L * b * b * j + static_cast<long>(b) * b; }
+  const double* U(const double* blocks, long j) const { return blocks + 3L * b * b * j + 2L * b * b; }
+
+  void factor(const double* blocks, int n_, int b_, int rank_, int ranks_,
+              const std::function<std::vector<double>(const std::vector<double>&)>& exchange) override {
+    b = b_;
+    n = n_;
+    rank = rank_;
+    ranks = ranks_;
+    has_left = rank > 0;
+    has_sep = rank + 1 < ranks;
+    m = has_sep ? n - 1 : n;
+    const bool need_fwd = has_sep || !has_left;
+    if (need_fwd) {
+      fwd.bind(blocks, b, 0, m, false);
+      fwd.factor();
     }
+    if (has_left) {
+      rev.bind(blocks, b, 0, m, true);
+      rev.factor();
+    }
+    solver = need_fwd ? &fwd : &rev;
+    if (ranks == 1) return;
+
+    // This rank's contribution to the separator system (5 b x b blocks):
+    //   [0] D_s - L_s (A^-1)_{last,last} U_{m-1}   (own separator s; from the interior)
+    //   [1] -L_s (A^-1)_{last,first} L_0          (s's coupling to the previous separator)
+    //   [2] U_s                                    (s's coupling to the next rank's first node)
+    //   [3] (A^-1)_{first,first} L_0               (for the previous separator's row)
+    //   [4] (A^-1)_{first,last} U_{m-1}            (ditto, coupling to this rank's separator)
+    const long bb = static_cast<long>(b) * b;
+    std::vector<double> mine(static_cast<size_t>(5 * bb), 0.0);
+    auto put = [&](int slot, const Mat& M) { Eigen::Map<Mat>(mine.data() + slot * bb, b, b) = M; };
+    // A rank holding only its separator (m = 0) has no interior: its separator couples
+    // directly to the previous one ([1] = L_s, [4] = -I so that the previous row gets +U).
+    const long s = n - 1;
+    if (has_sep) {
+      const Mat Ls = CMap(L(blocks, s), b, b);
+      if (m > 0) {
+        put(0, CMap(D(blocks, s), b, b) - Ls * fwd.last_last(CMap(U(blocks, m - 1), b, b)));
+        if (has_left) put(1, -(Ls * fwd.last_first(CMap(L(blocks, 0), b, b))));
+      } else {
+        put(0, CMap(D(blocks, s), b, b));
+        if (has_left) put(1, Ls);
+      }
+      put(2, CMap(U(blocks, s), b, b));
+    }
+    if (has_left) {
+      if (m > 0) {
+        put(3, rev.last_last(CMap(L(blocks, 0), b, b)));
+        if (has_sep) put(4, rev.last_first(CMap(U(blocks, m - 1), b, b)));
+      } else {
+        put(4, -Mat::Identity(b, b));
+      }
+    }
+    const std::vector<double> all = exchange(mine);
+    auto got = [&](int r, int slot) { return CMap(all.data() + (5L * r + slot) * bb, b, b); };
+    const int ns = ranks - 1;  // separators: the last node of ranks 0 .. ranks-2
+    red.assign(static_cast<size_t>(3 * bb * ns), 0.0);
+    usep.assign(static_cast<size_t>(bb * ns), 0.0);
+    for (int k = 0; k < ns; ++k) {
+      double* base = red.data() + 3 * bb * k;
+      const Mat Us = got(k, 2);
+      Eigen::Map<Mat>(usep.data() + bb * k, b, b) = Us;
+      if (k > 0) Eigen::Map<Mat>(base, b, b) = got(k, 1);
+      Eigen::Map<Mat>(base + bb, b, b) = got(k, 0) - Us * got(k + 1, 3);
+      if (k + 1 < ns) Eigen::Map<Mat>(base + 2 * bb, b, b) = -(Us * got(k + 1, 4));
+    }
+    red_chain.bind(red.data(), b, 0, ns, false);
+    red_chain.factor();
+    z.assign(static_cast<size_t>(n) * b, 0.0);
+    w.assign(static_cast<size_t>(n) * b, 0.0);
+    xs.assign(static_cast<size_t>(ns) * b, 0.0);
+    rhs.assign(static_cast<size_t>(ns) * b, 0.0);
   }
 
-  void solve(const double* x, double* y, const double* blocks, int n, int b) const override {
-    const Eigen::Index bb = static_cast<Eigen::Index>(b) * b;
-    Vec z(b);
-    for (int k = 0; k < n; ++k) {
-      z = Eigen::Map<const Vec>(x + static_cast<Eigen::Index>(k) * b, b);
-      if (k > 0)
-        z.noalias() -= CMap(blocks + 3 * bb * k, b, b) *
-                       Eigen::Map<const Vec>(y + static_cast<Eigen::Index>(k - 1) * b, b);
-      Eigen::Map<Vec>(y + static_cast<Eigen::Index>(k) * b, b) = lu[static_cast<size_t>(k)].solve(z);
+  void solve(const double* x, double* y, const double* blocks,
+             const std::function<std::vector<double>(const std::vector<double>&)>& exchange) const override {
+    if (ranks == 1) {
+      solver->solve(x, y);
+      return;
     }
-    for (int k = n - 2; k >= 0; --k)
-      Eigen::Map<Vec>(y + static_cast<Eigen::Index>(k) * b, b).noalias() -=
-          C[static_cast<size_t>(k)] * Eigen::Map<const Vec>(y + static_cast<Eigen::Index>(k + 1) * b, b);
+    // 1. Interior solve with the separators at zero; 2. the separators' right-hand sides
+    // (every rank's) and the separator system, solved on every rank; 3. the interior again
+    // with the separators' values moved to the right-hand side.
+    solver->solve(x, z.data());
+    std::vector<double> mine(static_cast<size_t>(2 * b), 0.0);
+    const long s = n - 1;
+    if (has_sep) {
+      Eigen::Map<Vec>(mine.data(), b) = VMap(x + s * b, b);
+      if (m > 0)
+        Eigen::Map<Vec>(mine.data(), b).noalias() -= CMap(L(blocks, s), b, b) * VMap(z.data() + (m - 1L) * b, b);
+    }
+    if (has_left && m > 0) Eigen::Map<Vec>(mine.data() + b, b) = VMap(z.data(), b);
+    const std::vector<double> all = exchange(mine);
+    const int ns = ranks - 1;
+    for (int k = 0; k < ns; ++k)
+      Eigen::Map<Vec>(rhs.data() + static_cast<long>(k) * b, b) =
+          VMap(all.data() + 2L * b * k, b) -
+          CMap(usep.data() + static_cast<long>(b) * b * k, b, b) * VMap(all.data() + 2L * b * (k + 1) + b, b);
+    red_chain.solve(rhs.data(), xs.data());
+    if (has_sep) Eigen::Map<Vec>(y + s * b, b) = VMap(xs.data() + static_cast<long>(rank) * b, b);
+    if (m == 0) return;
+    std::copy(x, x + static_cast<long>(m) * b, w.begin());
+    if (has_left)
+      Eigen::Map<Vec>(w.data(), b).noalias() -=
+          CMap(L(blocks, 0), b, b) * VMap(xs.data() + (rank - 1L) * b, b);
+    if (has_sep)
+      Eigen::Map<Vec>(w.data() + (m - 1L) * b, b).noalias() -=
+          CMap(U(blocks, m - 1), b, b) * VMap(xs.data() + static_cast<long>(rank) * b, b);
+    solver->solve(w.data(), y);
   }
 
-  double min_rcond() const override {  // a diagnostic: estimated on request, not per factorisation
+  double min_rcond() const override {
     double r = 1.0;
-    for (const auto& f : lu) r = std::min(r, f.rcond());
+    if (!fwd.lu.empty()) r = std::min(r, fwd.min_rcond());
+    if (!rev.lu.empty()) r = std::min(r, rev.min_rcond());
+    if (!red_chain.lu.empty()) r = std::min(r, red_chain.min_rcond());
     return r;
   }
 };
@@ -81,13 +319,40 @@ constexpr int kMaxBlock = 64;
 
 struct BlockTridiagonalPreconditioner::Impl {
   Teuchos::RCP<const Matrix> A;
+  Teuchos::RCP<const Teuchos::Comm<int>> comm;
   int b = 1;     ///< block size
   int n = 0;     ///< blocks (nodes) on this rank
-  std::vector<long> dest;       ///< per local matrix entry: index in `blocks`, or -1 (other rank)
+  bool exact = false;
+  std::string layout;           ///< why the couplings between ranks are dropped (when they are)
+  /// Per local matrix entry: its index in its row's three blocks (L, D, U: 3 b^2 values
+  /// from the row's block on), or -1 (dropped). 2 bytes per entry (b <= 64).
+  std::vector<std::int16_t> dest;
   std::vector<double> blocks;   ///< 3 b^2 per block: L, D, U
   std::unique_ptr<FactorsBase> factors;
   mutable std::vector<double> tmp;
+
+  int rank() const { return exact ? comm->getRank() : 0; }
+  int ranks() const { return exact ? comm->getSize() : 1; }
+  /// Every rank's `mine` (all the same length), in rank order.
+  std::vector<double> gather(const std::vector<double>& mine) const {
+    std::vector<double> all(mine.size() * static_cast<size_t>(comm->getSize()));
+    Teuchos::gatherAll<int, double>(*comm, static_cast<int>(mine.size()), mine.data(),
+                                    static_cast<int>(all.size()), all.data());
+    return all;
+  }
 };
+
+namespace {
+
+/// 1 on every rank when `ok` holds on every rank.
+bool all_ranks(const Teuchos::Comm<int>& comm, bool ok) {
+  const int mine = ok ? 1 : 0;
+  int all = 0;
+  Teuchos::reduceAll<int, int>(comm, Teuchos::REDUCE_MIN, 1, &mine, &all);
+  return all == 1;
+}
+
+}  // namespace
 
 BlockTridiagonalPreconditioner::BlockTridiagonalPreconditioner(Teuchos::RCP<const Matrix> A)
     : impl_(std::make_unique<Impl>()) {
@@ -95,6 +360,8 @@ BlockTridiagonalPreconditioner::BlockTridiagonalPreconditioner(Teuchos::RCP<cons
   if (!A->isFillComplete())
     throw std::invalid_argument("BlockTridiagonalPreconditioner: the matrix must be fill-complete");
   const auto rows = A->getRowMap();
+  const auto comm = rows->getComm();
+  impl_->comm = comm;
   const LO nrows = static_cast<LO>(rows->getNodeNumElements());
   const GO first = nrows > 0 ? rows->getGlobalElement(0) : 0;
   auto same_rows = [&](const Map& m) {
@@ -103,52 +370,90 @@ BlockTridiagonalPreconditioner::BlockTridiagonalPreconditioner(Teuchos::RCP<cons
       if (rows->getGlobalElement(i) != first + i || m.getGlobalElement(i) != first + i) return false;
     return true;
   };
-  if (!same_rows(*A->getDomainMap()) || !same_rows(*A->getRangeMap()))
+  if (!all_ranks(*comm, same_rows(*A->getDomainMap()) && same_rows(*A->getRangeMap())))
     throw std::invalid_argument("BlockTridiagonalPreconditioner: each rank's rows must be one contiguous "
                                 "range of global indices, the same in the row, domain and range maps");
   impl_->A = A;
   const auto lcl = A->getLocalMatrixHost();
   const auto colmap = A->getColMap();
   const size_t nnz = lcl.graph.entries.extent(0);
-  std::vector<GO> gcol(nnz);
-  for (size_t k = 0; k < nnz; ++k) gcol[k] = colmap->getGlobalElement(lcl.graph.entries(k));
+  // Global column of a local entry (looked up when needed: a table of them would be
+  // 8 bytes per entry, as much as the values).
+  auto gcol = [&](size_t k) { return colmap->getGlobalElement(lcl.graph.entries(k)); };
 
-  // The smallest block size that makes the owned rows block tridiagonal.
-  int b = 0;
-  for (int c = 1; c <= std::min<LO>(kMaxBlock, std::max<LO>(nrows, 1)) && b == 0; ++c) {
-    if (nrows % c != 0 || first % c != 0) continue;
+  // The smallest block size that makes every rank's owned rows block tridiagonal (couplings
+  // to other ranks' rows are looked at below), agreed by all ranks.
+  std::vector<int> fits(kMaxBlock + 1, 0), fits_all(kMaxBlock + 1, 0);
+  for (int c = 1; c <= kMaxBlock; ++c) {
+    if (nrows % c != 0 || first % c != 0 || (nrows == 0 && c > 1)) continue;
     const GO b0 = first / c, b1 = (first + nrows) / c;  // owned blocks [b0, b1)
     bool ok = true;
     for (LO r = 0; r < nrows && ok; ++r) {
       const GO br = (first + r) / c;
       for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k) {
-        const GO bc = gcol[k] / c;
+        const GO bc = gcol(k) / c;
         if (bc >= b0 && bc < b1 && (bc < br - 1 || bc > br + 1)) {
           ok = false;
           break;
         }
       }
     }
-    if (ok) b = c;
+    fits[static_cast<size_t>(c)] = ok ? 1 : 0;
   }
-  if (b == 0)
-    throw std::invalid_argument("BlockTridiagonalPreconditioner: the rows of this rank are not block "
-                                "tridiagonal for any block size up to " +
-                                std::to_string(kMaxBlock));
+  Teuchos::reduceAll<int, int>(*comm, Teuchos::REDUCE_MIN, kMaxBlock + 1, fits.data(), fits_all.data());
+  int b = 0;
+  for (int c = 1; c <= kMaxBlock && b == 0; ++c)
+    if (fits_all[static_cast<size_t>(c)] == 1) b = c;
+  if (b == 0) {
+    int c_mine = 0;
+    for (int c = 1; c <= kMaxBlock && c_mine == 0; ++c)
+      if (fits[static_cast<size_t>(c)] == 1) c_mine = c;
+    throw std::invalid_argument("BlockTridiagonalPreconditioner: the rows of " +
+                                std::string(c_mine > 0 ? "another rank" : "this rank") +
+                                " are not block tridiagonal for any block size up to " + std::to_string(kMaxBlock) +
+                                (c_mine > 0 ? " that fits every rank" : ""));
+  }
   impl_->b = b;
   impl_->n = static_cast<int>(nrows / b);
+  const GO b0 = first / b, b1 = (first + nrows) / b;
+
+  // Exact across ranks when the ranks hold consecutive, non-empty pieces of one chain of
+  // blocks, in rank order, and
+  // couplings to other ranks only between neighbouring blocks; else block Jacobi.
+  bool near = true;
+  for (LO r = 0; r < nrows && near; ++r) {
+    const GO br = (first + r) / b;
+    for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k)
+      if (gcol(k) / b < br - 1 || gcol(k) / b > br + 1) {
+        near = false;
+        break;
+      }
+  }
+  const int P = comm->getSize();
+  std::vector<double> mine{static_cast<double>(b0), static_cast<double>(b1)};
+  const std::vector<double> all = impl_->gather(mine);
+  std::string why;
+  for (int r = 0; r < P && why.empty(); ++r) {
+    if (all[2 * r + 1] - all[2 * r] < 1) why = "rank " + std::to_string(r) + " holds no rows";
+    else if (r + 1 < P && all[2 * (r + 1)] != all[2 * r + 1])
+      why = "the ranks' blocks are not consecutive in rank order";
+  }
+  if (why.empty() && !all_ranks(*comm, near)) why = "a row couples to a block more than one block away";
+  impl_->exact = why.empty();
+  impl_->layout = why;
+
   const long bb = static_cast<long>(b) * b;
   impl_->dest.assign(nnz, -1);
-  const GO b0 = first / b, b1 = (first + nrows) / b;
+  const GO lo = impl_->exact ? b0 - 1 : b0, hi = impl_->exact ? b1 + 1 : b1;  // kept column blocks [lo, hi)
   for (LO r = 0; r < nrows; ++r) {
     const GO g = first + r;
     const GO br = g / b;
     for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k) {
-      const GO bc = gcol[k] / b;
-      if (bc < b0 || bc >= b1) continue;  // another rank's node: dropped (block Jacobi)
+      const GO col = gcol(k);
+      const GO bc = col / b;
+      if (bc < lo || bc >= hi) continue;  // another rank's node: dropped (block Jacobi)
       const long slot = static_cast<long>(bc - br + 1);
-      impl_->dest[k] = (3 * static_cast<long>(br - b0) + slot) * bb + static_cast<long>(gcol[k] % b) * b +
-                       static_cast<long>(g % b);
+      impl_->dest[k] = static_cast<std::int16_t>(slot * bb + static_cast<long>(col % b) * b + static_cast<long>(g % b));
     }
   }
   impl_->blocks.assign(static_cast<size_t>(3 * bb * impl_->n), 0.0);
@@ -165,12 +470,20 @@ void BlockTridiagonalPreconditioner::compute() {
   const auto vals = lcl.values;
   if (vals.extent(0) != I.dest.size())
     throw std::logic_error("BlockTridiagonalPreconditioner: the matrix graph changed since construction");
-  for (size_t k = 0; k < I.dest.size(); ++k)
-    if (I.dest[k] >= 0) I.blocks[static_cast<size_t>(I.dest[k])] += vals(k);
-  I.factors->factor(I.blocks.data(), I.n, I.b);
+  const size_t bb3 = 3 * static_cast<size_t>(I.b) * static_cast<size_t>(I.b);
+  const LO nrows = static_cast<LO>(lcl.graph.row_map.extent(0)) - 1;
+  for (LO r = 0; r < nrows; ++r) {
+    double* row_blocks = I.blocks.data() + bb3 * static_cast<size_t>(r / I.b);  // the row's L, D, U
+    for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k)
+      if (I.dest[k] >= 0) row_blocks[static_cast<size_t>(I.dest[k])] += vals(k);
+  }
+  I.factors->factor(I.blocks.data(), I.n, I.b, I.rank(), I.ranks(),
+                    [&I](const std::vector<double>& v) { return I.gather(v); });
 }
 
 int BlockTridiagonalPreconditioner::block_size() const { return impl_->b; }
+bool BlockTridiagonalPreconditioner::exact() const { return impl_->exact; }
+const std::string& BlockTridiagonalPreconditioner::why_not_exact() const { return impl_->layout; }
 double BlockTridiagonalPreconditioner::min_rcond() const { return impl_->factors->min_rcond(); }
 const Teuchos::RCP<const BlockTridiagonalPreconditioner::Matrix>& BlockTridiagonalPreconditioner::matrix() const {
   return impl_->A;
@@ -191,7 +504,8 @@ void BlockTridiagonalPreconditioner::apply(const MV& X, MV& Y, Teuchos::ETransp 
   for (size_t j = 0; j < X.getNumVectors(); ++j) {
     const auto x = X.getData(j);
     auto y = Y.getDataNonConst(j);
-    I.factors->solve(x.getRawPtr(), I.tmp.data(), I.blocks.data(), I.n, I.b);
+    I.factors->solve(x.getRawPtr(), I.tmp.data(), I.blocks.data(),
+                     [&I](const std::vector<double>& v) { return I.gather(v); });
     for (size_t i = 0; i < I.tmp.size(); ++i)
       y[i] = beta == 0.0 ? alpha * I.tmp[i] : beta * y[i] + alpha * I.tmp[i];
   }

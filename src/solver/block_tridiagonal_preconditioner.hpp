@@ -1,22 +1,43 @@
 #pragma once
-// Exact block-tridiagonal LU of each rank's rows of the rod Jacobian, as a Tpetra operator
-// (used as the preconditioner of GMRES: on one rank it is a direct solve, so GMRES stops
-// after one iteration; across ranks it is block Jacobi, one block per rank).
+// Exact block-tridiagonal LU of the rod Jacobian across ranks, as a Tpetra operator (the
+// direct time-step solver, or the preconditioner of GMRES, which then stops after one
+// iteration).
 //
 // The rod's unknowns are node-major and the rows of node k couple nodes k-1..k+1 only
 // (docs/solver.md, "Row/unknown mapping"), so with the node's unknowns as one block the
 // matrix is block tridiagonal. The block size is found from the graph (the smallest b for
-// which every owned row couples only the neighbouring b-blocks: 12 for the 3D rod, 6 for
-// the planar one), so nothing else needs to tell it. Factorisation: the block Thomas
-// algorithm (Schur complements S_k = D_k - L_k S_{k-1}^{-1} U_{k-1}, each factorised by LU
-// with partial pivoting inside the block), about 8 b^3 / 3 flops per node: the
-// "block-tridiagonal LU floor" of docs/benchmarks.md. Couplings to other ranks' nodes are
-// dropped (block Jacobi). The graph analysis (block size and where each matrix entry goes)
-// is done once in the constructor; compute() only copies the values and factorises.
+// which every rank's owned rows couple only the neighbouring b-blocks: 12 for the 3D rod, 6
+// for the planar one), so nothing else needs to tell it. One rank: the block Thomas algorithm
+// (Schur complements S_k = D_k - L_k S_{k-1}^{-1} U_{k-1}, each factorised by LU with
+// partial pivoting inside the block), about 8 b^3 / 3 flops per node: the
+// "block-tridiagonal LU floor" of docs/benchmarks.md.
+//
+// Several ranks (each holding a consecutive piece of the chain, in rank order, as
+// mesh::DistributedMesh partitions the rod): the last node of every rank but the last is a
+// separator. Removing the separators splits the chain into independent interiors, one per
+// rank; each rank factorises its interior (forward when a separator follows it, backward from
+// its end when one precedes it, both for a rank in the middle) and forms its part of the
+// Schur complement on the separators, which needs only the corner blocks of its interior's
+// inverse: (A^-1)_{last,last} = S_last^-1 and (A^-1)_{first,first} from the two directions,
+// the off-diagonal corners by one sweep of b x b products. The separator system (block
+// tridiagonal, ranks - 1 blocks) is gathered and solved on every rank; a solve is an interior
+// solve, an exchange of 2 b numbers per rank, the separator solve and a second interior solve
+// with the separators' values on the right-hand side. A rod end eliminated first (the reversed
+// order on the last rank) is singular on its own, so each elimination starts with the first q
+// nodes merged into one block, q the smallest (up to 4) with no pivot below 1e-13 of the
+// largest. Arithmetic per rank: the first and
+// last rank about one factorisation of their nodes (no overlap, no Krylov iterations), a
+// middle rank about two (a rank holding one node has no interior: its node is its separator).
+// When the layout does not allow it (pieces not consecutive in rank order, a rank without
+// rows, a row coupling to a block two or more away on another rank), the couplings between
+// ranks are dropped instead (block Jacobi: exact() is false). The graph analysis is
+// done once in the constructor (collective); compute() copies the values and factorises
+// (collective), apply() is collective on several ranks.
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Operator.hpp>
 
 #include <memory>
+#include <string>
 
 namespace traverse::solver {
 
@@ -30,8 +51,8 @@ class BlockTridiagonalPreconditioner : public Tpetra::Operator<double> {
   using Map = Tpetra::Map<LO, GO, Node>;
 
   /// Analyses A's graph (fill-complete, contiguous row map equal to its domain and range
-  /// maps). Throws std::invalid_argument when no block size makes the owned rows block
-  /// tridiagonal.
+  /// maps). Collective. Throws std::invalid_argument (on every rank) when no block size
+  /// makes some rank's owned rows block tridiagonal.
   explicit BlockTridiagonalPreconditioner(Teuchos::RCP<const Matrix> A);
   ~BlockTridiagonalPreconditioner() override;
 
@@ -39,6 +60,10 @@ class BlockTridiagonalPreconditioner : public Tpetra::Operator<double> {
   void compute();
 
   int block_size() const;
+  /// True when the solve is exact across ranks (always on one rank); otherwise the
+  /// couplings between ranks are dropped and why_not_exact() says why.
+  bool exact() const;
+  const std::string& why_not_exact() const;
   /// Smallest reciprocal condition estimate of the factorised diagonal blocks (this rank),
   /// estimated when asked (about b^2 work per block), 1 when there are none.
   double min_rcond() const;

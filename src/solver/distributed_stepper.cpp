@@ -88,7 +88,7 @@ struct DistributedStepper::Impl {
       me->set_W_factory(make_reusing_klu2_factory([model_ptr] { return model_ptr->jacobian_version(); },
                                                   direct_stats));
       reusing_klu2 = true;
-    } else if (choice.block_tridiagonal_direct && comm->getSize() == 1) {
+    } else if (choice.block_tridiagonal_direct) {
       RodStepModel* model_ptr = me.get();
       me->set_W_factory(make_block_tridiagonal_solve_factory(
           [model_ptr] { return model_ptr->jacobian_version(); }, direct_stats, choice.linear_tolerance));
@@ -132,32 +132,50 @@ struct DistributedStepper::Impl {
     }
   }
 
+  /// One Newton solve from t0 to t0 + dt. The nodes are moved into the model as its old level
+  /// for the solve (one copy of the rod's nodes instead of two) and `nodes` is refilled from
+  /// it: with the new level on success, as it was on failure or when the solve throws.
   bool attempt(double t0, double dt, StepReport& sr) {
-    me->set_old_level(nodes, rod::StepTimes{t0, dt});
-    me->old_unknowns(*x);
-    last = newton->solve(*x);
-    sr.newton_iterations += last.iterations;
-    sr.linear_iterations += last.linear_iterations;
-    if (!last.converged && me->jacobian_reuse() && me->stale_jacobian_used()) {
-      // Modified Newton failed with a kept W: redo this solve with full Newton.
-      ++full_newton_retries;
-      me->set_full_newton(true);
-      me->set_old_level(nodes, rod::StepTimes{t0, dt});
+    me->set_old_level(std::move(nodes), rod::StepTimes{t0, dt});
+    nodes.clear();
+    try {
       me->old_unknowns(*x);
       last = newton->solve(*x);
-      me->set_full_newton(false);
       sr.newton_iterations += last.iterations;
       sr.linear_iterations += last.linear_iterations;
+      if (!last.converged && me->jacobian_reuse() && me->stale_jacobian_used()) {
+        // Modified Newton failed with a kept W: redo this solve with full Newton.
+        ++full_newton_retries;
+        me->set_full_newton(true);
+        me->set_old_level(me->old_ghosted_nodes(), rod::StepTimes{t0, dt});
+        me->old_unknowns(*x);
+        last = newton->solve(*x);
+        me->set_full_newton(false);
+        sr.newton_iterations += last.iterations;
+        sr.linear_iterations += last.linear_iterations;
+      }
+      if (last.converged) check_planarity(t0, dt);
+    } catch (...) {
+      nodes = me->old_ghosted_nodes();
+      throw;
     }
-    if (!last.converged) return false;
-    check_planarity(t0, dt);
+    const std::vector<rod::RodNode>& old = me->old_ghosted_nodes();
+    if (!last.converged) {
+      nodes = old;
+      return false;
+    }
     const std::vector<VecX> xg = me->ghosted_unknowns(*x);
-    for (size_t k = 0; k < nodes.size(); ++k) nodes[k] = rod::advance_node(*model, nodes[k], xg[k], dt);
+    nodes.resize(old.size());
+    for (size_t k = 0; k < nodes.size(); ++k) nodes[k] = rod::advance_node(*model, old[k], xg[k], dt);
     t = t0 + dt;
     return true;
   }
 
-  void advance(double t0, double dt, int depth, StepReport& sr, double t_step, double dt_step) {
+  /// `saved` (depth 0 only): receives the nodes at t0 before the step is subdivided, so that
+  /// step() can restore them if a later sub-step fails. A failed attempt leaves `nodes` as they
+  /// were, so the copy is needed only once the step is split (not on every step).
+  void advance(double t0, double dt, int depth, StepReport& sr, double t_step, double dt_step,
+               std::vector<rod::RodNode>* saved = nullptr) {
     if (attempt(t0, dt, sr)) {
       ++sr.substeps;
       sr.max_depth = std::max(sr.max_depth, depth);
@@ -166,6 +184,7 @@ struct DistributedStepper::Impl {
     }
     ++sr.failed_attempts;
     if (depth >= max_depth) throw StepFailure(t_step, dt_step, t0, dt, depth, last);
+    if (saved) *saved = nodes;
     advance(t0, 0.5 * dt, depth + 1, sr, t_step, dt_step);
     advance(t0 + 0.5 * dt, 0.5 * dt, depth + 1, sr, t_step, dt_step);
   }
@@ -237,13 +256,13 @@ void DistributedStepper::set_state(const rod::RodState& full) {
 StepReport DistributedStepper::step(double dt) {
   Impl& m = *impl_;
   if (!(dt > 0.0)) throw std::invalid_argument("DistributedStepper::step: dt must be > 0, found " + std::to_string(dt));
-  const std::vector<rod::RodNode> saved = m.nodes;
+  std::vector<rod::RodNode> saved;  // the nodes at t0, copied only if the step is subdivided
   const double t0 = m.t;
   StepReport sr;
   try {
-    m.advance(t0, dt, 0, sr, t0, dt);
+    m.advance(t0, dt, 0, sr, t0, dt, &saved);
   } catch (const std::exception&) {  // StepFailure, PlanarityLost
-    m.nodes = saved;
+    if (!saved.empty()) m.nodes = std::move(saved);  // else no attempt changed the nodes
     m.t = t0;
     throw;
   }

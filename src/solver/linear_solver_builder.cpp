@@ -8,6 +8,8 @@
 #include <Thyra_TpetraThyraWrappers.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <chrono>
+#include <cmath>
+#include <limits>
 #include <algorithm>
 #include <functional>
 #include <string>
@@ -147,8 +149,13 @@ class BlockTridiagonalLows : public Thyra::LinearOpWithSolveBase<double> {
       r.update(1.0, *b, -1.0);
       r.normInf(Teuchos::ArrayView<double>(nr));
       worst = 0.0;
-      for (size_t j = 0; j < nv; ++j) worst = std::max(worst, nb[j] > 0.0 ? nr[j] / nb[j] : nr[j]);
-      if (worst <= tolerance_ || pass == 2) break;
+      for (size_t j = 0; j < nv; ++j) {
+        const double q = nb[j] > 0.0 ? nr[j] / nb[j] : nr[j];
+        // Tpetra's normInf of a vector holding NaN can return -inf: not finite = failed.
+        worst = std::isfinite(q) && q >= 0.0 ? std::max(worst, q) : std::numeric_limits<double>::infinity();
+        if (std::isinf(worst)) break;
+      }
+      if (worst <= tolerance_ || pass == 2 || std::isinf(worst)) break;
       lu_->apply(r, dx);
       x->update(1.0, dx, 1.0);
     }
@@ -188,6 +195,11 @@ class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<
     const long v = version_ ? version_() : -1;
     if (lu_.is_null() || lu_->matrix().get() != A.get()) {
       lu_ = Teuchos::rcp(new BlockTridiagonalPreconditioner(A));
+      TEUCHOS_TEST_FOR_EXCEPTION(!lu_->exact(), std::runtime_error,
+                                 "block-tridiagonal LU as a direct solver: the couplings between ranks "
+                                 "cannot be kept ("
+                                     << lu_->why_not_exact()
+                                     << "); use 'Linear Solver: GMRES' with 'Preconditioner: BLOCK_TRIDIAGONAL'");
       lu_->compute();
       ++stats_->symbolic;
       ++stats_->numeric;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
 #include "traverse/solver/solver_parameters.hpp"
 
@@ -54,13 +55,13 @@ Teuchos::ParameterList gmres_list(const Teuchos::ParameterList& p, const std::st
     sub.sublist("Amesos2");
     text += std::string(" + ") + kSchwarzText;
   } else if (prec == "BLOCK_TRIDIAGONAL") {
-    // traverse's block-tridiagonal LU of each rank's rows (block_tridiagonal_preconditioner.hpp):
-    // exact on one rank (GMRES converges in one iteration), block Jacobi across ranks.
+    // traverse's block-tridiagonal LU (block_tridiagonal_preconditioner.hpp): exact, also
+    // across ranks (GMRES converges in one iteration).
     ip.set("Prec Type", "BLOCK_TRIDIAGONAL");
-    // One iteration on one rank, about 7 on two: a long restart cycle only costs memory (the
-    // Krylov basis is allocated up front: 200 vectors are 19 kB per node of the rod).
+    // One iteration: a long restart cycle only costs memory (the Krylov basis is allocated up
+    // front: 200 vectors are 19 kB per node of the rod).
     g.set("Num Blocks", std::min(p.get<int>("Krylov Subspace Size"), kBlockTridiagonalRestart));
-    text += " + block-tridiagonal LU of each rank's rows";
+    text += " + block-tridiagonal LU";
   } else if (prec == "ILUT") {
     ip.set("Prec Type", "ILUT");
     settings.set("fact: ilut level-of-fill", 3.0);
@@ -99,12 +100,14 @@ std::string describe_pass_through(const Teuchos::ParameterList& s) {
 LinearSolverChoice LinearSolverChoice::resolve(const Teuchos::ParameterList& given, int ranks, Use use) {
   const Teuchos::ParameterList p = validated_solver_parameters(given);
   LinearSolverChoice c;
+  bool solver_is_auto = false;
   const Teuchos::ParameterList& pass = p.sublist("Stratimikos");
   if (pass.numParams() > 0) {
     c.stratimikos = pass;
     c.requested = describe_pass_through(pass);
   } else {
     std::string solver = p.get<std::string>("Linear Solver");
+    solver_is_auto = solver == "auto" && use == Use::time_step;
     if (solver == "auto") solver = use == Use::time_step ? "auto-time-step" : ranks > 1 ? "GMRES" : "KLU2";
     if (solver == "auto-time-step") {
       c.stratimikos = gmres_list(p, "BLOCK_TRIDIAGONAL", c.requested);
@@ -117,12 +120,14 @@ LinearSolverChoice LinearSolverChoice::resolve(const Teuchos::ParameterList& giv
   }
   c.resolved = c.requested;
   c.linear_tolerance = p.get<double>("Linear Tolerance");
-  if (ranks == 1 && pass.numParams() == 0 && c.stratimikos.isSublist("Preconditioner Types") &&
+  if ((ranks == 1 || solver_is_auto) && pass.numParams() == 0 && c.stratimikos.isSublist("Preconditioner Types") &&
       c.stratimikos.sublist("Preconditioner Types").isSublist("Ifpack2") &&
       c.stratimikos.sublist("Preconditioner Types").sublist("Ifpack2").get<std::string>("Prec Type", "") ==
           "BLOCK_TRIDIAGONAL") {
     c.block_tridiagonal_direct = true;
-    c.resolved = "block-tridiagonal LU (direct on 1 rank, residual-checked)";
+    c.resolved = ranks == 1 ? "block-tridiagonal LU (direct, residual-checked)"
+                            : "block-tridiagonal LU (direct, exact across " + std::to_string(ranks) +
+                                  " ranks through a separator system, residual-checked)";
   }
   const std::string lst = get_or(c.stratimikos, "Linear Solver Type", "Amesos");
   c.direct = lst == "Amesos2" || lst == "Amesos";

@@ -49,10 +49,11 @@ void RodStepModel::build_offsets() {
   const auto lcl = W_->getLocalMatrixHost();
   const auto colmap = W_->getColMap();
   const LO rows = static_cast<LO>(row_end_ - row_begin_);
-  std::vector<long> off(static_cast<size_t>(rows) * 3, -1);
+  std::vector<int> off(static_cast<size_t>(rows / p_) * 3, -1);
   for (LO r = 0; r < rows; ++r) {
     const GO node = (static_cast<GO>(row_begin_) + r) / p_;
     const size_t b = lcl.graph.row_map(r), e = lcl.graph.row_map(r + 1);
+    int pos[3] = {-1, -1, -1};
     for (size_t k = b; k < e; ++k) {
       const GO g = colmap->getGlobalElement(lcl.graph.entries(k));
       if (g % p_ != 0) continue;
@@ -62,7 +63,13 @@ void RodStepModel::build_offsets() {
       if (k + static_cast<size_t>(p_) > e) return;
       for (int c = 1; c < p_; ++c)
         if (colmap->getGlobalElement(lcl.graph.entries(k + static_cast<size_t>(c))) != g + c) return;
-      off[static_cast<size_t>(r) * 3 + static_cast<size_t>(rel)] = static_cast<long>(k);
+      pos[rel] = static_cast<int>(k - b);
+    }
+    // Every row of the node must hold the node blocks at the same positions.
+    int* o = &off[static_cast<size_t>(r / p_) * 3];
+    for (int rel = 0; rel < 3; ++rel) {
+      if (r % p_ == 0) o[rel] = pos[rel];
+      else if (o[rel] != pos[rel]) return;
     }
   }
   offsets_ = std::move(off);
@@ -89,11 +96,11 @@ void RodStepModel::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes,
     throw std::invalid_argument("RodStepModel::set_old_level: expected one node per ghosted node");
   old_nodes_ = std::move(ghosted_old_nodes);
   step_ = step;
-  // Old-level fluxes: fixed during the step's Newton iterations.
-  levels_.resize(old_nodes_.size());
+  // Old-level fluxes: fixed during the step's Newton iterations (the cells use F only).
+  F_old_.resize(old_nodes_.size());
   const int g0 = mesh_->first_ghosted_node();
   for (size_t k = 0; k < old_nodes_.size(); ++k)
-    levels_[k].F_old = rod::old_level_flux(*model_, step_, g0 + static_cast<int>(k), old_nodes_[k]);
+    F_old_[k] = rod::old_level_flux(*model_, step_, g0 + static_cast<int>(k), old_nodes_[k]).F;
   old_unknowns(*x0_);
   W_valid_ = false;  // W at the same x differs now (it depends on the old level)
   f_norms_.clear();
@@ -139,107 +146,132 @@ void RodStepModel::ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out
   }
 }
 
-const std::vector<rod::LocalBlock>& RodStepModel::blocks(const std::vector<VecX>& xg, double* dropped_out) const {
+double RodStepModel::for_each_block(const std::vector<VecX>& xg,
+                                    const std::function<void(const rod::LocalBlock&)>& visit) const {
   const int N = model_->num_cells;
   const int first = mesh_->first_owned_node(), last = first + mesh_->num_owned_nodes() - 1;
   const int g0 = mesh_->first_ghosted_node();
   auto O = [&](int j) -> const rod::RodNode& { return old_nodes_[static_cast<size_t>(j - g0)]; };
   auto X = [&](int j) -> const VecX& { return xg[static_cast<size_t>(j - g0)]; };
-  auto L = [&](int j) -> rod::NodeLevels& { return levels_[static_cast<size_t>(j - g0)]; };
   // Rows of node k are [p k, p (k+1)): they come from the end blocks and cells k, k+1.
   const int c0 = std::max(1, first), c1 = std::min(N, last + 1);
-  const size_t count = static_cast<size_t>(std::max(0, c1 - c0 + 1)) + (first == 0) + (last == N);
-  // Each node's new-level frame and flux once (shared by its two cells); the old-level
-  // fluxes were computed in set_old_level. Same arithmetic as cell_block.
-  for (int j = c0 - 1; j <= c1 && c0 <= c1; ++j) rod::new_level_quantities(*model_, step_, j, O(j), X(j), L(j));
-  std::vector<rod::LocalBlock>& out = planar_ ? planar_blocks_ : blocks_;
-  out.resize(count);
-  size_t i = 0;
+  // Node j's new-level frame and flux (and its old-level flux), computed once and shared by
+  // cells j and j + 1: a window of two nodes, node j in window_[j % 2]. Same arithmetic as
+  // cell_block.
+  auto levels = [&](int j) -> rod::NodeLevels& {
+    rod::NodeLevels& L = window_[static_cast<size_t>(j & 1)];
+    rod::new_level_quantities(*model_, step_, j, O(j), X(j), L);
+    L.F_old.F = F_old_[static_cast<size_t>(j - g0)];
+    return L;
+  };
   if (!planar_) {
-    if (first == 0) out[i++] = rod::left_block(*model_, step_, O(0), X(0));
-    for (int j = c0; j <= c1; ++j)
-      rod::cell_block_into(out[i++], *model_, step_, j, O(j - 1), O(j), X(j - 1), X(j), L(j - 1), L(j));
-    if (last == N) out[i++] = rod::right_block(*model_, step_, O(N), X(N));
-    return out;
+    if (first == 0) visit(rod::left_block(*model_, step_, O(0), X(0)));
+    if (c0 <= c1) levels(c0 - 1);
+    for (int j = c0; j <= c1; ++j) {
+      const rod::NodeLevels& cur = levels(j);
+      rod::cell_block_into(block_, *model_, step_, j, O(j - 1), O(j), X(j - 1), X(j),
+                           window_[static_cast<size_t>((j - 1) & 1)], cur);
+      visit(block_);
+    }
+    if (last == N) visit(rod::right_block(*model_, step_, O(N), X(N)));
+    return 0.0;
   }
   // Planar layout (row r still belongs to node r / q): the in-plane rows and columns, the cells
   // computed directly in-plane; note the largest dropped (out-of-plane) residual.
   double dropped = 0.0;
-  if (first == 0) dropped = std::max(dropped, planar_->restrict_block(rod::left_block(*model_, step_, O(0), X(0)), out[i++]));
-  for (int j = c0; j <= c1; ++j)
-    dropped = std::max(dropped, planar_->cell_block_into(out[i++], *model_, step_, j, O(j - 1), O(j), X(j - 1), X(j),
-                                                         L(j - 1), L(j)));
-  if (last == N) dropped = std::max(dropped, planar_->restrict_block(rod::right_block(*model_, step_, O(N), X(N)), out[i++]));
-  if (dropped_out) *dropped_out = dropped;
-  return out;
+  if (first == 0) {
+    dropped = std::max(dropped, planar_->restrict_block(rod::left_block(*model_, step_, O(0), X(0)), block_));
+    visit(block_);
+  }
+  if (c0 <= c1) levels(c0 - 1);
+  for (int j = c0; j <= c1; ++j) {
+    const rod::NodeLevels& cur = levels(j);
+    dropped = std::max(dropped, planar_->cell_block_into(block_, *model_, step_, j, O(j - 1), O(j), X(j - 1), X(j),
+                                                         window_[static_cast<size_t>((j - 1) & 1)], cur));
+    visit(block_);
+  }
+  if (last == N) {
+    dropped = std::max(dropped, planar_->restrict_block(rod::right_block(*model_, step_, O(N), X(N)), block_));
+    visit(block_);
+  }
+  return dropped;
 }
 
 void RodStepModel::fill(const Vector& x, Vector* f, Matrix* W) const {
   if (old_nodes_.empty()) throw std::logic_error("RodStepModel: evaluated before set_old_level");
   ghosted_unknowns_into(x, xg_);
-  double dropped = 0.0;
-  const std::vector<rod::LocalBlock>& bl = blocks(xg_, &dropped);
+  // Each block is added into f and W as soon as it is computed (same blocks in the same order
+  // as when all were computed first, so the same sums).
+  Teuchos::ArrayRCP<double> fd;
   if (f) {
-    dropped_ = dropped;
     f->putScalar(0.0);
-    auto fd = f->getDataNonConst();
-    for (const auto& b : bl)
+    fd = f->getDataNonConst();
+  }
+  // Direct path: add each kernel row's node blocks into W's local values at the precomputed
+  // offsets (same graph, same sums as sumIntoGlobalValues; no fillComplete needed since
+  // neither the graph nor the maps change). Otherwise sumIntoGlobalValues.
+  const bool direct = W && !offsets_.empty() && W == W_.get();
+  Matrix::local_matrix_host_type lcl;
+  if (direct) {
+    lcl = W->getLocalMatrixHost();
+    auto vals = lcl.values;
+    const size_t nnz = vals.extent(0);
+    for (size_t k = 0; k < nnz; ++k) vals(k) = 0.0;
+  } else if (W) {
+    W->resumeFill();
+    W->setAllToScalar(0.0);
+  }
+  std::vector<GO> cols;
+  std::vector<double> gvals;
+  const auto visit = [&](const rod::LocalBlock& b) {
+    if (f)
       for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
         const Eigen::Index g = b.row + i;
         if (g >= row_begin_ && g < row_end_) fd[static_cast<size_t>(g - row_begin_)] += b.residual(i);
       }
-    ++n_f_;
-  }
-  if (W && !offsets_.empty() && W == W_.get()) {
-    // Direct path: add each kernel row's node blocks into W's local values at the
-    // precomputed offsets (same graph, same sums as sumIntoGlobalValues; no fillComplete
-    // needed since neither the graph nor the maps change).
-    auto lcl = W->getLocalMatrixHost();
-    auto vals = lcl.values;
-    const size_t nnz = vals.extent(0);
-    for (size_t k = 0; k < nnz; ++k) vals(k) = 0.0;
-    for (const auto& b : bl) {
+    if (direct) {
+      auto vals = lcl.values;
       for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
         const Eigen::Index g = b.row + i;
         if (g < row_begin_ || g >= row_end_) continue;
         const size_t r = static_cast<size_t>(g - row_begin_);
+        const size_t row_start = lcl.graph.row_map(r);
         const Eigen::Index node = g / p_;
         for (size_t k = 0; k < b.cols.size(); ++k) {
           const Eigen::Index rel = b.cols[k] / p_ - node + 1;
-          const long o = rel >= 0 && rel <= 2 ? offsets_[r * 3 + static_cast<size_t>(rel)] : -1;
-          if (o < 0 || b.cols[k] % p_ != 0 || b.jac[k].cols() != p_)
+          const int pos = rel >= 0 && rel <= 2 ? offsets_[r / static_cast<size_t>(p_) * 3 + static_cast<size_t>(rel)] : -1;
+          if (pos < 0 || b.cols[k] % p_ != 0 || b.jac[k].cols() != p_)
             throw std::logic_error("RodStepModel: a kernel entry lies outside the mesh graph");
+          const size_t o = row_start + static_cast<size_t>(pos);
           const MatX& J = b.jac[k];
-          for (int c = 0; c < p_; ++c) vals(static_cast<size_t>(o) + static_cast<size_t>(c)) += J(i, c);
+          for (int c = 0; c < p_; ++c) vals(o + static_cast<size_t>(c)) += J(i, c);
         }
       }
-    }
-    ++W_version_;
-  } else if (W) {
-    ++W_version_;
-    W->resumeFill();
-    W->setAllToScalar(0.0);
-    std::vector<GO> cols;
-    std::vector<double> vals;
-    for (const auto& b : bl) {
+    } else if (W) {
       for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
         const Eigen::Index g = b.row + i;
         if (g < row_begin_ || g >= row_end_) continue;
         cols.clear();
-        vals.clear();
+        gvals.clear();
         for (size_t k = 0; k < b.cols.size(); ++k)
           for (Eigen::Index c = 0; c < b.jac[k].cols(); ++c) {
             cols.push_back(static_cast<GO>(b.cols[k] + c));
-            vals.push_back(b.jac[k](i, c));
+            gvals.push_back(b.jac[k](i, c));
           }
-        const LO n = W->sumIntoGlobalValues(static_cast<GO>(g), static_cast<LO>(cols.size()),
-                                            vals.data(), cols.data());
+        const LO n = W->sumIntoGlobalValues(static_cast<GO>(g), static_cast<LO>(cols.size()), gvals.data(),
+                                            cols.data());
         if (n != static_cast<LO>(cols.size()))
           throw std::logic_error("RodStepModel: a kernel entry lies outside the mesh graph");
       }
     }
-    W->fillComplete();
+  };
+  const double dropped = for_each_block(xg_, visit);
+  if (f) {
+    dropped_ = dropped;
+    ++n_f_;
   }
+  if (W) ++W_version_;
+  if (W && !direct) W->fillComplete();
 }
 
 Teuchos::RCP<const Thyra::VectorSpaceBase<double>> RodStepModel::get_x_space() const { return x_space_; }

@@ -11,13 +11,13 @@ Teuchos::RCP<const Teuchos::ParameterList> valid_solver_parameters() {
     auto pl = Teuchos::rcp(new Teuchos::ParameterList("Rod Solver"));
     Teuchos::setStringToIntegralParameter<int>(
         "Linear Solver", "auto",
-        "Linear solver: auto (rod time step: GMRES + BLOCK_TRIDIAGONAL on any rank count; statics: "
-        "KLU2 on 1 rank, GMRES + SCHWARZ on more), KLU2 (Amesos2 direct), GMRES (Belos)",
+        "Linear solver: auto (rod time step: the block-tridiagonal LU, direct on any rank count; "
+        "statics: KLU2 on 1 rank, GMRES + ILUT on more), KLU2 (Amesos2 direct), GMRES (Belos)",
         tuple<std::string>("auto", "KLU2", "GMRES"), pl.get());
     Teuchos::setStringToIntegralParameter<int>(
         "Preconditioner", "SCHWARZ",
         "Ifpack2 preconditioner of GMRES: SCHWARZ (overlap 1, KLU2 subdomains), BLOCK_TRIDIAGONAL "
-        "(block-tridiagonal LU of each rank's rows: exact on 1 rank, block Jacobi across ranks), "
+        "(block-tridiagonal LU, exact also across ranks: GMRES stops after one iteration), "
         "ILUT, RILUK, None",
         tuple<std::string>("SCHWARZ", "BLOCK_TRIDIAGONAL", "ILUT", "RILUK", "None"), pl.get());
     pl->set("Linear Tolerance", 1e-12, "Relative residual reduction of each Krylov solve");

@@ -68,6 +68,8 @@ inline Teuchos::ParameterList solver_params(const std::string& name) {
   p.set("Verbose", false);
   if (name == "KLU2") {
     p.set("Linear Solver", "KLU2");
+  } else if (name == "auto") {
+    p.set("Linear Solver", "auto");
   } else {
     p.set("Linear Solver", "GMRES");
     p.set("Preconditioner", name.substr(name.find('+') + 1));

@@ -4,6 +4,8 @@
 #include <cstdio>
 
 #include "rod_test_util.hpp"
+#include "traverse/rod/planar.hpp"
+#include "traverse/rod/static_kernels.hpp"
 
 namespace traverse::rod {
 namespace {
@@ -188,6 +190,116 @@ TEST(RodKernels, FrameInvariance) {
     EXPECT_LT(ec, 1e-13);
     EXPECT_LT(el, 1e-13);
     EXPECT_LT(er, 1e-13);
+  }
+}
+
+/// Issue #7: a scene without gravity computes no gravity terms. The model says so
+/// (has_gravity, has_frame_loads, NodeFlux::frame_loads), and skipping them changes nothing:
+/// the same model with a distributed force that is identically zero (which forces the general
+/// path: R f and its frame sensitivity formed and added) gives exactly the same residuals and
+/// Jacobians - cells with a moving mass and a point force, both ends, the planar cell.
+TEST(RodKernels, ZeroGravityComputesNoGravityTermsAndMatchesTheGeneralPath) {
+  test::Rng rng;
+  const StepTimes st{0.37, 0.01};
+  for (const auto& pc : param_cases()) {
+    const int j = 5;
+    RodModel bare = loaded_model(pc.alpha, j, st);  // point force and moving mass in cell j
+    bare.loads.gravity = Vec3::Zero();
+    bare.loads.f_fixed = nullptr;
+    bare.loads.l_fixed = nullptr;
+    RodModel general = bare;
+    general.loads.f_fixed = [](double, double) { return Vec3(Vec3::Zero()); };
+    RodModel heavy = bare;
+    heavy.loads.gravity = Vec3(0.0, -9.8, 0.0);
+
+    EXPECT_FALSE(bare.loads.has_gravity());
+    EXPECT_FALSE(bare.loads.has_frame_loads());
+    EXPECT_TRUE(general.loads.has_frame_loads());
+    EXPECT_TRUE(heavy.loads.has_gravity());
+    EXPECT_TRUE(heavy.loads.has_frame_loads());
+
+    const RodNode o0 = rng.node(), o1 = rng.node();
+    const VecX x0 = rng.unknowns(bare, o0), x1 = rng.unknowns(bare, o1);
+    const NodeFlux fb = node_flux(bare, o0.y, o0.R, 0.3, 0.2);
+    const NodeFlux fg = node_flux(general, o0.y, o0.R, 0.3, 0.2);
+    const NodeFlux fh = node_flux(heavy, o0.y, o0.R, 0.3, 0.2);
+    EXPECT_FALSE(fb.frame_loads);
+    EXPECT_TRUE(fg.frame_loads);
+    EXPECT_TRUE(fh.frame_loads);
+    EXPECT_TRUE(fb.dF_dRrot.isZero(0.0));
+    EXPECT_GT(fh.dF_dRrot.cwiseAbs().maxCoeff(), 0.0);
+    EXPECT_TRUE(fb.F == fg.F);
+    EXPECT_TRUE(fb.dF_dy == fg.dF_dy);
+    EXPECT_FALSE(fb.F == fh.F);
+
+    auto same = [](const LocalBlock& a, const LocalBlock& b) {
+      if (a.row != b.row || a.cols != b.cols || a.jac.size() != b.jac.size() || !(a.residual == b.residual))
+        return false;
+      for (size_t k = 0; k < a.jac.size(); ++k)
+        if (!(a.jac[k] == b.jac[k])) return false;
+      return true;
+    };
+    const LocalBlock cb = cell_block(bare, st, j, o0, o1, x0, x1);
+    EXPECT_TRUE(same(cb, cell_block(general, st, j, o0, o1, x0, x1))) << pc.name;
+    EXPECT_TRUE(same(left_block(bare, st, o0, x0), left_block(general, st, o0, x0))) << pc.name;
+    EXPECT_TRUE(same(right_block(bare, st, o1, x1), right_block(general, st, o1, x1))) << pc.name;
+    // Gravity does enter when present (the moving mass's weight and the rod's own).
+    EXPECT_FALSE(cb.residual == cell_block(heavy, st, j, o0, o1, x0, x1).residual);
+    EXPECT_GT(load_block(heavy, st, j, o0, o1, x0, x1).residual.cwiseAbs().maxCoeff(), 0.0);
+
+    // Planar cell: its own in-plane Jacobian loop skips the frame-load column term.
+    PlanarSymmetry sym;  // the end rows do not matter for a cell
+    sym.axis = 0;
+    sym.left_rows = sym.right_rows = {{1, 2, 3}};
+    const PlanarReduction pb(bare, sym), pg(general, sym);
+    NodeLevels lb0, lb1, lg0, lg1;
+    lb0.F_old = old_level_flux(bare, st, j - 1, o0);
+    lb1.F_old = old_level_flux(bare, st, j, o1);
+    new_level_quantities(bare, st, j - 1, o0, x0, lb0);
+    new_level_quantities(bare, st, j, o1, x1, lb1);
+    lg0.F_old = old_level_flux(general, st, j - 1, o0);
+    lg1.F_old = old_level_flux(general, st, j, o1);
+    new_level_quantities(general, st, j - 1, o0, x0, lg0);
+    new_level_quantities(general, st, j, o1, x1, lg1);
+    LocalBlock qb, qg;
+    const double db = pb.cell_block_into(qb, bare, st, j, o0, o1, x0, x1, lb0, lb1);
+    const double dg = pg.cell_block_into(qg, general, st, j, o0, o1, x0, x1, lg0, lg1);
+    EXPECT_EQ(db, dg);
+    EXPECT_TRUE(same(qb, qg)) << pc.name;
+  }
+}
+
+/// The static cell without gravity: no gravity terms, and exactly the gravity cell minus its
+/// gravity contribution (-rhoA/2 (R_{j-1} + R_j) g in the force rows, +rhoA/2 hat(R g) D in
+/// their theta columns, which do not change otherwise).
+TEST(RodKernels, StaticCellWithoutGravityIsTheGravityCellMinusItsWeight) {
+  test::Rng rng;
+  StaticModel m;
+  m.props = RodProperties::scene_rod();
+  m.num_cells = 10;
+  m.length = 1.0;
+  m.point_forces.push_back({Vec3(0.1, -0.5, 0.2), 0.43});
+  StaticModel g = m;
+  g.gravity = Vec3(0.0, -9.8, 0.0);
+  StaticNode a, b;
+  a.x = rng.y();
+  b.x = rng.y();
+  a.x.segment<3>(svar::theta) = rng.vec3(0.3);
+  b.x.segment<3>(svar::theta) = rng.vec3(0.3);
+  a.Rbar = rng.rotation();
+  b.Rbar = rng.rotation();
+  const int j = 5;
+  const LocalBlock c0 = static_cell_block(m, j, a, b), cg = static_cell_block(g, j, a, b);
+  const Vec3 weight = 0.5 * m.props.rhoA * (a.frame() * g.gravity + b.frame() * g.gravity);
+  const VecX d = cg.residual - c0.residual;
+  EXPECT_LT((d.head<3>() + weight).cwiseAbs().maxCoeff(), 1e-12 * (1.0 + weight.norm()));
+  EXPECT_TRUE(d.tail<9>().isZero(0.0));
+  for (int q = 0; q < 2; ++q) {
+    MatX dj = cg.jac[static_cast<size_t>(q)] - c0.jac[static_cast<size_t>(q)];
+    const double dtheta = dj.block<3, 3>(0, svar::theta).cwiseAbs().maxCoeff();
+    EXPECT_GT(dtheta, 0.0);
+    dj.block<3, 3>(0, svar::theta).setZero();
+    EXPECT_TRUE(dj.isZero(0.0));
   }
 }
 

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <vector>
 
 #include "traverse/core/so3.hpp"
@@ -107,6 +108,11 @@ rod::RodModel scene_cantilever(int N) {
   return m;
 }
 
+/// Round-off bound of the frames' orthonormality defect after `steps` time steps: one
+/// rounding per step at most (each step multiplies R by an exactly orthogonal update computed
+/// in floating point), i.e. steps * epsilon (2.2e-12 for 1e4 steps).
+double defect_bound(long steps) { return static_cast<double>(steps) * std::numeric_limits<double>::epsilon(); }
+
 }  // namespace
 
 TEST(StressLongRun, FreeVibrationConservesEnergyAndFrames) {
@@ -138,7 +144,10 @@ TEST(StressLongRun, FreeVibrationConservesEnergyAndFrames) {
   // Measured 4.8e-5 over 1e3 steps with default and with tight tolerances alike: the
   // nonlinear terms, bounded (an oscillation, not a trend).
   EXPECT_LT(r.max_drift, 1e-3);
-  EXPECT_LT(r.max_defect, 1e-12);  // R stays orthonormal to round-off
+  // R stays orthonormal to round-off: at most one rounding (epsilon) per step accumulated.
+  // Measured 4.4e-14 after 1e4 steps (N = 20), 1.5e-12 after 1e5 steps (N = 100; the bound
+  // is then 2.2e-11): a fixed 1e-12 failed at full size although nothing drifts beyond that.
+  EXPECT_LT(r.max_defect, defect_bound(r.steps));
   }
 }
 
@@ -159,7 +168,7 @@ TEST(StressLongRun, TravellingLoadKeepsFramesAndStaysBounded) {
               N, dt, r.steps, r.seconds, r.e_min, r.e_max, r.max_defect, r.max_newton);
   EXPECT_TRUE(r.finite);
   EXPECT_EQ(r.steps, steps);
-  EXPECT_LT(r.max_defect, 1e-12);
+  EXPECT_LT(r.max_defect, defect_bound(r.steps));
   // Bounded: the work of gravity and the load on a 1 m rod of 0.118 kg is below 1 J.
   EXPECT_LT(r.e_max, 1.0);
 }

@@ -43,10 +43,13 @@ NewLevelNode new_level_node(const RodNode& old_node, const Vec12& y_new, double 
 /// Jacobian with respect to y at fixed R (dF_dy) and with respect to the fixed-frame load
 /// vectors' rotation: dF/d omega_new = dF_dy(omega cols) + dR_rows * G, where dR_rows
 /// (12x3) = [-hat(f_body); -hat(l_body); 0; 0].
+/// Without fixed-frame loads (RodLoads::has_frame_loads() false: no gravity, f_fixed or
+/// l_fixed) dF_dRrot is zero, frame_loads is false and the kernels skip its products.
 struct NodeFlux {
   Vec12 F;
   Mat12 dF_dy;
   Eigen::Matrix<double, 12, 3> dF_dRrot;
+  bool frame_loads = true;  ///< whether the load terms R f, R l (and dF_dRrot) were formed
 };
 NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double s, double t);
 

@@ -35,6 +35,13 @@ struct RodLoads {
   std::function<Vec3(double s, double t)> l_fixed;  ///< distributed couple [N], optional
   std::vector<PointForce> point_forces;
   std::vector<MovingMass> masses;
+
+  /// Whether gravity acts (some component not exactly zero). Without it the kernels compute
+  /// no gravity terms (R g, M R g and their frame sensitivity are skipped, not added as zeros).
+  bool has_gravity() const { return gravity.x() != 0.0 || gravity.y() != 0.0 || gravity.z() != 0.0; }
+  /// Whether any fixed-frame distributed load acts: gravity, f_fixed or l_fixed. Only then
+  /// does node_flux form the body-frame loads R f, R l and their frame sensitivity.
+  bool has_frame_loads() const { return has_gravity() || static_cast<bool>(f_fixed) || static_cast<bool>(l_fixed); }
 };
 
 /// Nodal weights of a point load at sigma on nodes 0..N at spacing ds (at most two nodes).

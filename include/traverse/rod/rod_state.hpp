@@ -2,6 +2,7 @@
 // State of a discretised rod at one time level: per node the 12 unknowns
 // y = (u, omega, kappa, n) in body components, the orientation R and the histories yt, ys.
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "traverse/core/types.hpp"
@@ -59,6 +60,34 @@ double nodal_energy(const RodState& state, const RodProperties& props);
 /// Centreline at the nodes from r(0) = r0 by the trapezoidal rule on dr/ds = R^T e3
 /// (second order). Fixed components [m].
 std::vector<Vec3> centreline_in_space(const RodState& state, const Vec3& r0 = Vec3::Zero());
+
+/// Where arclength s lies on nodes 0..N at spacing ds: between nodes j and j + 1, xi the
+/// linear-interpolation weight of node j + 1 (s clamped to the rod).
+struct NodeInterpolation {
+  int j = 0;
+  double xi = 0.0;
+};
+NodeInterpolation locate_on_nodes(double s, double ds, int num_cells);
+
+/// A point output of a rod run: `quantity` (position, u, omega, kappa, n, m, d1, d2, d3)
+/// interpolated at arclength s.
+struct PointOutput {
+  double s = 0.0;
+  std::string quantity;
+};
+
+/// What a rod run's outputs read from the state at an output step (issue #7: the centreline
+/// is reconstructed, and the whole state gathered, only for outputs that need it).
+struct OutputNeeds {
+  /// r(s) at the nodes: a "position" point output or the field "r" (it needs every node's
+  /// frame from the left end on, so the whole state).
+  bool centreline = false;
+  /// Otherwise the nodes the point outputs read (j and j + 1 of each), sorted, no repeats;
+  /// the fields read only each rank's own nodes.
+  std::vector<int> nodes;
+};
+OutputNeeds output_needs(int num_cells, double ds, const std::vector<PointOutput>& points,
+                         const std::vector<std::string>& fields);
 
 /// Advance nodal positions over one step by the trapezoidal rule on dr/dt = R^T u:
 /// r_new = r_old + dt/2 (R_old^T u_old + R_new^T u_new) (second order). Fixed components [m].

@@ -13,8 +13,9 @@ struct LinearSolverChoice {
   std::string resolved;    ///< what will run, e.g. "Belos GMRES + Ifpack2 SCHWARZ (...)"
   bool rerouted = false;   ///< true when the request was replaced by the broken-solver rule
   bool direct = false;     ///< resolved solver is a direct (Amesos2) solver
-  /// One rank with the block-tridiagonal LU: the rod stepper solves with it directly
-  /// (make_block_tridiagonal_solve_factory, residual-checked) instead of through Belos.
+  /// The block-tridiagonal LU as the direct solver (make_block_tridiagonal_solve_factory,
+  /// residual-checked, exact across ranks) instead of through Belos: 'auto' for the time
+  /// step on any number of ranks, and GMRES + BLOCK_TRIDIAGONAL on one rank.
   bool block_tridiagonal_direct = false;
   double linear_tolerance = 1e-12;  ///< 'Linear Tolerance' (relative residual of each solve)
   Teuchos::ParameterList stratimikos;  ///< the list handed to Stratimikos

@@ -129,15 +129,19 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   void evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>& in,
                      const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const override;
 
-  /// Kernel blocks whose rows include owned rows, given the ghosted new unknowns.
-  /// On the planar path the blocks are restricted and *dropped_out receives the largest
-  /// dropped residual.
-  const std::vector<rod::LocalBlock>& blocks(const std::vector<VecX>& xg, double* dropped_out = nullptr) const;
+  /// Every kernel block whose rows include owned rows, given the ghosted new unknowns, handed
+  /// to `visit` one at a time in row order (left end, cells, right end) and not kept: the
+  /// blocks are streamed into f and W, so no per-cell storage lives beyond one block. Each
+  /// node's new-level quantities are computed once and shared by its two cells through a
+  /// two-node window. On the planar path the blocks are restricted; returns the largest
+  /// dropped residual (0 on the 3D path).
+  double for_each_block(const std::vector<VecX>& xg, const std::function<void(const rod::LocalBlock&)>& visit) const;
   void ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out) const;
   void fill(const Vector& x, Vector* f, Matrix* W) const;
-  /// Position in W's local value array of the first entry of node block (row node - 1 + rel)
-  /// for each owned local row and rel = 0, 1, 2 (-1 when absent); empty when W's rows do not
-  /// hold each node's columns contiguously (then sumIntoGlobalValues is used).
+  /// Position, within each row of an owned node, of the first entry of node block
+  /// (node - 1 + rel), rel = 0, 1, 2 (-1 when absent), the same for all the node's rows; empty
+  /// when W's rows do not hold each node's columns contiguously in that way (then
+  /// sumIntoGlobalValues is used).
   void build_offsets();
   bool same_x(const Vector& x) const;  ///< x == the x at which W was last filled
 
@@ -162,10 +166,11 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   mutable bool W_valid_ = false;
   mutable int n_f_ = 0, n_W_ = 0;
   mutable double t_fill_ = 0.0, t_prec_ = 0.0;
-  std::vector<long> offsets_;
+  std::vector<int> offsets_;  ///< 3 per owned node (build_offsets)
   mutable std::vector<VecX> xg_;  ///< ghosted unknown blocks (reused buffer)
-  mutable std::vector<rod::NodeLevels> levels_;  ///< per ghosted node (F_old set per step)
-  mutable std::vector<rod::LocalBlock> blocks_, planar_blocks_;  ///< reused kernel blocks
+  std::vector<Vec12> F_old_;      ///< per ghosted node: the old-level flux (set per step)
+  mutable rod::NodeLevels window_[2];  ///< new-level quantities of nodes j - 1 and j (j % 2)
+  mutable rod::LocalBlock block_;      ///< the block being assembled (reused storage)
   bool reuse_ = false, full_newton_ = false;
   double contraction_ = 0.25;
   mutable bool W_filled_ = false, stale_used_ = false;

@@ -5,11 +5,14 @@
 //       gravity, F moving at alpha v1 = 0.5 * 7.2684 m/s, dt = ds / v) for ds = 0.04 .. 0.0025:
 //       run time (time-stepping only) and error of the midspan-height history against the
 //       ds = 0.00125 run (same ranks, first solver), at the times of the ds = 0.04 grid.
-//   bench_rod cost --nodes N [--solver S] [--steps K] [--csv FILE] [--label TEXT]
+//   bench_rod cost --nodes N [--solver S] [--steps K] [--csv FILE] [--label TEXT] [--mem]
 //       Per-step and per-Newton-iteration cost of the same scene at N nodes, the cost of one
 //       block-tridiagonal LU (12x12 blocks) of the same size measured in the same run (the
 //       floor), their ratio, linear (Belos) iterations, and peak memory (getrusage maxrss,
-//       summed over ranks) per node. One N per process so that maxrss belongs to that N.
+//       summed over ranks, taken before the floor allocates its own storage: the static
+//       initial state, the set-up and the steps) per node. One N per process so that maxrss
+//       belongs to that N. --mem: also print resident memory per phase (kB per node, rank 0)
+//       to stderr.
 //
 //   bench_rod planar [--nodes N] [--solver S] [--steps K] [--force F] [--csv FILE] [--label TEXT]
 //       Planar fast path against the 3D path on the same hanging cable (N nodes, default 101 =
@@ -20,9 +23,11 @@
 //       preconditioner) and the rest (solve, NOX), and the ratio 3D / planar; finally the largest
 //       difference of the two final states (y, R; yt scaled by gt dt).
 //
-// Solver names: KLU2, GMRES+BLOCK_TRIDIAGONAL, GMRES+SCHWARZ, GMRES+ILUT, GMRES+RILUK, with optional suffixes
+// Solver names: auto (the default: block-tridiagonal LU, direct on any number of ranks), KLU2,
+// GMRES+BLOCK_TRIDIAGONAL, GMRES+SCHWARZ, GMRES+ILUT, GMRES+RILUK, with optional suffixes
 // ":modified" (Jacobian Reuse = modified Newton) and ":stratimikos-klu2" (KLU2 through
 // Stratimikos' own Amesos2 adapter).
+#include <malloc.h>
 #include <sys/resource.h>
 
 #include <Teuchos_CommHelpers.hpp>
@@ -34,6 +39,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -58,6 +64,35 @@ double seconds_since(Clock::time_point t0) {
 Teuchos::RCP<const Teuchos::Comm<int>> comm() { return Tpetra::getDefaultComm(); }
 bool root() { return comm()->getRank() == 0; }
 
+/// Memory sampling (bench_rod cost --mem): VmRSS and VmHWM of this process [kB] from
+/// /proc/self/status (0 where it is not available).
+struct MemSample {
+  long rss_kb = 0, hwm_kb = 0;
+};
+MemSample mem_sample() {
+  MemSample m;
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) m.rss_kb = std::stol(line.substr(6));
+    if (line.rfind("VmHWM:", 0) == 0) m.hwm_kb = std::stol(line.substr(6));
+  }
+  return m;
+}
+bool g_mem = false;  ///< --mem: print a memory line per phase to stderr (rank 0)
+int g_mem_nodes = 1;
+MemSample g_mem_last;
+/// One line per phase: resident memory now, its change since the last phase and the peak so
+/// far, in kB per node (rank 0's process only).
+void mem_phase(const char* phase) {
+  if (!g_mem || !root()) return;
+  const MemSample m = mem_sample();
+  const double n = g_mem_nodes;
+  std::fprintf(stderr, "# mem %-34s rss %8.2f  delta %+8.2f  peak %8.2f  kB/node\n", phase, m.rss_kb / n,
+               (m.rss_kb - g_mem_last.rss_kb) / n, m.hwm_kb / n);
+  g_mem_last = m;
+}
+
 Teuchos::ParameterList solver_params(const std::string& full) {
   Teuchos::ParameterList p;
   p.set("Verbose", false);
@@ -69,6 +104,8 @@ Teuchos::ParameterList solver_params(const std::string& full) {
   }
   if (name == "KLU2") {
     p.set("Linear Solver", "KLU2");
+  } else if (name == "auto") {
+    p.set("Linear Solver", "auto");  // the time-step default: the block-tridiagonal LU, direct
   } else if (name.rfind("GMRES+", 0) == 0) {
     p.set("Linear Solver", "GMRES");
     p.set("Preconditioner", name.substr(6));
@@ -120,12 +157,15 @@ Scene hanging_cable(int N, double F) {
   sm.gravity = m.loads.gravity;
   sm.point_forces.push_back({force, 0.0});  // the load sits on the left end at t = 0
   auto nodes = rod::straight_static_state(sm);
+  mem_phase("static: straight state");
   const auto t0 = Clock::now();
   const auto rep = rod::StaticSolver().solve_with_load_steps(sm, nodes);
   s.static_seconds = seconds_since(t0);
   if (!rep.converged) throw std::runtime_error("bench_rod: static initial state failed: " + rep.message);
+  mem_phase("static: solved");
   s.static_iterations = rep.iterations;
   s.initial = rod::dynamic_state_from_static(sm, nodes);
+  mem_phase("static: dynamic initial state");
   return s;
 }
 
@@ -212,7 +252,7 @@ int accuracy(int argc, char** argv) {
   const double F = std::stod(arg(argc, argv, "--force", "2"));
   const int ranks = comm()->getSize();
   const std::string default_solvers =
-      ranks == 1 ? "GMRES+BLOCK_TRIDIAGONAL,KLU2,GMRES+SCHWARZ,GMRES+ILUT" : "GMRES+BLOCK_TRIDIAGONAL,GMRES+SCHWARZ,GMRES+ILUT";
+      ranks == 1 ? "auto,KLU2,GMRES+SCHWARZ,GMRES+ILUT" : "auto,GMRES+BLOCK_TRIDIAGONAL,GMRES+SCHWARZ,GMRES+ILUT";
   const auto solvers = split(arg(argc, argv, "--solvers", default_solvers), ',');
   const std::string csv = arg(argc, argv, "--csv", "");
   const std::vector<int> Ns = {25, 50, 100, 200, 400};  // ds = 0.04 .. 0.0025
@@ -266,13 +306,21 @@ int cost(int argc, char** argv) {
   int steps = std::stoi(arg(argc, argv, "--steps", "0"));
   const double F = std::stod(arg(argc, argv, "--force", "2"));
   const int N = nodes - 1;
+  g_mem = std::find_if(argv, argv + argc, [](const char* a) { return std::strcmp(a, "--mem") == 0; }) != argv + argc;
+  g_mem_nodes = nodes;
+  mem_phase("start");
   Scene sc = hanging_cable(N, F);
   const auto t0 = Clock::now();
-  solver::DistributedStepper st(sc.model, comm(), solver_params(solver));
+  auto stepper = std::make_unique<solver::DistributedStepper>(sc.model, comm(), solver_params(solver));
+  solver::DistributedStepper& st = *stepper;
+  mem_phase("stepper constructed");
   st.set_state(sc.initial);
+  std::vector<rod::RodNode>().swap(sc.initial.nodes);  // the stepper holds its own copy
   const double setup = seconds_since(t0);
+  mem_phase("state set");
   // One warm-up step (first factorisations, first preconditioner), then timed steps.
   st.step(sc.dt);
+  mem_phase("warm-up step");
   const solver::ReuseCounters c0 = st.reuse_counters();
   if (steps <= 0) steps = nodes <= 2000 ? 40 : nodes <= 20000 ? 12 : 5;
   // The machine is shared: per step, the median of the step times (per Newton iteration:
@@ -300,6 +348,22 @@ int cost(int argc, char** argv) {
     return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
   };
   const solver::ReuseCounters c1 = st.reuse_counters();
+  mem_phase("timed steps");
+  // Peak memory of the rod run (static state, set-up, steps), taken before the floor below
+  // allocates its own block storage.
+  struct rusage ru {};
+  getrusage(RUSAGE_SELF, &ru);
+  double kb = static_cast<double>(ru.ru_maxrss), kb_sum = 0.0;
+  Teuchos::reduceAll(*comm(), Teuchos::REDUCE_SUM, 1, &kb, &kb_sum);
+  if (g_mem) {  // diagnostics: how much of the resident memory is free heap kept by malloc
+    malloc_trim(0);
+    mem_phase("after malloc_trim (diagnostic)");
+  }
+  // The rod's memory is released before the floor allocates its own (at 10^6 nodes both
+  // together would not fit).
+  const std::string resolved = st.resolved_linear_solver();
+  stepper.reset();
+  mem_phase("stepper released");
 
   // Floor: one block-tridiagonal LU of the same size (N + 1 blocks of 12x12), rank 0 only.
   double floor = 0.0, floor_res = 0.0;
@@ -310,11 +374,7 @@ int cost(int argc, char** argv) {
     floor = f[2];
   }
   Teuchos::broadcast(*comm(), 0, &floor);
-
-  struct rusage ru {};
-  getrusage(RUSAGE_SELF, &ru);
-  double kb = static_cast<double>(ru.ru_maxrss), kb_sum = 0.0;
-  Teuchos::reduceAll(*comm(), Teuchos::REDUCE_SUM, 1, &kb, &kb_sum);
+  mem_phase("floor timed");
 
   const double per_step = median(per_step_times), per_newton = median(per_newton_times);
   const double mean_step = run / steps;
@@ -324,7 +384,7 @@ int cost(int argc, char** argv) {
     std::printf("%-28s %2d %9d %4d %10.3e %10.3e %6.2f %10.3e %7.2f %9.3e %9.3e %8.1f %8.2f %s\n", solver.c_str(),
                 comm()->getSize(), nodes, steps, per_step, per_newton, double(newton) / steps, floor,
                 per_newton / floor, assembly, lin_setup, newton ? double(linear) / newton : 0.0,
-                kb_sum / 1024.0 / nodes * 1024.0, st.resolved_linear_solver().c_str());
+                kb_sum / 1024.0 / nodes * 1024.0, resolved.c_str());
     std::fflush(stdout);
   }
   append_csv(csv,
