@@ -5,8 +5,8 @@
 #   bash scripts/setup.sh test   install what is missing, build, run the whole test suite
 #   bash scripts/setup.sh build  install what is missing and build only
 #   bash scripts/setup.sh sanitize  build with AddressSanitizer + UndefinedBehaviorSanitizer in
-#                                build-asan/ (TRAVERSE_SANITIZE=ON, RelWithDebInfo) and run the
-#                                whole test suite there (slow: docs/reliability.md)
+#                                build-asan/ (TRAVERSE_SANITIZE=ON, RelWithDebInfo made -O1 -g1)
+#                                and run the whole test suite there (slow: docs/reliability.md)
 # Packages: .ci/debian-packages.txt. Build tree: build/ (override with TRAVERSE_BUILD_DIR).
 set -euo pipefail
 mode=${1:-build}
@@ -31,7 +31,7 @@ if [ ${#missing[@]} -gt 0 ]; then
   $sudo_cmd apt-get install -y -q --no-install-recommends "${missing[@]}"
 fi
 
-# 2. Configure and build (Release; sanitize: RelWithDebInfo + ASan/UBSan in its own tree).
+# 2. Configure and build (Release; sanitize: ASan/UBSan, -O1 -g1 (cmake/TraverseWarnings.cmake), own tree).
 if [ "$mode" = sanitize ]; then
   build=${TRAVERSE_ASAN_BUILD_DIR:-$here/build-asan}
   cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTRAVERSE_SANITIZE=ON -DTRAVERSE_BUILD_BENCHMARKS=OFF
