@@ -6,7 +6,8 @@
 #
 #   --quick        smaller sweep (N <= 10^4, no 20 N / 2-rank accuracy runs, arches down to
 #                  ds = 0.005 only): a few minutes
-#   --million      also N = 10^6 nodes (about 17 GB of memory on one rank; long)
+#   --million      also N = 10^6 nodes with the default solver on 1 and 2 ranks (about 15 GB of
+#                  memory; about 6 minutes per run, most of it the static initial state)
 #   --report-only  only regenerate docs/benchmarks.md and the figures from existing CSV
 # Environment: BUILD (default build/), OUT (default $BUILD/bench), JOBS (make -j, default 1).
 # Benchmarks are never ctest tests; every number is a wall time or a ratio measured within
@@ -42,7 +43,7 @@ if [ "$REPORT_ONLY" = 0 ]; then
   BR="$BUILD/tests/benchmarks/rod/bench_rod"
   BB="$BUILD/tests/benchmarks/beam/bench_beam"
   mkdir -p "$OUT"
-  rm -f "$OUT"/accuracy.csv "$OUT"/cost.csv "$OUT"/arches.csv "$OUT"/*.txt
+  rm -f "$OUT"/accuracy.csv "$OUT"/cost.csv "$OUT"/arches.csv "$OUT"/planar.csv "$OUT"/*.txt
 
   echo "== beam: run time against error" | tee "$OUT/beam.txt"
   "$BB" | tee -a "$OUT/beam.txt"
@@ -51,7 +52,6 @@ if [ "$REPORT_ONLY" = 0 ]; then
   SIZES=(101 316 1001 3163 10001)
   BIG=()
   if [ "$QUICK" = 0 ]; then BIG=(31624 100001); fi
-  if [ "$MILLION" = 1 ]; then BIG+=(1000001); fi
   "$BR" cost-header | tee "$OUT/cost.txt"
   for n in "${SIZES[@]}" "${BIG[@]}"; do
     for s in auto auto:modified KLU2 KLU2:modified; do
@@ -66,13 +66,23 @@ if [ "$REPORT_ONLY" = 0 ]; then
   echo "== rod: strong scaling, 1 and 2 ranks"
   STRONG=(10001)
   if [ "$QUICK" = 0 ]; then STRONG=(10001 100001); fi
-  if [ "$MILLION" = 1 ]; then STRONG+=(1000001); fi
   for n in "${STRONG[@]}"; do
     for s in auto auto:modified GMRES+BLOCK_TRIDIAGONAL GMRES+SCHWARZ; do
       "$BR" cost --nodes "$n" --solver "$s" --label strong --csv "$OUT/cost.csv" | tee -a "$OUT/cost.txt"
       "${MPIRUN[@]}" "$BR" cost --nodes "$n" --solver "$s" --label strong --csv "$OUT/cost.csv" | tee -a "$OUT/cost.txt"
     done
   done
+  if [ "$MILLION" = 1 ]; then
+    "$BR" cost --nodes 1000001 --solver auto --steps 3 --label strong --csv "$OUT/cost.csv" | tee -a "$OUT/cost.txt"
+    "${MPIRUN[@]}" "$BR" cost --nodes 1000001 --solver auto --steps 3 --label strong --csv "$OUT/cost.csv" | tee -a "$OUT/cost.txt"
+  fi
+  echo "== rod: planar path against the 3D path (hanging cable, both stepped alternately in one process)"
+  for n in 101 1001; do
+    for s in auto KLU2; do
+      "$BR" planar --nodes "$n" --solver "$s" --label planar --csv "$OUT/planar.csv" | tee -a "$OUT/planar.txt"
+    done
+  done
+  "${MPIRUN[@]}" "$BR" planar --nodes 1001 --solver auto --label planar --csv "$OUT/planar.csv" | tee -a "$OUT/planar.txt"
   echo "== rod: run time against error (hanging cable)"
   "$BR" accuracy --force 2 --csv "$OUT/accuracy.csv" | tee "$OUT/accuracy_F2_np1.txt"
   if [ "$QUICK" = 0 ]; then
@@ -95,7 +105,7 @@ out, root = sys.argv[1], sys.argv[2]
 def rows(name):
     p = os.path.join(out, name)
     return list(csv.DictReader(open(p))) if os.path.exists(p) else []
-acc, cost, arches = rows("accuracy.csv"), rows("cost.csv"), rows("arches.csv")
+acc, cost, arches, planar = rows("accuracy.csv"), rows("cost.csv"), rows("arches.csv"), rows("planar.csv")
 f = lambda x, d=3: f"{float(x):.{d}g}"
 md = []
 if acc:
@@ -127,6 +137,25 @@ if arches:
         md.append(f"| {r['case']} | {r['quantity']} | {r['solver']} | {r['path']} | {r['ranks']} | {float(r['ds']):g} | "
                   f"{r['steps']} | {float(r['run_seconds']):.3g} | {r['newton']} | {e:.2e} | {order} |")
     md.append("")
+if planar:
+    md.append("### Planar path against the 3D path (hanging cable, F = 2 N)\n")
+    md.append("`bench_rod planar`: the same scene stepped on both paths, one time step of each in turn, "
+              "so both see the same machine load; speed-up = 3D time / planar time over the whole run "
+              "(and of the median time per Newton iteration).\n")
+    md.append("| solver | ranks | nodes | steps | Newton its | 3D run [s] | planar run [s] | speed-up | speed-up, median | "
+              "assembly / Newton 3D, planar [s] | lin. set-up / Newton 3D, planar [s] |")
+    md.append("|---|---|---|---|---|---|---|---|---|---|---|")
+    for key in dict.fromkeys((r["solver"], r["ranks"], r["nodes"]) for r in planar):
+        sel = [r for r in planar if (r["solver"], r["ranks"], r["nodes"]) == key]
+        d3 = [r for r in sel if r["path"] == "3D"]; d2 = [r for r in sel if r["path"] == "planar"]
+        if not d3 or not d2: continue
+        a, b = d3[-1], d2[-1]
+        md.append(f"| {key[0]} | {key[1]} | {key[2]} | {a['steps']} | {a['newton']} | {float(a['run_seconds']):.3g} | "
+                  f"{float(b['run_seconds']):.3g} | {float(a['run_seconds'])/float(b['run_seconds']):.2f} | "
+                  f"{float(a['median_newton_seconds'])/float(b['median_newton_seconds']):.2f} | "
+                  f"{float(a['assembly_seconds_per_newton']):.3g}, {float(b['assembly_seconds_per_newton']):.3g} | "
+                  f"{float(a['linear_setup_seconds_per_newton']):.3g}, {float(b['linear_setup_seconds_per_newton']):.3g} |")
+    md.append("")
 def fit(points):  # least-squares slope of log(cost) against log(N)
     if len(points) < 2: return float("nan")
     xs = [math.log(p[0]) for p in points]; ys = [math.log(p[1]) for p in points]
@@ -146,17 +175,20 @@ if cost:
                   f"{float(r['linear_setup_seconds_per_newton']):.3g} | {float(r['linear_per_newton']):.1f} | "
                   f"{float(r['kb_per_node']):.1f} |")
     md.append("")
-    md.append("Growth exponents (least-squares slope of log cost against log N, 1 rank, label scaling):\n")
-    md.append("| solver | range of N | exponent, s / step | exponent, floor |")
-    md.append("|---|---|---|---|")
+    md.append("Growth exponents (least-squares slope of log cost against log N; every 1-rank run of the solver, "
+              "labels scaling and strong):\n")
+    md.append("| solver | range of N | exponent, s / step | exponent, s / Newton iteration | exponent, floor |")
+    md.append("|---|---|---|---|---|")
     for s in sorted({r["solver"] for r in cost if r["label"] == "scaling"}):
-        pts = [r for r in cost if r["label"] == "scaling" and r["solver"] == s and r["ranks"] == "1"]
+        pts = sorted([r for r in cost if r["label"] in ("scaling", "strong") and r["solver"] == s and r["ranks"] == "1"],
+                     key=lambda r: int(r["nodes"]))
         big = [r for r in pts if int(r["nodes"]) >= 1000]
         for sel, rng in ((pts, "all"), (big, ">= 10^3")):
             if len(sel) < 2: continue
             e = fit([(int(r["nodes"]), float(r["step_seconds"])) for r in sel])
+            en = fit([(int(r["nodes"]), float(r["newton_seconds"])) for r in sel])
             ef = fit([(int(r["nodes"]), float(r["floor_seconds"])) for r in sel])
-            md.append(f"| {s} | {rng} ({sel[0]['nodes']} .. {sel[-1]['nodes']}) | {e:.3f} | {ef:.3f} |")
+            md.append(f"| {s} | {rng} ({sel[0]['nodes']} .. {sel[-1]['nodes']}) | {e:.3f} | {en:.3f} | {ef:.3f} |")
     md.append("")
     st = [r for r in cost if r["label"] == "strong"]
     if st:

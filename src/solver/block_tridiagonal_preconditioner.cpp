@@ -115,6 +115,13 @@ struct Chain {
 
   /// y = A^{-1} x on this chain's blocks (x and y in natural layout; other blocks untouched).
   void solve(const double* x, double* y) const {
+    forward(x, y);
+    backward(y);
+  }
+
+  /// The forward elimination of x into y (natural layout). Afterwards the block at the
+  /// chain's last position is final: it is that block of A^{-1} x.
+  void forward(const double* x, double* y) const {
     if (m == 0) return;
     zq.resize(static_cast<Eigen::Index>(q) * b);
     for (int i = 0; i < q; ++i) zq.segment(i * b, b) = Eigen::Map<const Vec>(x + off[static_cast<size_t>(i)] * b, b);
@@ -127,6 +134,30 @@ struct Chain {
       z.noalias() -= CMap(Lp[K], b, b) * Eigen::Map<const Vec>(y + off[K - 1] * b, b);
       Eigen::Map<Vec>(y + off[K] * b, b) = lu[K].solve(z);
     }
+  }
+
+  /// Redoes the last position of forward(x, y) with its right-hand side block replaced by
+  /// x_last (the other positions are unchanged: the last is eliminated last). Same
+  /// operations as forward() on the modified right-hand side, so the same bits.
+  void forward_last(const double* x, const Vec& x_last, double* y) const {
+    if (m == 0) return;
+    const auto K = static_cast<size_t>(m - 1);
+    if (m > q) {
+      Vec z = x_last;
+      z.noalias() -= CMap(Lp[K], b, b) * Eigen::Map<const Vec>(y + off[K - 1] * b, b);
+      Eigen::Map<Vec>(y + off[K] * b, b) = lu[K].solve(z);
+      return;
+    }
+    for (int i = 0; i + 1 < q; ++i)
+      zq.segment(i * b, b) = Eigen::Map<const Vec>(x + off[static_cast<size_t>(i)] * b, b);
+    zq.segment((q - 1) * b, b) = x_last;
+    zq = lu0.solve(zq);
+    for (int i = 0; i < q; ++i) Eigen::Map<Vec>(y + off[static_cast<size_t>(i)] * b, b) = zq.segment(i * b, b);
+  }
+
+  /// The back substitution that completes forward(): y becomes A^{-1} x.
+  void backward(double* y) const {
+    if (m == 0) return;
     for (int k = m - 2; k >= q; --k) {
       const auto K = static_cast<size_t>(k);
       Eigen::Map<Vec>(y + off[K] * b, b).noalias() -= C[K] * Eigen::Map<const Vec>(y + off[K + 1] * b, b);
@@ -267,7 +298,17 @@ struct Factors final : FactorsBase {
     // 1. Interior solve with the separators at zero; 2. the separators' right-hand sides
     // (every rank's) and the separator system, solved on every rank; 3. the interior again
     // with the separators' values moved to the right-hand side.
-    solver->solve(x, z.data());
+    // A rank at either end of the rod has one separator, coupled to its chain's last
+    // position (rank 0: the forward chain ends at its separator; the last rank: the reversed
+    // chain ends next to the previous rank's separator). There step 1 is only the forward
+    // elimination (the last position, which is all step 2 needs, is final after it) and step
+    // 3 adds the separator's term to that last position and back-substitutes: one sweep over
+    // the interior instead of two solves.
+    const bool one_sweep = has_left != has_sep && m > 0;
+    if (one_sweep)
+      solver->forward(x, z.data());
+    else
+      solver->solve(x, z.data());
     std::vector<double> mine(static_cast<size_t>(2 * b), 0.0);
     const long s = n - 1;
     if (has_sep) {
@@ -285,6 +326,20 @@ struct Factors final : FactorsBase {
     red_chain.solve(rhs.data(), xs.data());
     if (has_sep) Eigen::Map<Vec>(y + s * b, b) = VMap(xs.data() + static_cast<long>(rank) * b, b);
     if (m == 0) return;
+    if (one_sweep) {
+      // The interior occupies blocks 0 .. m-1 on both end ranks (rank 0: nodes 0 .. n-2; the
+      // last rank: its nodes 0 .. m-1 with the separator to the left of node 0).
+      std::copy(z.begin(), z.begin() + static_cast<long>(m) * b, y);
+      const long j = has_sep ? m - 1L : 0L;  // the interior node next to the separator
+      Vec xl = VMap(x + j * b, b);
+      if (has_sep)
+        xl.noalias() -= CMap(U(blocks, j), b, b) * VMap(xs.data() + static_cast<long>(rank) * b, b);
+      else
+        xl.noalias() -= CMap(L(blocks, j), b, b) * VMap(xs.data() + (rank - 1L) * b, b);
+      solver->forward_last(x, xl, y);
+      solver->backward(y);
+      return;
+    }
     std::copy(x, x + static_cast<long>(m) * b, w.begin());
     if (has_left)
       Eigen::Map<Vec>(w.data(), b).noalias() -=
