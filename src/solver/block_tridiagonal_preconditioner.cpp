@@ -302,8 +302,8 @@ struct Factors final : FactorsBase {
     // position (rank 0: the forward chain ends at its separator; the last rank: the reversed
     // chain ends next to the previous rank's separator). There step 1 is only the forward
     // elimination (the last position, which is all step 2 needs, is final after it) and step
-    // 3 adds the separator's term to that last position and back-substitutes: one sweep over
-    // the interior instead of two solves.
+    // 3 redoes that last position with the separator's term on its right-hand side and
+    // back-substitutes: one sweep over the interior instead of two solves, same results.
     const bool one_sweep = has_left != has_sep && m > 0;
     if (one_sweep)
       solver->forward(x, z.data());
