@@ -205,7 +205,9 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     for (const auto& l : sc.loads) t_end = std::max(t_end, l.exit_time(rs.length));
   }
   const double dt = sc.time.dt;
-  const long steps = std::max(1L, static_cast<long>(std::ceil(t_end / dt - 1e-9)));
+  // A remainder below 1e-6 dt is rounding of dt or of the end time, not a step: it joins the
+  // last step (a sliver step of 1e-12 s makes the Newton matrix, with its 1/dt terms, useless).
+  const long steps = std::max(1L, static_cast<long>(std::ceil(t_end / dt - 1e-6)));
 
   // ---- Restart point (docs/reliability.md): state, time, step index, left-end position --
   RestartPoint rp;
