@@ -87,6 +87,9 @@ int main(int argc, char** argv) {
   } catch (const app::UsageError& e) {
     report("", e.message + "\n(see traverse --help)");
     code = app::kBadInput;
+  } catch (const output::RestartError& e) {
+    report("", std::string(e.what()) + "\n(see traverse --help)");
+    code = app::kBadInput;
   } catch (const scene::SceneError& e) {
     report("bad scene: ", e.what());
     code = app::kBadInput;
@@ -95,7 +98,7 @@ int main(int argc, char** argv) {
     code = app::kBadInput;
   } catch (const app::Interrupted& e) {
     // Every rank stopped at the same step; the writer is closed: set the final status.
-    app::set_file_status(e.output(), e.status(), MPI_COMM_WORLD);
+    output::set_file_status(e.output(), e.status(), MPI_COMM_WORLD);
     report("", e.what());
     code = 128 + e.signal();
   } catch (const app::NumericsError& e) {

@@ -1,8 +1,14 @@
 #include "rod_setup.hpp"
 
+#include <Teuchos_DefaultMpiComm.hpp>
+
+#include <cmath>
 #include <sstream>
 
+#include "run.hpp"
 #include "traverse/output/output_error.hpp"
+#include "traverse/rod/static_solver.hpp"
+#include "traverse/solver/solver_parameters.hpp"
 
 namespace traverse::app {
 
@@ -16,17 +22,118 @@ rod::RodProperties rod_properties(const scene::RodSpec& r) {
   return p;
 }
 
-rod::EndCondition rod_end(const scene::EndSpec& e) {
-  if (e.type == "clamped") return rod::EndCondition::make_clamped();
-  if (e.type == "pinned") return rod::EndCondition::make_pinned(e.axis);
-  if (e.type == "sliding") return rod::EndCondition::make_sliding(e.axis);
-  if (e.type == "roller") return rod::EndCondition::make_roller(e.axis, e.slide_axis, e.axial_force);
-  if (e.type == "free") return rod::EndCondition::make_free();
-  if (e.type == "prescribed") {
-    const Vec3 v = e.velocity, w = e.rotation_rate;
-    return rod::EndCondition::make_prescribed([v](double) { return v; }, [w](double) { return w; });
+namespace {
+
+rod::RodLoads rod_loads(const scene::Scene& sc) {
+  rod::RodLoads loads;
+  loads.gravity = Vec3(0.0, -sc.gravity, 0.0);
+  for (const auto& l : sc.loads) {
+    auto sigma = [l](double t) { return l.sigma(t); };
+    if (l.inertia) {
+      rod::MovingMass m;
+      m.mass = l.mass;
+      m.sigma = sigma;
+      m.speed = [l](double t) { return l.velocity(t); };
+      const double a = l.direction() * l.acceleration;
+      m.accel = [a](double) { return a; };
+      m.inertia = true;
+      loads.masses.push_back(m);
+    } else {
+      const Vec3 F = l.force;
+      loads.point_forces.push_back({[F](double) { return F; }, sigma});
+    }
   }
-  throw std::logic_error("rod_end: unknown end condition " + e.type);
+  return loads;
+}
+
+// Equilibrium under gravity and the loads on the rod at t = 0 (Newton with load steps).
+InitialState static_equilibrium(const scene::Scene& sc, const rod::RodModel& model) {
+  const double L = sc.rod.length;
+  rod::StaticModel sm;
+  sm.props = model.props;
+  sm.num_cells = model.num_cells;
+  sm.length = L;
+  sm.left = static_end(sc.left, 0.0);
+  sm.right = static_end(sc.right, L);
+  sm.gravity = model.loads.gravity;
+  for (const auto& l : sc.loads) {
+    const double s0 = l.sigma(0.0);
+    if (std::isfinite(s0) && s0 >= 0.0 && s0 <= L) sm.point_forces.push_back({l.force, s0});
+  }
+  auto nodes = rod::straight_static_state(sm);
+  const auto rep = rod::StaticSolver().solve_with_load_steps(sm, nodes);
+  if (!rep.converged)
+    throw NumericsError("initial static state: " + rep.message + " (residual " +
+                        scene::format_number(rep.residual_norm) + " after " + std::to_string(rep.iterations) +
+                        " Newton iterations)");
+  InitialState out;
+  out.state = rod::dynamic_state_from_static(sm, nodes);
+  out.description = "static equilibrium under gravity" +
+                    std::string(sm.point_forces.empty() ? "" : " and the loads on the rod at t = 0") + " (" +
+                    std::to_string(rep.load_steps) + " load steps, " + std::to_string(rep.iterations) +
+                    " Newton iterations)";
+  return out;
+}
+
+}  // namespace
+
+RodSetup build_rod_model(const scene::Scene& sc) {
+  RodSetup out;
+  try {
+    out.solver = solver::validated_solver_parameters(sc.solver_parameters());
+  } catch (const std::invalid_argument& e) {
+    scene::fail_at(sc, "solver", "valid solver parameters (see docs/solver.md)", e.what());
+  }
+  rod::RodModel& model = out.model;
+  model.props = rod_properties(sc.rod);
+  const auto& sch = sc.scheme;
+  model.alpha = sch.explicit_parameters ? rod::AlphaParameters{sch.as, sch.bs, sch.gs, sch.at, sch.bt, sch.gt}
+                                        : rod::AlphaParameters::from_rho_inf(sch.rho_inf, sch.rho_inf_space);
+  model.num_cells = sc.mesh.nodes - 1;
+  model.length = sc.rod.length;
+  model.left = rod_end(sc.left);
+  model.right = rod_end(sc.right);
+  const auto check = rod::validate_end_conditions(model.left, model.right);
+  if (!check.ok) scene::fail_at(sc, "ends", "a well-posed pair of end conditions", check.message);
+  model.loads = rod_loads(sc);
+  return out;
+}
+
+InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
+  using T = scene::InitialStateType;
+  switch (sc.initial_state.type) {
+    case T::rest:
+      return {rod::straight_rest_state(setup.model.num_cells, sc.rod.length), "straight, at rest, unloaded"};
+    case T::static_equilibrium: return static_equilibrium(sc, setup.model);
+    case T::arch:
+    case T::file: {
+      InitialState out;
+      try {
+        out.state = static_start(sc, Teuchos::rcp(new Teuchos::MpiComm<int>(comm)), setup.solver, out.description);
+      } catch (const std::runtime_error& e) {
+        if (dynamic_cast<const scene::SceneError*>(&e)) throw;
+        throw NumericsError(std::string("initial state: ") + e.what());
+      }
+      return out;
+    }
+    default: throw std::logic_error("initial_state: unknown type");
+  }
+}
+
+rod::EndCondition rod_end(const scene::EndSpec& e) {
+  using E = scene::EndType;
+  switch (e.type) {
+    case E::clamped: return rod::EndCondition::make_clamped();
+    case E::pinned: return rod::EndCondition::make_pinned(e.axis);
+    case E::sliding: return rod::EndCondition::make_sliding(e.axis);
+    case E::roller: return rod::EndCondition::make_roller(e.axis, e.slide_axis, e.axial_force);
+    case E::free: return rod::EndCondition::make_free();
+    case E::prescribed: {
+      const Vec3 v = e.velocity, w = e.rotation_rate;
+      return rod::EndCondition::make_prescribed([v](double) { return v; }, [w](double) { return w; });
+    }
+    default: throw std::logic_error("rod_end: unknown end condition " + scene::name_of(e.type));
+  }
 }
 
 rod::StaticEnd static_end(const scene::EndSpec& e, double s_end) {
@@ -35,13 +142,7 @@ rod::StaticEnd static_end(const scene::EndSpec& e, double s_end) {
   s.axis = e.axis;
   s.slide_axis = e.slide_axis;
   s.axial_force = e.axial_force;
-  using T = rod::EndCondition::Type;
-  if (e.type == "clamped" || e.type == "prescribed") s.type = T::clamped;  // prescribed motion starts from rest
-  else if (e.type == "pinned") s.type = T::pinned;
-  else if (e.type == "sliding") s.type = T::sliding;
-  else if (e.type == "roller") s.type = T::roller;
-  else if (e.type == "free") s.type = T::free;
-  else throw std::logic_error("static_end: unknown end condition " + e.type);
+  s.type = rod_end(e).static_type();  // prescribed motion starts from rest: clamped
   return s;
 }
 
@@ -103,12 +204,12 @@ std::string arch_summary(const solver::ArchFormation& arch) {
 rod::RodState static_start(const scene::Scene& sc, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
                            const Teuchos::ParameterList& solver, std::string& description) {
   const rod::StaticProblem problem = static_problem(sc);
-  if (sc.initial_state.type == "arch") {
+  if (sc.initial_state.type == scene::InitialStateType::arch) {
     const solver::ArchFormation arch = form_arch(sc, comm, solver);
     description = arch_summary(arch);
     return rod::dynamic_state_from_static(arch.problem.model(), arch.state);
   }
-  if (sc.initial_state.type == "file") {
+  if (sc.initial_state.type == scene::InitialStateType::file) {
     std::vector<rod::StaticNode> nodes;
     try {
       nodes = static_nodes(output::read_state(sc.initial_state.file, sc.initial_state.state), sc, "initial_state.file");
@@ -119,7 +220,7 @@ rod::RodState static_start(const scene::Scene& sc, const Teuchos::RCP<const Teuc
     description = "state '" + sc.initial_state.state + "' of " + sc.initial_state.file + ", at rest";
     return rod::dynamic_state_from_static(problem.model(), nodes);
   }
-  throw std::logic_error("static_start: initial state " + sc.initial_state.type);
+  throw std::logic_error("static_start: initial state " + scene::name_of(sc.initial_state.type));
 }
 
 std::vector<Vec3> point_force_vectors(const scene::Scene& sc) {
@@ -130,7 +231,7 @@ std::vector<Vec3> point_force_vectors(const scene::Scene& sc) {
 }
 
 void precheck_planar(const scene::Scene& sc, const rod::RodModel& model) {
-  if (sc.scheme.planar != "on") return;
+  if (sc.scheme.planar != scene::PlanarMode::on) return;
   const rod::PlanarCheck c =
       rod::check_planar(model, rod::straight_rest_state(model.num_cells, model.length), point_force_vectors(sc));
   if (!c.planar)
@@ -143,8 +244,8 @@ void precheck_planar(const scene::Scene& sc, const rod::RodModel& model) {
 PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const rod::RodState& state, int stored,
                        MPI_Comm comm) {
   PathChoice out;
-  const std::string& mode = sc.scheme.planar;
-  if (mode == "off") {
+  const scene::PlanarMode mode = sc.scheme.planar;
+  if (mode == scene::PlanarMode::off) {
     out.detail = "scheme.planar: off";
     return out;
   }
@@ -155,14 +256,14 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
     c.planar = false;
     c.reason = "another rank found the state not planar";
   }
-  if (mode == "on") {
+  if (mode == scene::PlanarMode::on) {
     if (!c.planar)
       scene::fail_at(sc, "scheme.planar",
                      "a planar scene for 'on' (initial state, loads, gravity and end conditions symmetric about one "
                      "plane; use auto or off)",
                      "a scene whose initial state is not planar: " + c.reason);
     out.detail = "scheme.planar: on";
-  } else if (mode == "auto") {
+  } else if (mode == scene::PlanarMode::automatic) {
     if (stored == 0) {
       out.detail = "the path of the run being restarted (scheme.planar: auto)";
       return out;
@@ -177,7 +278,7 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
     out.detail = stored == 1 ? "the path of the run being restarted (scheme.planar: auto)"
                              : "detected (scheme.planar: auto)";
   } else {
-    throw std::logic_error("choose_path: scheme.planar " + mode);
+    throw std::logic_error("choose_path: scheme.planar " + scene::name_of(mode));
   }
   out.planar = true;
   out.symmetry = c.symmetry;

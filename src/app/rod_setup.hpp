@@ -2,6 +2,10 @@
 // Scene -> rod structures shared by the dynamic and the static runners.
 #include <mpi.h>
 
+#include <Teuchos_ParameterList.hpp>
+
+#include <string>
+
 #include "traverse/output/continuation_writer.hpp"
 #include "traverse/rod/end_condition.hpp"
 #include "traverse/rod/planar.hpp"
@@ -16,6 +20,24 @@ namespace traverse::app {
 
 /// Section and material of the scene's rod.
 rod::RodProperties rod_properties(const scene::RodSpec& r);
+
+/// Stage 1 of a rod run: the rod model of a scene (material, scheme, ends, loads) and its
+/// validated solver parameters. Throws SceneError (solver parameters, a pair of end
+/// conditions that is not well posed).
+struct RodSetup {
+  rod::RodModel model;
+  Teuchos::ParameterList solver;
+};
+RodSetup build_rod_model(const scene::Scene& sc);
+
+/// Stage 2: the initial state of a dynamic run (initial_state: static, rest, arch or file),
+/// replicated on every rank, and a sentence saying what it is. Throws NumericsError when the
+/// static solve or the arch formation fails, SceneError for a bad state file.
+struct InitialState {
+  rod::RodState state;
+  std::string description;
+};
+InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);
 
 /// The dynamic end condition of a scene end.
 rod::EndCondition rod_end(const scene::EndSpec& e);

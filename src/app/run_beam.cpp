@@ -5,7 +5,7 @@
 
 #include "interrupt.hpp"
 #include "progress.hpp"
-#include "restart.hpp"
+#include "traverse/output/restart.hpp"
 #include "run.hpp"
 #include "traverse/output/reader.hpp"
 #include "traverse/beam/beam_simulation.hpp"
@@ -16,12 +16,15 @@ namespace traverse::app {
 
 namespace {
 
-beam::Support support_of(const std::string& s) {
-  if (s == "simply-supported") return beam::Support::SimplySupported;
-  if (s == "clamped-free") return beam::Support::ClampedFree;
-  if (s == "clamped-clamped") return beam::Support::ClampedClamped;
-  if (s == "clamped-pinned") return beam::Support::ClampedPinned;
-  throw std::logic_error("run_beam: unknown supports " + s);
+beam::Support support_of(scene::Supports s) {
+  using S = scene::Supports;
+  switch (s) {
+    case S::simply_supported: return beam::Support::SimplySupported;
+    case S::clamped_free: return beam::Support::ClampedFree;
+    case S::clamped_clamped: return beam::Support::ClampedClamped;
+    case S::clamped_pinned: return beam::Support::ClampedPinned;
+    default: throw std::logic_error("run_beam: unknown supports");
+  }
 }
 
 }  // namespace
@@ -51,7 +54,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     m.kind = l.inertia ? beam::LoadKind::Mass : beam::LoadKind::Force;
     m.mass = l.mass;
     m.force = l.force.y();  // vertical, positive up (validated: no other components)
-    m.entry = l.entry == "left" ? beam::BeamEnd::Left : beam::BeamEnd::Right;
+    m.entry = l.entry == scene::Entry::left ? beam::BeamEnd::Left : beam::BeamEnd::Right;
     m.direction = l.direction();
     m.speed = l.speed;
     m.acceleration = l.acceleration;
@@ -73,7 +76,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   } else {
     p.dt = sc.time.dt;
   }
-  p.integrator = b.integrator == "newmark" ? beam::Integrator::Newmark : beam::Integrator::RK4;
+  p.integrator = b.integrator == scene::BeamIntegrator::newmark ? beam::Integrator::Newmark : beam::Integrator::RK4;
   p.output_every = sc.output.every;
 
   // Output: nodes split over the ranks in contiguous ranges (the beam itself is solved,
@@ -97,17 +100,16 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     probe_names.push_back(l.name + "_position");
     probe_names.push_back(l.name + "_deflection");
   }
-  for (const auto& f : sc.output.fields) {
-    if (f == "deflection") field_names.insert(field_names.end(), {"deflection", "position"});
-    else if (f == "slope") field_names.push_back("slope");
-    else if (f == "bending_moment") field_names.push_back("bending_moment");
+  for (const auto f : sc.output.fields) {
+    if (f == scene::Field::deflection) field_names.insert(field_names.end(), {"deflection", "position"});
+    else field_names.push_back(scene::name_of(f));
   }
   std::size_t kept = 0;  // output steps of the restarted file to check against the replay
   std::vector<double> old_time;
   std::vector<output::Series> old_probes;
   if (opt.restart) {
-    const std::string source = restart_source(opt.output);
-    check_restart_outputs(source, probe_names, field_names);
+    const std::string source = output::restart_source(opt.output);
+    output::check_restart_outputs(source, probe_names, field_names);
     try {
       output::Reader r(source);
       kept = r.steps_written();
@@ -116,7 +118,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     } catch (const output::OutputError& e) {
       throw UsageError{"--restart: cannot read " + source + " (" + e.what() + ")"};
     }
-    move_aside_for_restart(opt.output, comm);
+    output::move_aside_for_restart(opt.output, comm);
   }
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "beam"};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, layout,
@@ -131,11 +133,13 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
                       "deflection w(x(t), t) under load '" + l.name + "' (NaN while it is off the beam)", {}});
   }
   bool want_w = false, want_slope = false, want_moment = false;
-  for (const auto& f : sc.output.fields) {
-    if (f == "deflection") want_w = true;
-    else if (f == "slope") want_slope = true;
-    else if (f == "bending_moment") want_moment = true;
-    else throw std::logic_error("run_beam: unknown field " + f);
+  for (const auto f : sc.output.fields) {
+    switch (f) {
+      case scene::Field::deflection: want_w = true; break;
+      case scene::Field::slope: want_slope = true; break;
+      case scene::Field::bending_moment: want_moment = true; break;
+      default: throw std::logic_error("run_beam: a rod field in a beam scene");
+    }
   }
   if (want_w) {
     writer.add_field({"deflection", 1, "m", "transverse deflection w (positive up, +j)", {"w"}, false});
@@ -172,7 +176,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     if (!s.Y.allFinite() || !s.Ydot.allFinite()) {
       std::ostringstream os;
       os << "beam solver: the modal state is not finite at t = " << s.t << " s (after " << sim.steps_taken()
-         << " steps of dt = " << p.dt << " s with " << b.integrator
+         << " steps of dt = " << p.dt << " s with " << scene::name_of(b.integrator)
          << "); reduce time.dt or use beam.integrator: newmark";
       throw NumericsError(os.str());
     }
@@ -223,7 +227,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     std::vector<output::DoubleView> views(fields.begin(), fields.end());
     writer.write_step(s.t, sigma, probes, views);
     ++outputs;
-    if (opt.restart && static_cast<std::size_t>(outputs) == kept) remove_restart_source(opt.output, comm);
+    if (opt.restart && static_cast<std::size_t>(outputs) == kept) output::remove_restart_source(opt.output, comm);
     // Kept for the restart group written when the run stops (store_restart).
     restart_state.assign(s.Y.data(), s.Y.data() + s.Y.size());
     restart_state.insert(restart_state.end(), s.Ydot.data(), s.Ydot.data() + s.Ydot.size());
@@ -254,10 +258,10 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   progress.done();
   store_restart();
   writer.finish();
-  if (opt.restart && static_cast<std::size_t>(outputs) < kept) remove_restart_source(opt.output, comm);  // shorter run
+  if (opt.restart && static_cast<std::size_t>(outputs) < kept) output::remove_restart_source(opt.output, comm);  // shorter run
   if (rank == 0 && !opt.quiet) {
     std::printf("beam scene '%s': %d modes, %ld steps of dt = %.4g s (%s) to t = %.6g s; %ld output steps -> %s\n",
-                sc.file.c_str(), b.modes, sim.steps_taken(), p.dt, b.integrator.c_str(), p.t_end, outputs,
+                sc.file.c_str(), b.modes, sim.steps_taken(), p.dt, scene::name_of(b.integrator).c_str(), p.t_end, outputs,
                 opt.output.c_str());
   }
 }

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "progress.hpp"
+#include "rod_quantities.hpp"
 #include "rod_setup.hpp"
 #include "run.hpp"
 #include "traverse/output/continuation_writer.hpp"
@@ -23,38 +24,36 @@ namespace {
 
 using rod::StaticParameter;
 
-// A scalar probe of a static state from its scene declaration.
+// A scalar probe of a static state from its scene declaration (the quantity table of
+// rod_quantities.hpp, one component).
 rod::StaticProbe make_probe(const scene::ContinuationProbeSpec& p) {
-  if (p.type == "end_compression") {
-    rod::StaticProbe q = rod::probe_end_compression(Vec3::UnitZ(), p.name);
-    return q;
+  switch (p.type) {
+    case scene::ContinuationProbeType::end_compression: return rod::probe_end_compression(Vec3::UnitZ(), p.name);
+    case scene::ContinuationProbeType::point: {
+      rod::StaticProbe q;
+      q.name = p.name;
+      q.unit = quantity_unit(p.quantity);
+      q.eval = [p](const rod::StaticModel& m, const std::vector<rod::StaticNode>& nodes) {
+        auto view = [&](int j) { return node_view(nodes[static_cast<size_t>(j)]); };
+        return quantity_at(p.quantity, p.at, m.ds(), m.num_cells, m.props, p.frame, view)(p.component);
+      };
+      return q;
+    }
+    default: throw std::logic_error("make_probe: unknown continuation probe type");
   }
-  if (p.type != "point") throw std::logic_error("make_probe: unknown continuation probe " + p.type);
-  rod::StaticProbe q;
-  q.name = p.name;
-  q.unit = p.quantity == "position" ? "m" : p.quantity == "kappa" ? "1/m" : p.quantity == "n" ? "N"
-           : p.quantity == "m" ? "N m" : "1";
-  const double at = p.at;
-  const int c = p.component;
-  const bool fixed = p.frame == "fixed";
-  const std::string quantity = p.quantity;
-  q.eval = [at, c, fixed, quantity](const rod::StaticModel& m, const std::vector<rod::StaticNode>& nodes) {
-    if (quantity == "position") return rod::position_at(m, nodes, at)(c);
-    const double q = std::clamp(at / m.ds(), 0.0, static_cast<double>(m.num_cells));
-    const int j = std::min(static_cast<int>(std::floor(q)), m.num_cells - 1);
-    const double w = q - j;
-    auto value = [&](const rod::StaticNode& nd) -> Vec3 {
-      const Mat3 R = nd.frame();
-      if (quantity[0] == 'd') return R.row(quantity[1] - '1').transpose();
-      Vec3 v = quantity == "kappa" ? Vec3(nd.x.segment<3>(rod::svar::kappa))
-               : quantity == "n"   ? Vec3(nd.x.segment<3>(rod::svar::n))
-                                   : Vec3(m.props.K.cwiseProduct(nd.x.segment<3>(rod::svar::kappa) - m.props.kappa0));
-      return fixed ? Vec3(R.transpose() * v) : v;
-    };
-    const Vec3 v = (1.0 - w) * value(nodes[static_cast<size_t>(j)]) + w * value(nodes[static_cast<size_t>(j + 1)]);
-    return v(c);
-  };
-  return q;
+}
+
+// The solver's parameter of a scene's continuation parameter.
+StaticParameter static_parameter(scene::ContinuationParameter p) {
+  using C = scene::ContinuationParameter;
+  switch (p) {
+    case C::end_load: return StaticParameter::end_load;
+    case C::end_position: return StaticParameter::end_position;
+    case C::gravity_factor: return StaticParameter::gravity_factor;
+    case C::load_position: return StaticParameter::load_position;
+    case C::load_magnitude: return StaticParameter::load_magnitude;
+    default: throw std::logic_error("static_parameter: unknown continuation parameter");
+  }
 }
 
 }  // namespace
@@ -105,11 +104,11 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     scene::fail_at(sc, "solver", "valid solver parameters (see docs/solver.md)", e.what());
   }
   rod::StaticProblem problem = static_problem(sc);
-  const StaticParameter par = rod::parameter_from_name(cs.parameter);
+  const StaticParameter par = static_parameter(cs.parameter);
 
   // Starting state: solved at the start values from the scene's initial state.
   std::vector<rod::StaticNode> state = rod::straight_static_state(problem.base);
-  if (sc.initial_state.type == "arch") {
+  if (sc.initial_state.type == scene::InitialStateType::arch) {
     solver::ArchFormation arch;
     try {
       arch = form_arch(sc, tcomm, solver_params);
@@ -126,7 +125,7 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     problem.load_direction = direction;
     for (auto p : {StaticParameter::load_position, StaticParameter::load_magnitude}) problem.value(p) = values[static_cast<size_t>(p)];
     state = arch.state;
-  } else if (sc.initial_state.type == "file") {
+  } else if (sc.initial_state.type == scene::InitialStateType::file) {
     try {
       state = static_nodes(output::read_state(sc.initial_state.file, sc.initial_state.state), sc, "initial_state.file");
     } catch (const output::OutputError& e) {
@@ -143,7 +142,7 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
 
   solver::ContinuationOptions options;
   options.parameter = par;
-  options.method = cs.method == "natural" ? "Natural" : "Arc Length";
+  options.method = cs.method == scene::ContinuationMethod::natural ? "Natural" : "Arc Length";
   options.min_value = std::min(start, cs.stop);
   options.max_value = std::max(start, cs.stop);
   options.initial_step = cs.stop > start ? cs.step : -cs.step;
@@ -164,7 +163,7 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   std::vector<double> s(static_cast<size_t>(sc.mesh.nodes));
   for (size_t j = 0; j < s.size(); ++j) s[j] = static_cast<double>(j) * sc.mesh.ds;
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod"};
-  output::ContinuationWriter writer(comm, opt.output, opt.overwrite, info, s, cs.parameter,
+  output::ContinuationWriter writer(comm, opt.output, opt.overwrite, info, s, scene::name_of(cs.parameter),
                                     rod::parameter_unit(par), names, units);
 
   int branch = 0;
@@ -184,7 +183,7 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
       writer.add_bifurcation(solver::to_string(b.type), branch, b.located, b.parameter, b.probes, nodal_state(b.state));
     if (!r.completed) {
       progress.done();
-      const std::string why = "continuation in " + cs.parameter + " stopped at " + rod::parameter_name(par) + " = " +
+      const std::string why = "continuation in " + scene::name_of(cs.parameter) + " stopped at " + rod::parameter_name(par) + " = " +
                               (r.points.empty() ? std::string("its start") : scene::format_number(r.points.back().parameter)) +
                               ": " + r.message + "; try a smaller continuation.step or min_step";
       if (!r.points.empty()) writer.write_state("final", nodal_state(r.points.back().state));
@@ -211,10 +210,10 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   if (rank == 0 && !opt.quiet) {
     std::printf("continuation of '%s' in %s from %g to %g: %ld points on %d branch(es), %zu bifurcation(s) on the "
                 "primary branch -> %s\n",
-                sc.file.c_str(), cs.parameter.c_str(), start, cs.stop, points, switched + 1,
+                sc.file.c_str(), scene::name_of(cs.parameter).c_str(), start, cs.stop, points, switched + 1,
                 primary.bifurcations.size(), opt.output.c_str());
     for (const auto& b : primary.bifurcations)
-      std::printf("  %s at %s = %.10g (%s)\n", solver::to_string(b.type).c_str(), cs.parameter.c_str(), b.parameter,
+      std::printf("  %s at %s = %.10g (%s)\n", solver::to_string(b.type).c_str(), scene::name_of(cs.parameter).c_str(), b.parameter,
                   b.located ? "located" : "bracketed");
   }
 }

@@ -8,6 +8,30 @@
 
 namespace traverse::scene {
 
+// The words of every enumeration, in enumerator order (the schema's choice lists below).
+#define TRAVERSE_ENUM_NAMES(E, ...)                                  \
+  template <>                                                        \
+  const std::vector<std::string>& enum_names<E>() {                  \
+    static const std::vector<std::string> names{__VA_ARGS__};        \
+    return names;                                                    \
+  }
+TRAVERSE_ENUM_NAMES(Supports, "simply-supported", "clamped-free", "clamped-clamped", "clamped-pinned")
+TRAVERSE_ENUM_NAMES(BeamIntegrator, "rk4", "newmark")
+TRAVERSE_ENUM_NAMES(EndType, "clamped", "pinned", "sliding", "roller", "free", "prescribed")
+TRAVERSE_ENUM_NAMES(LoadType, "moving_mass", "moving_force")
+TRAVERSE_ENUM_NAMES(Entry, "left", "right")
+TRAVERSE_ENUM_NAMES(PlanarMode, "auto", "on", "off")
+TRAVERSE_ENUM_NAMES(InitialStateType, "static", "rest", "file", "arch")
+TRAVERSE_ENUM_NAMES(ContinuationParameter, "end_load", "end_position", "gravity_factor", "load_position",
+                    "load_magnitude")
+TRAVERSE_ENUM_NAMES(ContinuationMethod, "arclength", "natural")
+TRAVERSE_ENUM_NAMES(ContinuationProbeType, "point", "end_compression")
+TRAVERSE_ENUM_NAMES(ProbeType, "deflection", "point")
+TRAVERSE_ENUM_NAMES(Quantity, "position", "u", "omega", "kappa", "n", "m", "d1", "d2", "d3")
+TRAVERSE_ENUM_NAMES(Frame, "fixed", "body")
+TRAVERSE_ENUM_NAMES(Field, "u", "omega", "kappa", "n", "m", "r", "R", "deflection", "slope", "bending_moment")
+#undef TRAVERSE_ENUM_NAMES
+
 namespace {
 
 using Teuchos::ParameterList;
@@ -50,7 +74,7 @@ std::vector<Param> motion_params() {
   return {real("speed", "Speed at entry_time along the direction of travel", "m/s").non_negative().required(),
           real("acceleration", "Constant acceleration along the direction of travel", "m/s^2").def(0.0),
           choice("entry", "End the load comes from: left (travels towards +s) or right (towards -s)",
-                 {"left", "right"}).def("left"),
+                 enum_names<Entry>()).def("left"),
           real("start", "Position at entry_time (default: the entry end)", "m").non_negative(),
           real("entry_time", "Time at which the load starts moving from `start`", "s").non_negative().def(0.0)};
 }
@@ -155,9 +179,9 @@ std::shared_ptr<TypeRegistry> probe_types() {
           {real("at", "Arclength", "m").non_negative().required(),
            choice("quantity", "position r [m], velocity u [m/s], spin omega [rad/s], curvature kappa [1/m], "
                               "force n [N], moment m [N m], or a director d1, d2, d3",
-                  {"position", "u", "omega", "kappa", "n", "m", "d1", "d2", "d3"}).required(),
+                  enum_names<Quantity>()).required(),
            choice("frame", "Components in the fixed frame (i, j, k) or the body frame (d1, d2, d3)",
-                  {"fixed", "body"}).def("fixed")},
+                  enum_names<Frame>()).def("fixed")},
           {[](const ParameterList& s, const CheckContext& ctx) {
             const auto q = s.get<std::string>("quantity");
             if ((q == "position" || q[0] == 'd') && s.get<std::string>("frame") == "body")
@@ -200,12 +224,11 @@ Param build_schema() {
   beam.add(real("youngs_modulus", "Young's modulus E", "Pa").positive().required());
   beam.add(real("density", "Material density rho", "kg/m^3").positive().required());
   beam.add(typed("section", "Cross-section", section_types()).required());
-  beam.add(choice("supports", "End conditions at x = 0 and x = L",
-                  {"simply-supported", "clamped-free", "clamped-clamped", "clamped-pinned"}).required());
+  beam.add(choice("supports", "End conditions at x = 0 and x = L", enum_names<Supports>()).required());
   beam.add(integer("modes", "Number of Galerkin modes (the beam's own eigenmodes)").at_least(1).at_most(200).def(3.0));
   beam.add(integer("quadrature_points", "Gauss points per mesh cell for the Galerkin integrals").at_least(1).at_most(20).def(6.0));
   beam.add(choice("integrator", "rk4: classical 4th-order Runge–Kutta (reference); newmark: average-acceleration "
-                                "Newmark, unconditionally stable, 2nd order", {"rk4", "newmark"}).def("rk4"));
+                                "Newmark, unconditionally stable, 2nd order", enum_names<BeamIntegrator>()).def("rk4"));
   root.add(beam);
 
   Param rod = section(kRod, "Inextensible, unshearable Cosserat rod, initially straight along k (model: rod)");
@@ -249,7 +272,7 @@ Param build_schema() {
                               "node instead of 12, same answers) when the rod, its initial state, the loads, gravity "
                               "and the end conditions are symmetric about one plane; on = require it (a scene that is "
                               "not planar is refused); off = always the 3D system",
-                    {"auto", "on", "off"}).def("auto"));
+                    enum_names<PlanarMode>()).def("auto"));
   scheme.check([](const ParameterList& s, const CheckContext& ctx) {
     if (s.isSublist("parameters") && (s.get<double>("rho_inf") != 1.0 || s.get<double>("rho_inf_space") != 1.0))
       ctx.fail("parameters", "either 'parameters' or rho_inf / rho_inf_space, not both", "both");
@@ -263,7 +286,7 @@ Param build_schema() {
                           "rest: straight and unloaded; file: a state saved by a continuation run; arch: form an "
                           "arch (buckle the straight rod upwards by a compressive end load until the ends are "
                           "end_to_end apart, pin them there, raise gravity from 0 to g)",
-                  {"static", "rest", "file", "arch"}).def("static"));
+                  enum_names<InitialStateType>()).def("static"));
   init.add(text("file", "type file: the continuation output file (HDF5) holding the state"));
   init.add(text("state", "type file: name of the state in the file (/states/<name>)").def("final"));
   init.add(real("end_to_end", "type arch: distance between the pinned ends along k", "m").positive());
@@ -284,7 +307,7 @@ Param build_schema() {
   cont.add(choice("parameter", "The continued parameter: end_load (compressive force on the right end along k, N), "
                                "end_position (the right end's position along k, m), gravity_factor (times g), "
                                "load_position (sigma of the scene's single load, m), load_magnitude (its force, N)",
-                  {"end_load", "end_position", "gravity_factor", "load_position", "load_magnitude"}).required());
+                  enum_names<ContinuationParameter>()).required());
   cont.add(real("start", "Start value of the parameter (default: its value in the scene: the load's start and "
                          "force, gravity factor 1 with gravity > 0, end load 0, the right end's position)", ""));
   cont.add(real("stop", "The run ends where the parameter reaches this value", "").required());
@@ -292,7 +315,7 @@ Param build_schema() {
   cont.add(real("min_step", "Smallest step before the run gives up", "").positive().def(1e-8));
   cont.add(real("max_step", "Largest step (default: 10 times step)", "").positive());
   cont.add(choice("method", "arclength: pseudo-arclength continuation (passes folds); natural: parameter stepping",
-                  {"arclength", "natural"}).def("arclength"));
+                  enum_names<ContinuationMethod>()).def("arclength"));
   cont.add(integer("max_steps", "Largest number of continuation steps per branch").at_least(1).def(1000.0));
   cont.add(boolean("stability", "Compute the small-vibration eigenvalues of every state (unstable-mode count, "
                                 "fold and pitchfork detection)").def("true"));
@@ -431,9 +454,8 @@ MovingLoadSpec build_load(const std::string& name, const ParameterList& l, doubl
                           double g) {
   MovingLoadSpec m;
   m.name = name;
-  m.type = l.get<std::string>("type");
-  if (m.type != "moving_mass" && m.type != "moving_force") throw std::logic_error("build_load: unknown load type " + m.type);
-  m.inertia = m.type == "moving_mass";
+  m.type = enum_of<LoadType>(l.get<std::string>("type"));
+  m.inertia = m.type == LoadType::moving_mass;
   if (l.isParameter("mass")) m.mass = l.get<double>("mass");
   if (l.isParameter("mass_fraction")) {
     const double p = l.get<double>("mass_fraction");
@@ -445,8 +467,8 @@ MovingLoadSpec build_load(const std::string& name, const ParameterList& l, doubl
   if (!m.inertia && !l.isParameter("mass") && !l.isParameter("mass_fraction")) m.mass = 0.0;
   m.speed = l.get<double>("speed");
   m.acceleration = l.get<double>("acceleration");
-  m.entry = l.get<std::string>("entry");
-  m.start = l.isParameter("start") ? l.get<double>("start") : (m.entry == "left" ? 0.0 : length);
+  m.entry = enum_of<Entry>(l.get<std::string>("entry"));
+  m.start = l.isParameter("start") ? l.get<double>("start") : (m.entry == Entry::left ? 0.0 : length);
   m.entry_time = l.get<double>("entry_time");
   return m;
 }
@@ -456,6 +478,10 @@ MovingLoadSpec build_load(const std::string& name, const ParameterList& l, doubl
 double MovingLoadSpec::position(double t) const {
   const double tau = t - entry_time;
   return start + direction() * (speed * tau + 0.5 * acceleration * tau * tau);
+}
+
+double MovingLoadSpec::sigma(double t) const {
+  return t < entry_time ? std::numeric_limits<double>::quiet_NaN() : position(t);
 }
 
 double MovingLoadSpec::velocity(double t) const { return direction() * (speed + acceleration * (t - entry_time)); }
@@ -495,10 +521,10 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
     sc.beam.youngs_modulus = b.get<double>("youngs_modulus");
     sc.beam.density = b.get<double>("density");
     sc.beam.section = build_section(b.sublist("section"));
-    sc.beam.supports = b.get<std::string>("supports");
+    sc.beam.supports = enum_of<Supports>(b.get<std::string>("supports"));
     sc.beam.modes = b.get<int>("modes");
     sc.beam.quadrature_points = b.get<int>("quadrature_points");
-    sc.beam.integrator = b.get<std::string>("integrator");
+    sc.beam.integrator = enum_of<BeamIntegrator>(b.get<std::string>("integrator"));
     structure_mass = sc.beam.mass();
   } else if (model == kRod) {
     sc.model = Model::Rod;
@@ -514,7 +540,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
     structure_mass = sc.rod.mass();
     for (auto [spec, key] : {std::pair{&sc.left, "left"}, std::pair{&sc.right, "right"}}) {
       const auto& e = p.sublist("ends").sublist(key);
-      spec->type = e.get<std::string>("type");
+      spec->type = enum_of<EndType>(e.get<std::string>("type"));
       if (e.isParameter("axis")) spec->axis = vec3_of(e, "axis").normalized();
       if (e.isParameter("slide_axis")) spec->slide_axis = vec3_of(e, "slide_axis").normalized();
       if (e.isParameter("force")) spec->axial_force = e.get<double>("force");
@@ -524,7 +550,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
     const auto& s = p.sublist("scheme");
     sc.scheme.rho_inf = s.get<double>("rho_inf");
     sc.scheme.rho_inf_space = s.get<double>("rho_inf_space");
-    sc.scheme.planar = s.get<std::string>("planar");
+    sc.scheme.planar = enum_of<PlanarMode>(s.get<std::string>("planar"));
     if (s.isSublist("parameters")) {
       const auto& a = s.sublist("parameters");
       sc.scheme.explicit_parameters = true;
@@ -536,7 +562,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
       sc.scheme.gt = a.get<double>("gt");
     }
     const auto& init = p.sublist("initial_state");
-    sc.initial_state.type = init.get<std::string>("type");
+    sc.initial_state.type = enum_of<InitialStateType>(init.get<std::string>("type"));
     if (init.isParameter("file")) sc.initial_state.file = init.get<std::string>("file");
     sc.initial_state.state = init.get<std::string>("state");
     if (init.isParameter("end_to_end")) {
@@ -549,14 +575,14 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
       const auto& c = p.sublist("continuation");
       auto& cs = sc.continuation;
       cs.enabled = true;
-      cs.parameter = c.get<std::string>("parameter");
+      cs.parameter = enum_of<ContinuationParameter>(c.get<std::string>("parameter"));
       cs.start_given = c.isParameter("start");
       if (cs.start_given) cs.start = c.get<double>("start");
       cs.stop = c.get<double>("stop");
       cs.step = c.get<double>("step");
       cs.min_step = c.get<double>("min_step");
       cs.max_step = c.isParameter("max_step") ? c.get<double>("max_step") : 10.0 * cs.step;
-      cs.method = c.get<std::string>("method");
+      cs.method = enum_of<ContinuationMethod>(c.get<std::string>("method"));
       cs.max_steps = c.get<int>("max_steps");
       cs.stability = c.get<bool>("stability");
       cs.eigenvalues = c.get<int>("eigenvalues");
@@ -567,12 +593,12 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
         const auto& q = pr.sublist(pr.name(it));
         ContinuationProbeSpec ps;
         ps.name = pr.name(it);
-        ps.type = q.get<std::string>("type");
-        if (ps.type == "point") {
+        ps.type = enum_of<ContinuationProbeType>(q.get<std::string>("type"));
+        if (ps.type == ContinuationProbeType::point) {
           ps.at = q.get<double>("at");
-          ps.quantity = q.get<std::string>("quantity");
+          ps.quantity = enum_of<Quantity>(q.get<std::string>("quantity"));
           const auto comp = q.get<std::string>("component");
-          ps.frame = (comp == "1" || comp == "2" || comp == "3") ? "body" : "fixed";
+          ps.frame = (comp == "1" || comp == "2" || comp == "3") ? Frame::body : Frame::fixed;
           ps.component = comp == "x" || comp == "1" ? 0 : comp == "y" || comp == "2" ? 1 : 2;
           if (ps.at > sc.rod.length)
             fail_at(sc, "continuation.probes." + ps.name + ".at", "a position on the rod, in [0, " +
@@ -580,8 +606,9 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
         }
         cs.probes.push_back(ps);
       }
-      if ((cs.parameter == "load_position" || cs.parameter == "load_magnitude") && p.sublist("loads").numParams() != 1)
-        fail_at(sc, "continuation.parameter", "exactly one load in the scene to continue in " + cs.parameter,
+      if ((cs.parameter == ContinuationParameter::load_position || cs.parameter == ContinuationParameter::load_magnitude) &&
+          p.sublist("loads").numParams() != 1)
+        fail_at(sc, "continuation.parameter", "exactly one load in the scene to continue in " + name_of(cs.parameter),
                 std::to_string(p.sublist("loads").numParams()) + " loads");
     }
   } else {
@@ -625,16 +652,16 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
     const auto& pr = probes.sublist(probes.name(it));
     ProbeSpec ps;
     ps.name = probes.name(it);
-    ps.type = pr.get<std::string>("type");
+    ps.type = enum_of<ProbeType>(pr.get<std::string>("type"));
     ps.at = pr.get<double>("at");
-    if (ps.type == "point") {
-      ps.quantity = pr.get<std::string>("quantity");
-      ps.frame = pr.get<std::string>("frame");
+    if (ps.type == ProbeType::point) {
+      ps.quantity = enum_of<Quantity>(pr.get<std::string>("quantity"));
+      ps.frame = enum_of<Frame>(pr.get<std::string>("frame"));
     }
     sc.output.probes.push_back(ps);
   }
   const auto fields = o.get<Teuchos::Array<std::string>>("fields");
-  sc.output.fields.assign(fields.begin(), fields.end());
+  for (const auto& f : fields) sc.output.fields.push_back(enum_of<Field>(f));
 
   sc.text = describe(sc.tree, scene_schema(), false);
   return sc;

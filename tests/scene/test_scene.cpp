@@ -61,7 +61,7 @@ TEST(Scene, ValidSceneFillsDefaultsAndDerivedValues) {
   EXPECT_NEAR(s.loads[0].mass, 0.25 * beam_mass, 1e-9);  // p/(1-p) with p = 0.2
   EXPECT_NEAR(s.loads[0].mass / (s.loads[0].mass + beam_mass), 0.2, 1e-12);
   EXPECT_TRUE(s.loads[0].inertia);
-  EXPECT_EQ(s.loads[0].entry, "left");
+  EXPECT_EQ(s.loads[0].entry, Entry::left);
   EXPECT_TRUE(s.time.dt_auto);
   EXPECT_TRUE(s.time.end_auto);
   EXPECT_EQ(s.output.file, "scene.h5");
@@ -194,10 +194,10 @@ TEST(Scene, RodSceneWithRollerAndDefaults) {
   EXPECT_EQ(s.model, Model::Rod);
   EXPECT_NEAR(s.rod.shear_modulus, 1.0e8, 1e-6);
   EXPECT_NEAR(s.rod.section.J, M_PI * std::pow(0.005, 4) / 2, 1e-20);
-  EXPECT_EQ(s.left.type, "pinned");
-  EXPECT_EQ(s.right.type, "roller");
+  EXPECT_EQ(s.left.type, EndType::pinned);
+  EXPECT_EQ(s.right.type, EndType::roller);
   EXPECT_DOUBLE_EQ(s.right.axial_force, -1.0);
-  EXPECT_EQ(s.initial_state.type, "static");
+  EXPECT_EQ(s.initial_state.type, InitialStateType::static_equilibrium);
   EXPECT_DOUBLE_EQ(s.time.dt, 0.01);  // auto: ds / v with 101 nodes and v = 1
   EXPECT_FALSE(s.continuation.enabled);
   ASSERT_EQ(s.loads.size(), 1u);
@@ -212,10 +212,10 @@ TEST(Scene, InitialStatesAndContinuation) {
                                "continuation.stop=1", "continuation.step=0.01",
                                "continuation.probes={c: {type: end_compression}, y: {type: point, at: 0.5, "
                                "quantity: position, component: y}}"});
-  EXPECT_EQ(s.initial_state.type, "arch");
+  EXPECT_EQ(s.initial_state.type, InitialStateType::arch);
   EXPECT_DOUBLE_EQ(s.initial_state.end_to_end, 0.8);
   ASSERT_TRUE(s.continuation.enabled);
-  EXPECT_EQ(s.continuation.method, "arclength");
+  EXPECT_EQ(s.continuation.method, ContinuationMethod::arclength);
   EXPECT_DOUBLE_EQ(s.continuation.max_step, 0.1);
   ASSERT_EQ(s.continuation.probes.size(), 2u);
   EXPECT_EQ(s.continuation.probes[1].component, 1);

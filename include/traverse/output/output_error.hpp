@@ -1,5 +1,5 @@
 #pragma once
-// The one exception type the output module throws.
+// The exception types the output module throws.
 #include <stdexcept>
 #include <string>
 
@@ -13,6 +13,14 @@ namespace traverse::output {
 class OutputError : public std::runtime_error {
  public:
   explicit OutputError(const std::string& what) : std::runtime_error(what) {}
+};
+
+/// A restart that cannot go on (no usable restart point, outputs that differ from the
+/// scene, a file that cannot be read or moved aside): bad input of the command line. Not an
+/// OutputError, so that the restart functions' own wrapping of OutputError leaves it alone.
+class RestartError : public std::runtime_error {
+ public:
+  explicit RestartError(const std::string& what) : std::runtime_error(what) {}
 };
 
 }  // namespace traverse::output

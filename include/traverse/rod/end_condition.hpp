@@ -44,6 +44,13 @@ struct EndCondition {
 
   /// Number of scalar rows this condition contributes (always 6 for a valid condition).
   int num_rows() const;
+  /// The condition of the static problem: a prescribed end starts from rest, so clamped.
+  Type static_type() const { return type == Type::prescribed ? Type::clamped : type; }
+  /// Whether the end point can move (its position is then integrated in time from its
+  /// velocity): free, sliding, roller and prescribed ends.
+  bool end_moves() const {
+    return type == Type::free || type == Type::sliding || type == Type::roller || type == Type::prescribed;
+  }
 };
 
 /// Two unit vectors b1, b2 with (a/|a|, b1, b2) orthonormal; deterministic in a.

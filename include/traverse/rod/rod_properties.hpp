@@ -11,6 +11,9 @@ struct RodProperties {
   Vec3 K = Vec3::Zero();        ///< stiffness diagonal (E I1, E I2, G J) [N m^2]
   Vec3 kappa0 = Vec3::Zero();   ///< intrinsic curvature, body components [1/m]
 
+  /// Contact moment m = K (kappa - kappa0), body components [N m] (the linear constitutive law).
+  Vec3 moment(const Vec3& kappa) const { return K.cwiseProduct(kappa - kappa0); }
+
   /// Solid circular section of radius r [m], Young's modulus E [Pa], Poisson ratio nu,
   /// density rho [kg/m^3]: A = pi r^2, I1 = I2 = pi r^4 / 4, J = pi r^4 / 2, G = E/(2(1+nu)).
   static RodProperties circular(double radius, double E, double nu, double rho);

@@ -89,6 +89,14 @@ struct OutputNeeds {
 OutputNeeds output_needs(int num_cells, double ds, const std::vector<PointOutput>& points,
                          const std::vector<std::string>& fields);
 
+/// Velocity of a node in fixed components, R^T u [m/s].
+inline Vec3 fixed_velocity(const RodNode& node) { return node.R.transpose() * node.y.segment<3>(var::u); }
+
+/// One trapezoidal step of dr/dt = v over h [s]: r + h/2 (v_old + v_new) (second order) [m].
+inline Vec3 trapezoidal_step(const Vec3& r, const Vec3& v_old, const Vec3& v_new, double h) {
+  return r + 0.5 * h * (v_old + v_new);
+}
+
 /// Advance nodal positions over one step by the trapezoidal rule on dr/dt = R^T u:
 /// r_new = r_old + dt/2 (R_old^T u_old + R_new^T u_new) (second order). Fixed components [m].
 std::vector<Vec3> advance_centreline_in_time(const std::vector<Vec3>& r_old,

@@ -1,6 +1,8 @@
 #pragma once
 // The traverse scene: what a scene file may say (declared in scene.cpp, printed by
 // `traverse check`) and the typed structs the rest of the code is built from.
+#include <cstddef>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -10,6 +12,58 @@
 namespace traverse::scene {
 
 enum class Model { Beam, Rod };
+
+// Every word a scene file may choose from is an enumerator here: the scene module turns the
+// words into these once (the schema's choice lists are built from the same tables), and the
+// rest of the code switches on them. enum_names<E>() lists the words in enumerator order;
+// name_of(e) is the word of one enumerator.
+enum class Supports { simply_supported, clamped_free, clamped_clamped, clamped_pinned };
+enum class BeamIntegrator { rk4, newmark };
+enum class EndType { clamped, pinned, sliding, roller, free, prescribed };
+enum class LoadType { moving_mass, moving_force };
+enum class Entry { left, right };
+enum class PlanarMode { automatic, on, off };
+enum class InitialStateType { static_equilibrium, rest, file, arch };
+enum class ContinuationParameter { end_load, end_position, gravity_factor, load_position, load_magnitude };
+enum class ContinuationMethod { arclength, natural };
+enum class ContinuationProbeType { point, end_compression };
+enum class ProbeType { deflection, point };
+/// A vector quantity of the rod at a point (probes) or at every node (fields).
+enum class Quantity { position, u, omega, kappa, n, m, d1, d2, d3 };
+enum class Frame { fixed, body };
+/// Fields written at every node: rod (u .. R) and beam (deflection .. bending_moment).
+enum class Field { u, omega, kappa, n, m, r, R, deflection, slope, bending_moment };
+
+template <class E>
+const std::vector<std::string>& enum_names();
+template <> const std::vector<std::string>& enum_names<Supports>();
+template <> const std::vector<std::string>& enum_names<BeamIntegrator>();
+template <> const std::vector<std::string>& enum_names<EndType>();
+template <> const std::vector<std::string>& enum_names<LoadType>();
+template <> const std::vector<std::string>& enum_names<Entry>();
+template <> const std::vector<std::string>& enum_names<PlanarMode>();
+template <> const std::vector<std::string>& enum_names<InitialStateType>();
+template <> const std::vector<std::string>& enum_names<ContinuationParameter>();
+template <> const std::vector<std::string>& enum_names<ContinuationMethod>();
+template <> const std::vector<std::string>& enum_names<ContinuationProbeType>();
+template <> const std::vector<std::string>& enum_names<ProbeType>();
+template <> const std::vector<std::string>& enum_names<Quantity>();
+template <> const std::vector<std::string>& enum_names<Frame>();
+template <> const std::vector<std::string>& enum_names<Field>();
+
+/// The scene-file word of an enumerator.
+template <class E>
+const std::string& name_of(E e) {
+  return enum_names<E>().at(static_cast<std::size_t>(e));
+}
+/// The enumerator of a word (validated input); throws std::logic_error for an unknown word.
+template <class E>
+E enum_of(const std::string& word) {
+  const auto& names = enum_names<E>();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == word) return static_cast<E>(i);
+  throw std::logic_error("scene: '" + word + "' is not a known word here");
+}
 
 /// Cross-section properties derived from the declared shape.
 struct SectionSpec {
@@ -26,10 +80,10 @@ struct BeamSpec {
   double youngs_modulus = 0.0;  ///< E [Pa]
   double density = 0.0;         ///< rho [kg/m^3]
   SectionSpec section;
-  std::string supports;         ///< simply-supported, clamped-free, clamped-clamped, clamped-pinned
+  Supports supports = Supports::simply_supported;
   int modes = 3;                ///< Galerkin modes
   int quadrature_points = 6;    ///< Gauss points per mesh cell
-  std::string integrator;       ///< rk4 or newmark
+  BeamIntegrator integrator = BeamIntegrator::rk4;
   double mass() const { return density * section.area * length; }  ///< beam mass [kg]
 };
 
@@ -46,7 +100,7 @@ struct RodSpec {
 
 /// One end condition of the rod (fixed-frame vectors).
 struct EndSpec {
-  std::string type;              ///< clamped, pinned, sliding, roller, free, prescribed
+  EndType type = EndType::clamped;
   Vec3 axis = Vec3::UnitX();     ///< pin axis (pinned, roller) or sliding axis (sliding)
   Vec3 slide_axis = Vec3::UnitZ();  ///< roller: sliding axis
   double axial_force = 0.0;      ///< roller: external force along the sliding axis [N]
@@ -57,21 +111,24 @@ struct EndSpec {
 /// A load that travels along the structure.
 struct MovingLoadSpec {
   std::string name;
-  std::string type;        ///< moving_mass or moving_force
+  LoadType type = LoadType::moving_force;
   bool inertia = false;    ///< true for a moving mass
   double mass = 0.0;       ///< M [kg] (0 for a force given directly)
   Vec3 force = Vec3::Zero();  ///< fixed-frame force [N] (M g (-j) for a mass or a weight)
   double speed = 0.0;      ///< speed at entry_time [m/s], >= 0, along the direction of travel
   double acceleration = 0.0;  ///< [m/s^2] along the direction of travel
-  std::string entry;       ///< "left" (travels towards +s) or "right" (towards -s)
+  Entry entry = Entry::left;  ///< left: travels towards +s; right: towards -s
   double start = 0.0;      ///< position at entry_time [m]
   double entry_time = 0.0;    ///< [s]
-  int direction() const { return entry == "left" ? +1 : -1; }
+  int direction() const { return entry == Entry::left ? +1 : -1; }
   /// Position [m] at time t >= entry_time (also beyond the ends).
   double position(double t) const;
   double velocity(double t) const;  ///< signed [m/s]
   /// Time at which the load reaches the far end of a structure of length L, or +inf.
   double exit_time(double length) const;
+  /// Where the load is at time t: position(t) once it has started, NaN before entry_time
+  /// (it may lie beyond the ends; the models take it as off the structure there).
+  double sigma(double t) const;
 };
 
 struct MeshSpec {
@@ -92,15 +149,15 @@ struct SchemeSpec {
   double rho_inf_space = 1.0;  ///< spectral radius in space (1: plain box scheme in s)
   bool explicit_parameters = false;  ///< the six parameters below were given directly
   double as = 0.5, bs = 0.5, gs = 0.5, at = 0.5, bt = 0.5, gt = 0.5;
-  /// Planar fast path: "auto" (when the scene is planar), "on" (required), "off" (always 3D).
-  std::string planar = "auto";
+  /// Planar fast path: automatic (when the scene is planar), on (required), off (always 3D).
+  PlanarMode planar = PlanarMode::automatic;
 };
 
 struct InitialStateSpec {
   /// static: equilibrium under the dead loads; rest: straight, unloaded; file: a state saved
   /// by a continuation run; arch: the arch formation pipeline (buckle, pin at end_to_end,
   /// raise gravity).
-  std::string type;
+  InitialStateType type = InitialStateType::static_equilibrium;
   std::string file;         ///< type file: the continuation output file
   std::string state;        ///< type file: the state's name in it (default "final")
   double end_to_end = 0.0;  ///< type arch: end-to-end distance dz [m]
@@ -109,23 +166,23 @@ struct InitialStateSpec {
 /// A scalar measured on each static state of a continuation run.
 struct ContinuationProbeSpec {
   std::string name;
-  std::string type;       ///< point or end_compression
+  ContinuationProbeType type = ContinuationProbeType::point;
   double at = 0.0;        ///< point: arclength [m]
-  std::string quantity;   ///< point: position, kappa, n, m, d1, d2, d3
+  Quantity quantity = Quantity::position;  ///< point: position, kappa, n, m, d1, d2, d3
   int component = 0;      ///< point: 0, 1, 2 (x, y, z or 1, 2, 3)
-  std::string frame;      ///< point: fixed or body
+  Frame frame = Frame::fixed;  ///< point
 };
 
 /// Continuation of static states (a scene with this section runs statics, not dynamics).
 struct ContinuationSpec {
   bool enabled = false;
-  std::string parameter;  ///< end_load, end_position, gravity_factor, load_position, load_magnitude
+  ContinuationParameter parameter = ContinuationParameter::end_load;
   bool start_given = false;
   double start = 0.0;     ///< start value of the parameter
   double stop = 0.0;      ///< the run ends where the parameter reaches this bound
   double step = 0.0;      ///< initial step size (positive; the direction is towards stop)
   double min_step = 0.0, max_step = 0.0;
-  std::string method;     ///< arclength or natural
+  ContinuationMethod method = ContinuationMethod::arclength;
   int max_steps = 0;
   bool stability = true;
   int eigenvalues = 6;
@@ -136,17 +193,17 @@ struct ContinuationSpec {
 
 struct ProbeSpec {
   std::string name;
-  std::string type;      ///< deflection (beam) or point (rod)
+  ProbeType type = ProbeType::point;  ///< deflection (beam) or point (rod)
   double at = 0.0;       ///< position along the structure [m]
-  std::string quantity;  ///< point: position, u, omega, kappa, n, m, d1, d2, d3
-  std::string frame;     ///< point: fixed or body components
+  Quantity quantity = Quantity::position;  ///< point
+  Frame frame = Frame::fixed;  ///< point: fixed or body components
 };
 
 struct OutputSpec {
   std::string file;  ///< HDF5 output path
   int every = 1;     ///< write every this many steps (plus the first and the last state)
   std::vector<ProbeSpec> probes;
-  std::vector<std::string> fields;
+  std::vector<Field> fields;
 };
 
 struct Scene {

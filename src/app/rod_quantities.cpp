@@ -1,0 +1,80 @@
+#include "rod_quantities.hpp"
+
+#include <stdexcept>
+
+namespace traverse::app {
+
+using scene::Field;
+using scene::Quantity;
+
+NodeView node_view(const rod::RodNode& node, const Vec3& r) {
+  NodeView v;
+  v.R = node.R;
+  v.r = r;
+  v.u = node.y.segment<3>(rod::var::u);
+  v.omega = node.y.segment<3>(rod::var::omega);
+  v.kappa = node.y.segment<3>(rod::var::kappa);
+  v.n = node.y.segment<3>(rod::var::n);
+  return v;
+}
+
+NodeView node_view(const rod::StaticNode& node) {
+  NodeView v;
+  v.R = node.frame();
+  v.r = node.x.segment<3>(rod::svar::r);
+  v.kappa = node.x.segment<3>(rod::svar::kappa);
+  v.n = node.x.segment<3>(rod::svar::n);
+  return v;
+}
+
+const std::string& quantity_unit(Quantity q) {
+  static const std::vector<std::string> units{"m", "m/s", "rad/s", "1/m", "N", "N m", "1", "1", "1"};
+  return units.at(static_cast<std::size_t>(q));
+}
+
+Vec3 quantity_value(Quantity q, const NodeView& node, const rod::RodProperties& props, scene::Frame frame) {
+  Vec3 v;
+  switch (q) {
+    case Quantity::position: return node.r;
+    case Quantity::d1: return node.R.row(0).transpose();
+    case Quantity::d2: return node.R.row(1).transpose();
+    case Quantity::d3: return node.R.row(2).transpose();
+    case Quantity::u: v = node.u; break;
+    case Quantity::omega: v = node.omega; break;
+    case Quantity::kappa: v = node.kappa; break;
+    case Quantity::n: v = node.n; break;
+    case Quantity::m: v = props.moment(node.kappa); break;
+    default: throw std::logic_error("quantity_value: unknown quantity");
+  }
+  return frame == scene::Frame::fixed ? Vec3(node.R.transpose() * v) : v;
+}
+
+RodFieldInfo rod_field_info(Field f) {
+  const std::vector<std::string> d123{"1", "2", "3"};
+  switch (f) {
+    case Field::u: return {3, "m/s", "velocity, body components", d123};
+    case Field::omega: return {3, "rad/s", "spin, body components", d123};
+    case Field::kappa: return {3, "1/m", "curvature and twist, body components", d123};
+    case Field::n: return {3, "N", "contact force, body components", d123};
+    case Field::m: return {3, "N m", "contact moment K (kappa - kappa0), body components", d123};
+    case Field::r: return {3, "m", "centreline, fixed components", {"x", "y", "z"}, true};
+    case Field::R:
+      return {9, "1", "orientation: rows d1, d2, d3 in fixed components",
+              {"d1x", "d1y", "d1z", "d2x", "d2y", "d2z", "d3x", "d3y", "d3z"}};
+    default: throw std::logic_error("rod_field_info: not a rod field: " + scene::name_of(f));
+  }
+}
+
+Quantity field_quantity(Field f) {
+  switch (f) {
+    case Field::u: return Quantity::u;
+    case Field::omega: return Quantity::omega;
+    case Field::kappa: return Quantity::kappa;
+    case Field::n: return Quantity::n;
+    case Field::m: return Quantity::m;
+    case Field::r: return Quantity::position;
+    default: throw std::logic_error("field_quantity: no single quantity for field " + scene::name_of(f));
+  }
+}
+
+}  // namespace traverse::app
