@@ -1,10 +1,21 @@
 # traverse_add_gtest(<name> SOURCES <files...> LIBS <targets...> [RANKS <n>...] [LABELS <l>...]
-#                    [TIMEOUT <s>])
+#                    [TIMEOUT <s>] [MPI_MAIN])
 # Builds one GoogleTest executable and registers it with ctest. With RANKS, one ctest entry
 # per rank count is added, run through mpiexec (as root too, oversubscribing if needed).
+# Every entry is labelled with the name of its folder under tests/ (core, scene, mesh,
+# output, beam, rod, solver, app, validation, stress, ...), plus "mpi" with RANKS, plus
+# LABELS. MPI_MAIN links tests/support/mpi_main.cpp (MPI and Kokkos set up around
+# GoogleTest) instead of GTest::gtest_main. tests/support (process.hpp: the one helper for
+# tests that run the executable) is on every test's include path.
 function(traverse_add_gtest name)
-  cmake_parse_arguments(T "" "TIMEOUT" "SOURCES;LIBS;RANKS;LABELS" ${ARGN})
+  cmake_parse_arguments(T "MPI_MAIN" "TIMEOUT" "SOURCES;LIBS;RANKS;LABELS" ${ARGN})
+  get_filename_component(folder ${CMAKE_CURRENT_SOURCE_DIR} NAME)
+  list(PREPEND T_LABELS ${folder})
+  if(T_MPI_MAIN)
+    list(APPEND T_SOURCES ${PROJECT_SOURCE_DIR}/tests/support/mpi_main.cpp)
+  endif()
   add_executable(${name} ${T_SOURCES})
+  target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/support)
   target_link_libraries(${name} PRIVATE ${T_LIBS} GTest::gtest traverse_warnings)
   target_compile_definitions(${name} PRIVATE
     TRAVERSE_SOURCE_DIR="${PROJECT_SOURCE_DIR}" TRAVERSE_BINARY_DIR="${PROJECT_BINARY_DIR}")

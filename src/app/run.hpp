@@ -24,7 +24,7 @@ struct RunOptions {
   bool progress = false;
   std::string invocation;
   double restart_interval = 0.0;  ///< wall seconds between restart points (0: every output step)
-  bool restart = false;  ///< continue the run of `output` from its last restart point (restart.hpp)
+  bool restart = false;  ///< continue the run of `output` from its last restart point (traverse/output/restart.hpp)
 };
 
 /// Runs a beam scene; throws scene::SceneError for input that only shows as bad once the

@@ -11,16 +11,14 @@
 #include <regex>
 #include <string>
 
+#include "process.hpp"
 #include "traverse/output/reader.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string out;  // stdout and stderr together
-};
+using Result = traverse::testing::RunResult;
 
 Result run_with(const std::string& prefix, const std::string& args);
 Result run(const std::string& args) { return run_with("", args); }
@@ -42,14 +40,7 @@ std::string mpirun(int ranks) {
 }
 
 Result run_with(const std::string& prefix, const std::string& args) {
-  const std::string cmd = prefix + std::string(TRAVERSE_EXE) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return {-1, "popen failed"};
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return traverse::testing::run_command(prefix + std::string(TRAVERSE_EXE) + " " + args);
 }
 
 double max_difference(const std::vector<double>& a, const std::vector<double>& b) {

@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <iostream>
 
-#include "../app/process.hpp"
+#include "process.hpp"
 
 namespace fs = std::filesystem;
 using namespace traverse::testing;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "process.hpp"
 #include "traverse/output/continuation_writer.hpp"
 #include "traverse/output/reader.hpp"
 
@@ -19,14 +20,9 @@ namespace fs = std::filesystem;
 namespace {
 
 int run(const std::string& args, std::string* out = nullptr) {
-  const std::string cmd = std::string(TRAVERSE_EXE) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string text;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) text.append(buf, n);
-  const int status = pclose(p);
-  if (out) *out = text;
-  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  const auto r = traverse::testing::run_command(std::string(TRAVERSE_EXE) + " " + args);
+  if (out) *out = r.out;
+  return r.code;
 }
 
 std::vector<double> dataset(const std::string& file, const std::string& name) {

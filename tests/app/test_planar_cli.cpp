@@ -26,20 +26,10 @@ const std::string kShallowArch = kInputs + "/arch/shallow_arch_v0.5.yaml";
 // Every field, so that the comparison covers the whole state.
 const std::string kFields = " --set output.fields=[r,R,u,omega,kappa,n,m] -q";
 
-struct Result {
-  int code;
-  std::string out;  // stdout and stderr together
-};
+using Result = traverse::testing::RunResult;
 
 Result run(const std::string& prefix, const std::string& args) {
-  const std::string cmd = prefix + std::string(TRAVERSE_EXE) + " " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return {-1, "popen failed"};
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, p)) out.append(buf, n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return traverse::testing::run_command(prefix + std::string(TRAVERSE_EXE) + " " + args);
 }
 
 std::string mpirun(int ranks) {

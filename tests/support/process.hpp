@@ -1,7 +1,8 @@
 #pragma once
 // Helpers for tests that drive the real traverse executable as a separate process:
 // start it (optionally under mpiexec), watch its output file, signal it, wait for it, and
-// compare two output files step by step. Header-only; used by tests/app and tests/stress.
+// compare two output files step by step. Header-only; the one process helper of every test
+// that runs the executable (tests/app, tests/validation, tests/stress).
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -44,6 +45,25 @@ inline std::vector<std::string> split_args(const std::string& s) {
   }
   if (have) out.push_back(cur);
   return out;
+}
+
+/// What a finished command gave: its exit code (-1 if it did not exit normally) and its
+/// standard output and error together.
+struct RunResult {
+  int code = -1;
+  std::string out;
+};
+
+/// Runs `command` through the shell with stderr merged into stdout, and waits for it.
+inline RunResult run_command(const std::string& command) {
+  FILE* p = popen((command + " 2>&1").c_str(), "r");
+  if (!p) return {-1, "popen failed"};
+  RunResult r;
+  char buf[4096];
+  while (size_t n = fread(buf, 1, sizeof buf, p)) r.out.append(buf, n);
+  const int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
 }
 
 /// A started process: its pid, the file its stdout+stderr go to.
