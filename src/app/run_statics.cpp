@@ -85,61 +85,58 @@ rod::StaticProblem static_problem(const scene::Scene& sc) {
   return p;
 }
 
-void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  int no_argc = 0;
-  char** no_argv = nullptr;
-  Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);
-  auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
-  const auto& cs = sc.continuation;
+namespace {
 
-  // Validated here for the error message; handed on as given, so that the statics' own
-  // default for 2+ ranks (GMRES + ILUT, see StaticContext) applies when the scene names no
-  // preconditioner (validation would fill in the dynamic default, Schwarz).
+// The solver parameters, validated here for the error message and handed on as given, so
+// that the statics' own default for 2+ ranks (GMRES + ILUT, see StaticContext) applies when
+// the scene names no preconditioner (validation would fill in the dynamic default, Schwarz).
+Teuchos::ParameterList statics_solver_parameters(const scene::Scene& sc) {
   const Teuchos::ParameterList solver_params = sc.solver_parameters();
   try {
     (void)solver::validated_solver_parameters(solver_params);
   } catch (const std::invalid_argument& e) {
     scene::fail_at(sc, "solver", "valid solver parameters (see docs/solver.md)", e.what());
   }
-  rod::StaticProblem problem = static_problem(sc);
-  const StaticParameter par = static_parameter(cs.parameter);
+  return solver_params;
+}
 
-  // Starting state: solved at the start values from the scene's initial state.
-  std::vector<rod::StaticNode> state = rod::straight_static_state(problem.base);
-  if (sc.initial_state.type == scene::InitialStateType::arch) {
-    solver::ArchFormation arch;
-    try {
-      arch = form_arch(sc, tcomm, solver_params);
-    } catch (const std::runtime_error& e) {
-      throw NumericsError(e.what());
+// The starting state of the continuation, from the scene's initial state; an arch start
+// replaces the problem's ends and position by the formed arch's (the scene's load on top).
+std::vector<rod::StaticNode> statics_start(const scene::Scene& sc, const Teuchos::ParameterList& solver_params,
+                                           const Teuchos::RCP<const Teuchos::Comm<int>>& tcomm, bool report,
+                                           rod::StaticProblem& problem) {
+  switch (sc.initial_state.type) {
+    case scene::InitialStateType::arch: {
+      solver::ArchFormation arch;
+      try {
+        arch = form_arch(sc, tcomm, solver_params);
+      } catch (const std::runtime_error& e) {
+        throw NumericsError(e.what());
+      }
+      if (report) std::printf("%s\n", arch_summary(arch).c_str());
+      const auto values = problem.values;
+      const bool load = problem.has_point_load;
+      const Vec3 direction = problem.load_direction;
+      problem = arch.problem;
+      problem.has_point_load = load;
+      problem.load_direction = direction;
+      for (auto p : {StaticParameter::load_position, StaticParameter::load_magnitude})
+        problem.value(p) = values[static_cast<size_t>(p)];
+      return arch.state;
     }
-    if (rank == 0 && !opt.quiet) std::printf("%s\n", arch_summary(arch).c_str());
-    // The formed arch's ends and position; the scene's load and parameter values on top.
-    const auto values = problem.values;
-    const bool load = problem.has_point_load;
-    const Vec3 direction = problem.load_direction;
-    problem = arch.problem;
-    problem.has_point_load = load;
-    problem.load_direction = direction;
-    for (auto p : {StaticParameter::load_position, StaticParameter::load_magnitude}) problem.value(p) = values[static_cast<size_t>(p)];
-    state = arch.state;
-  } else if (sc.initial_state.type == scene::InitialStateType::file) {
-    try {
-      state = static_nodes(output::read_state(sc.initial_state.file, sc.initial_state.state), sc, "initial_state.file");
-    } catch (const output::OutputError& e) {
-      scene::fail_at(sc, "initial_state.file", "a continuation file with the state '" + sc.initial_state.state + "'",
-                     e.what());
-    }
+    case scene::InitialStateType::file:
+      try {
+        return static_nodes(output::read_state(sc.initial_state.file, sc.initial_state.state), sc, "initial_state.file");
+      } catch (const output::OutputError& e) {
+        scene::fail_at(sc, "initial_state.file", "a continuation file with the state '" + sc.initial_state.state + "'",
+                       e.what());
+      }
+    default: return rod::straight_static_state(problem.base);
   }
+}
 
-  if (cs.start_given) problem.value(par) = cs.start;
-  const double start = problem.value(par);
-  if (start == cs.stop)
-    scene::fail_at(sc, "continuation.stop", "a value different from the start value " + scene::format_number(start),
-                   scene::format_number(cs.stop));
-
+solver::ContinuationOptions continuation_options(const scene::ContinuationSpec& cs, StaticParameter par, double start,
+                                                 const Teuchos::ParameterList& solver_params) {
   solver::ContinuationOptions options;
   options.parameter = par;
   options.method = cs.method == scene::ContinuationMethod::natural ? "Natural" : "Arc Length";
@@ -153,18 +150,58 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   options.stability.num_eigenvalues = cs.eigenvalues;
   options.detect_bifurcations = cs.stability;
   options.solver = solver_params;
-  std::vector<std::string> names, units;
-  for (const auto& p : cs.probes) {
-    options.probes.push_back(make_probe(p));
-    names.push_back(p.name);
-    units.push_back(options.probes.back().unit);
-  }
+  for (const auto& p : cs.probes) options.probes.push_back(make_probe(p));
+  return options;
+}
 
+output::ContinuationWriter continuation_writer(const scene::Scene& sc, const RunOptions& opt,
+                                               const solver::ContinuationOptions& options, MPI_Comm comm) {
+  std::vector<std::string> names, units;
+  for (const auto& p : options.probes) {
+    names.push_back(p.name);
+    units.push_back(p.unit);
+  }
   std::vector<double> s(static_cast<size_t>(sc.mesh.nodes));
   for (size_t j = 0; j < s.size(); ++j) s[j] = static_cast<double>(j) * sc.mesh.ds;
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod"};
-  output::ContinuationWriter writer(comm, opt.output, opt.overwrite, info, s, scene::name_of(cs.parameter),
-                                    rod::parameter_unit(par), names, units);
+  return output::ContinuationWriter(comm, opt.output, opt.overwrite, info, s, scene::name_of(sc.continuation.parameter),
+                                    rod::parameter_unit(options.parameter), names, units);
+}
+
+void print_summary(const scene::Scene& sc, const RunOptions& opt, double start, long points, int branches,
+                   const solver::ContinuationResult& primary) {
+  const std::string& par = scene::name_of(sc.continuation.parameter);
+  std::printf("continuation of '%s' in %s from %g to %g: %ld points on %d branch(es), %zu bifurcation(s) on the "
+              "primary branch -> %s\n",
+              sc.file.c_str(), par.c_str(), start, sc.continuation.stop, points, branches, primary.bifurcations.size(),
+              opt.output.c_str());
+  for (const auto& b : primary.bifurcations)
+    std::printf("  %s at %s = %.10g (%s)\n", solver::to_string(b.type).c_str(), par.c_str(), b.parameter,
+                b.located ? "located" : "bracketed");
+}
+
+}  // namespace
+
+void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  int no_argc = 0;
+  char** no_argv = nullptr;
+  Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);
+  auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
+  const auto& cs = sc.continuation;
+
+  const Teuchos::ParameterList solver_params = statics_solver_parameters(sc);
+  rod::StaticProblem problem = static_problem(sc);
+  const StaticParameter par = static_parameter(cs.parameter);
+  const std::vector<rod::StaticNode> state = statics_start(sc, solver_params, tcomm, rank == 0 && !opt.quiet, problem);
+  if (cs.start_given) problem.value(par) = cs.start;
+  const double start = problem.value(par);
+  if (start == cs.stop)
+    scene::fail_at(sc, "continuation.stop", "a value different from the start value " + scene::format_number(start),
+                   scene::format_number(cs.stop));
+  const solver::ContinuationOptions options = continuation_options(cs, par, start, solver_params);
+  output::ContinuationWriter writer = continuation_writer(sc, opt, options, comm);
 
   int branch = 0;
   long points = 0;
@@ -183,7 +220,8 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
       writer.add_bifurcation(solver::to_string(b.type), branch, b.located, b.parameter, b.probes, nodal_state(b.state));
     if (!r.completed) {
       progress.done();
-      const std::string why = "continuation in " + scene::name_of(cs.parameter) + " stopped at " + rod::parameter_name(par) + " = " +
+      const std::string why = "continuation in " + scene::name_of(cs.parameter) + " stopped at " +
+                              rod::parameter_name(par) + " = " +
                               (r.points.empty() ? std::string("its start") : scene::format_number(r.points.back().parameter)) +
                               ": " + r.message + "; try a smaller continuation.step or min_step";
       if (!r.points.empty()) writer.write_state("final", nodal_state(r.points.back().state));
@@ -207,15 +245,7 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   }
   progress.done();
   writer.finish();
-  if (rank == 0 && !opt.quiet) {
-    std::printf("continuation of '%s' in %s from %g to %g: %ld points on %d branch(es), %zu bifurcation(s) on the "
-                "primary branch -> %s\n",
-                sc.file.c_str(), scene::name_of(cs.parameter).c_str(), start, cs.stop, points, switched + 1,
-                primary.bifurcations.size(), opt.output.c_str());
-    for (const auto& b : primary.bifurcations)
-      std::printf("  %s at %s = %.10g (%s)\n", solver::to_string(b.type).c_str(), scene::name_of(cs.parameter).c_str(), b.parameter,
-                  b.located ? "located" : "bracketed");
-  }
+  if (rank == 0 && !opt.quiet) print_summary(sc, opt, start, points, switched + 1, primary);
 }
 
 }  // namespace traverse::app

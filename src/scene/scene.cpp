@@ -505,126 +505,120 @@ const Param& scene_schema() {
   CheckContext(scene.file, "", &scene.tree.marks).fail(key_path, expected, found);
 }
 
-Scene parse_scene(const std::string& yaml_text, const std::string& file_name, const std::vector<std::string>& overrides) {
-  Scene sc;
-  sc.file = file_name;
-  sc.tree = validate_yaml(yaml_text, file_name, overrides, scene_schema());
-  const ParameterList& p = sc.tree.params;
-  const std::string model = p.get<std::string>("model");
-  sc.title = p.get<std::string>("title");
-  sc.gravity = p.get<double>("gravity");
-  double structure_mass = 0.0;
-  if (model == kBeam) {
-    sc.model = Model::Beam;
-    const auto& b = p.sublist(kBeam);
-    sc.beam.length = b.get<double>("length");
-    sc.beam.youngs_modulus = b.get<double>("youngs_modulus");
-    sc.beam.density = b.get<double>("density");
-    sc.beam.section = build_section(b.sublist("section"));
-    sc.beam.supports = enum_of<Supports>(b.get<std::string>("supports"));
-    sc.beam.modes = b.get<int>("modes");
-    sc.beam.quadrature_points = b.get<int>("quadrature_points");
-    sc.beam.integrator = enum_of<BeamIntegrator>(b.get<std::string>("integrator"));
-    structure_mass = sc.beam.mass();
-  } else if (model == kRod) {
-    sc.model = Model::Rod;
-    const auto& r = p.sublist(kRod);
-    sc.rod.length = r.get<double>("length");
-    sc.rod.youngs_modulus = r.get<double>("youngs_modulus");
-    sc.rod.shear_modulus = r.isParameter("shear_modulus")
-                               ? r.get<double>("shear_modulus")
-                               : sc.rod.youngs_modulus / (2.0 * (1.0 + r.get<double>("poisson_ratio")));
-    sc.rod.density = r.get<double>("density");
-    sc.rod.section = build_section(r.sublist("section"));
-    sc.rod.intrinsic_curvature = vec3_of(r, "intrinsic_curvature");
-    structure_mass = sc.rod.mass();
-    for (auto [spec, key] : {std::pair{&sc.left, "left"}, std::pair{&sc.right, "right"}}) {
-      const auto& e = p.sublist("ends").sublist(key);
-      spec->type = enum_of<EndType>(e.get<std::string>("type"));
-      if (e.isParameter("axis")) spec->axis = vec3_of(e, "axis").normalized();
-      if (e.isParameter("slide_axis")) spec->slide_axis = vec3_of(e, "slide_axis").normalized();
-      if (e.isParameter("force")) spec->axial_force = e.get<double>("force");
-      if (e.isParameter("velocity")) spec->velocity = vec3_of(e, "velocity");
-      if (e.isParameter("rotation_rate")) spec->rotation_rate = vec3_of(e, "rotation_rate");
-    }
-    const auto& s = p.sublist("scheme");
-    sc.scheme.rho_inf = s.get<double>("rho_inf");
-    sc.scheme.rho_inf_space = s.get<double>("rho_inf_space");
-    sc.scheme.planar = enum_of<PlanarMode>(s.get<std::string>("planar"));
-    if (s.isSublist("parameters")) {
-      const auto& a = s.sublist("parameters");
-      sc.scheme.explicit_parameters = true;
-      sc.scheme.as = a.get<double>("as");
-      sc.scheme.bs = a.get<double>("bs");
-      sc.scheme.gs = a.get<double>("gs");
-      sc.scheme.at = a.get<double>("at");
-      sc.scheme.bt = a.get<double>("bt");
-      sc.scheme.gt = a.get<double>("gt");
-    }
-    const auto& init = p.sublist("initial_state");
-    sc.initial_state.type = enum_of<InitialStateType>(init.get<std::string>("type"));
-    if (init.isParameter("file")) sc.initial_state.file = init.get<std::string>("file");
-    sc.initial_state.state = init.get<std::string>("state");
-    if (init.isParameter("end_to_end")) {
-      sc.initial_state.end_to_end = init.get<double>("end_to_end");
-      if (sc.initial_state.end_to_end >= sc.rod.length)
-        fail_at(sc, "initial_state.end_to_end", "a distance shorter than the rod, < " + format_number(sc.rod.length),
-                format_number(sc.initial_state.end_to_end));
-    }
-    if (p.isSublist("continuation")) {
-      const auto& c = p.sublist("continuation");
-      auto& cs = sc.continuation;
-      cs.enabled = true;
-      cs.parameter = enum_of<ContinuationParameter>(c.get<std::string>("parameter"));
-      cs.start_given = c.isParameter("start");
-      if (cs.start_given) cs.start = c.get<double>("start");
-      cs.stop = c.get<double>("stop");
-      cs.step = c.get<double>("step");
-      cs.min_step = c.get<double>("min_step");
-      cs.max_step = c.isParameter("max_step") ? c.get<double>("max_step") : 10.0 * cs.step;
-      cs.method = enum_of<ContinuationMethod>(c.get<std::string>("method"));
-      cs.max_steps = c.get<int>("max_steps");
-      cs.stability = c.get<bool>("stability");
-      cs.eigenvalues = c.get<int>("eigenvalues");
-      cs.switch_branches = c.get<bool>("switch_branches");
-      cs.branch_amplitude = c.get<double>("branch_amplitude");
-      const auto& pr = c.sublist("probes");
-      for (auto it = pr.begin(); it != pr.end(); ++it) {
-        const auto& q = pr.sublist(pr.name(it));
-        ContinuationProbeSpec ps;
-        ps.name = pr.name(it);
-        ps.type = enum_of<ContinuationProbeType>(q.get<std::string>("type"));
-        if (ps.type == ContinuationProbeType::point) {
-          ps.at = q.get<double>("at");
-          ps.quantity = enum_of<Quantity>(q.get<std::string>("quantity"));
-          const auto comp = q.get<std::string>("component");
-          ps.frame = (comp == "1" || comp == "2" || comp == "3") ? Frame::body : Frame::fixed;
-          ps.component = comp == "x" || comp == "1" ? 0 : comp == "y" || comp == "2" ? 1 : 2;
-          if (ps.at > sc.rod.length)
-            fail_at(sc, "continuation.probes." + ps.name + ".at", "a position on the rod, in [0, " +
-                    format_number(sc.rod.length) + "]", format_number(ps.at));
-        }
-        cs.probes.push_back(ps);
-      }
-      if ((cs.parameter == ContinuationParameter::load_position || cs.parameter == ContinuationParameter::load_magnitude) &&
-          p.sublist("loads").numParams() != 1)
-        fail_at(sc, "continuation.parameter", "exactly one load in the scene to continue in " + name_of(cs.parameter),
-                std::to_string(p.sublist("loads").numParams()) + " loads");
-    }
-  } else {
-    throw std::logic_error("parse_scene: unknown model " + model);
+namespace {
+
+void read_beam(const ParameterList& b, BeamSpec& beam) {
+  beam.length = b.get<double>("length");
+  beam.youngs_modulus = b.get<double>("youngs_modulus");
+  beam.density = b.get<double>("density");
+  beam.section = build_section(b.sublist("section"));
+  beam.supports = enum_of<Supports>(b.get<std::string>("supports"));
+  beam.modes = b.get<int>("modes");
+  beam.quadrature_points = b.get<int>("quadrature_points");
+  beam.integrator = enum_of<BeamIntegrator>(b.get<std::string>("integrator"));
+}
+
+void read_rod(const ParameterList& r, RodSpec& rod) {
+  rod.length = r.get<double>("length");
+  rod.youngs_modulus = r.get<double>("youngs_modulus");
+  rod.shear_modulus = r.isParameter("shear_modulus") ? r.get<double>("shear_modulus")
+                                                     : rod.youngs_modulus / (2.0 * (1.0 + r.get<double>("poisson_ratio")));
+  rod.density = r.get<double>("density");
+  rod.section = build_section(r.sublist("section"));
+  rod.intrinsic_curvature = vec3_of(r, "intrinsic_curvature");
+}
+
+void read_end(const ParameterList& e, EndSpec& spec) {
+  spec.type = enum_of<EndType>(e.get<std::string>("type"));
+  if (e.isParameter("axis")) spec.axis = vec3_of(e, "axis").normalized();
+  if (e.isParameter("slide_axis")) spec.slide_axis = vec3_of(e, "slide_axis").normalized();
+  if (e.isParameter("force")) spec.axial_force = e.get<double>("force");
+  if (e.isParameter("velocity")) spec.velocity = vec3_of(e, "velocity");
+  if (e.isParameter("rotation_rate")) spec.rotation_rate = vec3_of(e, "rotation_rate");
+}
+
+void read_scheme(const ParameterList& s, SchemeSpec& scheme) {
+  scheme.rho_inf = s.get<double>("rho_inf");
+  scheme.rho_inf_space = s.get<double>("rho_inf_space");
+  scheme.planar = enum_of<PlanarMode>(s.get<std::string>("planar"));
+  if (s.isSublist("parameters")) {
+    const auto& a = s.sublist("parameters");
+    scheme.explicit_parameters = true;
+    scheme.as = a.get<double>("as");
+    scheme.bs = a.get<double>("bs");
+    scheme.gs = a.get<double>("gs");
+    scheme.at = a.get<double>("at");
+    scheme.bt = a.get<double>("bt");
+    scheme.gt = a.get<double>("gt");
   }
+}
 
-  const auto& m = p.sublist("mesh");
-  if (m.isParameter("ds")) sc.mesh.nodes = static_cast<int>(std::lround(sc.length() / m.get<double>("ds"))) + 1;
-  else sc.mesh.nodes = m.isParameter("nodes") ? m.get<int>("nodes") : 101;
-  sc.mesh.ds = sc.length() / (sc.mesh.nodes - 1);
+void read_initial_state(const ParameterList& init, Scene& sc) {
+  sc.initial_state.type = enum_of<InitialStateType>(init.get<std::string>("type"));
+  if (init.isParameter("file")) sc.initial_state.file = init.get<std::string>("file");
+  sc.initial_state.state = init.get<std::string>("state");
+  if (init.isParameter("end_to_end")) {
+    sc.initial_state.end_to_end = init.get<double>("end_to_end");
+    if (sc.initial_state.end_to_end >= sc.rod.length)
+      fail_at(sc, "initial_state.end_to_end", "a distance shorter than the rod, < " + format_number(sc.rod.length),
+              format_number(sc.initial_state.end_to_end));
+  }
+}
 
-  const auto& loads = p.sublist("loads");
-  for (auto it = loads.begin(); it != loads.end(); ++it)
-    sc.loads.push_back(build_load(loads.name(it), loads.sublist(loads.name(it)), structure_mass, sc.length(), sc.gravity));
+ContinuationProbeSpec read_continuation_probe(const std::string& name, const ParameterList& q, const Scene& sc) {
+  ContinuationProbeSpec ps;
+  ps.name = name;
+  ps.type = enum_of<ContinuationProbeType>(q.get<std::string>("type"));
+  if (ps.type == ContinuationProbeType::point) {
+    ps.at = q.get<double>("at");
+    ps.quantity = enum_of<Quantity>(q.get<std::string>("quantity"));
+    const auto comp = q.get<std::string>("component");
+    ps.frame = (comp == "1" || comp == "2" || comp == "3") ? Frame::body : Frame::fixed;
+    ps.component = comp == "x" || comp == "1" ? 0 : comp == "y" || comp == "2" ? 1 : 2;
+    if (ps.at > sc.rod.length)
+      fail_at(sc, "continuation.probes." + ps.name + ".at", "a position on the rod, in [0, " +
+              format_number(sc.rod.length) + "]", format_number(ps.at));
+  }
+  return ps;
+}
 
-  const auto& t = p.sublist("time");
+void read_continuation(const ParameterList& c, std::size_t num_loads, Scene& sc) {
+  auto& cs = sc.continuation;
+  cs.enabled = true;
+  cs.parameter = enum_of<ContinuationParameter>(c.get<std::string>("parameter"));
+  cs.start_given = c.isParameter("start");
+  if (cs.start_given) cs.start = c.get<double>("start");
+  cs.stop = c.get<double>("stop");
+  cs.step = c.get<double>("step");
+  cs.min_step = c.get<double>("min_step");
+  cs.max_step = c.isParameter("max_step") ? c.get<double>("max_step") : 10.0 * cs.step;
+  cs.method = enum_of<ContinuationMethod>(c.get<std::string>("method"));
+  cs.max_steps = c.get<int>("max_steps");
+  cs.stability = c.get<bool>("stability");
+  cs.eigenvalues = c.get<int>("eigenvalues");
+  cs.switch_branches = c.get<bool>("switch_branches");
+  cs.branch_amplitude = c.get<double>("branch_amplitude");
+  const auto& pr = c.sublist("probes");
+  for (auto it = pr.begin(); it != pr.end(); ++it)
+    cs.probes.push_back(read_continuation_probe(pr.name(it), pr.sublist(pr.name(it)), sc));
+  if ((cs.parameter == ContinuationParameter::load_position || cs.parameter == ContinuationParameter::load_magnitude) &&
+      num_loads != 1)
+    fail_at(sc, "continuation.parameter", "exactly one load in the scene to continue in " + name_of(cs.parameter),
+            std::to_string(num_loads) + " loads");
+}
+
+// The rod's sections: rod, ends, scheme, initial_state, continuation.
+void read_rod_scene(const ParameterList& p, Scene& sc) {
+  read_rod(p.sublist(kRod), sc.rod);
+  read_end(p.sublist("ends").sublist("left"), sc.left);
+  read_end(p.sublist("ends").sublist("right"), sc.right);
+  read_scheme(p.sublist("scheme"), sc.scheme);
+  read_initial_state(p.sublist("initial_state"), sc);
+  if (p.isSublist("continuation")) read_continuation(p.sublist("continuation"), p.sublist("loads").numParams(), sc);
+}
+
+// time: dt and end, with 'auto' resolved where the scene alone decides it.
+void read_time(const ParameterList& t, Scene& sc) {
   sc.time.dt_auto = t.isType<std::string>("dt");
   if (!sc.time.dt_auto) sc.time.dt = t.get<double>("dt");
   sc.time.end_auto = t.isType<std::string>("end");
@@ -642,11 +636,12 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
     if (v <= 0.0) fail_at(sc, "time.dt", "a number when no load moves at entry (auto is ds / v)", "auto");
     sc.time.dt = sc.mesh.ds / v;
   }
+}
 
-  const auto& o = p.sublist("output");
-  sc.output.file = o.get<std::string>("file");
-  if (sc.output.file == "auto") sc.output.file = std::filesystem::path(file_name).stem().string() + ".h5";
-  sc.output.every = o.get<int>("every");
+void read_output(const ParameterList& o, const std::string& file_name, OutputSpec& out) {
+  out.file = o.get<std::string>("file");
+  if (out.file == "auto") out.file = std::filesystem::path(file_name).stem().string() + ".h5";
+  out.every = o.get<int>("every");
   const auto& probes = o.sublist("probes");
   for (auto it = probes.begin(); it != probes.end(); ++it) {
     const auto& pr = probes.sublist(probes.name(it));
@@ -658,11 +653,42 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
       ps.quantity = enum_of<Quantity>(pr.get<std::string>("quantity"));
       ps.frame = enum_of<Frame>(pr.get<std::string>("frame"));
     }
-    sc.output.probes.push_back(ps);
+    out.probes.push_back(ps);
   }
-  const auto fields = o.get<Teuchos::Array<std::string>>("fields");
-  for (const auto& f : fields) sc.output.fields.push_back(enum_of<Field>(f));
+  for (const auto& f : o.get<Teuchos::Array<std::string>>("fields")) out.fields.push_back(enum_of<Field>(f));
+}
 
+}  // namespace
+
+Scene parse_scene(const std::string& yaml_text, const std::string& file_name, const std::vector<std::string>& overrides) {
+  Scene sc;
+  sc.file = file_name;
+  sc.tree = validate_yaml(yaml_text, file_name, overrides, scene_schema());
+  const ParameterList& p = sc.tree.params;
+  const std::string model = p.get<std::string>("model");
+  sc.title = p.get<std::string>("title");
+  sc.gravity = p.get<double>("gravity");
+  if (model == kBeam) {
+    sc.model = Model::Beam;
+    read_beam(p.sublist(kBeam), sc.beam);
+  } else if (model == kRod) {
+    sc.model = Model::Rod;
+    read_rod_scene(p, sc);
+  } else {
+    throw std::logic_error("parse_scene: unknown model " + model);
+  }
+  const double structure_mass = sc.model == Model::Beam ? sc.beam.mass() : sc.rod.mass();
+
+  const auto& m = p.sublist("mesh");
+  if (m.isParameter("ds")) sc.mesh.nodes = static_cast<int>(std::lround(sc.length() / m.get<double>("ds"))) + 1;
+  else sc.mesh.nodes = m.isParameter("nodes") ? m.get<int>("nodes") : 101;
+  sc.mesh.ds = sc.length() / (sc.mesh.nodes - 1);
+
+  const auto& loads = p.sublist("loads");
+  for (auto it = loads.begin(); it != loads.end(); ++it)
+    sc.loads.push_back(build_load(loads.name(it), loads.sublist(loads.name(it)), structure_mass, sc.length(), sc.gravity));
+  read_time(p.sublist("time"), sc);
+  read_output(p.sublist("output"), file_name, sc.output);
   sc.text = describe(sc.tree, scene_schema(), false);
   return sc;
 }
