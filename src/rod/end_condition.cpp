@@ -92,6 +92,25 @@ void pin_rows(const Vec3& axis, const RodProperties& props, const Vec3& w, const
   J.block<1, 3>(5, var::omega) = m.transpose() * hat(a) * G;
 }
 
+// The rows of an end that slides along `axis`: no velocity across it (rows 0 and 1) and the
+// contact force along it equal to `force` (row k), with their Jacobian.
+void slide_rows(const Vec3& axis, double force, int k, const Vec3& u, const Vec3& n, const Mat3& R, const Mat3& G,
+                Vec6& r, Eigen::Matrix<double, 6, 12>& J) {
+  using so3::hat;
+  Vec3 b1, b2;
+  perpendicular_pair(axis, b1, b2);
+  const Vec3 e = R * axis.normalized(), p1 = R * b1, p2 = R * b2;
+  r(0) = u.dot(p1);
+  r(1) = u.dot(p2);
+  J.block<1, 3>(0, var::u) = p1.transpose();
+  J.block<1, 3>(1, var::u) = p2.transpose();
+  J.block<1, 3>(0, var::omega) = u.transpose() * hat(p1) * G;
+  J.block<1, 3>(1, var::omega) = u.transpose() * hat(p2) * G;
+  r(k) = n.dot(e) - force;
+  J.block<1, 3>(k, var::n) = e.transpose();
+  J.block<1, 3>(k, var::omega) = n.transpose() * hat(e) * G;
+}
+
 }  // namespace
 
 void end_condition_rows(const EndCondition& c, const RodProperties& props, double t,
@@ -102,7 +121,7 @@ void end_condition_rows(const EndCondition& c, const RodProperties& props, doubl
   J.setZero();
   const Vec3 u = y.segment<3>(var::u), w = y.segment<3>(var::omega);
   const Vec3 n = y.segment<3>(var::n);
-  const Vec3 m = props.K.cwiseProduct(y.segment<3>(var::kappa) - props.kappa0);
+  const Vec3 m = props.moment(y.segment<3>(var::kappa));
   const Mat3 I = Mat3::Identity();
   switch (c.type) {
     case EndCondition::Type::clamped:
@@ -117,39 +136,15 @@ void end_condition_rows(const EndCondition& c, const RodProperties& props, doubl
       pin_rows(c.axis, props, w, m, R, G, r, J);
       break;
     }
-    case EndCondition::Type::sliding: {
-      Vec3 b1, b2;
-      perpendicular_pair(c.axis, b1, b2);
-      const Vec3 e = R * c.axis.normalized(), p1 = R * b1, p2 = R * b2;
-      r(0) = u.dot(p1);
-      r(1) = u.dot(p2);
-      J.block<1, 3>(0, var::u) = p1.transpose();
-      J.block<1, 3>(1, var::u) = p2.transpose();
-      J.block<1, 3>(0, var::omega) = u.transpose() * hat(p1) * G;
-      J.block<1, 3>(1, var::omega) = u.transpose() * hat(p2) * G;
+    case EndCondition::Type::sliding:
+      slide_rows(c.axis, 0.0, 5, u, n, R, G, r, J);
       r.segment<3>(2) = w;
       J.block<3, 3>(2, var::omega) = I;
-      r(5) = n.dot(e);
-      J.block<1, 3>(5, var::n) = e.transpose();
-      J.block<1, 3>(5, var::omega) = n.transpose() * hat(e) * G;
       break;
-    }
-    case EndCondition::Type::roller: {
-      Vec3 e1, e2;
-      perpendicular_pair(c.slide_axis, e1, e2);
-      const Vec3 e = R * c.slide_axis.normalized(), p1 = R * e1, p2 = R * e2;
-      r(0) = u.dot(p1);
-      r(1) = u.dot(p2);
-      J.block<1, 3>(0, var::u) = p1.transpose();
-      J.block<1, 3>(1, var::u) = p2.transpose();
-      J.block<1, 3>(0, var::omega) = u.transpose() * hat(p1) * G;
-      J.block<1, 3>(1, var::omega) = u.transpose() * hat(p2) * G;
-      r(2) = n.dot(e) - c.axial_force;
-      J.block<1, 3>(2, var::n) = e.transpose();
-      J.block<1, 3>(2, var::omega) = n.transpose() * hat(e) * G;
+    case EndCondition::Type::roller:
+      slide_rows(c.slide_axis, c.axial_force, 2, u, n, R, G, r, J);
       pin_rows(c.axis, props, w, m, R, G, r, J);
       break;
-    }
     case EndCondition::Type::free:
       r.head<3>() = n;
       r.tail<3>() = m;

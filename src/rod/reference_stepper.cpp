@@ -64,12 +64,12 @@ void ReferenceStepper::residual_and_jacobian(const StepTimes& step, const RodSta
   J.setFromTriplets(t.begin(), t.end());
 }
 
-NewtonReport ReferenceStepper::step(RodState& state, double dt) const {
+ReferenceStepReport ReferenceStepper::step(RodState& state, double dt) const {
   if (state.num_cells() != model_.num_cells)
     throw std::invalid_argument("ReferenceStepper::step: state and model grids differ");
   const StepTimes st{state.t, dt};
   VecX x = unknowns(state);
-  NewtonReport rep;
+  ReferenceStepReport rep;
   VecX r;
   Eigen::SparseMatrix<double> J;
   Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;

@@ -645,7 +645,7 @@ void read_output(const ParameterList& o, const std::string& file_name, OutputSpe
   const auto& probes = o.sublist("probes");
   for (auto it = probes.begin(); it != probes.end(); ++it) {
     const auto& pr = probes.sublist(probes.name(it));
-    ProbeSpec ps;
+    OutputProbeSpec ps;
     ps.name = probes.name(it);
     ps.type = enum_of<ProbeType>(pr.get<std::string>("type"));
     ps.at = pr.get<double>("at");

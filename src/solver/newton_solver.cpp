@@ -1,4 +1,5 @@
 #include "traverse/solver/newton_solver.hpp"
+#include "thyra_tpetra.hpp"
 
 #include <NOX_Observer.hpp>
 #include <NOX_Solver_Factory.H>
@@ -21,10 +22,7 @@
 namespace traverse::solver {
 
 namespace {
-using LO = mesh::LO;
-using GO = mesh::GO;
-using Node = mesh::Map::node_type;
-using Extract = Thyra::TpetraOperatorVectorExtraction<double, LO, GO, Node>;
+using namespace tt;  // MEB, LO, GO, Node, Extract
 
 /// Records max |f| at the initial guess and after each Newton iteration.
 class HistoryObserver : public NOX::Observer {

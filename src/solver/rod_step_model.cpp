@@ -1,4 +1,5 @@
 #include "traverse/solver/rod_step_model.hpp"
+#include "thyra_tpetra.hpp"
 
 #include <Thyra_DefaultPreconditioner.hpp>
 #include <Thyra_LinearOpSourceBase.hpp>
@@ -12,67 +13,32 @@
 namespace traverse::solver {
 
 namespace {
-using MEB = Thyra::ModelEvaluatorBase;
-using LO = mesh::LO;
-using GO = mesh::GO;
-using Node = mesh::Map::node_type;
-using Extract = Thyra::TpetraOperatorVectorExtraction<double, LO, GO, Node>;
+using namespace tt;  // MEB, LO, GO, Node, Extract
+}  // namespace
+
+namespace {
+// Unknowns per node of x, f and W: the planar layout's or the model's.
+int step_unknowns(const std::shared_ptr<const rod::RodModel>& model,
+                  const std::shared_ptr<const rod::PlanarReduction>& planar) {
+  if (!model) throw std::invalid_argument("RodStepModel: null model");
+  return planar ? planar->unknowns_per_node() : model->unknowns_per_node();
+}
 }  // namespace
 
 RodStepModel::RodStepModel(std::shared_ptr<const rod::RodModel> model,
                            Teuchos::RCP<const mesh::DistributedMesh> mesh,
                            std::shared_ptr<const rod::PlanarReduction> planar)
-    : model_(std::move(model)), mesh_(std::move(mesh)), planar_(std::move(planar)) {
-  if (!model_ || mesh_.is_null()) throw std::invalid_argument("RodStepModel: null model or mesh");
+    : BlockAssemblyModel(std::move(mesh), step_unknowns(model, planar), "traverse rod time step"),
+      model_(std::move(model)), planar_(std::move(planar)) {
   full_p_ = model_->unknowns_per_node();
-  p_ = planar_ ? planar_->unknowns_per_node() : full_p_;
   if (planar_ && planar_->full_unknowns_per_node() != full_p_)
     throw std::invalid_argument("RodStepModel: the planar reduction belongs to another layout");
   if (mesh_->unknowns_per_node() != p_ || mesh_->mesh().num_nodes() != model_->num_cells + 1)
     throw std::invalid_argument(
         "RodStepModel: the mesh must have num_cells + 1 nodes and unknowns_per_node() unknowns per node");
-  row_begin_ = static_cast<Eigen::Index>(p_) * mesh_->first_owned_node();
-  row_end_ = row_begin_ + static_cast<Eigen::Index>(p_) * mesh_->num_owned_nodes();
-  x_space_ = Thyra::createVectorSpace<double, LO, GO, Node>(mesh_->dof_map());
-  W_ = Teuchos::rcp(new Matrix(mesh_->graph()));
-  W_->fillComplete();
-  W_op_ = Thyra::tpetraLinearOp<double, LO, GO, Node>(x_space_, x_space_, W_);
   x0_ = Teuchos::rcp(new Vector(mesh_->dof_map()));
   x0_thyra_ = Thyra::createVector(x0_, x_space_);
-  x_ghosted_ = Teuchos::rcp(new Vector(mesh_->ghosted_dof_map()));
   W_at_x_ = Teuchos::rcp(new Vector(mesh_->dof_map()));
-  build_offsets();
-}
-
-void RodStepModel::build_offsets() {
-  offsets_.clear();
-  const auto lcl = W_->getLocalMatrixHost();
-  const auto colmap = W_->getColMap();
-  const LO rows = static_cast<LO>(row_end_ - row_begin_);
-  std::vector<int> off(static_cast<size_t>(rows / p_) * 3, -1);
-  for (LO r = 0; r < rows; ++r) {
-    const GO node = (static_cast<GO>(row_begin_) + r) / p_;
-    const size_t b = lcl.graph.row_map(r), e = lcl.graph.row_map(r + 1);
-    int pos[3] = {-1, -1, -1};
-    for (size_t k = b; k < e; ++k) {
-      const GO g = colmap->getGlobalElement(lcl.graph.entries(k));
-      if (g % p_ != 0) continue;
-      const GO rel = g / p_ - node + 1;
-      if (rel < 0 || rel > 2) return;  // not the expected stencil: keep the generic path
-      // The node's p columns must follow in order.
-      if (k + static_cast<size_t>(p_) > e) return;
-      for (int c = 1; c < p_; ++c)
-        if (colmap->getGlobalElement(lcl.graph.entries(k + static_cast<size_t>(c))) != g + c) return;
-      pos[rel] = static_cast<int>(k - b);
-    }
-    // Every row of the node must hold the node blocks at the same positions.
-    int* o = &off[static_cast<size_t>(r / p_) * 3];
-    for (int rel = 0; rel < 3; ++rel) {
-      if (r % p_ == 0) o[rel] = pos[rel];
-      else if (o[rel] != pos[rel]) return;
-    }
-  }
-  offsets_ = std::move(off);
 }
 
 bool RodStepModel::same_x(const Vector& x) const {
@@ -107,15 +73,6 @@ void RodStepModel::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes,
   stale_used_ = false;
 }
 
-void RodStepModel::set_W_factory(
-    const Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>>& f) {
-  W_factory_ = f;
-}
-
-void RodStepModel::set_prec_factory(const Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>>& f) {
-  prec_factory_ = f;
-}
-
 void RodStepModel::old_unknowns(Vector& x) const {
   const int off = mesh_->first_owned_node() - mesh_->first_ghosted_node();
   auto data = x.getDataNonConst();
@@ -133,8 +90,7 @@ std::vector<VecX> RodStepModel::ghosted_unknowns(const Vector& x) const {
 }
 
 void RodStepModel::ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out) const {
-  x_ghosted_->doImport(x, *mesh_->dof_importer(), Tpetra::INSERT);
-  auto data = x_ghosted_->getData();
+  auto data = ghosted(x).getData();
   out.resize(static_cast<size_t>(mesh_->num_ghosted_nodes()));
   for (size_t k = 0; k < out.size(); ++k) {
     if (planar_) {
@@ -202,80 +158,15 @@ void RodStepModel::fill(const Vector& x, Vector* f, Matrix* W) const {
   ghosted_unknowns_into(x, xg_);
   // Each block is added into f and W as soon as it is computed (same blocks in the same order
   // as when all were computed first, so the same sums).
-  Teuchos::ArrayRCP<double> fd;
-  if (f) {
-    f->putScalar(0.0);
-    fd = f->getDataNonConst();
-  }
-  // Direct path: add each kernel row's node blocks into W's local values at the precomputed
-  // offsets (same graph, same sums as sumIntoGlobalValues; no fillComplete needed since
-  // neither the graph nor the maps change). Otherwise sumIntoGlobalValues.
-  const bool direct = W && !offsets_.empty() && W == W_.get();
-  Matrix::local_matrix_host_type lcl;
-  if (direct) {
-    lcl = W->getLocalMatrixHost();
-    auto vals = lcl.values;
-    const size_t nnz = vals.extent(0);
-    for (size_t k = 0; k < nnz; ++k) vals(k) = 0.0;
-  } else if (W) {
-    W->resumeFill();
-    W->setAllToScalar(0.0);
-  }
-  std::vector<GO> cols;
-  std::vector<double> gvals;
-  const auto visit = [&](const rod::LocalBlock& b) {
-    if (f)
-      for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
-        const Eigen::Index g = b.row + i;
-        if (g >= row_begin_ && g < row_end_) fd[static_cast<size_t>(g - row_begin_)] += b.residual(i);
-      }
-    if (direct) {
-      auto vals = lcl.values;
-      for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
-        const Eigen::Index g = b.row + i;
-        if (g < row_begin_ || g >= row_end_) continue;
-        const size_t r = static_cast<size_t>(g - row_begin_);
-        const size_t row_start = lcl.graph.row_map(r);
-        const Eigen::Index node = g / p_;
-        for (size_t k = 0; k < b.cols.size(); ++k) {
-          const Eigen::Index rel = b.cols[k] / p_ - node + 1;
-          const int pos = rel >= 0 && rel <= 2 ? offsets_[r / static_cast<size_t>(p_) * 3 + static_cast<size_t>(rel)] : -1;
-          if (pos < 0 || b.cols[k] % p_ != 0 || b.jac[k].cols() != p_)
-            throw std::logic_error("RodStepModel: a kernel entry lies outside the mesh graph");
-          const size_t o = row_start + static_cast<size_t>(pos);
-          const MatX& J = b.jac[k];
-          for (int c = 0; c < p_; ++c) vals(o + static_cast<size_t>(c)) += J(i, c);
-        }
-      }
-    } else if (W) {
-      for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
-        const Eigen::Index g = b.row + i;
-        if (g < row_begin_ || g >= row_end_) continue;
-        cols.clear();
-        gvals.clear();
-        for (size_t k = 0; k < b.cols.size(); ++k)
-          for (Eigen::Index c = 0; c < b.jac[k].cols(); ++c) {
-            cols.push_back(static_cast<GO>(b.cols[k] + c));
-            gvals.push_back(b.jac[k](i, c));
-          }
-        const LO n = W->sumIntoGlobalValues(static_cast<GO>(g), static_cast<LO>(cols.size()), gvals.data(),
-                                            cols.data());
-        if (n != static_cast<LO>(cols.size()))
-          throw std::logic_error("RodStepModel: a kernel entry lies outside the mesh graph");
-      }
-    }
-  };
-  const double dropped = for_each_block(xg_, visit);
+  Scatter scatter(*this, f, W);
+  const double dropped = for_each_block(xg_, [&](const rod::LocalBlock& b) { scatter.add(b); });
+  scatter.finish();
   if (f) {
     dropped_ = dropped;
     ++n_f_;
   }
   if (W) ++W_version_;
-  if (W && !direct) W->fillComplete();
 }
-
-Teuchos::RCP<const Thyra::VectorSpaceBase<double>> RodStepModel::get_x_space() const { return x_space_; }
-Teuchos::RCP<const Thyra::VectorSpaceBase<double>> RodStepModel::get_f_space() const { return x_space_; }
 
 Thyra::ModelEvaluatorBase::InArgs<double> RodStepModel::getNominalValues() const {
   MEB::InArgs<double> in = createInArgs();
@@ -290,39 +181,15 @@ Thyra::ModelEvaluatorBase::InArgs<double> RodStepModel::createInArgs() const {
   return std::move(in);
 }
 
-Thyra::ModelEvaluatorBase::OutArgs<double> RodStepModel::createOutArgsImpl() const {
-  MEB::OutArgsSetup<double> out;
-  out.setModelEvalDescription("traverse rod time step");
-  out.setSupports(MEB::OUT_ARG_f);
-  out.setSupports(MEB::OUT_ARG_W_op);
-  out.setSupports(MEB::OUT_ARG_W_prec, !prec_factory_.is_null());
-  return std::move(out);
-}
-
-Teuchos::RCP<Thyra::LinearOpBase<double>> RodStepModel::create_W_op() const { return W_op_; }
-
-Teuchos::RCP<Thyra::PreconditionerBase<double>> RodStepModel::create_W_prec() const {
-  if (prec_factory_.is_null()) return Teuchos::null;
-  return prec_factory_->createPrec();
-}
-
-Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> RodStepModel::get_W_factory() const {
-  return W_factory_;
-}
+Thyra::ModelEvaluatorBase::OutArgs<double> RodStepModel::createOutArgsImpl() const { return out_args_setup(0); }
 
 void RodStepModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>& in,
                                  const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const {
-  const Teuchos::RCP<const Vector> x = Extract::getConstTpetraVector(in.get_x());
-  Teuchos::RCP<Vector> f;
-  if (!out.get_f().is_null()) f = Extract::getTpetraVector(out.get_f());
-  Matrix* W = nullptr;
-  if (!out.get_W_op().is_null()) {
-    auto op = Extract::getTpetraOperator(out.get_W_op());
-    W = dynamic_cast<Matrix*>(op.get());
-    if (!W || W->getCrsGraph().get() != mesh_->graph().get())
-      throw std::invalid_argument("RodStepModel: W_op must be a CrsMatrix on the mesh graph (use create_W_op)");
-  }
-  const bool want_prec = out.supports(MEB::OUT_ARG_W_prec) && !out.get_W_prec().is_null();
+  const Request req = request(in, out);
+  const Teuchos::RCP<const Vector>& x = req.x;
+  const Teuchos::RCP<Vector>& f = req.f;
+  Matrix* W = req.W;
+  const bool want_prec = req.want_prec;
   const bool want_W = W || want_prec;
   if (want_W) ++n_W_;
 
@@ -362,8 +229,7 @@ void RodStepModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>
     return;  // the preconditioner built from the kept W stays valid
   }
   if (want_prec) {
-    const auto src = Thyra::defaultLinearOpSource<double>(W_op_);
-    prec_factory_->initializePrec(src, out.get_W_prec().get(), Thyra::SUPPORT_SOLVE_UNSPECIFIED);
+    initialize_prec(out);
     t_prec_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   }
 }

@@ -1,4 +1,5 @@
 // Statics and continuation through LOCA (see static_continuation.hpp and docs/statics.md).
+#include "thyra_tpetra.hpp"
 #include "traverse/solver/static_continuation.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
@@ -34,10 +35,7 @@ namespace traverse::solver {
 namespace {
 using Vector = StaticRodModel::Vector;
 using Matrix = StaticRodModel::Matrix;
-using LO = mesh::LO;
-using GO = mesh::GO;
-using Node = mesh::Map::node_type;
-using Extract = Thyra::TpetraOperatorVectorExtraction<double, LO, GO, Node>;
+using namespace tt;  // MEB, LO, GO, Node, Extract
 
 std::vector<rod::StaticNode> rebased(std::vector<rod::StaticNode> nodes) {
   for (auto& n : nodes) n.rebase();

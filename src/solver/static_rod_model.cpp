@@ -1,4 +1,5 @@
 #include "traverse/solver/static_rod_model.hpp"
+#include "thyra_tpetra.hpp"
 
 #include <Thyra_DefaultLinearOpSource.hpp>
 #include <Thyra_TpetraThyraWrappers.hpp>
@@ -8,23 +9,15 @@
 namespace traverse::solver {
 
 namespace {
-using MEB = Thyra::ModelEvaluatorBase;
-using LO = mesh::LO;
-using GO = mesh::GO;
-using Node = mesh::Map::node_type;
-using Extract = Thyra::TpetraOperatorVectorExtraction<double, LO, GO, Node>;
+using namespace tt;  // MEB, LO, GO, Node, Extract
 using Params = std::array<double, rod::num_static_parameters>;
 }  // namespace
 
 StaticRodModel::StaticRodModel(const rod::StaticProblem& problem, Teuchos::RCP<const mesh::DistributedMesh> mesh)
-    : problem_(problem), mesh_(std::move(mesh)) {
-  if (mesh_.is_null()) throw std::invalid_argument("StaticRodModel: null mesh");
+    : BlockAssemblyModel(std::move(mesh), 12, "traverse static rod"), problem_(problem) {
   if (mesh_->unknowns_per_node() != 12 || mesh_->mesh().num_nodes() != problem_.base.num_cells + 1)
     throw std::invalid_argument("StaticRodModel: the mesh must have num_cells + 1 nodes and 12 unknowns per node");
-  row_begin_ = 12 * static_cast<Eigen::Index>(mesh_->first_owned_node());
-  row_end_ = row_begin_ + 12 * static_cast<Eigen::Index>(mesh_->num_owned_nodes());
   const auto comm = mesh_->dof_map()->getComm();
-  x_space_ = Thyra::createVectorSpace<double, LO, GO, Node>(mesh_->dof_map());
   auto pmap = Teuchos::rcp(new mesh::Map(rod::num_static_parameters, 0, comm, Tpetra::LocallyReplicated));
   p_space_ = Thyra::createVectorSpace<double, LO, GO, Node>(pmap);
   auto names = Teuchos::rcp(new Teuchos::Array<std::string>);
@@ -34,20 +27,11 @@ StaticRodModel::StaticRodModel(const rod::StaticProblem& problem, Teuchos::RCP<c
   const GO n = 12 * static_cast<GO>(problem_.base.num_cells + 1);
   full_map_ = Teuchos::rcp(new mesh::Map(n, 0, comm, Tpetra::LocallyReplicated));
   full_import_ = Teuchos::rcp(new mesh::Import(mesh_->dof_map(), full_map_));
-  W_ = new_matrix();
-  W_op_ = Thyra::tpetraLinearOp<double, LO, GO, Node>(x_space_, x_space_, W_);
   x0_ = Teuchos::rcp(new Vector(mesh_->dof_map()));
   x0_thyra_ = Thyra::createVector(x0_, x_space_);
   p0_thyra_ = Thyra::createMember(p_space_);
-  x_ghosted_ = Teuchos::rcp(new Vector(mesh_->ghosted_dof_map()));
   Rbar_.assign(static_cast<size_t>(problem_.base.num_cells + 1), Mat3::Identity());
   set_problem(problem_);
-}
-
-Teuchos::RCP<StaticRodModel::Matrix> StaticRodModel::new_matrix() const {
-  auto M = Teuchos::rcp(new Matrix(mesh_->graph()));
-  M->fillComplete();
-  return M;
 }
 
 void StaticRodModel::set_problem(const rod::StaticProblem& problem) {
@@ -86,8 +70,7 @@ std::vector<rod::StaticNode> StaticRodModel::gather(const Vector& x) const {
 }
 
 std::vector<rod::LocalBlock> StaticRodModel::blocks(const Vector& x, const rod::StaticModel& m, Kind kind) const {
-  x_ghosted_->doImport(x, *mesh_->dof_importer(), Tpetra::INSERT);
-  auto data = x_ghosted_->getData();
+  auto data = ghosted(x).getData();
   const int g0 = mesh_->first_ghosted_node();
   std::vector<rod::StaticNode> nd(static_cast<size_t>(mesh_->num_ghosted_nodes()));
   for (size_t k = 0; k < nd.size(); ++k) {
@@ -107,37 +90,9 @@ std::vector<rod::LocalBlock> StaticRodModel::blocks(const Vector& x, const rod::
 }
 
 void StaticRodModel::fill(const std::vector<rod::LocalBlock>& bl, Vector* f, Matrix* W) const {
-  if (f) {
-    f->putScalar(0.0);
-    auto fd = f->getDataNonConst();
-    for (const auto& b : bl)
-      for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
-        const Eigen::Index g = b.row + i;
-        if (g >= row_begin_ && g < row_end_) fd[static_cast<size_t>(g - row_begin_)] += b.residual(i);
-      }
-  }
-  if (W) {
-    W->resumeFill();
-    W->setAllToScalar(0.0);
-    std::vector<GO> cols;
-    std::vector<double> vals;
-    for (const auto& b : bl)
-      for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
-        const Eigen::Index g = b.row + i;
-        if (g < row_begin_ || g >= row_end_) continue;
-        cols.clear();
-        vals.clear();
-        for (size_t k = 0; k < b.cols.size(); ++k)
-          for (Eigen::Index c = 0; c < b.jac[k].cols(); ++c) {
-            cols.push_back(static_cast<GO>(b.cols[k] + c));
-            vals.push_back(b.jac[k](i, c));
-          }
-        const LO n = W->sumIntoGlobalValues(static_cast<GO>(g), static_cast<LO>(cols.size()), vals.data(), cols.data());
-        if (n != static_cast<LO>(cols.size()))
-          throw std::logic_error("StaticRodModel: a kernel entry lies outside the mesh graph");
-      }
-    W->fillComplete();
-  }
+  Scatter scatter(*this, f, W);
+  for (const auto& b : bl) scatter.add(b);
+  scatter.finish();
 }
 
 void StaticRodModel::fill_jacobian(const Vector& x, const Params& p, Matrix& W) const {
@@ -154,8 +109,6 @@ void StaticRodModel::fill_mass(const Vector& x, Matrix& M) const {
   fill(bl, nullptr, &M);
 }
 
-Teuchos::RCP<const Thyra::VectorSpaceBase<double>> StaticRodModel::get_x_space() const { return x_space_; }
-Teuchos::RCP<const Thyra::VectorSpaceBase<double>> StaticRodModel::get_f_space() const { return x_space_; }
 Teuchos::RCP<const Thyra::VectorSpaceBase<double>> StaticRodModel::get_p_space(int l) const {
   if (l != 0) throw std::out_of_range("StaticRodModel: only parameter vector 0 exists");
   return p_space_;
@@ -180,52 +133,21 @@ Thyra::ModelEvaluatorBase::InArgs<double> StaticRodModel::createInArgs() const {
   return std::move(in);
 }
 
-Thyra::ModelEvaluatorBase::OutArgs<double> StaticRodModel::createOutArgsImpl() const {
-  MEB::OutArgsSetup<double> out;
-  out.setModelEvalDescription("traverse static rod");
-  out.set_Np_Ng(1, 0);
-  out.setSupports(MEB::OUT_ARG_f);
-  out.setSupports(MEB::OUT_ARG_W_op);
-  out.setSupports(MEB::OUT_ARG_W_prec, !prec_factory_.is_null());
-  return std::move(out);
-}
-
-Teuchos::RCP<Thyra::LinearOpBase<double>> StaticRodModel::create_W_op() const { return W_op_; }
-
-Teuchos::RCP<Thyra::PreconditionerBase<double>> StaticRodModel::create_W_prec() const {
-  if (prec_factory_.is_null()) return Teuchos::null;
-  return prec_factory_->createPrec();
-}
-
-Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> StaticRodModel::get_W_factory() const {
-  return W_factory_;
-}
+Thyra::ModelEvaluatorBase::OutArgs<double> StaticRodModel::createOutArgsImpl() const { return out_args_setup(1); }
 
 void StaticRodModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>& in,
                                    const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const {
-  const Teuchos::RCP<const Vector> x = Extract::getConstTpetraVector(in.get_x());
+  const Request req = request(in, out);
   Params p = problem_.values;
   if (!in.get_p(0).is_null()) {
     auto pv = Extract::getConstTpetraVector(in.get_p(0));
     auto d = pv->getData();
     for (int i = 0; i < rod::num_static_parameters; ++i) p[static_cast<size_t>(i)] = d[i];
   }
-  Teuchos::RCP<Vector> f;
-  if (!out.get_f().is_null()) f = Extract::getTpetraVector(out.get_f());
-  Matrix* W = nullptr;
-  if (!out.get_W_op().is_null()) {
-    auto op = Extract::getTpetraOperator(out.get_W_op());
-    W = dynamic_cast<Matrix*>(op.get());
-    if (!W || W->getCrsGraph().get() != mesh_->graph().get())
-      throw std::invalid_argument("StaticRodModel: W_op must be a CrsMatrix on the mesh graph (use create_W_op)");
-  }
-  const bool want_prec = out.supports(MEB::OUT_ARG_W_prec) && !out.get_W_prec().is_null();
-  if (want_prec && !W) W = W_.get();
-  if (f || W) fill(blocks(*x, problem_.model(p), Kind::residual_jacobian), f.get(), W);
-  if (want_prec) {
-    const auto src = Thyra::defaultLinearOpSource<double>(W_op_);
-    prec_factory_->initializePrec(src, out.get_W_prec().get(), Thyra::SUPPORT_SOLVE_UNSPECIFIED);
-  }
+  Matrix* W = req.W;
+  if (req.want_prec && !W) W = W_.get();
+  if (req.f || W) fill(blocks(*req.x, problem_.model(p), Kind::residual_jacobian), req.f.get(), W);
+  if (req.want_prec) initialize_prec(out);
 }
 
 }  // namespace traverse::solver

@@ -42,7 +42,7 @@ Probe run_forced(int N, double dt, double T, const AlphaParameters& alpha = {},
   const int steps = static_cast<int>(std::lround(T / dt));
   int itmax = 0;
   for (int i = 0; i < steps; ++i) {
-    const NewtonReport r = stepper.step(s, dt);
+    const ReferenceStepReport r = stepper.step(s, dt);
     EXPECT_TRUE(r.converged) << "step " << i;
     if (!r.converged) break;
     itmax = std::max(itmax, r.iterations);
@@ -100,13 +100,13 @@ std::vector<double> free_vibration_energy(int N, double dt, int steps, int every
   RodState s = straight_rest_state(N, 1.0);
   int itmax = 0;
   while (s.t < T0 - 1e-12) {
-    const NewtonReport r = stepper.step(s, dt);
+    const ReferenceStepReport r = stepper.step(s, dt);
     EXPECT_TRUE(r.converged);
     if (!r.converged) return {};
   }
   std::vector<double> e{discrete_energy(s, stepper.model().props)};
   for (int i = 1; i <= steps; ++i) {
-    const NewtonReport r = stepper.step(s, dt);
+    const ReferenceStepReport r = stepper.step(s, dt);
     EXPECT_TRUE(r.converged);
     if (!r.converged) break;
     itmax = std::max(itmax, r.iterations);

@@ -109,7 +109,7 @@ TEST(RodLoads, AxialPointLoadBetweenNodesJumpsNByTheForce) {
     const ReferenceStepper st(m);
     RodState s = straight_rest_state(10, 1.0);
     for (int i = 0; i < 3; ++i) {
-      const NewtonReport r = st.step(s, 0.01);
+      const ReferenceStepReport r = st.step(s, 0.01);
       ASSERT_TRUE(r.converged);
       const double n_left = s.nodes[0].y(var::n + 2), n_right = s.nodes[10].y(var::n + 2);
       std::printf("sigma = %.2f, step %d: n3(0) = %.15f, n3(L) = %.3e, jump %.15f (F = %.1f)\n",
@@ -185,7 +185,7 @@ TEST(RodLoads, MovingLoadAndMassRunsOnAndBetweenNodes) {
       bool ok = true;
       while (s.t < 0.9 / v) {  // stop before the mass reaches the end (see docs/rod.md)
         const RodState old = s;
-        const NewtonReport rep = st.step(s, dt);
+        const ReferenceStepReport rep = st.step(s, dt);
         ok = ok && rep.converged;
         if (!rep.converged) break;
         its = std::max(its, rep.iterations);

@@ -49,7 +49,7 @@ Comparison run_against_reference(const std::string& name, int N, double dt, int 
   Comparison c;
   for (int i = 0; i < steps; ++i) {
     const StepReport r = ds.step(dt);
-    const rod::NewtonReport rr = ref.step(s, dt);
+    const rod::ReferenceStepReport rr = ref.step(s, dt);
     EXPECT_TRUE(rr.converged);
     EXPECT_EQ(r.substeps, 1);
     c.max_newton = std::max(c.max_newton, r.newton_iterations);

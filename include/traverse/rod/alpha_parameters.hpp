@@ -1,6 +1,6 @@
 #pragma once
 // Parameters (as, bs, gs, at, bt, gt) of the generalised-alpha space-time scheme
-// (physics spec section 2, "Space-time discretisation").
+// (docs/rod.md, "Equations as implemented" and "rho_inf mapping").
 namespace traverse::rod {
 
 struct AlphaParameters {
@@ -12,7 +12,7 @@ struct AlphaParameters {
   /// Time:  at = 1 - alpha_m(rho_t), bt = 1 - alpha_f(rho_t), gt = gamma(rho_t)
   ///        (the derivative term Mm yt carries alpha_m, Kk ys and F carry alpha_f).
   /// Space: bs = 1 - alpha_m(rho_s), as = 1 - alpha_f(rho_s), gs = gamma(rho_s)
-  ///        (the derivative term Kk ys carries alpha_m; F shares its weight, as the spec writes).
+  ///        (the derivative term Kk ys carries alpha_m; F shares its weight, as docs/rod.md writes).
   /// rho = 1 gives all 1/2. rho_t, rho_s in [0, 1]; throws otherwise.
   static AlphaParameters from_rho_inf(double rho_t, double rho_s = 1.0);
 

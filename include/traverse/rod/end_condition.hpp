@@ -1,5 +1,5 @@
 #pragma once
-// End conditions of the rod: 6 scalar rows per end (physics spec section 2, "Boundary
+// End conditions of the rod: 6 scalar rows per end (docs/rod.md, "End
 // conditions"). Fixed-frame vectors are transformed to body components with R at the new level.
 #include <functional>
 #include <string>

@@ -8,7 +8,7 @@
 
 namespace traverse::rod {
 
-struct NewtonReport {
+struct ReferenceStepReport {
   bool converged = false;
   int iterations = 0;
   double last_correction = 0.0;  ///< max |dx| of the last Newton update
@@ -34,7 +34,7 @@ class ReferenceStepper {
   RodState state_from_unknowns(const RodState& old_state, const VecX& x, double dt) const;
 
   /// Advance state by dt (Newton from the old state). On failure the state is unchanged.
-  NewtonReport step(RodState& state, double dt) const;
+  ReferenceStepReport step(RodState& state, double dt) const;
 
   double rtol = 1e-13;   ///< stop when max|dx| <= rtol * max|x| + atol
   double atol = 1e-15;

@@ -53,7 +53,7 @@ struct NodeFlux {
 };
 NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double s, double t);
 
-/// Mm y and Kk y of the spec's first-order form.
+/// Mm y and Kk y of the first-order form (docs/rod.md).
 Vec12 apply_Mm(const RodProperties& p, const Vec12& y);
 Vec12 apply_Kk(const RodProperties& p, const Vec12& y);
 

@@ -1,5 +1,5 @@
 #pragma once
-// Section and material data of a uniform Cosserat rod (physics spec section 2).
+// Section and material data of a uniform Cosserat rod (docs/rod.md).
 #include "traverse/core/types.hpp"
 
 namespace traverse::rod {

@@ -1,5 +1,5 @@
 #pragma once
-// Static form of the rod discretisation (physics spec section 3): u = omega = 0, no time
+// Static form of the rod discretisation (docs/statics.md): u = omega = 0, no time
 // derivatives; the frame and the centreline along s become unknowns. Per node
 // x = (r, theta, kappa, n): centreline r [m] (fixed components), rotation increment theta
 // [rad] with R = exp(-hat(theta)) Rbar about a reference frame Rbar carried with the node,

@@ -1,5 +1,5 @@
 #pragma once
-// The static problem with its continuation parameters (physics spec section 3): a base
+// The static problem with its continuation parameters (docs/statics.md): a base
 // StaticModel plus five scalar parameters that set the end load, the right end's position
 // along an axis, the gravity factor, and the position and magnitude of one point force.
 // Also the scalar probes of a static state used by continuation runs. No Trilinos here.

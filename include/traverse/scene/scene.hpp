@@ -191,7 +191,7 @@ struct ContinuationSpec {
   std::vector<ContinuationProbeSpec> probes;
 };
 
-struct ProbeSpec {
+struct OutputProbeSpec {
   std::string name;
   ProbeType type = ProbeType::point;  ///< deflection (beam) or point (rod)
   double at = 0.0;       ///< position along the structure [m]
@@ -202,7 +202,7 @@ struct ProbeSpec {
 struct OutputSpec {
   std::string file;  ///< HDF5 output path
   int every = 1;     ///< write every this many steps (plus the first and the last state)
-  std::vector<ProbeSpec> probes;
+  std::vector<OutputProbeSpec> probes;
   std::vector<Field> fields;
 };
 

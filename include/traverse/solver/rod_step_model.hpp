@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "traverse/mesh/distributed_mesh.hpp"
+#include "traverse/solver/block_assembly_model.hpp"
 #include "traverse/rod/planar.hpp"
 #include "traverse/rod/rod_kernels.hpp"
 
@@ -49,10 +50,8 @@ Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_reusing_klu
 Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_block_tridiagonal_solve_factory(
     std::function<long()> jacobian_version, std::shared_ptr<DirectSolverStats> stats, double tolerance);
 
-class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
+class RodStepModel : public BlockAssemblyModel {
  public:
-  using Vector = Tpetra::Vector<double>;
-  using Matrix = Tpetra::CrsMatrix<double>;
 
   /// `mesh` must have model->unknowns_per_node() unknowns per node (planar->unknowns_per_node()
   /// with a planar reduction) and model->num_cells + 1 nodes. Creates the single W matrix on
@@ -67,13 +66,6 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   const std::vector<rod::RodNode>& old_ghosted_nodes() const { return old_nodes_; }
   const rod::StepTimes& step_times() const { return step_; }
 
-  /// Linear solver and (optional) preconditioner factories, e.g. from Stratimikos.
-  void set_W_factory(const Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>>& f);
-  void set_prec_factory(const Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>>& f);
-  const Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>>& prec_factory() const {
-    return prec_factory_;
-  }
-
   /// The old unknowns of the owned nodes (the Newton initial guess), on the dof map.
   void old_unknowns(Vector& x) const;
   /// Import owned x to the ghosted map and return per ghosted node its full unknown block
@@ -87,8 +79,6 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   /// residual evaluation on this rank; 0 on the 3D path.
   double last_dropped_residual() const { return dropped_; }
 
-  const Teuchos::RCP<Matrix>& jacobian_matrix() const { return W_; }
-  const mesh::DistributedMesh& mesh() const { return *mesh_; }
   const rod::RodModel& rod_model() const { return *model_; }
   /// Modified Newton ("Jacobian Reuse"): a W request keeps the W (and preconditioner)
   /// already filled - possibly at an earlier iterate or time step - unless the last max|f|
@@ -112,17 +102,10 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   double assembly_seconds() const { return t_fill_; }
   double preconditioner_seconds() const { return t_prec_; }
 
-  // Thyra::ModelEvaluator
-  Teuchos::RCP<const Thyra::VectorSpaceBase<double>> get_x_space() const override;
-  Teuchos::RCP<const Thyra::VectorSpaceBase<double>> get_f_space() const override;
+  // Thyra::ModelEvaluator (the rest is BlockAssemblyModel's). Evaluating W_prec builds the
+  // preconditioner from W at the given x (reusing W when it was just evaluated at that x).
   Thyra::ModelEvaluatorBase::InArgs<double> getNominalValues() const override;
   Thyra::ModelEvaluatorBase::InArgs<double> createInArgs() const override;
-  /// The same Thyra wrapper of the same W matrix on every call (W is reused, never reallocated).
-  Teuchos::RCP<Thyra::LinearOpBase<double>> create_W_op() const override;
-  /// A preconditioner of the prec factory (null without one). Evaluating W_prec builds it from
-  /// W at the given x (reusing W when it was just evaluated at the same x).
-  Teuchos::RCP<Thyra::PreconditionerBase<double>> create_W_prec() const override;
-  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> get_W_factory() const override;
 
  private:
   Thyra::ModelEvaluatorBase::OutArgs<double> createOutArgsImpl() const override;
@@ -138,35 +121,20 @@ class RodStepModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   double for_each_block(const std::vector<VecX>& xg, const std::function<void(const rod::LocalBlock&)>& visit) const;
   void ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out) const;
   void fill(const Vector& x, Vector* f, Matrix* W) const;
-  /// Position, within each row of an owned node, of the first entry of node block
-  /// (node - 1 + rel), rel = 0, 1, 2 (-1 when absent), the same for all the node's rows; empty
-  /// when W's rows do not hold each node's columns contiguously in that way (then
-  /// sumIntoGlobalValues is used).
-  void build_offsets();
   bool same_x(const Vector& x) const;  ///< x == the x at which W was last filled
 
   std::shared_ptr<const rod::RodModel> model_;
-  Teuchos::RCP<const mesh::DistributedMesh> mesh_;
   std::shared_ptr<const rod::PlanarReduction> planar_;
-  int p_ = 12;       ///< unknowns per node of the Tpetra objects
   int full_p_ = 12;  ///< unknowns per node of the kernels (model->unknowns_per_node())
   mutable double dropped_ = 0.0;
-  Eigen::Index row_begin_ = 0, row_end_ = 0;  ///< owned global rows [begin, end)
-  Teuchos::RCP<const Thyra::VectorSpaceBase<double>> x_space_;
-  Teuchos::RCP<Matrix> W_;
-  Teuchos::RCP<Thyra::LinearOpBase<double>> W_op_;
-  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> W_factory_;
-  Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>> prec_factory_;
   std::vector<rod::RodNode> old_nodes_;
   rod::StepTimes step_;
   Teuchos::RCP<Vector> x0_;
   Teuchos::RCP<Thyra::VectorBase<double>> x0_thyra_;
-  mutable Teuchos::RCP<Vector> x_ghosted_;
   mutable Teuchos::RCP<Vector> W_at_x_;  ///< x at which W was last filled
   mutable bool W_valid_ = false;
   mutable int n_f_ = 0, n_W_ = 0;
   mutable double t_fill_ = 0.0, t_prec_ = 0.0;
-  std::vector<int> offsets_;  ///< 3 per owned node (build_offsets)
   mutable std::vector<VecX> xg_;  ///< ghosted unknown blocks (reused buffer)
   std::vector<Vec12> F_old_;      ///< per ghosted node: the old-level flux (set per step)
   mutable rod::NodeLevels window_[2];  ///< new-level quantities of nodes j - 1 and j (j % 2)

@@ -1,8 +1,9 @@
 #pragma once
 // The parameter list of the rod time stepper (what a scene's solver section passes through).
 //
-//   Linear Solver          string  "auto" | "KLU2" | "GMRES"      (default "auto": KLU2 on 1
-//                                  rank, GMRES on more)
+//   Linear Solver          string  "auto" | "KLU2" | "GMRES"      (default "auto": the time
+//                                  step's block-tridiagonal LU, exact on any number of ranks;
+//                                  statics: KLU2 on 1 rank, GMRES on more; docs/solver.md)
 //   Preconditioner         string  "SCHWARZ" | "ILUT" | "RILUK" | "None" (GMRES only;
 //                                  default "SCHWARZ": additive Schwarz, overlap 1, KLU2 on
 //                                  each rank's block)

@@ -1,5 +1,5 @@
 #pragma once
-// Statics and continuation of the rod (physics spec section 3) on the distributed static model
+// Statics and continuation of the rod (docs/statics.md) on the distributed static model
 // (StaticRodModel, a Thyra model evaluator with parameters) through LOCA::Thyra::Group and
 // LOCA::Stepper (natural or pseudo-arclength continuation with adaptive steps; every converged
 // step also has to pass an eigenvalue-change test, see ContinuationOptions::eigenvalue_change),
