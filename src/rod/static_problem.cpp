@@ -77,6 +77,91 @@ Vec3 position_at(const StaticModel& m, const std::vector<StaticNode>& nodes, dou
          w * nodes[static_cast<size_t>(j + 1)].x.segment<3>(svar::r);
 }
 
+namespace {
+
+// d w_node / d sigma [1/m] of the load weights (point_load_weights, beta = 1/2): in the cell
+// (k-1, k) holding sigma, -1 / (ds E_{k-1}) at node k-1 and 1 / (ds E_k) at node k. The
+// weights are continuous and kinked at a node: on an interior node the mean of its two cells'
+// slopes (what a central difference gives), at the rod's ends the one cell's.
+double load_weight_slope(double sigma, int node, int N, double ds) {
+  const double L = N * ds;
+  if (!(sigma >= -1e-12 * L && sigma <= L * (1.0 + 1e-12))) return 0.0;
+  auto E = [&](int j) { return j == 0 ? 0.5 : (j == N ? 0.5 : 1.0); };
+  auto cell_slope = [&](int k) {
+    if (node == k - 1) return -1.0 / (ds * E(k - 1));
+    if (node == k) return 1.0 / (ds * E(k));
+    return 0.0;
+  };
+  const double x = std::clamp(sigma / ds, 0.0, static_cast<double>(N));
+  const double on = std::round(x);
+  if (std::abs(x - on) <= 1e-9 * std::max(1.0, x) && on > 0.0 && on < N) {
+    const int k = static_cast<int>(on);
+    return 0.5 * (cell_slope(k) + cell_slope(k + 1));
+  }
+  return cell_slope(std::clamp(static_cast<int>(std::floor(x)) + 1, 1, N));
+}
+
+}  // namespace
+
+Vec12 static_cell_dfdp(const StaticProblem& pr, const std::array<double, num_static_parameters>& v,
+                       StaticParameter ip, int j, const StaticNode& prev, const StaticNode& self) {
+  Vec12 d = Vec12::Zero();
+  const StaticModel& m = pr.base;
+  const double ds = m.ds();
+  const StaticNode* nd[2] = {&prev, &self};
+  switch (ip) {
+    case StaticParameter::gravity_factor:  // force rows: -1/2 (R_{j-1} + R_j) rhoA g
+      for (int q = 0; q < 2; ++q) d.head<3>() -= 0.5 * (nd[q]->frame() * (m.props.rhoA * pr.gravity));
+      return d;
+    case StaticParameter::load_magnitude:
+    case StaticParameter::load_position: {  // force rows: -1/2 w_k / ds R_k F
+      if (!pr.has_point_load) return d;
+      const double sigma = v[static_cast<size_t>(StaticParameter::load_position)];
+      const double F = v[static_cast<size_t>(StaticParameter::load_magnitude)];
+      const bool magnitude = ip == StaticParameter::load_magnitude;
+      const PointLoadWeights W = point_load_weights(sigma, m.num_cells, ds, 0.5);
+      for (int q = 0; q < 2; ++q) {
+        const int node = j - 1 + q;
+        double w = 0.0;  // d (weight F) / dp
+        if (magnitude) {
+          for (int k = 0; k < W.count; ++k)
+            if (W.node[k] == node) w += W.weight[k];
+        } else {
+          w = F * load_weight_slope(sigma, node, m.num_cells, ds);
+        }
+        if (w != 0.0) d.head<3>() -= 0.5 * w / ds * (nd[q]->frame() * pr.load_direction);
+      }
+      return d;
+    }
+    case StaticParameter::end_load:
+    case StaticParameter::end_position: return d;
+    default: throw std::logic_error("static_cell_dfdp: unknown parameter");
+  }
+}
+
+Vec6 static_right_dfdp(const StaticProblem& pr, StaticParameter ip, const StaticNode& node) {
+  Vec6 d = Vec6::Zero();
+  const StaticEnd& e = pr.base.right;
+  using T = EndCondition::Type;
+  if (ip == StaticParameter::end_load) {  // the end's external force P * end_load_direction
+    const Vec3& dir = pr.end_load_direction;
+    if (e.type == T::free) d.head<3>() = -(node.frame() * dir);
+    else if (e.type == T::sliding) d(5) = -dir.dot(e.axis.normalized());
+    else if (e.type == T::roller) d(2) = -dir.dot(e.slide_axis.normalized());
+  } else if (ip == StaticParameter::end_position && e.type != T::free) {  // rows b . (r - position)
+    const Vec3 a = pr.end_position_axis.normalized();
+    if (e.type == T::clamped || e.type == T::pinned) {
+      d.head<3>() = -a;
+    } else {
+      Vec3 b1, b2;
+      perpendicular_pair(e.type == T::sliding ? e.axis : e.slide_axis, b1, b2);
+      d(0) = -b1.dot(a);
+      d(1) = -b2.dot(a);
+    }
+  }
+  return d;
+}
+
 StaticProbe probe_end_compression(const Vec3& axis, std::string name) {
   const Vec3 a = axis.normalized();
   return {std::move(name), "N", [a](const StaticModel&, const std::vector<StaticNode>& n) {

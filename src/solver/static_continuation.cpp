@@ -157,15 +157,9 @@ StaticSolveReport bordered_newton(const StaticContext& ctx, Vector& x, Params& p
     }
     double dp = 0.0;
     if (border) {
-      // dF/dp by central differences (exact for the linear parameters).
+      // dF/dp, analytic (StaticRodModel::fill_dfdp).
       const size_t ip = static_cast<size_t>(iparam);
-      const double h = 1e-6 * (1.0 + std::abs(p[ip]));
-      Params pp = p, pm = p;
-      pp[ip] += h;
-      pm[ip] -= h;
-      model.fill_residual(x, pp, fp);
-      model.fill_residual(x, pm, tmp);
-      fp.update(-0.5 / h, tmp, 0.5 / h);
+      model.fill_dfdp(x, p, static_cast<rod::StaticParameter>(iparam), fp);
       y2.putScalar(0.0);
       if (!ctx.solve(*W, fp, y2)) {
         rep.message = "linear solve failed";
@@ -342,6 +336,31 @@ struct Run {
     return std::max(opt.eigenvalue_floor * lambda_ref, 10.0 * EI / (b.props.rhoA * std::pow(b.length, 4)));
   }
 
+  /// The trend test of the acceptance: the lowest non-negative eigenvalue fell towards zero
+  /// over the last two recorded points, the new point (pb, stability s) lies beyond the zero
+  /// that their secant predicts, and yet that eigenvalue rose again with no change in the
+  /// unstable-mode count: the step jumped past a fold or crossing onto another branch (it can
+  /// do so with eigenvalues within the eigenvalue-change test). Fills `why` when it did.
+  bool passes_predicted_crossing(const Stability& s, double pb, std::string& why) const {
+    const size_t n = stab.size();
+    if (n < 2 || !stab[n - 2].converged) return false;
+    const int k = s.unstable_modes;
+    if (stab[n - 2].unstable_modes != k || stab[n - 1].unstable_modes != k) return false;
+    const auto& l0 = stab[n - 2].eigenvalues;
+    const auto& l1 = stab[n - 1].eigenvalues;
+    const size_t i = static_cast<size_t>(k);
+    if (i >= l0.size() || i >= l1.size() || i >= s.eigenvalues.size()) return false;
+    const double f0 = l0[i], f1 = l1[i], f2 = s.eigenvalues[i];
+    const double p0 = ps[n - 2][ip()], p1 = ps[n - 1][ip()];
+    const double d01 = p1 - p0, d12 = pb - p1;
+    if (!(f0 > f1 && f1 > 0.0 && f2 > f1 && d01 * d12 > 0.0)) return false;
+    const double reach = f1 * d01 / (f0 - f1);  // secant: distance from p1 to the predicted zero
+    if (std::abs(d12) <= std::abs(reach)) return false;
+    why = "eigenvalue " + std::to_string(i) + " " + std::to_string(f0) + " -> " + std::to_string(f1) + " -> " +
+          std::to_string(f2) + ": the step passed its predicted zero at " + std::to_string(p1 + reach);
+    return true;
+  }
+
   /// Acceptance test of a converged continuation step (size h) from the last recorded point to
   /// (xb, pb): the eigenvalue-change test of ContinuationOptions::eigenvalue_change.
   bool accept(const Vector& xb, double pb, double h) {
@@ -367,6 +386,7 @@ struct Run {
                   " (floor " + std::to_string(floor) + ")";
           }
       }
+      if (ok && s.converged) ok = !passes_predicted_crossing(s, pb, why);
       if (ok) {
         pending_x = Teuchos::rcp(new Vector(xb, Teuchos::Copy));
         pending_p = pb;
@@ -645,7 +665,8 @@ void run_loca(Run& run, const Vector& x0) {
       pv.addParameter(rod::parameter_name(static_cast<rod::StaticParameter>(q)), p0[static_cast<size_t>(q)]);
     auto xt = Thyra::createVector(Teuchos::rcp(new Vector(x0, Teuchos::Copy)), ctx.model->get_x_space());
     NOX::Thyra::Vector nx(xt);
-    auto grp = Teuchos::rcp(new LOCA::Thyra::Group(gd, nx, ctx.model, pv, 0));
+    // implement_dfdp: LOCA takes dF/dp from the model (analytic) instead of differencing F.
+    auto grp = Teuchos::rcp(new LOCA::Thyra::Group(gd, nx, ctx.model, pv, 0, true));
     grp->setSaveDataStrategy(Teuchos::rcp(new Recorder(run)));
     auto stop = Teuchos::rcp(new StopTest(run));
     GuardedStepper stepper(gd, grp, stop, newton_tests(opt), top, run);

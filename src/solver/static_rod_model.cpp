@@ -69,7 +69,7 @@ std::vector<rod::StaticNode> StaticRodModel::gather(const Vector& x) const {
   return out;
 }
 
-std::vector<rod::LocalBlock> StaticRodModel::blocks(const Vector& x, const rod::StaticModel& m, Kind kind) const {
+std::vector<rod::StaticNode> StaticRodModel::ghosted_nodes(const Vector& x) const {
   auto data = ghosted(x).getData();
   const int g0 = mesh_->first_ghosted_node();
   std::vector<rod::StaticNode> nd(static_cast<size_t>(mesh_->num_ghosted_nodes()));
@@ -77,6 +77,12 @@ std::vector<rod::LocalBlock> StaticRodModel::blocks(const Vector& x, const rod::
     nd[k].Rbar = Rbar_[static_cast<size_t>(g0) + k];
     for (int c = 0; c < 12; ++c) nd[k].x(c) = data[12 * k + static_cast<size_t>(c)];
   }
+  return nd;
+}
+
+std::vector<rod::LocalBlock> StaticRodModel::blocks(const Vector& x, const rod::StaticModel& m, Kind kind) const {
+  const std::vector<rod::StaticNode> nd = ghosted_nodes(x);
+  const int g0 = mesh_->first_ghosted_node();
   auto X = [&](int j) -> const rod::StaticNode& { return nd[static_cast<size_t>(j - g0)]; };
   const int N = m.num_cells;
   const int first = mesh_->first_owned_node(), last = first + mesh_->num_owned_nodes() - 1;
@@ -101,6 +107,27 @@ void StaticRodModel::fill_jacobian(const Vector& x, const Params& p, Matrix& W) 
 
 void StaticRodModel::fill_residual(const Vector& x, const Params& p, Vector& f) const {
   fill(blocks(x, problem_.model(p), Kind::residual_jacobian), &f, nullptr);
+}
+
+void StaticRodModel::fill_dfdp(const Vector& x, const Params& p, rod::StaticParameter ip, Vector& dfdp) const {
+  const std::vector<rod::StaticNode> nd = ghosted_nodes(x);
+  const int g0 = mesh_->first_ghosted_node();
+  auto X = [&](int j) -> const rod::StaticNode& { return nd[static_cast<size_t>(j - g0)]; };
+  const int N = problem_.base.num_cells;
+  const int first = mesh_->first_owned_node(), last = first + mesh_->num_owned_nodes() - 1;
+  Scatter scatter(*this, &dfdp, nullptr);
+  rod::LocalBlock b;
+  for (int j = std::max(1, first); j <= std::min(N, last + 1); ++j) {
+    b.row = 6 + 12 * static_cast<Eigen::Index>(j - 1);
+    b.residual = rod::static_cell_dfdp(problem_, p, ip, j, X(j - 1), X(j));
+    scatter.add(b);
+  }
+  if (last == N) {
+    b.row = 12 * static_cast<Eigen::Index>(N) + 6;
+    b.residual = rod::static_right_dfdp(problem_, ip, X(N));
+    scatter.add(b);
+  }
+  scatter.finish();
 }
 
 void StaticRodModel::fill_mass(const Vector& x, Matrix& M) const {
@@ -133,7 +160,11 @@ Thyra::ModelEvaluatorBase::InArgs<double> StaticRodModel::createInArgs() const {
   return std::move(in);
 }
 
-Thyra::ModelEvaluatorBase::OutArgs<double> StaticRodModel::createOutArgsImpl() const { return out_args_setup(1); }
+Thyra::ModelEvaluatorBase::OutArgs<double> StaticRodModel::createOutArgsImpl() const {
+  MEB::OutArgsSetup<double> out = out_args_setup(1);
+  out.setSupports(MEB::OUT_ARG_DfDp, 0, MEB::DerivativeSupport(MEB::DERIV_MV_BY_COL));
+  return std::move(out);
+}
 
 void StaticRodModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>& in,
                                    const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const {
@@ -148,6 +179,12 @@ void StaticRodModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<doubl
   if (req.want_prec && !W) W = W_.get();
   if (req.f || W) fill(blocks(*req.x, problem_.model(p), Kind::residual_jacobian), req.f.get(), W);
   if (req.want_prec) initialize_prec(out);
+  // dF/dp by columns, one per parameter (LOCA::Thyra::Group with implement_dfdp asks for it).
+  const Teuchos::RCP<Thyra::MultiVectorBase<double>> dfdp = out.get_DfDp(0).getMultiVector();
+  if (!dfdp.is_null()) {
+    for (int i = 0; i < static_cast<int>(dfdp->domain()->dim()); ++i)
+      fill_dfdp(*req.x, p, static_cast<rod::StaticParameter>(i), *Extract::getTpetraVector(dfdp->col(i)));
+  }
 }
 
 }  // namespace traverse::solver

@@ -5,6 +5,7 @@
 #include <random>
 
 #include "traverse/core/so3.hpp"
+#include "traverse/rod/static_problem.hpp"
 #include "traverse/rod/static_solver.hpp"
 
 using namespace traverse;
@@ -167,4 +168,57 @@ TEST(RodStatics, StaticStateIsConsistentWithTheDynamicCurvatureFrame) {
     const Mat3 expected = so3::exp(-m.ds() * kb) * s.nodes[j - 1].R;
     EXPECT_LT((expected - s.nodes[j].R).cwiseAbs().maxCoeff(), 1e-10);
   }
+}
+
+// dF/dp of every continuation parameter, for each right-end type, against central
+// differences of the cell and right-end residuals (the residual is affine in each parameter
+// within a cell, so the differences are exact up to rounding). The load sits inside a cell
+// and, for the load position, also on an interior node, where the weights are kinked: there
+// the derivative is the mean of the two cells' slopes, which the central difference gives.
+TEST(RodStatics, ParameterDerivativesMatchDifferences) {
+  std::mt19937 g(7);
+  using T = EndCondition::Type;
+  double worst = 0.0;
+  for (T right : {T::free, T::sliding, T::roller, T::clamped, T::pinned}) {
+    StaticProblem pr;
+    pr.base = scene_model(8);
+    pr.base.right.type = right;
+    pr.base.right.axis = right == T::sliding ? Vec3(0.2, 0.1, 1.0).normalized() : Vec3::UnitX();
+    pr.base.right.slide_axis = Vec3(0.0, 0.3, 1.0).normalized();
+    pr.end_load_direction = Vec3(0.1, -0.2, -1.0).normalized();
+    pr.end_position_axis = Vec3(0.3, 0.2, 1.0).normalized();
+    pr.has_point_load = true;
+    pr.load_direction = Vec3(0.2, -1.0, 0.1).normalized();
+    pr.values = {0.7, 0.95, 1.3, 0.4 + 0.3 * 0.125, 2.0};  // load 30 % into cell 4
+    const auto nodes = random_nodes(pr.base, g);
+    for (int q = 0; q < num_static_parameters; ++q) {
+      const auto ip = static_cast<StaticParameter>(q);
+      for (double sigma : {pr.values[3], 0.5}) {  // inside a cell, then on node 4
+        if (sigma == 0.5 && ip != StaticParameter::load_position) continue;
+        auto v = pr.values;
+        v[3] = sigma;
+        const double h = 1e-4;
+        auto vp = v, vm = v;
+        vp[static_cast<size_t>(q)] += h;
+        vm[static_cast<size_t>(q)] -= h;
+        const double width = 2.0 * h;
+        const int N = pr.base.num_cells;
+        for (int j = 1; j <= N; ++j) {
+          const VecX fd = (static_cell_block(pr.model(vp), j, nodes[j - 1], nodes[j]).residual -
+                           static_cell_block(pr.model(vm), j, nodes[j - 1], nodes[j]).residual) / width;
+          const VecX an = static_cell_dfdp(pr, v, ip, j, nodes[j - 1], nodes[j]);
+          worst = std::max(worst, (fd - an).cwiseAbs().maxCoeff() / std::max(1.0, an.cwiseAbs().maxCoeff()));
+        }
+        const VecX fd = (static_right_block(pr.model(vp), nodes[N]).residual -
+                         static_right_block(pr.model(vm), nodes[N]).residual) / width;
+        const VecX an = static_right_dfdp(pr, ip, nodes[N]);
+        worst = std::max(worst, (fd - an).cwiseAbs().maxCoeff() / std::max(1.0, an.cwiseAbs().maxCoeff()));
+        const VecX left = (static_left_block(pr.model(vp), nodes[0]).residual -
+                           static_left_block(pr.model(vm), nodes[0]).residual) / width;
+        EXPECT_LT(left.cwiseAbs().maxCoeff(), 1e-9) << "the left end depends on parameter " << q;
+      }
+    }
+  }
+  std::cout << "  max relative dF/dp error (5 end types x 5 parameters) " << worst << "\n";
+  EXPECT_LT(worst, 1e-8);
 }

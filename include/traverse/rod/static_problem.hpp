@@ -50,6 +50,17 @@ struct StaticProblem {
   StaticModel model(const std::array<double, num_static_parameters>& vals) const;
 };
 
+/// dF/dp: the derivative of the static residual with respect to parameter `ip` at the
+/// parameter values `v`, analytic. F is affine in the end load, the end position, the
+/// gravity factor and the load magnitude, and piecewise linear in the load position (the
+/// weights are kinked at the nodes: on an interior node the mean of the two cells' slopes, as
+/// a central difference gives it).
+/// Cell j's 12 rows (rows 6 + 12 (j - 1) ...) and the right end's 6 rows (rows 12 N + 6 ...);
+/// the left end's rows do not depend on any parameter.
+Vec12 static_cell_dfdp(const StaticProblem& pr, const std::array<double, num_static_parameters>& v,
+                       StaticParameter ip, int j, const StaticNode& prev, const StaticNode& self);
+Vec6 static_right_dfdp(const StaticProblem& pr, StaticParameter ip, const StaticNode& node);
+
 /// A scalar measured on a static state (gathered on every rank).
 struct StaticProbe {
   std::string name;  ///< e.g. "end_compression"

@@ -42,6 +42,10 @@ class StaticRodModel : public BlockAssemblyModel {
   void fill_mass(const Vector& x, Matrix& M) const;
   /// Residual at x with parameters p.
   void fill_residual(const Vector& x, const std::array<double, rod::num_static_parameters>& p, Vector& f) const;
+  /// dF/dp_ip at x with parameters p (analytic, rod::static_cell_dfdp / static_right_dfdp).
+  /// Also what the model evaluator's DfDp (parameter vector 0, by columns) returns.
+  void fill_dfdp(const Vector& x, const std::array<double, rod::num_static_parameters>& p, rod::StaticParameter ip,
+                 Vector& dfdp) const;
 
   Teuchos::RCP<Vector> nominal_x() const { return x0_; }
   const std::vector<Mat3>& reference_frames() const { return Rbar_; }
@@ -57,6 +61,8 @@ class StaticRodModel : public BlockAssemblyModel {
   void evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>& in,
                      const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const override;
 
+  /// This rank's ghosted nodes (frames Rbar, unknowns of x), first_ghosted_node() first.
+  std::vector<rod::StaticNode> ghosted_nodes(const Vector& x) const;
   enum class Kind { residual_jacobian, mass };
   std::vector<rod::LocalBlock> blocks(const Vector& x, const rod::StaticModel& m, Kind kind) const;
   void fill(const std::vector<rod::LocalBlock>& bl, Vector* f, Matrix* W) const;
