@@ -1,6 +1,12 @@
 #include "traverse/rod/rod_properties.hpp"
 
+#include <cmath>
+
 namespace traverse::rod {
+
+double RodProperties::euler_load(double L) const { return constants::pi * constants::pi * bending_stiffness() / (L * L); }
+
+double RodProperties::bending_rate(double L) const { return bending_stiffness() / (rhoA * std::pow(L, 4)); }
 
 RodProperties RodProperties::circular(double radius, double E, double nu, double rho) {
   const double A = constants::pi * radius * radius;

@@ -162,6 +162,45 @@ Vec6 static_right_dfdp(const StaticProblem& pr, StaticParameter ip, const Static
   return d;
 }
 
+StaticProblem pinned_roller_problem(const RodProperties& props, int num_cells, double length, double g) {
+  StaticProblem pr;
+  pr.base.props = props;
+  pr.base.num_cells = num_cells;
+  pr.base.length = length;
+  pr.base.left.type = EndCondition::Type::pinned;
+  pr.base.left.axis = Vec3::UnitX();
+  pr.base.right.type = EndCondition::Type::roller;
+  pr.base.right.axis = Vec3::UnitX();
+  pr.base.right.slide_axis = Vec3::UnitZ();
+  pr.base.right.position = Vec3(0.0, 0.0, length);
+  pr.gravity = Vec3(0.0, -g, 0.0);
+  pr.end_load_direction = -Vec3::UnitZ();
+  pr.end_position_axis = Vec3::UnitZ();
+  pr.value(StaticParameter::end_position) = length;
+  return pr;
+}
+
+StaticProblem pinned_arch_problem(StaticProblem formed, double dz) {
+  formed.base.right.type = EndCondition::Type::pinned;
+  formed.value(StaticParameter::end_load) = 0.0;
+  formed.value(StaticParameter::end_position) = dz;
+  formed.value(StaticParameter::gravity_factor) = 0.0;
+  return formed;
+}
+
+double chord_cosine(const std::vector<StaticNode>& a, const std::vector<StaticNode>& b, const std::vector<Vec12>& mode) {
+  double dot = 0.0, nm = 0.0, nt = 0.0;
+  for (size_t j = 0; j < mode.size(); ++j)
+    for (int first : {svar::r, svar::kappa, svar::n})
+      for (int c = first; c < first + 3; ++c) {
+        const double t = b[j].x(c) - a[j].x(c), f = mode[j](c);
+        dot += t * f;
+        nm += f * f;
+        nt += t * t;
+      }
+  return (nm > 0.0 && nt > 0.0) ? std::abs(dot) / std::sqrt(nm * nt) : 0.0;
+}
+
 StaticProbe probe_end_compression(const Vec3& axis, std::string name) {
   const Vec3 a = axis.normalized();
   return {std::move(name), "N", [a](const StaticModel&, const std::vector<StaticNode>& n) {

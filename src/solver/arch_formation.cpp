@@ -13,21 +13,8 @@ ArchFormation form_arch(const rod::RodProperties& props, const ArchOptions& opt,
   using P = rod::StaticParameter;
   ArchFormation out;
   const double L = opt.length;
-  rod::StaticProblem pr;
-  pr.base.props = props;
-  pr.base.num_cells = opt.num_cells;
-  pr.base.length = L;
-  pr.base.left.type = rod::EndCondition::Type::pinned;
-  pr.base.left.axis = Vec3::UnitX();
-  pr.base.right.type = rod::EndCondition::Type::roller;
-  pr.base.right.axis = Vec3::UnitX();
-  pr.base.right.slide_axis = Vec3::UnitZ();
-  pr.base.right.position = Vec3(0.0, 0.0, L);
-  pr.gravity = Vec3(0.0, -opt.gravity, 0.0);
-  pr.end_load_direction = -Vec3::UnitZ();
-  pr.end_position_axis = Vec3::UnitZ();
-  pr.value(P::end_position) = L;
-  const double PE = M_PI * M_PI * props.K.head<2>().minCoeff() / (L * L);
+  const rod::StaticProblem pr = rod::pinned_roller_problem(props, opt.num_cells, L, opt.gravity);
+  const double PE = props.euler_load(L);
   // 1. Straight branch in the compressive end load: the Euler pitchfork.
   ContinuationOptions o;
   o.parameter = P::end_load;
@@ -65,11 +52,7 @@ ArchFormation form_arch(const rod::RodProperties& props, const ArchOptions& opt,
   }
   out.forming_load = out.forming.points.back().parameter;
   // 3. Fix the right end (pinned) at dz: one Newton solve from the last point.
-  rod::StaticProblem arch = out.forming.final_problem;
-  arch.base.right.type = rod::EndCondition::Type::pinned;
-  arch.value(P::end_load) = 0.0;
-  arch.value(P::end_position) = dz;
-  arch.value(P::gravity_factor) = 0.0;
+  const rod::StaticProblem arch = rod::pinned_arch_problem(out.forming.final_problem, dz);
   std::vector<rod::StaticNode> state = out.forming.points.back().state;
   const StaticSolveReport r = static_solve(arch, state, comm, opt.solver);
   if (!r.converged) {

@@ -332,8 +332,7 @@ struct Run {
   /// Floor of the eigenvalue-change test [1/s^2].
   double eigenvalue_floor() const {
     const auto& b = ctx.model->problem().base;
-    const double EI = b.props.K.head<2>().minCoeff();
-    return std::max(opt.eigenvalue_floor * lambda_ref, 10.0 * EI / (b.props.rhoA * std::pow(b.length, 4)));
+    return std::max(opt.eigenvalue_floor * lambda_ref, 10.0 * b.props.bending_rate(b.length));
   }
 
   /// The trend test of the acceptance: the lowest non-negative eigenvalue fell towards zero
@@ -569,15 +568,7 @@ Bifurcation locate(Run& run, size_t i) {
   // Fold or pitchfork: at a fold the null vector lies along the branch (the chord across the
   // bracket), at a symmetry-breaking pitchfork it is orthogonal to it. Compared on the
   // frame-independent unknowns r, kappa, n.
-  double dot = 0.0, nphi = 0.0, nt = 0.0;
-  for (size_t j = 0; j < b.null_vector.size(); ++j)
-    for (int c : {0, 1, 2, 6, 7, 8, 9, 10, 11}) {
-      const double t = P[i].state[j].x(c) - P[i - 1].state[j].x(c), f = b.null_vector[j](c);
-      dot += t * f;
-      nphi += f * f;
-      nt += t * t;
-    }
-  const double cosine = (nphi > 0.0 && nt > 0.0) ? std::abs(dot) / std::sqrt(nphi * nt) : 0.0;
+  const double cosine = rod::chord_cosine(P[i - 1].state, P[i].state, b.null_vector);
   const bool fold = cosine > 0.3;
   if (run.verbose()) std::cout << "locate: null vector . chord cosine " << cosine << "\n";
   b.type = fold ? BifurcationType::fold : BifurcationType::pitchfork;

@@ -51,8 +51,7 @@ class ShiftInvert : public OP {
 double stability_shift(const rod::StaticProblem& problem, const StabilityOptions& options) {
   if (std::isfinite(options.shift)) return options.shift;
   const auto& b = problem.base;
-  const double EI = b.props.K.head<2>().minCoeff();
-  return -0.01 * EI / (b.props.rhoA * std::pow(b.length, 4));
+  return -0.01 * b.props.bending_rate(b.length);
 }
 
 Stability compute_stability(const StaticContext& ctx, const Vector& x, const Params& p,

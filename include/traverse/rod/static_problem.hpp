@@ -61,6 +61,20 @@ Vec12 static_cell_dfdp(const StaticProblem& pr, const std::array<double, num_sta
                        StaticParameter ip, int j, const StaticNode& prev, const StaticNode& self);
 Vec6 static_right_dfdp(const StaticProblem& pr, StaticParameter ip, const StaticNode& node);
 
+/// The hinged rod of the arch scenes before forming: length L along k, pinned at s = 0 and on
+/// a roller at s = L (pin axes i, sliding along k), compressed by the end load along -k,
+/// gravity g [m/s^2] along -j at factor 1; end_position starts at L.
+StaticProblem pinned_roller_problem(const RodProperties& props, int num_cells, double length, double g);
+
+/// The formed arch: the problem `formed` with its right end pinned at the end-to-end distance
+/// dz [m] along k, no end load and gravity factor 0 (raised afterwards).
+StaticProblem pinned_arch_problem(StaticProblem formed, double dz);
+
+/// |cos| of the angle between the chord b - a of two static states and a mode (per node 12
+/// components in the static layout), on the frame-independent unknowns r, kappa and n: about 1
+/// when the mode lies along the branch (a fold), about 0 when orthogonal to it (a pitchfork).
+double chord_cosine(const std::vector<StaticNode>& a, const std::vector<StaticNode>& b, const std::vector<Vec12>& mode);
+
 /// A scalar measured on a static state (gathered on every rank).
 struct StaticProbe {
   std::string name;  ///< e.g. "end_compression"
