@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "traverse/core/so3.hpp"
+
 namespace traverse::rod {
 
 namespace {
@@ -199,6 +201,23 @@ double chord_cosine(const std::vector<StaticNode>& a, const std::vector<StaticNo
         nt += t * t;
       }
   return (nm > 0.0 && nt > 0.0) ? std::abs(dot) / std::sqrt(nm * nt) : 0.0;
+}
+
+std::vector<Vec12> normalised_mode(const std::vector<StaticNode>& base, std::vector<StaticNode> nodes) {
+  for (size_t j = 0; j < nodes.size(); ++j)
+    nodes[j].x.segment<3>(svar::theta) =
+        so3::left_jacobian(-base[j].x.segment<3>(svar::theta)) * nodes[j].x.segment<3>(svar::theta);
+  double scale = 0.0;
+  for (const auto& n : nodes) scale = std::max(scale, n.x.segment<3>(svar::r).cwiseAbs().maxCoeff());
+  if (!(scale > 0.0)) scale = 1.0;
+  double big = 0.0;
+  for (const auto& n : nodes)
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(n.x(c)) > std::abs(big) * (1.0 + 1e-9)) big = n.x(c);
+  if (big < 0.0) scale = -scale;
+  std::vector<Vec12> out;
+  for (const auto& n : nodes) out.push_back(n.x / scale);
+  return out;
 }
 
 StaticProbe probe_end_compression(const Vec3& axis, std::string name) {

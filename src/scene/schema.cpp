@@ -286,81 +286,16 @@ class Validator {
         out.set(p.name, v, p.doc);
         break;
       }
-      case ValueKind::Integer: {
-        if (!n.IsScalar()) fail(path, p.expected_text(), shown(n));
-        long long v = 0;
-        try {
-          v = n.as<long long>();
-        } catch (const YAML::Exception&) {
-          fail(path, p.expected_text(), shown(n));
-        }
-        if (v > std::numeric_limits<int>::max() || v < std::numeric_limits<int>::min())
-          fail(path, p.expected_text(), shown(n) + " (too large)");
-        check_range(static_cast<double>(v), p, path, shown(n));
-        out.set(p.name, static_cast<int>(v), p.doc);
-        break;
-      }
-      case ValueKind::Bool: {
-        if (!n.IsScalar()) fail(path, p.expected_text(), shown(n));
-        bool v = false;
-        try {
-          v = n.as<bool>();
-        } catch (const YAML::Exception&) {
-          fail(path, p.expected_text(), shown(n));
-        }
-        out.set(p.name, v, p.doc);
-        break;
-      }
-      case ValueKind::String: {
+      case ValueKind::Integer: out.set(p.name, integer_value(n, p, path), p.doc); break;
+      case ValueKind::Bool: out.set(p.name, bool_value(n, p, path), p.doc); break;
+      case ValueKind::String:
         if (!n.IsScalar()) fail(path, p.expected_text(), shown(n));
         out.set(p.name, n.Scalar(), p.doc);
         break;
-      }
-      case ValueKind::Choice: {
-        if (!n.IsScalar()) fail(path, p.expected_text(), shown(n));
-        const std::string w = n.Scalar();
-        if (std::find(p.choices.begin(), p.choices.end(), w) == p.choices.end())
-          fail(path, p.expected_text(), shown(n) + suggestion(w, p.choices));
-        out.set(p.name, w, p.doc);
-        break;
-      }
+      case ValueKind::Choice: out.set(p.name, choice_value(n, p, path), p.doc); break;
       case ValueKind::Vector3:
-      case ValueKind::RealList: {
-        if (!n.IsSequence()) fail(path, p.expected_text(), shown(n));
-        if (p.kind == ValueKind::Vector3 && n.size() != 3) fail(path, p.expected_text(), shown(n));
-        Teuchos::Array<double> a;
-        for (size_t i = 0; i < n.size(); ++i) {
-          const std::string ip = path + "[" + std::to_string(i) + "]";
-          const double v = real_value(n[i], p, ip);
-          check_range(v, p, ip, shown(n[i]));
-          a.push_back(v);
-        }
-        out.set(p.name, a, p.doc);
-        break;
-      }
-      case ValueKind::StringList: {
-        Teuchos::Array<std::string> a;
-        if (n.IsScalar()) {
-          // A single word is accepted as a one-element list.
-          a.push_back(n.Scalar());
-        } else if (n.IsSequence()) {
-          for (size_t i = 0; i < n.size(); ++i) {
-            if (!n[i].IsScalar()) fail(path + "[" + std::to_string(i) + "]", "a word", shown(n[i]));
-            a.push_back(n[i].Scalar());
-          }
-        } else {
-          fail(path, p.expected_text(), shown(n));
-        }
-        std::set<std::string> seen;
-        for (Teuchos::Array<std::string>::size_type i = 0; i < a.size(); ++i) {
-          const std::string ip = path + "[" + std::to_string(i) + "]";
-          if (!p.choices.empty() && std::find(p.choices.begin(), p.choices.end(), a[i]) == p.choices.end())
-            fail(ip, "one of {" + list_words(p.choices) + "}", "'" + a[i] + "'" + suggestion(a[i], p.choices));
-          if (!seen.insert(a[i]).second) fail(ip, "each word once", "'" + a[i] + "' again");
-        }
-        out.set(p.name, a, p.doc);
-        break;
-      }
+      case ValueKind::RealList: out.set(p.name, real_list(n, p, path), p.doc); break;
+      case ValueKind::StringList: out.set(p.name, word_list(n, p, path), p.doc); break;
       case ValueKind::Section: {
         auto& sub = out.sublist(p.name, false, p.doc);
         map_keys(n, p.children, path, sub);
@@ -368,33 +303,97 @@ class Validator {
         for (const auto& c : p.checks) c(sub, ctx);
         break;
       }
-      case ValueKind::Typed: {
-        auto& sub = out.sublist(p.name, false, p.doc);
-        typed_entry(n, *p.registry, path, sub);
-        break;
-      }
-      case ValueKind::Collection: {
-        if (!n.IsMap()) fail(path, p.expected_text() + " (name: {type: ..., ...})", shown(n));
-        auto& sub = out.sublist(p.name, false, p.doc);
-        std::set<std::string> seen;
-        for (const auto& kv : n) {
-          const std::string name = kv.first.Scalar();
-          const std::string ipath = join_path(path, name);
-          record(ipath, kv.first);
-          if (!seen.insert(name).second) fail(ipath, "each name once", "a second '" + name + "'");
-          if (name.empty() || name.find_first_of("./ \t") != std::string::npos)
-            fail(ipath, "a name without dots, slashes or spaces", "'" + name + "'");
-          typed_entry(kv.second, *p.registry, ipath, sub.sublist(name));
-        }
-        break;
-      }
-      case ValueKind::PassThrough: {
+      case ValueKind::Typed: typed_entry(n, *p.registry, path, out.sublist(p.name, false, p.doc)); break;
+      case ValueKind::Collection: collection(n, p, path, out.sublist(p.name, false, p.doc)); break;
+      case ValueKind::PassThrough:
         if (!n.IsMap()) fail(path, p.expected_text(), shown(n));
         generic(n, path, out.sublist(p.name, false, p.doc));
         break;
-      }
       default:
         throw std::logic_error("scene validation: unknown value kind at " + path);
+    }
+  }
+
+  int integer_value(const YAML::Node& n, const Param& p, const std::string& path) {
+    if (!n.IsScalar()) fail(path, p.expected_text(), shown(n));
+    long long v = 0;
+    try {
+      v = n.as<long long>();
+    } catch (const YAML::Exception&) {
+      fail(path, p.expected_text(), shown(n));
+    }
+    if (v > std::numeric_limits<int>::max() || v < std::numeric_limits<int>::min())
+      fail(path, p.expected_text(), shown(n) + " (too large)");
+    check_range(static_cast<double>(v), p, path, shown(n));
+    return static_cast<int>(v);
+  }
+
+  bool bool_value(const YAML::Node& n, const Param& p, const std::string& path) {
+    if (!n.IsScalar()) fail(path, p.expected_text(), shown(n));
+    bool v = false;
+    try {
+      v = n.as<bool>();
+    } catch (const YAML::Exception&) {
+      fail(path, p.expected_text(), shown(n));
+    }
+    return v;
+  }
+
+  std::string choice_value(const YAML::Node& n, const Param& p, const std::string& path) {
+    if (!n.IsScalar()) fail(path, p.expected_text(), shown(n));
+    const std::string w = n.Scalar();
+    if (std::find(p.choices.begin(), p.choices.end(), w) == p.choices.end())
+      fail(path, p.expected_text(), shown(n) + suggestion(w, p.choices));
+    return w;
+  }
+
+  Teuchos::Array<double> real_list(const YAML::Node& n, const Param& p, const std::string& path) {
+    if (!n.IsSequence()) fail(path, p.expected_text(), shown(n));
+    if (p.kind == ValueKind::Vector3 && n.size() != 3) fail(path, p.expected_text(), shown(n));
+    Teuchos::Array<double> a;
+    for (size_t i = 0; i < n.size(); ++i) {
+      const std::string ip = path + "[" + std::to_string(i) + "]";
+      const double v = real_value(n[i], p, ip);
+      check_range(v, p, ip, shown(n[i]));
+      a.push_back(v);
+    }
+    return a;
+  }
+
+  Teuchos::Array<std::string> word_list(const YAML::Node& n, const Param& p, const std::string& path) {
+    Teuchos::Array<std::string> a;
+    if (n.IsScalar()) {
+      // A single word is accepted as a one-element list.
+      a.push_back(n.Scalar());
+    } else if (n.IsSequence()) {
+      for (size_t i = 0; i < n.size(); ++i) {
+        if (!n[i].IsScalar()) fail(path + "[" + std::to_string(i) + "]", "a word", shown(n[i]));
+        a.push_back(n[i].Scalar());
+      }
+    } else {
+      fail(path, p.expected_text(), shown(n));
+    }
+    std::set<std::string> seen;
+    for (Teuchos::Array<std::string>::size_type i = 0; i < a.size(); ++i) {
+      const std::string ip = path + "[" + std::to_string(i) + "]";
+      if (!p.choices.empty() && std::find(p.choices.begin(), p.choices.end(), a[i]) == p.choices.end())
+        fail(ip, "one of {" + list_words(p.choices) + "}", "'" + a[i] + "'" + suggestion(a[i], p.choices));
+      if (!seen.insert(a[i]).second) fail(ip, "each word once", "'" + a[i] + "' again");
+    }
+    return a;
+  }
+
+  void collection(const YAML::Node& n, const Param& p, const std::string& path, Teuchos::ParameterList& sub) {
+    if (!n.IsMap()) fail(path, p.expected_text() + " (name: {type: ..., ...})", shown(n));
+    std::set<std::string> seen;
+    for (const auto& kv : n) {
+      const std::string name = kv.first.Scalar();
+      const std::string ipath = join_path(path, name);
+      record(ipath, kv.first);
+      if (!seen.insert(name).second) fail(ipath, "each name once", "a second '" + name + "'");
+      if (name.empty() || name.find_first_of("./ \t") != std::string::npos)
+        fail(ipath, "a name without dots, slashes or spaces", "'" + name + "'");
+      typed_entry(kv.second, *p.registry, ipath, sub.sublist(name));
     }
   }
 

@@ -409,6 +409,66 @@ bool all_ranks(const Teuchos::Comm<int>& comm, bool ok) {
 
 }  // namespace
 
+namespace {
+
+using LO = BlockTridiagonalPreconditioner::LO;
+using GO = BlockTridiagonalPreconditioner::GO;
+
+// Block sizes c = 1 .. kMaxBlock (index c) for which this rank's owned rows [first, first +
+// nrows) are block tridiagonal (couplings to other ranks' rows are not looked at here).
+template <class LocalMatrix, class ColMap>
+std::vector<int> fitting_block_sizes(const LocalMatrix& lcl, const ColMap& colmap, GO first, LO nrows) {
+  std::vector<int> fits(kMaxBlock + 1, 0);
+  for (int c = 1; c <= kMaxBlock; ++c) {
+    if (nrows % c != 0 || first % c != 0 || (nrows == 0 && c > 1)) continue;
+    const GO b0 = first / c, b1 = (first + nrows) / c;  // owned blocks [b0, b1)
+    bool ok = true;
+    for (LO r = 0; r < nrows && ok; ++r) {
+      const GO br = (first + r) / c;
+      for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k) {
+        const GO bc = colmap->getGlobalElement(lcl.graph.entries(k)) / c;
+        if (bc >= b0 && bc < b1 && (bc < br - 1 || bc > br + 1)) {
+          ok = false;
+          break;
+        }
+      }
+    }
+    fits[static_cast<size_t>(c)] = ok ? 1 : 0;
+  }
+  return fits;
+}
+
+// The smallest block size that fits every rank; throws std::invalid_argument saying whose rows
+// do not fit.
+int agreed_block_size(const Teuchos::Comm<int>& comm, std::vector<int> fits) {
+  std::vector<int> fits_all(kMaxBlock + 1, 0);
+  Teuchos::reduceAll<int, int>(comm, Teuchos::REDUCE_MIN, kMaxBlock + 1, fits.data(), fits_all.data());
+  for (int c = 1; c <= kMaxBlock; ++c)
+    if (fits_all[static_cast<size_t>(c)] == 1) return c;
+  int c_mine = 0;
+  for (int c = 1; c <= kMaxBlock && c_mine == 0; ++c)
+    if (fits[static_cast<size_t>(c)] == 1) c_mine = c;
+  throw std::invalid_argument("BlockTridiagonalPreconditioner: the rows of " +
+                              std::string(c_mine > 0 ? "another rank" : "this rank") +
+                              " are not block tridiagonal for any block size up to " + std::to_string(kMaxBlock) +
+                              (c_mine > 0 ? " that fits every rank" : ""));
+}
+
+// Whether every owned row couples only to its own and the neighbouring blocks of size b.
+template <class LocalMatrix, class ColMap>
+bool couples_to_neighbours_only(const LocalMatrix& lcl, const ColMap& colmap, GO first, LO nrows, int b) {
+  for (LO r = 0; r < nrows; ++r) {
+    const GO br = (first + r) / b;
+    for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k) {
+      const GO bc = colmap->getGlobalElement(lcl.graph.entries(k)) / b;
+      if (bc < br - 1 || bc > br + 1) return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 BlockTridiagonalPreconditioner::BlockTridiagonalPreconditioner(Teuchos::RCP<const Matrix> A)
     : impl_(std::make_unique<Impl>()) {
   if (A.is_null()) throw std::invalid_argument("BlockTridiagonalPreconditioner: null matrix");
@@ -436,54 +496,17 @@ BlockTridiagonalPreconditioner::BlockTridiagonalPreconditioner(Teuchos::RCP<cons
   // 8 bytes per entry, as much as the values).
   auto gcol = [&](size_t k) { return colmap->getGlobalElement(lcl.graph.entries(k)); };
 
-  // The smallest block size that makes every rank's owned rows block tridiagonal (couplings
-  // to other ranks' rows are looked at below), agreed by all ranks.
-  std::vector<int> fits(kMaxBlock + 1, 0), fits_all(kMaxBlock + 1, 0);
-  for (int c = 1; c <= kMaxBlock; ++c) {
-    if (nrows % c != 0 || first % c != 0 || (nrows == 0 && c > 1)) continue;
-    const GO b0 = first / c, b1 = (first + nrows) / c;  // owned blocks [b0, b1)
-    bool ok = true;
-    for (LO r = 0; r < nrows && ok; ++r) {
-      const GO br = (first + r) / c;
-      for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k) {
-        const GO bc = gcol(k) / c;
-        if (bc >= b0 && bc < b1 && (bc < br - 1 || bc > br + 1)) {
-          ok = false;
-          break;
-        }
-      }
-    }
-    fits[static_cast<size_t>(c)] = ok ? 1 : 0;
-  }
-  Teuchos::reduceAll<int, int>(*comm, Teuchos::REDUCE_MIN, kMaxBlock + 1, fits.data(), fits_all.data());
-  int b = 0;
-  for (int c = 1; c <= kMaxBlock && b == 0; ++c)
-    if (fits_all[static_cast<size_t>(c)] == 1) b = c;
-  if (b == 0) {
-    int c_mine = 0;
-    for (int c = 1; c <= kMaxBlock && c_mine == 0; ++c)
-      if (fits[static_cast<size_t>(c)] == 1) c_mine = c;
-    throw std::invalid_argument("BlockTridiagonalPreconditioner: the rows of " +
-                                std::string(c_mine > 0 ? "another rank" : "this rank") +
-                                " are not block tridiagonal for any block size up to " + std::to_string(kMaxBlock) +
-                                (c_mine > 0 ? " that fits every rank" : ""));
-  }
+  // The smallest block size that makes every rank's owned rows block tridiagonal, agreed by
+  // all ranks.
+  const int b = agreed_block_size(*comm, fitting_block_sizes(lcl, colmap, first, nrows));
   impl_->b = b;
   impl_->n = static_cast<int>(nrows / b);
   const GO b0 = first / b, b1 = (first + nrows) / b;
 
   // Exact across ranks when the ranks hold consecutive, non-empty pieces of one chain of
-  // blocks, in rank order, and
-  // couplings to other ranks only between neighbouring blocks; else block Jacobi.
-  bool near = true;
-  for (LO r = 0; r < nrows && near; ++r) {
-    const GO br = (first + r) / b;
-    for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k)
-      if (gcol(k) / b < br - 1 || gcol(k) / b > br + 1) {
-        near = false;
-        break;
-      }
-  }
+  // blocks, in rank order, and couplings to other ranks only between neighbouring blocks;
+  // else block Jacobi.
+  const bool near = couples_to_neighbours_only(lcl, colmap, first, nrows, b);
   const int P = comm->getSize();
   std::vector<double> mine{static_cast<double>(b0), static_cast<double>(b1)};
   const std::vector<double> all = impl_->gather(mine);
@@ -496,7 +519,6 @@ BlockTridiagonalPreconditioner::BlockTridiagonalPreconditioner(Teuchos::RCP<cons
   if (why.empty() && !all_ranks(*comm, near)) why = "a row couples to a block more than one block away";
   impl_->exact = why.empty();
   impl_->layout = why;
-
   const long bb = static_cast<long>(b) * b;
   impl_->dest.assign(nnz, -1);
   const GO lo = impl_->exact ? b0 - 1 : b0, hi = impl_->exact ? b1 + 1 : b1;  // kept column blocks [lo, hi)

@@ -456,6 +456,41 @@ double crossing_eigenvalue(const Stability& s, int k) {
   return s.eigenvalues[static_cast<size_t>(k)];
 }
 
+/// The state on the chord hyperplane a . (x - x_{i-1}) = level between points i-1 and i, p
+/// free (bordered Newton from x, p); when that fails, again from the nearer bracketing point.
+StaticSolveReport solve_on_chord_plane(const Run& run, size_t i, const Vector& a, double level, double c, Vector& x,
+                                       Params& p) {
+  const ContinuationOptions& opt = run.opt;
+  const int ip = static_cast<int>(run.ip());
+  const Vector& xa = *run.xs[i - 1];
+  StaticSolveReport r = bordered_newton(run.ctx, x, p, ip, &a, &xa, level, opt.max_newton_iterations + 10,
+                                        opt.residual_tolerance, opt.update_tolerance);
+  if (r.converged) return r;
+  const bool near_a = c < 0.5;
+  x.update(1.0, near_a ? xa : *run.xs[i], 0.0);
+  p = run.ps[near_a ? i - 1 : i];
+  return bordered_newton(run.ctx, x, p, ip, &a, &xa, level, 2 * opt.max_newton_iterations + 20, opt.residual_tolerance,
+                         opt.update_tolerance);
+}
+
+/// The located (or bracketed) bifurcation's state, parameter, probes, null vector and type.
+void describe_bifurcation(const Run& run, size_t i, const Vector& x, const Params& p, const Stability& s, int k,
+                          Bifurcation& b) {
+  const auto& P = run.res.points;
+  b.parameter = p[run.ip()];
+  b.test_function = s.converged ? crossing_eigenvalue(s, k) : std::numeric_limits<double>::quiet_NaN();
+  b.null_vector = s.critical_mode;
+  b.state = rebased(run.ctx.model->gather(x));
+  const rod::StaticModel m = run.ctx.model->problem().model(p);
+  for (const auto& pr : run.opt.probes) b.probes.push_back(pr.eval(m, b.state));
+  // Fold or pitchfork: at a fold the null vector lies along the branch (the chord across the
+  // bracket), at a symmetry-breaking pitchfork it is orthogonal to it. Compared on the
+  // frame-independent unknowns r, kappa, n.
+  const double cosine = rod::chord_cosine(P[i - 1].state, P[i].state, b.null_vector);
+  if (run.verbose()) std::cout << "locate: null vector . chord cosine " << cosine << "\n";
+  b.type = cosine > 0.3 ? BifurcationType::fold : BifurcationType::pitchfork;
+}
+
 /// Locates the bifurcation between points i-1 and i (see the header): the states on the chord
 /// hyperplanes a . (x - x_a) = c |a|^2, a = x_b - x_a, c in (0, 1), p free (bordered Newton),
 /// with an Illinois iteration on c for the crossing eigenvalue.
@@ -498,15 +533,7 @@ Bifurcation locate(Run& run, size_t i) {
       x.update(1.0, best_x, c - best_c, a, 0.0);
       p = best_p;
     }
-    StaticSolveReport r = bordered_newton(ctx, x, p, static_cast<int>(ip), &a, &xa, c * aa, opt.max_newton_iterations + 10,
-                                          opt.residual_tolerance, opt.update_tolerance);
-    if (!r.converged) {  // retry from the nearer bracketing point itself
-      const bool near_a = c < 0.5;
-      x.update(1.0, near_a ? xa : xb, 0.0);
-      p = run.ps[near_a ? i - 1 : i];
-      r = bordered_newton(ctx, x, p, static_cast<int>(ip), &a, &xa, c * aa, 2 * opt.max_newton_iterations + 20,
-                          opt.residual_tolerance, opt.update_tolerance);
-    }
+    const StaticSolveReport r = solve_on_chord_plane(run, i, a, c * aa, c, x, p);
     if (!r.converged) {
       if (run.verbose()) std::cout << "locate: Newton failed at c = " << c << ": " << r.message << "\n";
       break;
@@ -559,19 +586,7 @@ Bifurcation locate(Run& run, size_t i) {
     best_x.update(1.0, xb, 0.0);
     best_p = run.ps[i];
   }
-  b.parameter = best_p[ip];
-  b.test_function = best_s.converged ? crossing_eigenvalue(best_s, k) : std::numeric_limits<double>::quiet_NaN();
-  b.null_vector = best_s.critical_mode;
-  b.state = rebased(ctx.model->gather(best_x));
-  const rod::StaticModel m = ctx.model->problem().model(best_p);
-  for (const auto& pr : opt.probes) b.probes.push_back(pr.eval(m, b.state));
-  // Fold or pitchfork: at a fold the null vector lies along the branch (the chord across the
-  // bracket), at a symmetry-breaking pitchfork it is orthogonal to it. Compared on the
-  // frame-independent unknowns r, kappa, n.
-  const double cosine = rod::chord_cosine(P[i - 1].state, P[i].state, b.null_vector);
-  const bool fold = cosine > 0.3;
-  if (run.verbose()) std::cout << "locate: null vector . chord cosine " << cosine << "\n";
-  b.type = fold ? BifurcationType::fold : BifurcationType::pitchfork;
+  describe_bifurcation(run, i, best_x, best_p, best_s, k, b);
   return b;
 }
 

@@ -10,7 +10,6 @@
 #include <cmath>
 
 #include "static_context.hpp"
-#include "traverse/core/so3.hpp"
 
 namespace traverse::solver {
 
@@ -54,21 +53,19 @@ double stability_shift(const rod::StaticProblem& problem, const StabilityOptions
   return -0.01 * b.props.bending_rate(b.length);
 }
 
-Stability compute_stability(const StaticContext& ctx, const Vector& x, const Params& p,
-                            const StabilityOptions& options) {
-  Stability out;
-  const StaticRodModel& model = *ctx.model;
-  const double sigma = stability_shift(model.problem(), options);
-  auto A = model.new_matrix(), M = model.new_matrix();
+namespace {
+
+// K - sigma M on the graph of K (both filled at x with parameters p).
+Teuchos::RCP<Matrix> shifted_stiffness(const StaticRodModel& model, const Vector& x, const Params& p, double sigma,
+                                       const Matrix& M) {
+  auto A = model.new_matrix();
   model.fill_jacobian(x, p, *A);
-  model.fill_mass(x, *M);
-  // A = K - sigma M on the same graph.
   A->resumeFill();
   const size_t nrows = A->getNodeNumRows();
   for (size_t r = 0; r < nrows; ++r) {
     typename Matrix::local_inds_host_view_type idx;
     typename Matrix::values_host_view_type val;
-    M->getLocalRowView(static_cast<mesh::LO>(r), idx, val);
+    M.getLocalRowView(static_cast<mesh::LO>(r), idx, val);
     std::vector<mesh::LO> ii(idx.extent(0));
     std::vector<double> vv(idx.extent(0));
     for (size_t k = 0; k < ii.size(); ++k) {
@@ -78,40 +75,40 @@ Stability compute_stability(const StaticContext& ctx, const Vector& x, const Par
     A->sumIntoLocalValues(static_cast<mesh::LO>(r), static_cast<mesh::LO>(ii.size()), vv.data(), ii.data());
   }
   A->fillComplete();
-  auto op = Teuchos::rcp(new ShiftInvert(ctx, A, M));
-  // Deterministic start vector (independent of the rank count), mapped through T.
-  auto v0 = Teuchos::rcp(new MV(M->getRowMap(), 1));
-  {
-    auto d = v0->getDataNonConst(0);
-    const auto& map = *M->getRowMap();
-    for (Teuchos_Ordinal i = 0; i < d.size(); ++i) {
-      const double g = static_cast<double>(map.getGlobalElement(static_cast<mesh::LO>(i)));
-      d[i] = std::sin(0.37 * g + 0.1) + 0.5 * std::cos(1.91 * g);
-    }
+  return A;
+}
+
+// A deterministic start vector (independent of the rank count).
+Teuchos::RCP<MV> start_vector(const Teuchos::RCP<const Tpetra::Map<>>& map) {
+  auto v0 = Teuchos::rcp(new MV(map, 1));
+  auto d = v0->getDataNonConst(0);
+  for (Teuchos_Ordinal i = 0; i < d.size(); ++i) {
+    const double g = static_cast<double>(map->getGlobalElement(static_cast<mesh::LO>(i)));
+    d[i] = std::sin(0.37 * g + 0.1) + 0.5 * std::cos(1.91 * g);
   }
-  auto init = Teuchos::rcp(new MV(M->getRowMap(), 1));
-  op->apply(*v0, *init);
-  const int nev = std::max(1, options.num_eigenvalues);
-  auto problem = Teuchos::rcp(new Anasazi::BasicEigenproblem<double, MV, OP>(op, init));
-  problem->setHermitian(false);
-  problem->setNEV(nev);
-  if (!problem->setProblem()) return out;
+  return v0;
+}
+
+Anasazi::ReturnType solve_eigenproblem(const Teuchos::RCP<Anasazi::BasicEigenproblem<double, MV, OP>>& problem,
+                                       int nev, double tolerance) {
   Teuchos::ParameterList pl;
   pl.set("Which", std::string("LM"));
   pl.set("Block Size", 1);
   pl.set("Num Blocks", std::max(3 * nev + 10, 30));
   pl.set("Maximum Restarts", 200);
-  pl.set("Convergence Tolerance", options.tolerance);
+  pl.set("Convergence Tolerance", tolerance);
   pl.set("Verbosity", static_cast<int>(Anasazi::Errors));
   Anasazi::BlockKrylovSchurSolMgr<double, MV, OP> mgr(problem, pl);
-  Anasazi::ReturnType ret = Anasazi::Unconverged;
   try {
-    ret = mgr.solve();
+    return mgr.solve();
   } catch (const std::exception&) {
-    return out;
+    return Anasazi::Unconverged;
   }
-  const auto& sol = problem->getSolution();
-  out.converged = ret == Anasazi::Converged && !op->failed() && sol.numVecs >= nev;
+}
+
+// omega^2 = sigma + 1/theta in ascending real part, with the unstable count and the column of
+// the eigenvector nearest zero (-1 without one).
+int sort_eigenvalues(const Anasazi::Eigensolution<double, MV>& sol, double sigma, Stability& out) {
   struct Ev {
     double re, im;
     int col;
@@ -136,25 +133,35 @@ Stability compute_stability(const StaticContext& ctx, const Vector& x, const Par
       out.critical = e.re;
     }
   }
+  return best_col;
+}
+
+}  // namespace
+
+Stability compute_stability(const StaticContext& ctx, const Vector& x, const Params& p,
+                            const StabilityOptions& options) {
+  Stability out;
+  const StaticRodModel& model = *ctx.model;
+  const double sigma = stability_shift(model.problem(), options);
+  auto M = model.new_matrix();
+  model.fill_mass(x, *M);
+  auto A = shifted_stiffness(model, x, p, sigma, *M);
+  auto op = Teuchos::rcp(new ShiftInvert(ctx, A, M));
+  auto init = Teuchos::rcp(new MV(M->getRowMap(), 1));
+  op->apply(*start_vector(M->getRowMap()), *init);
+  const int nev = std::max(1, options.num_eigenvalues);
+  auto problem = Teuchos::rcp(new Anasazi::BasicEigenproblem<double, MV, OP>(op, init));
+  problem->setHermitian(false);
+  problem->setNEV(nev);
+  if (!problem->setProblem()) return out;
+  const Anasazi::ReturnType ret = solve_eigenproblem(problem, nev, options.tolerance);
+  const auto& sol = problem->getSolution();
+  out.converged = ret == Anasazi::Converged && !op->failed() && sol.numVecs >= nev;
+  const int best_col = sort_eigenvalues(sol, sigma, out);
   if (best_col >= 0) {
     Vector phi(M->getRowMap());
     phi.update(1.0, *sol.Evecs->getVector(best_col), 0.0);
-    auto nodes = model.gather(phi);
-    // Rotation part in the coordinates of the rebased state (theta = 0): dtheta' = -D(theta) dtheta.
-    const auto base = model.gather(x);
-    for (size_t j = 0; j < nodes.size(); ++j)
-      nodes[j].x.segment<3>(rod::svar::theta) =
-          so3::left_jacobian(-base[j].x.segment<3>(rod::svar::theta)) * nodes[j].x.segment<3>(rod::svar::theta);
-    double scale = 0.0;
-    for (const auto& n : nodes) scale = std::max(scale, n.x.segment<3>(rod::svar::r).cwiseAbs().maxCoeff());
-    if (!(scale > 0.0)) scale = 1.0;
-    // Deterministic sign: the largest displacement component positive.
-    double big = 0.0;
-    for (const auto& n : nodes)
-      for (int c = 0; c < 3; ++c)
-        if (std::abs(n.x(c)) > std::abs(big) * (1.0 + 1e-9)) big = n.x(c);
-    if (big < 0.0) scale = -scale;
-    for (const auto& n : nodes) out.critical_mode.push_back(n.x / scale);
+    out.critical_mode = rod::normalised_mode(model.gather(x), model.gather(phi));
   }
   return out;
 }

@@ -75,6 +75,12 @@ StaticProblem pinned_arch_problem(StaticProblem formed, double dz);
 /// when the mode lies along the branch (a fold), about 0 when orthogonal to it (a pitchfork).
 double chord_cosine(const std::vector<StaticNode>& a, const std::vector<StaticNode>& b, const std::vector<Vec12>& mode);
 
+/// A small-vibration mode of the static state `base` (per node 12 components in the static
+/// layout, rotation increments relative to each node's Rbar) in the coordinates of the rebased
+/// state (theta = 0: dtheta' = -D(theta) dtheta, so3::left_jacobian(-theta) dtheta), scaled to
+/// max |r| = 1 with its largest displacement component positive (a deterministic sign).
+std::vector<Vec12> normalised_mode(const std::vector<StaticNode>& base, std::vector<StaticNode> mode);
+
 /// A scalar measured on a static state (gathered on every rank).
 struct StaticProbe {
   std::string name;  ///< e.g. "end_compression"
