@@ -14,31 +14,19 @@
 
 namespace traverse::app {
 
-namespace {
-
-beam::Support support_of(scene::Supports s) {
-  using S = scene::Supports;
-  switch (s) {
-    case S::simply_supported: return beam::Support::SimplySupported;
-    case S::clamped_free: return beam::Support::ClampedFree;
-    case S::clamped_clamped: return beam::Support::ClampedClamped;
-    case S::clamped_pinned: return beam::Support::ClampedPinned;
-    default: throw std::logic_error("run_beam: unknown supports");
-  }
-}
-
-}  // namespace
-
 void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   const auto& b = sc.beam;
+  // The limits (steps, memory, load ratio: run_limits.hpp) before anything of the beam's size
+  // is allocated; the time grid (dt, end) comes from the same plan.
+  const TimeGrid grid = check_beam_run(sc, opt.limits, comm).grid;
 
   beam::BeamProblem p;
   p.length = b.length;
   p.EI = b.youngs_modulus * b.section.I1;
   p.rhoA = b.density * b.section.area;
-  p.support = support_of(b.supports);
+  p.support = beam_support(b.supports);
   p.n_modes = b.modes;
   p.quadrature_nodes.resize(static_cast<size_t>(sc.mesh.nodes));
   for (int j = 0; j < sc.mesh.nodes; ++j) p.quadrature_nodes[static_cast<size_t>(j)] = j * sc.mesh.ds;
@@ -48,7 +36,6 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   p.self_weight = true;
   p.initial_state = beam::InitialState::Static;
 
-  double t_end = 0.0, v_max = 0.0;
   for (const auto& l : sc.loads) {
     beam::MovingLoad m;
     m.kind = l.inertia ? beam::LoadKind::Mass : beam::LoadKind::Force;
@@ -61,21 +48,10 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     m.entry_time = l.entry_time;
     m.start = l.start;
     p.loads.push_back(m);
-    const double te = l.exit_time(b.length);
-    if (std::isfinite(te)) t_end = std::max(t_end, te);
-    v_max = std::max({v_max, l.speed, std::abs(l.velocity(std::isfinite(te) ? te : l.entry_time))});
   }
-  p.t_start = 0.0;
-  p.t_end = sc.time.end_auto ? t_end : sc.time.end;
-  if (sc.time.dt_auto) {
-    const beam::UniformModes modes(p.support, p.n_modes, p.length, p.EI, p.rhoA);
-    const double omega_max = modes.circular_frequencies().maxCoeff();
-    double dt = 2.0 * constants::pi / omega_max / 20.0;
-    if (v_max > 0.0) dt = std::min(dt, sc.mesh.ds / v_max);
-    p.dt = dt;
-  } else {
-    p.dt = sc.time.dt;
-  }
+  p.t_start = grid.t_start;
+  p.t_end = grid.t_end;
+  p.dt = grid.dt;
   p.integrator = b.integrator == scene::BeamIntegrator::newmark ? beam::Integrator::Newmark : beam::Integrator::RK4;
   p.output_every = sc.output.every;
 
