@@ -314,10 +314,24 @@ void RodTimeLoop::fail_step(long i, double t0, const solver::StepFailure& e, Pro
   progress.done();
   std::ostringstream os;
   os << "time step " << i << " of " << g_.steps << " (t = " << e.time() << " s, dt = " << e.step()
-     << " s) failed after halving it " << e.depth() << " times: " << e.report().status << " (residual "
-     << e.report().residual_norm
-     << "); try scheme.rho_inf < 1, a smaller time.dt, or a larger 'Max Subdivision Depth' in solver"
-     << " (traverse run --restart " << opt_.output << " --set ... continues from t = " << t0 << " s)";
+     << " s) failed after halving it " << e.depth() << " times: " << e.report().status << " (residual ";
+  // A norm is >= 0: NOX reports a non-finite residual as a huge negative number.
+  const double residual = e.report().residual_norm;
+  if (residual >= 0.0 && std::isfinite(residual)) os << residual;
+  else os << "not finite";
+  os << "); ";
+  // A step far shorter than the time a bending wave needs to cross a cell: the residual's
+  // 1/dt terms round above the absolute residual tolerance, so a smaller dt cannot help.
+  const auto& props = st_.model().props;
+  const double ds = st_.model().ds(), cell_time = ds * ds * std::sqrt(props.rhoA / props.bending_stiffness());
+  if (e.step() < 1e-6 * cell_time)
+    os << "time.dt = " << g_.dt << " s is " << cell_time / g_.dt << " times shorter than a bending wave needs to "
+       << "cross a cell (mesh.ds^2 sqrt(rho A / (E I)) = " << cell_time << " s), where the rounding of the 1/dt "
+       << "terms keeps the residual above 'Residual Tolerance': try a larger time.dt (auto: mesh.ds / the fastest "
+       << "loads.*.speed) or a larger 'Residual Tolerance' in solver";
+  else
+    os << "try scheme.rho_inf < 1, a smaller time.dt, or a larger 'Max Subdivision Depth' in solver";
+  os << " (traverse run --restart " << opt_.output << " --set ... continues from t = " << t0 << " s)";
   rp_.store(i - 1, left_.position());  // the stepper kept the state before the failed step
   w_.fail(os.str());
   throw NumericsError(os.str());
