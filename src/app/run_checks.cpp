@@ -42,6 +42,7 @@ std::string summary(const TimePlan* time, const MemoryPlan& memory, const Memory
 CheckedRun check_beam_run(const scene::Scene& sc, const RunLimits& limits, MPI_Comm comm) {
   CheckedRun out;
   check_load_ratio(sc);
+  check_load_speeds(sc);
   const MemoryPlan memory = beam_memory(sc, comm_size(comm));
   const MemoryLimit limit = memory_limit(limits, comm);
   check_memory(sc, memory, limit);
@@ -64,6 +65,7 @@ CheckedRun check_rod_run(const scene::Scene& sc, const rod::RodModel& model, con
     out.summary = summary(nullptr, memory, limit);
     return out;
   }
+  check_load_speeds(sc);
   TimePlan time = rod_time_plan(sc);
   check_time_plan(sc, time, limits.max_steps);
   out.grid = time.grid;

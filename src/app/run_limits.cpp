@@ -48,7 +48,7 @@ std::string mesh_text(const scene::Scene& sc) {
 }
 
 // The end time of a run whose time.end is auto: when the last load leaves; its keys.
-double auto_end(const scene::Scene& sc, std::string& text, std::vector<std::string>& keys) {
+double auto_end(const scene::Scene& sc, TimePlan& p) {
   const scene::MovingLoadSpec* last = nullptr;
   double t_end = 0.0;
   for (const auto& l : sc.loads) {
@@ -59,28 +59,37 @@ double auto_end(const scene::Scene& sc, std::string& text, std::vector<std::stri
     }
   }
   if (!last) {
-    text = "time.end: auto (no load leaves the structure)";
-    keys.push_back("time.end");
+    p.end_text = "time.end: auto (no load leaves the structure)";
+    p.end_keys = {"time.end"};
     return 0.0;
   }
   const std::string k = "loads." + last->name + ".";
-  text = "time.end: auto = when load '" + last->name + "' leaves, t = " + fmt(t_end) + " s (" + k +
-         "entry_time = " + fmt(last->entry_time) + " s, speed = " + fmt(last->speed) + " m/s";
-  if (last->acceleration != 0.0) text += ", acceleration = " + fmt(last->acceleration) + " m/s^2";
-  text += ", from " + fmt(last->start) + " m)";
-  // The entry time first when it is most of the end time.
-  if (last->entry_time >= 0.5 * t_end) keys.push_back(k + "entry_time");
-  keys.push_back(k + "speed");
-  if (last->acceleration != 0.0) keys.push_back(k + "acceleration");
-  keys.push_back(k + "entry_time");
-  keys.push_back(k + "start");
+  p.end_text = "time.end: auto = when load '" + last->name + "' leaves, t = " + fmt(t_end) + " s (" + k +
+               "entry_time = " + fmt(last->entry_time) + " s, speed = " + fmt(last->speed) + " m/s";
+  if (last->acceleration != 0.0) p.end_text += ", acceleration = " + fmt(last->acceleration) + " m/s^2";
+  p.end_text += ", from " + fmt(last->start) + " m)";
+  const double distance = last->direction() > 0 ? sc.length() - last->start : last->start;
+  // A load that starts at the far end, or whose entry time is most of the end time, is decided
+  // by its start or its entry time; otherwise by its motion.
+  if (!(distance > 0.0)) p.end_keys.push_back(k + "start");
+  p.entry_dominated = distance > 0.0 && last->entry_time > 0.0 && last->entry_time >= 0.5 * t_end;
+  if (p.entry_dominated) p.end_keys.push_back(k + "entry_time");
+  p.end_keys.push_back(k + "speed");
+  if (last->acceleration != 0.0) p.end_keys.push_back(k + "acceleration");
+  p.end_keys.push_back(k + "entry_time");
+  p.end_keys.push_back(k + "start");
   return t_end;
 }
 
-double fixed_end(const scene::Scene& sc, std::string& text, std::vector<std::string>& keys) {
-  text = "time.end = " + fmt(sc.time.end) + " s";
-  keys.push_back("time.end");
+double fixed_end(const scene::Scene& sc, TimePlan& p) {
+  p.end_text = "time.end = " + fmt(sc.time.end) + " s";
+  p.end_keys = {"time.end"};
   return sc.time.end;
+}
+
+std::vector<std::string> joined(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
 }
 
 // Per-node figures of the memory model (docs/reliability.md "Limits": peak resident memory
@@ -200,13 +209,12 @@ TimePlan rod_time_plan(const scene::Scene& sc) {
     const std::string k = fast ? "loads." + fast->name + ".speed" : "loads";
     p.dt_text = "time.dt: auto = mesh.ds / " + k + " = " + fmt(sc.mesh.ds) + " m / " + fmt(fast ? fast->speed : 0.0) +
                 " m/s = " + fmt(p.dt) + " s";
-    p.keys = {k, mesh_key(sc)};
+    p.dt_keys = {k, mesh_key(sc)};
   } else {
     p.dt_text = "time.dt = " + fmt(p.dt) + " s";
-    p.keys = {"time.dt"};
+    p.dt_keys = {"time.dt"};
   }
-  p.t_end = sc.time.end_auto ? auto_end(sc, p.end_text, p.keys) : fixed_end(sc, p.end_text, p.keys);
-  // time.dt given: it decides first (the end-time keys follow).
+  p.t_end = sc.time.end_auto ? auto_end(sc, p) : fixed_end(sc, p);
   p.steps = grid_step_count(p.t_end, p.dt, 1e-6);
   return p;
 }
@@ -240,30 +248,38 @@ TimePlan beam_time_plan(const scene::Scene& sc) {
     p.dt = 2.0 * constants::pi / omega_max / 20.0;
     p.dt_text = "time.dt: auto = a twentieth of the period of mode " + std::to_string(b.modes) + " (beam.modes; " +
                 fmt(omega_max) + " rad/s) = " + fmt(p.dt) + " s";
-    p.keys = {"beam.modes", "beam.youngs_modulus", "beam.density", "beam.section"};
+    p.dt_keys = {"beam.modes", "beam.youngs_modulus", "beam.density", "beam.section"};
+    p.dt_from_modes = true;
     if (v_max > 0.0 && !(p.dt <= sc.mesh.ds / v_max)) {
       p.dt = sc.mesh.ds / v_max;
       const std::string k = "loads." + fast->name;
       p.dt_text = "time.dt: auto = mesh.ds / (the fastest speed of load '" + fast->name + "') = " + fmt(sc.mesh.ds) +
                   " m / " + fmt(v_max) + " m/s = " + fmt(p.dt) + " s";
-      p.keys = {k + ".speed", k + ".acceleration", mesh_key(sc)};
+      p.dt_keys = {k + ".speed", k + ".acceleration", mesh_key(sc)};
+      p.dt_from_modes = false;
     }
   } else {
     p.dt = sc.time.dt;
     p.dt_text = "time.dt = " + fmt(p.dt) + " s";
-    p.keys = {"time.dt"};
+    p.dt_keys = {"time.dt"};
   }
-  p.t_end = sc.time.end_auto ? auto_end(sc, p.end_text, p.keys) : fixed_end(sc, p.end_text, p.keys);
+  p.t_end = sc.time.end_auto ? auto_end(sc, p) : fixed_end(sc, p);
   p.steps = grid_step_count(p.t_end, p.dt, beam::BeamSimulation::kGridJoin);
   return p;
 }
 
 void check_time_plan(const scene::Scene& sc, TimePlan& p, long max_steps) {
-  const std::string key = deciding_key(sc, p.keys);
   if (!(p.dt > 0.0) || !std::isfinite(p.dt))
-    scene::fail_at(sc, key, "a time step that is a positive finite number of seconds", p.dt_text);
+    scene::fail_at(sc, deciding_key(sc, joined(p.dt_keys, p.end_keys)),
+                   "a time step that is a positive finite number of seconds", p.dt_text);
   if (!(p.t_end > 0.0) || !std::isfinite(p.t_end))
-    scene::fail_at(sc, key, "an end time that is a positive finite number of seconds", p.end_text);
+    scene::fail_at(sc, deciding_key(sc, joined(p.end_keys, p.dt_keys)),
+                   "an end time that is a positive finite number of seconds", p.end_text);
+  // The step count: a load's entry time, a given end time, or (a beam's dt from its modes)
+  // the load's motion before the keys of dt.
+  const bool end_first = p.entry_dominated || (!sc.time.end_auto && sc.time.dt_auto) || p.dt_from_modes;
+  const std::string key =
+      deciding_key(sc, end_first ? joined(p.end_keys, p.dt_keys) : joined(p.dt_keys, p.end_keys));
   const std::string found = count(p.steps) + " time steps of " + p.dt_text + " to " + p.end_text;
   if (!(p.steps <= kMaxGridSteps))
     scene::fail_at(sc, key,
@@ -359,6 +375,24 @@ void check_counters(const scene::Scene& sc, const RodPathGuess& path) {
                    mesh_text(sc));
 }
 
+void check_load_speeds(const scene::Scene& sc) {
+  for (const auto& l : sc.loads) {
+    const double te = l.exit_time(sc.length());
+    const double at_exit = std::isfinite(te) ? std::abs(l.velocity(te)) : 0.0;
+    const double fastest = std::max(l.speed, at_exit);
+    if (fastest <= kSpeedOfLight) continue;
+    const std::string k = "loads." + l.name + ".";
+    const bool at_entry = l.speed > kSpeedOfLight;
+    scene::fail_at(sc, deciding_key(sc, at_entry ? std::vector<std::string>{k + "speed", k + "acceleration"}
+                                                 : std::vector<std::string>{k + "acceleration", k + "speed"}),
+                   "a load slower than light while it is on the " + std::string(sc.model == scene::Model::Beam ? "beam" : "rod") +
+                       ", at most 299792458 m/s (docs/reliability.md \"Limits\")",
+                   at_entry ? fmt(l.speed) + " m/s at entry (" + k + "speed)"
+                            : fmt(fastest) + " m/s when it reaches the far end (" + k + "speed = " + fmt(l.speed) +
+                                  " m/s, " + k + "acceleration = " + fmt(l.acceleration) + " m/s^2)");
+  }
+}
+
 void check_load_ratio(const scene::Scene& sc) {
   const bool beam = sc.model == scene::Model::Beam;
   const std::string model = beam ? "beam" : "rod";
@@ -390,8 +424,12 @@ void check_load_ratio(const scene::Scene& sc) {
       }
   const double ratio = W / EI * L * L;
   if (ratio <= kMaxLoadRatio) return;
-  keys.push_back(model + ".youngs_modulus");
-  keys.push_back(model + ".section");
+  // When the structure cannot even carry its own weight, the stiffness (or gravity, density)
+  // is what is extreme; otherwise the load.
+  const double own = (beam ? sc.beam.density : sc.rod.density) * sec.area * sc.gravity * L / EI * L * L;
+  const std::vector<std::string> stiffness = {model + ".youngs_modulus", model + ".section"};
+  keys = own > kMaxLoadRatio || std::isnan(own) ? joined(joined(stiffness, {"gravity", model + ".density"}), keys)
+                                                 : joined(keys, stiffness);
   scene::fail_at(sc, deciding_key(sc, keys),
                  "a load the bending stiffness can carry in double precision: W L^2 / (E I) <= 4.5e15 (beyond it E I "
                  "kappa is below the rounding of the load's moment; docs/reliability.md \"Limits\")",

@@ -37,7 +37,9 @@ struct TimePlan {
   TimeGrid grid;              ///< valid after check_time_plan
   std::string dt_text;        ///< "time.dt = 0.001 s" or "time.dt: auto = mesh.ds / loads.F.speed = ... s"
   std::string end_text;       ///< likewise for the end time
-  std::vector<std::string> keys;  ///< the keys that decide dt and the end time, most specific first
+  std::vector<std::string> dt_keys, end_keys;  ///< the keys that decide each, most specific first
+  bool entry_dominated = false;  ///< time.end auto and mostly a load's entry_time
+  bool dt_from_modes = false;    ///< beam time.dt auto from the highest mode (not capped by a load)
 };
 
 /// The rod's grid: time.dt (auto resolved by the scene: ds / v), time.end or the time the last
@@ -86,6 +88,14 @@ void check_load_ratio(const scene::Scene& sc);
 
 /// The beam module's supports of a scene's.
 beam::Support beam_support(scene::Supports s);
+
+/// The speed of light [m/s]: the largest speed a load may have while it is on the structure.
+constexpr double kSpeedOfLight = 299792458.0;
+
+/// Throws SceneError when a load moves faster than light while it is on the structure (its
+/// speed at entry, or at the far end when it accelerates): no load does, and far beyond it
+/// the moving-load terms (M v^2) and the time steps (dt = ds / v) leave double precision.
+void check_load_speeds(const scene::Scene& sc);
 
 /// Bytes as "512 MiB", "3.2 GiB".
 std::string format_bytes(double bytes);

@@ -181,6 +181,7 @@ Plan plan_of(const Scene& sc) {
     app::check_load_ratio(sc);
     if (sc.model == traverse::scene::Model::Beam) {
       app::check_memory(sc, app::beam_memory(sc, 1), limit);
+      app::check_load_speeds(sc);
       p.time = app::beam_time_plan(sc);
     } else {
       const double three_d = app::rod_memory(sc, {false, 1}).bytes, planar = app::rod_memory(sc, {true, 1}).bytes;
@@ -190,6 +191,7 @@ Plan plan_of(const Scene& sc) {
       app::check_memory(sc, app::rod_memory(sc, {true, 1}), limit);
       if (three_d > kFuzzMaxMemory) p.uncertain = true;
       app::check_counters(sc, {false, 1});
+      app::check_load_speeds(sc);
       p.time = app::rod_time_plan(sc);
     }
     app::check_time_plan(sc, p.time, kFuzzMaxSteps);
@@ -213,9 +215,11 @@ Plan plan_of(const Scene& sc) {
   return p;
 }
 
-// Whether an accepted scene is cheap enough to run through the executable.
+// Whether an accepted scene is cheap enough to run through the executable (the output file
+// is flushed, and its XDMF sidecar rewritten, at every output step: those count most).
 bool cheap(const Scene& sc, const Plan& p) {
   const double steps = static_cast<double>(p.time.grid.steps), nodes = sc.mesh.nodes;
+  if (steps / sc.output.every > 200.0) return false;
   if (sc.model == traverse::scene::Model::Beam) {
     const double modes = sc.beam.modes;
     return nodes <= 5000 && steps * modes * modes <= 2e7 && nodes * modes * sc.beam.quadrature_points <= 2e6;
@@ -253,7 +257,10 @@ int run_child(const std::vector<std::string>& args, std::string& out) {
     if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > kChildSeconds) {
       kill(pid, SIGKILL);
       waitpid(pid, nullptr, 0);
-      std::fprintf(stderr, "fuzz: the run took over %.0f s (a hang):\n%s\n", kChildSeconds, out.c_str());
+      std::string cmd;
+      for (const auto& a : args) cmd += a + " ";
+      std::fprintf(stderr, "fuzz finding: the run took over %.0f s (a hang)\ncommand: %s\noutput:\n%s\n", kChildSeconds,
+                   cmd.c_str(), out.c_str());
       std::abort();
     }
   }
