@@ -354,7 +354,7 @@ void check_memory(const scene::Scene& sc, const MemoryPlan& plan, const MemoryLi
   if (!(limit.bytes > 0.0) || plan.bytes <= limit.bytes) return;
   scene::fail_at(sc, deciding_key(sc, plan.keys),
                  "a run that fits the memory of one rank, at most " + format_bytes(limit.bytes) + " (" + limit.source +
-                     "; --max-memory sets the limit)",
+                     (limit.source.rfind("--max-memory", 0) == 0 ? "" : "; --max-memory sets the limit") + ")",
                  "an estimated " + format_bytes(plan.bytes) + " per rank: " + plan.detail +
                      " (a coarser mesh or more ranks need less; docs/reliability.md \"Limits\")");
 }

@@ -324,7 +324,7 @@ void RodTimeLoop::fail_step(long i, double t0, const solver::StepFailure& e, Pro
   // 1/dt terms round above the absolute residual tolerance, so a smaller dt cannot help.
   const auto& props = st_.model().props;
   const double ds = st_.model().ds(), cell_time = ds * ds * std::sqrt(props.rhoA / props.bending_stiffness());
-  if (e.step() < 1e-6 * cell_time)
+  if (g_.dt < 1e-6 * cell_time)
     os << "time.dt = " << g_.dt << " s is " << cell_time / g_.dt << " times shorter than a bending wave needs to "
        << "cross a cell (mesh.ds^2 sqrt(rho A / (E I)) = " << cell_time << " s), where the rounding of the 1/dt "
        << "terms keeps the residual above 'Residual Tolerance': try a larger time.dt (auto: mesh.ds / the fastest "
