@@ -375,6 +375,38 @@ void check_counters(const scene::Scene& sc, const RodPathGuess& path) {
                    mesh_text(sc));
 }
 
+void check_properties(const scene::Scene& sc) {
+  const bool beam = sc.model == scene::Model::Beam;
+  const std::string model = beam ? "beam" : "rod";
+  const auto& sec = beam ? sc.beam.section : sc.rod.section;
+  const double E = beam ? sc.beam.youngs_modulus : sc.rod.youngs_modulus;
+  const double rho = beam ? sc.beam.density : sc.rod.density;
+  auto usable = [](double x) { return x > 0.0 && std::isfinite(x); };
+  struct Quantity {
+    const char* what;
+    double value;
+    std::vector<std::string> keys;
+    std::string parts;
+  };
+  std::vector<Quantity> q = {
+      {"the section's area A [m^2]", sec.area, {model + ".section"}, "from the dimensions of " + model + ".section"},
+      {"the section's second moment I [m^4]", beam ? sec.I1 : std::min(sec.I1, sec.I2), {model + ".section"},
+       "from the dimensions of " + model + ".section"},
+      {"the mass per length rho A [kg/m]", rho * sec.area, {model + ".density", model + ".section"},
+       model + ".density = " + fmt(rho) + " kg/m^3 x A = " + fmt(sec.area) + " m^2"},
+      {"the bending stiffness E I [N m^2]", E * (beam ? sec.I1 : std::min(sec.I1, sec.I2)),
+       {model + ".youngs_modulus", model + ".section"},
+       model + ".youngs_modulus = " + fmt(E) + " Pa x I = " + fmt(beam ? sec.I1 : std::min(sec.I1, sec.I2)) + " m^4"}};
+  if (!beam)
+    q.push_back({"the torsional stiffness G J [N m^2]", sc.rod.shear_modulus * sec.J,
+                 {"rod.shear_modulus", "rod.poisson_ratio", "rod.youngs_modulus", "rod.section"},
+                 "G = " + fmt(sc.rod.shear_modulus) + " Pa x J = " + fmt(sec.J) + " m^4"});
+  for (const auto& x : q)
+    if (!usable(x.value))
+      scene::fail_at(sc, deciding_key(sc, x.keys), std::string(x.what) + " that is a positive finite number",
+                     fmt(x.value) + " (" + x.parts + ": the product leaves double precision)");
+}
+
 void check_load_speeds(const scene::Scene& sc) {
   for (const auto& l : sc.loads) {
     const double te = l.exit_time(sc.length());
