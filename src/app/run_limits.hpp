@@ -87,6 +87,15 @@ void check_counters(const scene::Scene& sc, const RodPathGuess& path);
 /// section's A and I from tiny or huge dimensions); the models divide by them.
 void check_properties(const scene::Scene& sc);
 
+/// The load ratio W L^2 / (E I) of a scene: W the largest of the point loads, the mass weights,
+/// the structure's weight and a roller end's force; `what` says which, `keys` its keys.
+struct LoadRatio {
+  double ratio = 0.0, W = 0.0, EI = 0.0;
+  std::string what;
+  std::vector<std::string> keys;
+};
+LoadRatio load_ratio(const scene::Scene& sc);
+
 /// Throws SceneError when the load ratio W L^2 / (E I) exceeds kMaxLoadRatio (W: the largest
 /// of the point loads, the mass weights, the structure's weight and a roller end's force).
 void check_load_ratio(const scene::Scene& sc);
