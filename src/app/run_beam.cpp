@@ -1,4 +1,5 @@
 // Scene -> beam::BeamProblem, then the run with its output.
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -97,8 +98,9 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     probe_names.push_back(l.name + "_position");
     probe_names.push_back(l.name + "_deflection");
   }
+  field_names = {"deflection", "position"};  // always written: the sidecar shows the deflected beam
   for (const auto& f : sc.output.fields) {
-    if (f == "deflection") field_names.insert(field_names.end(), {"deflection", "position"});
+    if (f == "deflection") continue;
     else if (f == "slope") field_names.push_back("slope");
     else if (f == "bending_moment") field_names.push_back("bending_moment");
   }
@@ -130,7 +132,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     writer.add_probe({l.name + "_deflection", 1, "m",
                       "deflection w(x(t), t) under load '" + l.name + "' (NaN while it is off the beam)", {}});
   }
-  bool want_w = false, want_slope = false, want_moment = false;
+  bool want_w = true, want_slope = false, want_moment = false;
   for (const auto& f : sc.output.fields) {
     if (f == "deflection") want_w = true;
     else if (f == "slope") want_slope = true;
@@ -139,7 +141,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   }
   if (want_w) {
     writer.add_field({"deflection", 1, "m", "transverse deflection w (positive up, +j)", {"w"}, false});
-    writer.add_field({"position", 3, "m", "deformed position (0, w, x) for plotting", {"x", "y", "z"}, true});
+    writer.add_field({"position", 3, "m", "deformed position (x, w, 0): the beam along x, w along y", {"x", "y", "z"}, true});
   }
   if (want_slope) writer.add_field({"slope", 1, "1", "slope dw/dx", {"w_x"}, false});
   if (want_moment) writer.add_field({"bending_moment", 1, "N m", "bending moment E I d2w/dx2", {"M"}, false});
@@ -189,9 +191,9 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
       auto& pos = fields[f++];
       for (size_t j = 0; j < layout.count; ++j) {
         w[j] = s.deflection(layout.s[j]);
-        pos[3 * j] = 0.0;
+        pos[3 * j] = layout.s[j];
         pos[3 * j + 1] = w[j];
-        pos[3 * j + 2] = layout.s[j];
+        pos[3 * j + 2] = 0.0;
       }
     }
     if (want_slope) {
@@ -243,6 +245,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
       }
     }
   };
+  const auto wall_start = std::chrono::steady_clock::now();
   try {
     sim.run(observe);
   } catch (const NumericsError& e) {
@@ -256,9 +259,10 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   writer.finish();
   if (opt.restart && static_cast<std::size_t>(outputs) < kept) remove_restart_source(opt.output, comm);  // shorter run
   if (rank == 0 && !opt.quiet) {
-    std::printf("beam scene '%s': %d modes, %ld steps of dt = %.4g s (%s) to t = %.6g s; %ld output steps -> %s\n",
+    std::printf("beam scene '%s': %d modes, %ld steps of dt = %.4g s (%s) to t = %.6g s; %ld output steps -> %s; "
+                "time stepping %.3f s (wall, output included)\n",
                 sc.file.c_str(), b.modes, sim.steps_taken(), p.dt, b.integrator.c_str(), p.t_end, outputs,
-                opt.output.c_str());
+                opt.output.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
   }
 }
 

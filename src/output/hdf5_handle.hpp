@@ -82,6 +82,12 @@ std::vector<hsize_t> dataset_dims(hid_t dataset, const std::string& what);
 /// Names of the links of a group, in name order.
 std::vector<std::string> link_names(hid_t group, const std::string& what);
 
+/// Creates the virtual dataset `<step>` in `group` (the sidecar's view of one step, see
+/// xdmf.hpp): step `step` of the dataset `field_path` (steps x nodes x components, in the same
+/// file), components [first, first + count); shape (nodes) if count is 1, else (nodes, count).
+void create_view(hid_t group, std::size_t step, const std::string& field_path, hsize_t nodes, hsize_t components,
+                 hsize_t first, hsize_t count, const std::string& what);
+
 /// True for names made of [A-Za-z0-9_.-], not empty and not "." or "..".
 bool valid_name(const std::string& name);
 std::string join(const std::vector<std::string>& parts, char sep);
