@@ -140,7 +140,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     else throw std::logic_error("run_beam: unknown field " + f);
   }
   if (want_w) {
-    writer.add_field({"deflection", 1, "m", "transverse deflection w (positive up, +j)", {"w"}, false});
+    writer.add_field({"deflection", 1, "m", "transverse deflection w (positive up, +j)", {"w"}, false, false});
     writer.add_field({"position", 3, "m", "deformed position (x, w, 0): the beam along x, w along y", {"x", "y", "z"}, true});
   }
   if (want_slope) writer.add_field({"slope", 1, "1", "slope dw/dx", {"w_x"}, false});
@@ -155,7 +155,9 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   if (want_moment) fields.emplace_back(layout.count);
   std::vector<double> sigma(std::max<size_t>(1, nl), std::numeric_limits<double>::quiet_NaN());
   const Eigen::Index n = sim.modes().size();
-  VecX phi(n), dphi(n), ddphi(n);
+  // The modes at the local output nodes, evaluated once (w = phi . Y as in BeamSnapshot).
+  std::vector<VecX> node_phi(layout.count, VecX(n)), node_dphi(layout.count, VecX(n)), node_ddphi(layout.count, VecX(n));
+  for (size_t j = 0; j < layout.count; ++j) sim.modes().evaluate(layout.s[j], node_phi[j], node_dphi[j], node_ddphi[j]);
 
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end);
   long outputs = 0;
@@ -190,7 +192,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
       auto& w = fields[f++];
       auto& pos = fields[f++];
       for (size_t j = 0; j < layout.count; ++j) {
-        w[j] = s.deflection(layout.s[j]);
+        w[j] = node_phi[j].dot(s.Y);
         pos[3 * j] = layout.s[j];
         pos[3 * j + 1] = w[j];
         pos[3 * j + 2] = 0.0;
@@ -198,14 +200,11 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     }
     if (want_slope) {
       auto& v = fields[f++];
-      for (size_t j = 0; j < layout.count; ++j) v[j] = s.slope(layout.s[j]);
+      for (size_t j = 0; j < layout.count; ++j) v[j] = node_dphi[j].dot(s.Y);
     }
     if (want_moment) {
       auto& v = fields[f++];
-      for (size_t j = 0; j < layout.count; ++j) {
-        sim.modes().evaluate(layout.s[j], phi, dphi, ddphi);
-        v[j] = p.EI * ddphi.dot(s.Y);
-      }
+      for (size_t j = 0; j < layout.count; ++j) v[j] = p.EI * node_ddphi[j].dot(s.Y);
     }
     if (static_cast<std::size_t>(outputs) < kept) {  // restart: the replay must reproduce the file
       const auto o = static_cast<std::size_t>(outputs);

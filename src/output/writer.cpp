@@ -621,10 +621,14 @@ std::size_t Writer::add_field(const FieldSpec& spec) {
   f.spec = spec;
   if (f.spec.component_names.empty()) f.spec.component_names = default_component_names(spec.components);
   const hsize_t n = w.nodes.global_count;
+  // Chunks of whole steps (a step is read or written at once), as many steps as fit in
+  // 64 KiB; a step larger than that is split into chunks of up to 64 Ki values.
+  const hsize_t step_values = n * static_cast<hsize_t>(spec.components);
   const hsize_t node_chunk =
       std::min<hsize_t>(n, std::max<hsize_t>(1, 65536 / static_cast<hsize_t>(spec.components)));
+  const hsize_t step_chunk = node_chunk < n ? 1 : std::max<hsize_t>(1, 8192 / std::max<hsize_t>(1, step_values));
   f.dataset = create_extendible(w.fields_group.get(), spec.name, {n, spec.components},
-                                {1, node_chunk, spec.components});
+                                {step_chunk, node_chunk, spec.components});
   write_meta(f.dataset.get(), spec.units, spec.description);
   detail::write_string_attribute(f.dataset.get(), "components",
                                  detail::join(f.spec.component_names, ','));
@@ -637,7 +641,7 @@ std::size_t Writer::add_field(const FieldSpec& spec) {
   // geometry), their groups created or re-labelled.
   std::vector<detail::XdmfFieldInfo> infos;
   for (const Field1& g : w.fields)
-    infos.push_back({g.spec.name, g.spec.components, g.spec.component_names, g.spec.geometry});
+    infos.push_back({g.spec.name, g.spec.components, g.spec.component_names, g.spec.geometry, g.spec.sidecar});
   w.plan = detail::plan_views(infos);
   for (Handle& g : w.view_groups) g.reset();
   w.view_groups.clear();

@@ -67,9 +67,11 @@ XdmfPlan plan_views(const std::vector<XdmfFieldInfo>& fields) {
   };
   // Whole fields first, so that a field keeps its own name against a derived one.
   for (std::size_t f = 0; f < fields.size(); ++f)
-    if (fields[f].components == 1 || fields[f].components == 3) taken.insert(fields[f].name);
+    if ((fields[f].sidecar || fields[f].geometry) && (fields[f].components == 1 || fields[f].components == 3))
+      taken.insert(fields[f].name);
   for (std::size_t f = 0; f < fields.size(); ++f) {
     const XdmfFieldInfo& fi = fields[f];
+    if (!fi.sidecar && !fi.geometry) continue;
     if (fi.components == 1 || fi.components == 3) {
       taken.erase(fi.name);
       add(fi.name, f, 0, fi.components);

@@ -19,6 +19,7 @@ struct XdmfFieldInfo {
   std::size_t components = 1;
   std::vector<std::string> component_names;
   bool geometry = false;  ///< marked as the node positions (FieldSpec::geometry)
+  bool sidecar = true;    ///< FieldSpec::sidecar: false, no array (unless it is the geometry)
 };
 
 /// One node array of the sidecar: components [first, first + count) of a field, count 1 or 3.
@@ -38,7 +39,8 @@ struct XdmfPlan {
 /// 3 -> one Vector; 3m components whose names come in triples <P>x, <P>y, <P>z -> m Vectors
 /// named <P> (the rod's R -> d1, d2, d3); otherwise one Scalar per component, <field>_<component>.
 /// A name already taken (or "s") gets the prefix <field>_. The geometry is the view of the field
-/// marked geometry, else of a 3-component field named "r", else none.
+/// marked geometry, else of a 3-component field named "r", else none. Fields with sidecar
+/// false have no array.
 XdmfPlan plan_views(const std::vector<XdmfFieldInfo>& fields);
 
 struct XdmfModel {
