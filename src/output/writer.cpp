@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -506,6 +507,13 @@ Writer::Writer(MPI_Comm comm, const std::string& path, bool overwrite, const Run
       const double first_s = nodes.count > 0 ? nodes.s.front() : 0.0;
       MPI_Sendrecv(&first_s, 1, MPI_DOUBLE, nodes.count > 0 ? w.prev_owner : MPI_PROC_NULL, 7100, &w.halo_s, 1,
                    MPI_DOUBLE, nodes.count > 0 ? w.next_owner : MPI_PROC_NULL, 7100, w.comm, MPI_STATUS_IGNORE);
+    }
+    // TRAVERSE_OUTPUT_FLUSH_INTERVAL=S overrides the flush cadence (0: after every step);
+    // only rank 0's value matters (it decides).
+    if (const char* env = std::getenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL")) {
+      char* end = nullptr;
+      const double v = std::strtod(env, &end);
+      if (end != env && *end == '\0' && v >= 0.0 && std::isfinite(v)) w.flush_seconds = v;
     }
     w.probes_group = create_group(root, "probes");
     w.fields_group = create_group(root, "fields");

@@ -40,41 +40,71 @@ def expected(xmf):
                 "sigma": sigma}
 
 
-def main():
-    pvbatch, rod, beam, out = sys.argv[1:5]
+class XvfbDisplay:
+    """A display of our own: Xvfb picks a free display number and reports it (-displayfd) once
+    it accepts connections; stopped on exit. .env is the environment for pvbatch."""
+
+    def __enter__(self):
+        xvfb = shutil.which("Xvfb")
+        if xvfb is None:
+            fail("Xvfb not found; install the Debian package xvfb")
+        rfd, wfd = os.pipe()
+        self.server = subprocess.Popen([xvfb, "-displayfd", str(wfd), "-ac", "-nolisten", "tcp",
+                                        "-screen", "0", "1280x1024x24"],
+                                       pass_fds=(wfd,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        os.close(wfd)
+        number = b""
+        deadline = time.time() + 30
+        with os.fdopen(rfd, "rb") as r:
+            while not number.endswith(b"\n") and time.time() < deadline:
+                chunk = r.read(1)
+                if not chunk:
+                    break
+                number += chunk
+        if not number.strip().isdigit():
+            self.__exit__()
+            fail(f"Xvfb did not report a display (exit status {self.server.poll()})")
+        self.env = dict(os.environ, DISPLAY=":" + number.decode().strip())
+        return self
+
+    def __exit__(self, *_):
+        self.server.terminate()
+        try:
+            self.server.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.server.kill()
+
+
+def run_pvbatch(pvbatch, args, cwd=None, capture=False):
+    """pvbatch ARGS on a display of our own. pvbatch sometimes cannot connect to a fresh Xvfb
+    ("bad X server connection", about 1 run in 5 here, right after an earlier server on the
+    same number stopped): then it is run again, on a new server, up to 3 times."""
+    for attempt in range(3):
+        with XvfbDisplay() as x:
+            run = subprocess.run([pvbatch] + args, cwd=cwd, env=x.env, capture_output=True, text=True)
+        if "bad X server connection" not in run.stderr:
+            break
+        print(f"note: pvbatch could not connect to Xvfb ({x.env['DISPLAY']}), attempt {attempt + 1} of 3")
+    if not capture:
+        sys.stdout.write(run.stdout)
+        sys.stderr.write("\n".join(line for line in run.stderr.splitlines() if "0x" not in line))
+    return run
+
+
+def require_pvbatch(pvbatch):
     if shutil.which(pvbatch) is None and not os.access(pvbatch, os.X_OK):
         fail(f"pvbatch not found ({pvbatch}); install the Debian packages paraview and python3-paraview")
-    xvfb = shutil.which("Xvfb")
-    if xvfb is None:
-        fail("Xvfb not found; install the Debian package xvfb")
+
+
+def main():
+    pvbatch, rod, beam, out = sys.argv[1:5]
+    require_pvbatch(pvbatch)
     os.makedirs(out, exist_ok=True)
     spec = os.path.join(out, "expected.json")
     with open(spec, "w") as fh:
         json.dump({"runs": [expected(rod), expected(beam)], "out": os.path.abspath(out)}, fh)
-    display = next((n for n in range(91, 200) if not os.path.exists(f"/tmp/.X{n}-lock")
-                    and not os.path.exists(f"/tmp/.X11-unix/X{n}")), None)
-    if display is None:
-        fail("no free X display number in 91..199")
-    server = subprocess.Popen([xvfb, f":{display}", "-ac", "-nolisten", "tcp", "-screen", "0", "1280x1024x24"],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    try:
-        for _ in range(100):
-            if os.path.exists(f"/tmp/.X11-unix/X{display}") or server.poll() is not None:
-                break
-            time.sleep(0.1)
-        if server.poll() is not None:
-            fail(f"Xvfb :{display} exited at once ({server.returncode})")
-        time.sleep(1.0)  # the socket appears before the server answers GLX requests
-        env = dict(os.environ, DISPLAY=f":{display}")
-        here = os.path.dirname(os.path.abspath(__file__))
-        rc = subprocess.call([pvbatch, os.path.join(here, "check_paraview.py"), spec], env=env)
-    finally:
-        server.terminate()
-        try:
-            server.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            server.kill()
-    sys.exit(rc)
+    here = os.path.dirname(os.path.abspath(__file__))
+    sys.exit(run_pvbatch(pvbatch, [os.path.join(here, "check_paraview.py"), spec]).returncode)
 
 
 if __name__ == "__main__":
