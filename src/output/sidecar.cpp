@@ -158,10 +158,21 @@ SidecarResult write_sidecar(const std::string& h5_path, const std::string& xmf_p
       detail::write_string_attribute(g.get(), "field", fields[v.field].name);
       detail::write_int_attribute(g.get(), "first_component", static_cast<std::int64_t>(v.first));
       detail::write_int_attribute(g.get(), "components", static_cast<std::int64_t>(v.count));
+      const bool copy = sizeof(double) * n * v.count <= detail::max_copied_view_bytes;
+      Handle field = open_dataset(w.get(), "/fields/" + fields[v.field].name, h5_path);
+      const std::size_t nc = fields[v.field].components;
       for (std::size_t k = 0; k < steps; ++k) {
         if (has_link(g.get(), std::to_string(k))) continue;
-        detail::create_view(g.get(), k, "/fields/" + fields[v.field].name, n, fields[v.field].components, v.first,
-                            v.count, h5_path + ":/xdmf/" + v.array);
+        if (copy) {
+          const std::vector<double> row = read_rows(field.get(), k, 1, h5_path + ":/fields/" + fields[v.field].name);
+          std::vector<double> values(n * v.count);
+          for (std::size_t i = 0; i < n; ++i)
+            for (std::size_t q = 0; q < v.count; ++q) values[i * v.count + q] = row[i * nc + v.first + q];
+          detail::create_view_copy(g.get(), k, n, v.count, values.data(), h5_path + ":/xdmf/" + v.array);
+        } else {
+          detail::create_view(g.get(), k, "/fields/" + fields[v.field].name, n, nc, v.first, v.count,
+                              h5_path + ":/xdmf/" + v.array);
+        }
         ++result.views_created;
       }
     }

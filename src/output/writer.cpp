@@ -167,6 +167,7 @@ struct Writer::Impl {
   std::vector<Handle> view_groups;
   std::vector<double> sigma_all, load_points_all;
   std::vector<double> reference_xyz;  // local nodes' /mesh/position
+  std::vector<unsigned long long> ranges;  // every rank's (first node, node count)
   int prev_owner = MPI_PROC_NULL, next_owner = MPI_PROC_NULL;  // neighbours along the structure
   double halo_s = 0.0;  // s of the node after this rank's last, if next_owner exists
 
@@ -279,9 +280,40 @@ void Writer::Impl::flush_pending() {
     const detail::XdmfView& view = plan.views[v];
     const FieldSpec& f = fields[view.field].spec;
     const std::string what = "/xdmf/" + view.array;
-    for (std::size_t k = flushed; k < steps; ++k)
-      detail::create_view(view_groups[v].get(), k, "/fields/" + f.name, nodes.global_count, f.components, view.first,
-                  view.count, what);
+    const hsize_t N = nodes.global_count;
+    if (sizeof(double) * N * view.count > detail::max_copied_view_bytes) {
+      for (std::size_t k = flushed; k < steps; ++k)
+        detail::create_view(view_groups[v].get(), k, "/fields/" + f.name, N, f.components, view.first, view.count,
+                            what);
+      continue;
+    }
+    // Small: compact copies, the same values on every rank (gathered).
+    const std::size_t c = view.count, nc = f.components;
+    std::vector<double> mine(b * nodes.count * c);
+    for (std::size_t k = 0; k < b; ++k)
+      for (std::size_t i = 0; i < nodes.count; ++i)
+        for (std::size_t q = 0; q < c; ++q)
+          mine[(k * nodes.count + i) * c + q] = pend_field[view.field][(k * nodes.count + i) * nc + view.first + q];
+    std::vector<double> all(b * N * c);
+    if (size > 1) {
+      std::vector<int> counts(static_cast<std::size_t>(size)), displs(static_cast<std::size_t>(size));
+      for (int r = 0, at = 0; r < size; ++r) {
+        counts[r] = static_cast<int>(b * ranges[2 * r + 1] * c);
+        displs[r] = at;
+        at += counts[r];
+      }
+      std::vector<double> gathered(b * N * c);
+      MPI_Allgatherv(mine.data(), static_cast<int>(mine.size()), MPI_DOUBLE, gathered.data(), counts.data(),
+                     displs.data(), MPI_DOUBLE, comm);
+      for (int r = 0; r < size; ++r)  // rank r's block: b steps x its nodes x c
+        for (std::size_t k = 0; k < b; ++k)
+          std::copy_n(gathered.begin() + displs[r] + static_cast<std::ptrdiff_t>(k * ranges[2 * r + 1] * c),
+                      ranges[2 * r + 1] * c, all.begin() + static_cast<std::ptrdiff_t>((k * N + ranges[2 * r]) * c));
+    } else {
+      all = std::move(mine);
+    }
+    for (std::size_t k = 0; k < b; ++k)
+      detail::create_view_copy(view_groups[v].get(), flushed + k, N, c, all.data() + k * N * c, what);
   }
   compute_load_points(b);
   flush_file();
@@ -404,6 +436,7 @@ Writer::Writer(MPI_Comm comm, const std::string& path, bool overwrite, const Run
       bad = "output: the ranks' node ranges cover " + std::to_string(next) + " of " +
             std::to_string(nodes.global_count) + " nodes";
     if (!bad.empty()) throw OutputError(bad);  // identical on all ranks
+    w.ranges = ranges;
     // Neighbours along the structure (for the loads' positions): the owners of the nodes
     // just before and just after this rank's range.
     for (int r = 0; r < w.size && nodes.count > 0; ++r) {
