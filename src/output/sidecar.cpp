@@ -54,7 +54,8 @@ std::vector<double> read_rows(hid_t d, hsize_t first, hsize_t count, const std::
   Handle fspace = detail::space_handle(check_id(H5Dget_space(d), "H5Dget_space", what));
   check(H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start.data(), nullptr, dims.data(), nullptr),
         "H5Sselect_hyperslab", what);
-  Handle mspace = detail::space_handle(check_id(H5Screate_simple(1, &n, nullptr), "H5Screate_simple", what));
+  Handle mspace = detail::space_handle(
+      check_id(H5Screate_simple(static_cast<int>(dims.size()), dims.data(), nullptr), "H5Screate_simple", what));
   check(H5Dread(d, H5T_NATIVE_DOUBLE, mspace.get(), fspace.get(), H5P_DEFAULT, out.data()), "H5Dread", what);
   return out;
 }

@@ -109,8 +109,10 @@ void write_block(hid_t dataset, hid_t dxpl, hid_t memtype, const std::vector<hsi
   check(H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
                             nullptr),
         "H5Sselect_hyperslab", what);
-  Handle mspace =
-      detail::space_handle(check_id(H5Screate_simple(1, &n, nullptr), "H5Screate_simple", what));
+  // The memory space has the selection's shape: HDF5 then maps it onto the chunks by whole
+  // blocks (a flat memory space makes it visit every element).
+  Handle mspace = detail::space_handle(check_id(
+      H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), "H5Screate_simple", what));
   check(H5Dwrite(dataset, memtype, mspace.get(), fspace.get(), dxpl, data), "H5Dwrite", what);
 }
 
