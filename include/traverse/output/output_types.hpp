@@ -68,9 +68,9 @@ struct FieldSpec {
   /// without that, the reference positions /mesh/position. A beam writer provides the field
   /// "position" = (x, w, 0) built from the deflection w and sets this flag.
   bool geometry = false;
-  /// Whether the field is an array of the XDMF sidecar (one virtual dataset per output step,
-  /// about 50 us each). false: only in /fields, e.g. the beam's deflection, which the beam's
-  /// geometry (x, w, 0) already shows.
+  /// Whether the field is an array of the XDMF sidecar (one HDF5 object per output step,
+  /// 15-50 us each: docs/output.md). false: only in /fields, e.g. the beam's deflection,
+  /// which the beam's geometry (x, w, 0) already shows.
   bool sidecar = true;
 };
 
