@@ -178,17 +178,24 @@ void create_view(hid_t group, std::size_t step, const std::string& field_path, h
       "H5Dcreate2", what + "/" + name));
 }
 
-void create_view_copy(hid_t group, std::size_t step, hsize_t nodes, hsize_t count, const double* values,
-                      const std::string& what) {
+ViewCopies::ViewCopies(hsize_t nodes, hsize_t count, const std::string& what) : what_(what) {
   const hsize_t dims[2] = {nodes, count};
-  Handle space = space_handle(check_id(H5Screate_simple(count == 1 ? 1 : 2, dims, nullptr), "H5Screate_simple", what));
-  Handle dcpl = plist_handle(check_id(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate", what));
-  check(H5Pset_layout(dcpl.get(), H5D_COMPACT), "H5Pset_layout", what);
+  space_ = space_handle(check_id(H5Screate_simple(count == 1 ? 1 : 2, dims, nullptr), "H5Screate_simple", what));
+  dcpl_ = plist_handle(check_id(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate", what));
+  check(H5Pset_layout(dcpl_.get(), H5D_COMPACT), "H5Pset_layout", what);
+}
+
+void ViewCopies::create(hid_t group, std::size_t step, const double* values) const {
   const std::string name = std::to_string(step);
   Handle d = dataset_handle(check_id(
-      H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
-      "H5Dcreate2", what + "/" + name));
-  check(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values), "H5Dwrite", what + "/" + name);
+      H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space_.get(), H5P_DEFAULT, dcpl_.get(), H5P_DEFAULT),
+      "H5Dcreate2", what_ + "/" + name));
+  check(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values), "H5Dwrite", what_ + "/" + name);
+}
+
+void create_view_copy(hid_t group, std::size_t step, hsize_t nodes, hsize_t count, const double* values,
+                      const std::string& what) {
+  ViewCopies(nodes, count, what).create(group, step, values);
 }
 
 bool valid_name(const std::string& name) {

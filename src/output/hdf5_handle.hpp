@@ -99,6 +99,16 @@ inline constexpr std::size_t max_copied_view_bytes = 60000;
 /// (nodes, count). With MPI-IO every rank must pass the same values.
 void create_view_copy(hid_t group, std::size_t step, hsize_t nodes, hsize_t count, const double* values,
                       const std::string& what);
+/// The same for many steps of one array: the dataspace and creation properties made once.
+class ViewCopies {
+ public:
+  ViewCopies(hsize_t nodes, hsize_t count, const std::string& what);
+  void create(hid_t group, std::size_t step, const double* values) const;
+
+ private:
+  Handle space_, dcpl_;
+  std::string what_;
+};
 
 /// True for names made of [A-Za-z0-9_.-], not empty and not "." or "..".
 bool valid_name(const std::string& name);

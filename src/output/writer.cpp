@@ -314,8 +314,8 @@ void Writer::Impl::flush_pending() {
     } else {
       all = std::move(mine);
     }
-    for (std::size_t k = 0; k < b; ++k)
-      detail::create_view_copy(view_groups[v].get(), flushed + k, N, c, all.data() + k * N * c, what);
+    const detail::ViewCopies copies(N, c, what);
+    for (std::size_t k = 0; k < b; ++k) copies.create(view_groups[v].get(), flushed + k, all.data() + k * N * c);
   }
   compute_load_points(b);
   flush_file();
