@@ -378,8 +378,11 @@ TEST(OutputWriter, StatusTransitionsAndStepOrdering) {
     sample::write_step(w, l, 3);
     sample::write_step(w, l, 4);
     peek(ok, "running", 3);
-    w.finish();  // flushes the kept steps
+    // The sidecar is not rewritten by flushes within its interval: still the empty one.
+    if (rank() == 0) EXPECT_EQ(test::check_xdmf(dir + "/ok.xmf", ok).grids, 0u);
+    w.finish();  // flushes the kept steps, writes the sidecar
     peek(ok, "complete", 5);
+    if (rank() == 0) EXPECT_EQ(test::check_xdmf(dir + "/ok.xmf", ok).grids, 5u);
     EXPECT_THROW(sample::write_step(w, l, 5), OutputError);
   }
   {
@@ -391,6 +394,18 @@ TEST(OutputWriter, StatusTransitionsAndStepOrdering) {
     peek(bad, "running", 1);
     w.fail("Newton iteration diverged at t = 0.25 s");
     peek(bad, "failed: Newton iteration diverged at t = 0.25 s", 1);
+  }
+  {
+    // Both intervals 0: every step is flushed and the sidecar describes it at once.
+    Writer w(MPI_COMM_WORLD, dir + "/eager.h5", false, sample::run_info(), l, sample::loads);
+    w.set_intervals(0.0, 0.0);
+    sample::declare(w);
+    for (std::size_t k = 0; k < 3; ++k) {
+      sample::write_step(w, l, k);
+      peek(dir + "/eager.h5", "running", k + 1);
+      if (rank() == 0) EXPECT_EQ(test::check_xdmf(dir + "/eager.xmf", dir + "/eager.h5").grids, k + 1);
+    }
+    w.finish();
   }
   {
     // Destroyed with kept steps (e.g. by an exception): they are flushed, the status says why.
