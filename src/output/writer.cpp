@@ -355,7 +355,7 @@ void Writer::Impl::write_xdmf() {
       if (error.empty()) error = "cannot write " + xmf_path;
     }
     // While running, writing the sidecar takes at most about 5 % of the wall time.
-    xdmf_wait = std::max(xdmf_seconds, 20.0 * seconds_since(t0));
+    xdmf_wait = xdmf_seconds > 0.0 ? std::max(xdmf_seconds, 20.0 * seconds_since(t0)) : 0.0;
     last_xdmf = Clock::now();
   }
   agree(comm, error.empty(), error);

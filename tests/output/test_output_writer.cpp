@@ -379,10 +379,14 @@ TEST(OutputWriter, StatusTransitionsAndStepOrdering) {
     sample::write_step(w, l, 4);
     peek(ok, "running", 3);
     // The sidecar is not rewritten by flushes within its interval: still the empty one.
-    if (rank() == 0) EXPECT_EQ(test::check_xdmf(dir + "/ok.xmf", ok).grids, 0u);
+    if (rank() == 0) {
+      EXPECT_EQ(test::check_xdmf(dir + "/ok.xmf", ok).grids, 0u);
+    }
     w.finish();  // flushes the kept steps, writes the sidecar
     peek(ok, "complete", 5);
-    if (rank() == 0) EXPECT_EQ(test::check_xdmf(dir + "/ok.xmf", ok).grids, 5u);
+    if (rank() == 0) {
+      EXPECT_EQ(test::check_xdmf(dir + "/ok.xmf", ok).grids, 5u);
+    }
     EXPECT_THROW(sample::write_step(w, l, 5), OutputError);
   }
   {
@@ -403,7 +407,9 @@ TEST(OutputWriter, StatusTransitionsAndStepOrdering) {
     for (std::size_t k = 0; k < 3; ++k) {
       sample::write_step(w, l, k);
       peek(dir + "/eager.h5", "running", k + 1);
-      if (rank() == 0) EXPECT_EQ(test::check_xdmf(dir + "/eager.xmf", dir + "/eager.h5").grids, k + 1);
+      if (rank() == 0) {
+        EXPECT_EQ(test::check_xdmf(dir + "/eager.xmf", dir + "/eager.h5").grids, k + 1);
+      }
     }
     w.finish();
   }

@@ -63,7 +63,8 @@ class Writer {
   void flush();
 
   /// Wall-time cadence [s] of the automatic flushes (default 1; 0: after every step) and of
-  /// the sidecar rewrites while running (default 5). Collective; call it before write_step.
+  /// the sidecar rewrites while running (default 5, or 20 times as long as the last rewrite
+  /// took if that is longer; 0: after every flush). Collective; call it before write_step.
   void set_intervals(double flush_seconds, double xdmf_seconds);
   double flush_interval() const;
   double xdmf_interval() const;
