@@ -77,9 +77,13 @@ SidecarResult write_sidecar(const std::string& h5_path, const std::string& xmf_p
   const auto steps = static_cast<std::size_t>(detail::read_int_attribute(f, "steps_written"));
   result.steps = steps;
 
-  Handle s_ds = open_dataset(f, "/mesh/s", h5_path);
-  const std::size_t n = static_cast<std::size_t>(detail::dataset_dims(s_ds.get(), "/mesh/s").at(0));
-  const std::vector<double> s = read_rows(s_ds.get(), 0, n, h5_path + ":/mesh/s");
+  std::size_t n = 0;
+  std::vector<double> s;
+  {
+    Handle s_ds = open_dataset(f, "/mesh/s", h5_path);
+    n = static_cast<std::size_t>(detail::dataset_dims(s_ds.get(), "/mesh/s").at(0));
+    s = read_rows(s_ds.get(), 0, n, h5_path + ":/mesh/s");
+  }
   detail::XdmfModel m;
   m.h5_name = fs::path(h5_path).filename().string();
   m.nodes = n;
@@ -143,7 +147,8 @@ SidecarResult write_sidecar(const std::string& h5_path, const std::string& xmf_p
     for (std::size_t k = 0; k < steps; ++k)
       if (!has_link(f, "/xdmf/" + v.array + "/" + std::to_string(k))) ++missing;
   if (missing > 0) {
-    file.reset();
+    file.reset();  // every other handle of the read-only file is closed by now
+    if (H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL) < 0) H5Eclear2(H5E_DEFAULT);
     Handle w = open_file(h5_path, true);
     auto ensure_group = [&](hid_t loc, const std::string& name) {
       if (has_link(loc, name))

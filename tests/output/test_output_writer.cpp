@@ -237,6 +237,25 @@ TEST(OutputWriter, XdmfSidecarIsWellFormed) {
   EXPECT_EQ(again.views_created, 0u);
   EXPECT_EQ(test::slurp(dir + "/again.xmf"), run_xmf);
 
+  // A file without views (as older traverse versions wrote them): write_sidecar adds them.
+  {
+    const std::string old = dir + "/old.h5";
+    fs::copy_file(path, old);
+    hid_t f = H5Fopen(old.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    EXPECT_GE(H5Ldelete(f, "/xdmf", H5P_DEFAULT), 0);
+    H5Fclose(f);
+    const SidecarResult added = write_sidecar(old);
+    EXPECT_EQ(added.views_created, 4u * 8u);  // w, r and 6 strain components per step
+    const auto ro = test::check_xdmf(dir + "/old.xmf", old);
+    for (const auto& p : ro.problems) ADD_FAILURE() << "old file: " << p;
+    EXPECT_EQ(ro.grids, 4u);
+    const auto k1 = test::read_doubles(old, "/xdmf/strain_k1/3");
+    ASSERT_EQ(k1.size(), sample::nodes);
+    EXPECT_EQ(k1[6], sample::field(2, 3, 6, 3));
+    EXPECT_EQ(write_sidecar(old).views_created, 0u);  // now complete
+  }
+
   const auto rb = test::check_xdmf(dir + "/beam.xmf", beam);
   for (const auto& p : rb.problems) ADD_FAILURE() << p;
   EXPECT_EQ(rb.grids, 3u);
