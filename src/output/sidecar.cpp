@@ -148,7 +148,6 @@ SidecarResult write_sidecar(const std::string& h5_path, const std::string& xmf_p
       if (!has_link(f, "/xdmf/" + v.array + "/" + std::to_string(k))) ++missing;
   if (missing > 0) {
     file.reset();  // every other handle of the read-only file is closed by now
-    if (H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_ALL) < 0) H5Eclear2(H5E_DEFAULT);
     Handle w = open_file(h5_path, true);
     auto ensure_group = [&](hid_t loc, const std::string& name) {
       if (has_link(loc, name))
