@@ -1,5 +1,6 @@
 #include "traverse/output/sidecar.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -191,32 +192,46 @@ SidecarResult write_sidecar(const std::string& h5_path, const std::string& xmf_p
   m.arrays = plan.views;
   m.geometry = plan.geometry;
 
-  // Where the loads are at every step: on the geometry, else on /mesh/position.
+  // Where the loads are at every step, and the arrays' values there: on the geometry, else
+  // on /mesh/position.
   bool loads_on = m.loads > 0 && steps > 0;
   for (double x : m.sigma) loads_on = loads_on && std::isfinite(x);
   if (loads_on) {
-    m.load_points.assign(3 * steps * m.loads, 0.0);
-    std::vector<double> xyz(3 * n);
-    Handle geometry;
-    std::size_t comps = 3, first = 0;
-    if (plan.geometry >= 0) {
-      const detail::XdmfView& g = plan.views[static_cast<std::size_t>(plan.geometry)];
-      geometry = open_dataset(file.get(), "/fields/" + fields[g.field].name, h5_path);
-      comps = fields[g.field].components;
-      first = g.first;
-    } else {
+    const std::size_t W = m.load_width();
+    m.load_values.assign(W * steps * m.loads, 0.0);
+    std::vector<double> xyz(3 * n), rows(W * n);
+    if (plan.geometry < 0) {
       Handle p = open_dataset(file.get(), "/mesh/position", h5_path);
       xyz = read_rows(p.get(), 0, n, h5_path + ":/mesh/position");
     }
+    std::vector<Handle> datasets;  // per field
+    for (const auto& fi : fields) datasets.push_back(open_dataset(file.get(), "/fields/" + fi.name, h5_path));
     for (std::size_t k = 0; k < steps; ++k) {
-      if (geometry.valid()) {
-        const std::vector<double> row = read_rows(geometry.get(), k, 1, h5_path + ":geometry");
-        for (std::size_t i = 0; i < n; ++i)
-          for (std::size_t c = 0; c < 3; ++c) xyz[3 * i + c] = row[i * comps + first + c];
+      std::vector<std::vector<double>> step(fields.size());
+      auto field_row = [&](std::size_t f) -> const std::vector<double>& {
+        if (step[f].empty()) step[f] = read_rows(datasets[f].get(), k, 1, h5_path + ":/fields/" + fields[f].name);
+        return step[f];
+      };
+      for (std::size_t i = 0; i < n; ++i) {
+        double* out = &rows[W * i];
+        if (plan.geometry >= 0) {
+          const detail::XdmfView& g = plan.views[static_cast<std::size_t>(plan.geometry)];
+          const auto& r = field_row(g.field);
+          std::copy_n(r.begin() + static_cast<std::ptrdiff_t>(i * fields[g.field].components + g.first), 3, out);
+        } else {
+          std::copy_n(xyz.begin() + static_cast<std::ptrdiff_t>(3 * i), 3, out);
+        }
+        std::size_t at = 3;
+        for (const auto& v : plan.views) {
+          const auto& r = field_row(v.field);
+          std::copy_n(r.begin() + static_cast<std::ptrdiff_t>(i * fields[v.field].components + v.first), v.count,
+                      out + at);
+          at += v.count;
+        }
       }
       for (std::size_t l = 0; l < m.loads; ++l)
-        detail::load_point(n, 0, n, s.data(), xyz.data(), m.sigma[k * m.loads + l],
-                           &m.load_points[3 * (k * m.loads + l)]);
+        detail::load_point(n, 0, n, s.data(), rows.data(), W, m.sigma[k * m.loads + l],
+                           &m.load_values[W * (k * m.loads + l)]);
     }
   }
   detail::replace_file(result.xmf_path, detail::xdmf_document(m));

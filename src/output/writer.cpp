@@ -167,7 +167,7 @@ struct Writer::Impl {
   // Sidecar: its views, and (rank 0) the loads at every flushed step.
   detail::XdmfPlan plan;
   std::vector<Handle> view_groups;
-  std::vector<double> sigma_all, load_points_all;
+  std::vector<double> sigma_all, load_values_all;
   std::vector<double> reference_xyz;  // local nodes' /mesh/position
   std::vector<unsigned long long> ranges;  // every rank's (first node, node count)
   int prev_owner = MPI_PROC_NULL, next_owner = MPI_PROC_NULL;  // neighbours along the structure
@@ -208,54 +208,58 @@ void Writer::Impl::append_rows(hid_t dataset, std::size_t components, bool matri
   write_block(dataset, dxpl.get(), H5T_NATIVE_DOUBLE, start, count, rows, local, what);
 }
 
-// Where the moving loads of the kept steps sit on the structure (rank 0 keeps them for the
-// sidecar): each rank locates the loads on its own segments, the one after its last node
-// included (that node's position comes from the next rank), and rank 0 sums the results.
+// Where the moving loads of the kept steps sit on the structure and the arrays' values there
+// (rank 0 keeps them for the sidecar): each rank interpolates on its own segments, the one
+// after its last node included (that node's values come from the next rank), and rank 0
+// sums the results (one rank holds each load).
 void Writer::Impl::compute_load_points(std::size_t b) {
   const std::size_t L = moving_loads, n = nodes.count;
-  const double* xyz = reference_xyz.data();
-  std::size_t stride = 0;  // doubles per step in the geometry rows
-  const std::vector<double>* geometry = nullptr;
-  if (plan.geometry >= 0) {
-    const detail::XdmfView& g = plan.views[static_cast<std::size_t>(plan.geometry)];
-    geometry = &pend_field[g.field];
-    stride = n * fields[g.field].spec.components;
-  }
-  auto node_xyz = [&](std::size_t k, std::size_t i, double* out) {
-    if (geometry == nullptr) {
-      std::copy(xyz + 3 * i, xyz + 3 * i + 3, out);
+  std::size_t W = 3;
+  for (const auto& v : plan.views) W += v.count;
+  // Row of node i (local) at kept step k: position, then every view's components.
+  auto node_row = [&](std::size_t k, std::size_t i, double* out) {
+    if (plan.geometry < 0) {
+      std::copy(reference_xyz.data() + 3 * i, reference_xyz.data() + 3 * i + 3, out);
     } else {
       const detail::XdmfView& g = plan.views[static_cast<std::size_t>(plan.geometry)];
-      const double* row = geometry->data() + k * stride + i * fields[g.field].spec.components + g.first;
+      const std::size_t nc = fields[g.field].spec.components;
+      const double* row = pend_field[g.field].data() + (k * n + i) * nc + g.first;
       std::copy(row, row + 3, out);
     }
+    std::size_t at = 3;
+    for (const auto& v : plan.views) {
+      const std::size_t nc = fields[v.field].spec.components;
+      const double* row = pend_field[v.field].data() + (k * n + i) * nc + v.first;
+      std::copy(row, row + v.count, out + at);
+      at += v.count;
+    }
   };
-  // The first node's position of every kept step goes to the previous rank.
-  std::vector<double> send(3 * b), halo(3 * b, 0.0);
+  // The first node's row of every kept step goes to the previous rank.
+  std::vector<double> send(W * b), halo(W * b, 0.0);
   if (n > 0)
-    for (std::size_t k = 0; k < b; ++k) node_xyz(k, 0, &send[3 * k]);
-  MPI_Sendrecv(send.data(), static_cast<int>(3 * b), MPI_DOUBLE, n > 0 ? prev_owner : MPI_PROC_NULL, 7101, halo.data(),
-               static_cast<int>(3 * b), MPI_DOUBLE, n > 0 ? next_owner : MPI_PROC_NULL, 7101, comm,
+    for (std::size_t k = 0; k < b; ++k) node_row(k, 0, &send[W * k]);
+  MPI_Sendrecv(send.data(), static_cast<int>(W * b), MPI_DOUBLE, n > 0 ? prev_owner : MPI_PROC_NULL, 7101,
+               halo.data(), static_cast<int>(W * b), MPI_DOUBLE, n > 0 ? next_owner : MPI_PROC_NULL, 7101, comm,
                MPI_STATUS_IGNORE);
   const bool has_halo = n > 0 && next_owner != MPI_PROC_NULL;
-  std::vector<double> s(nodes.s), pts(3 * (n + 1));
+  std::vector<double> s(nodes.s), rows(W * (n + 1));
   if (has_halo) s.push_back(halo_s);
   const std::size_t m = n + (has_halo ? 1 : 0);
-  std::vector<double> mine(3 * L * b, 0.0), all(rank == 0 ? 3 * L * b : 0);
+  std::vector<double> mine(W * L * b, 0.0), all(rank == 0 ? W * L * b : 0);
   for (std::size_t k = 0; k < b && n > 0; ++k) {
-    for (std::size_t i = 0; i < n; ++i) node_xyz(k, i, &pts[3 * i]);
-    if (has_halo) std::copy(&halo[3 * k], &halo[3 * k] + 3, &pts[3 * n]);
+    for (std::size_t i = 0; i < n; ++i) node_row(k, i, &rows[W * i]);
+    if (has_halo) std::copy(&halo[W * k], &halo[W * k] + W, &rows[W * n]);
     for (std::size_t l = 0; l < L; ++l)
-      detail::load_point(nodes.global_count, nodes.first, m, s.data(), pts.data(), pend_sigma[k * L + l],
-                         &mine[3 * (k * L + l)]);
+      detail::load_point(nodes.global_count, nodes.first, m, s.data(), rows.data(), W, pend_sigma[k * L + l],
+                         &mine[W * (k * L + l)]);
   }
   if (size > 1) {
     MPI_Reduce(mine.data(), all.data(), static_cast<int>(mine.size()), MPI_DOUBLE, MPI_SUM, 0, comm);
   } else {
-    all = mine;
+    all = std::move(mine);
   }
   if (rank == 0) {
-    load_points_all.insert(load_points_all.end(), all.begin(), all.end());
+    load_values_all.insert(load_values_all.end(), all.begin(), all.end());
     sigma_all.insert(sigma_all.end(), pend_sigma.begin(), pend_sigma.end());
   }
 }
@@ -339,7 +343,7 @@ void Writer::Impl::write_xdmf_text() {
   m.geometry = plan.geometry;
   m.loads = moving_loads;
   m.sigma = sigma_all;
-  m.load_points = load_points_all;
+  m.load_values = load_values_all;
   detail::replace_file(xmf_path, detail::xdmf_document(m));
 }
 

@@ -102,11 +102,11 @@ XdmfPlan plan_views(const std::vector<XdmfFieldInfo>& fields) {
   return plan;
 }
 
-bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, const double* s, const double* xyz,
-                double sigma, double out[3]) {
+bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, const double* s, const double* values,
+                std::size_t width, double sigma, double* out) {
   if (n == 0 || !std::isfinite(sigma)) return false;
   if (global_nodes == 1) {
-    std::copy(xyz, xyz + 3, out);
+    std::copy(values, values + width, out);
     return true;
   }
   if (n < 2) return false;
@@ -120,7 +120,7 @@ bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, cons
   const bool upper_ok = g == last_global_segment || sigma < s[j + 1];
   if (!lower_ok || !upper_ok) return false;
   const double xi = (sigma - s[j]) / (s[j + 1] - s[j]);
-  for (int c = 0; c < 3; ++c) out[c] = (1.0 - xi) * xyz[3 * j + c] + xi * xyz[3 * (j + 1) + c];
+  for (std::size_t c = 0; c < width; ++c) out[c] = (1.0 - xi) * values[width * j + c] + xi * values[width * (j + 1) + c];
   return true;
 }
 
@@ -132,13 +132,23 @@ std::string xdmf_document(const XdmfModel& m) {
   o.reserve(512 + steps * (400 + 260 * m.arrays.size()));
   o += "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n";
 
+  const std::size_t W = m.load_width();
   bool loads_grid = m.loads > 0 && steps > 0 && m.sigma.size() == steps * m.loads &&
-                    m.load_points.size() == 3 * steps * m.loads;
+                    m.load_values.size() == W * steps * m.loads;
   for (std::size_t i = 0; loads_grid && i < m.sigma.size(); ++i) loads_grid = std::isfinite(m.sigma[i]);
   if (loads_grid) {
     std::string vertices;
     for (std::size_t l = 0; l < m.loads; ++l) vertices += (l ? " " : "") + std::to_string(l);
     const std::string L = std::to_string(m.loads);
+    auto xml_item = [&](const std::string& dims, std::size_t k, std::size_t offset, std::size_t count) {
+      o += "<DataItem Dimensions=\"" + dims + "\" DataType=\"Float\" Precision=\"8\" Format=\"XML\">";
+      for (std::size_t l = 0; l < m.loads; ++l)
+        for (std::size_t c = 0; c < count; ++c) {
+          if (l || c) o += ' ';
+          number(o, m.load_values[W * (m.loads * k + l) + offset + c]);
+        }
+      o += "</DataItem>";
+    };
     o += "    <Grid Name=\"loads\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
     for (std::size_t k = 0; k < steps; ++k) {
       o += "      <Grid Name=\"loads_";
@@ -148,19 +158,24 @@ std::string xdmf_document(const XdmfModel& m) {
       o += "\"/>\n        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" + L +
            "\" NodesPerElement=\"1\"><DataItem Dimensions=\"" + L +
            "\" DataType=\"Int\" Precision=\"4\" Format=\"XML\">" + vertices + "</DataItem></Topology>\n";
-      o += "        <Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"" + L +
-           " 3\" DataType=\"Float\" Precision=\"8\" Format=\"XML\">";
-      for (std::size_t i = 0; i < 3 * m.loads; ++i) {
-        if (i) o += ' ';
-        number(o, m.load_points[3 * m.loads * k + i]);
-      }
-      o += "</DataItem></Geometry>\n        <Attribute Name=\"sigma\" AttributeType=\"Scalar\" Center=\"Node\">"
+      o += "        <Geometry GeometryType=\"XYZ\">";
+      xml_item(L + " 3", k, 0, 3);
+      o += "</Geometry>\n        <Attribute Name=\"s\" AttributeType=\"Scalar\" Center=\"Node\">"
            "<DataItem Dimensions=\"" + L + "\" DataType=\"Float\" Precision=\"8\" Format=\"XML\">";
       for (std::size_t l = 0; l < m.loads; ++l) {
         if (l) o += ' ';
         number(o, m.sigma[m.loads * k + l]);
       }
-      o += "</DataItem></Attribute>\n      </Grid>\n";
+      o += "</DataItem></Attribute>\n";
+      std::size_t offset = 3;
+      for (const XdmfView& a : m.arrays) {
+        o += "        <Attribute Name=\"" + xml_escape(a.array) + "\" AttributeType=\"" +
+             (a.count == 3 ? "Vector" : "Scalar") + "\" Center=\"Node\">";
+        xml_item(a.count == 3 ? L + " 3" : L, k, offset, a.count);
+        o += "</Attribute>\n";
+        offset += a.count;
+      }
+      o += "      </Grid>\n";
     }
     o += "    </Grid>\n";
   }

@@ -50,23 +50,33 @@ struct XdmfModel {
   std::vector<XdmfView> arrays;
   int geometry = -1;          ///< index into arrays, -1: /mesh/position
   std::size_t loads = 0;      ///< moving loads
-  std::vector<double> sigma;        ///< steps x loads [m]
-  std::vector<double> load_points;  ///< steps x loads x 3 [m]: the loads on the structure
+  std::vector<double> sigma;  ///< steps x loads [m]
+  /// steps x loads x load_width(): each load's position (x, y, z) on the structure, then the
+  /// values of every array there (in the order of `arrays`), interpolated like the position.
+  std::vector<double> load_values;
+  std::size_t load_width() const {
+    std::size_t w = 3;
+    for (const auto& a : arrays) w += a.count;
+    return w;
+  }
 };
 
 /// The complete .xmf text (XDMF 3): a temporal collection "loads" of one Polyvertex grid per
-/// step (the moving loads at their positions, point array "sigma"; only when every sigma is
-/// finite), then the temporal collection "structure" of one Polyline grid per step with the
-/// point arrays s and the views. Identical models give identical text.
+/// step (a point at each moving load, with the structure's point arrays: s = sigma and every
+/// array's value at the load; only when every sigma is finite), then the temporal collection
+/// "structure" of one Polyline grid per step with the point arrays s and the views. Both
+/// grids carry the same arrays: ParaView colours a multiblock by an array only when every
+/// block has it. Identical models give identical text.
 std::string xdmf_document(const XdmfModel& model);
 
-/// Where a load at arclength `sigma` sits on the polyline through the nodes
-/// [first, first + n) (global indices; `s` and `xyz` (n x 3) hold exactly those nodes, the
-/// structure has `global_nodes` nodes). The segment (j, j+1) with s_j <= sigma < s_{j+1}
+/// Interpolates at arclength `sigma` along the polyline through the nodes [first, first + n)
+/// (global indices; `s` and `values` (n x width, node-major) hold exactly those nodes, the
+/// structure has `global_nodes` nodes): the segment (j, j+1) with s_j <= sigma < s_{j+1}
 /// holds it; below s_0 the first segment and from s_{N-1} on the last one (extrapolated
-/// linearly). Returns false if none of the given segments holds sigma (or sigma is not finite).
-bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, const double* s, const double* xyz,
-                double sigma, double out[3]);
+/// linearly). Writes `width` values to `out`; returns false if none of the given segments
+/// holds sigma (or sigma is not finite).
+bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, const double* s, const double* values,
+                std::size_t width, double sigma, double* out);
 
 /// Writes `text` to `path` + ".tmp" and renames it onto `path` (atomic on POSIX).
 /// Throws OutputError on failure.

@@ -41,9 +41,10 @@ def check_reader(reader, run, label):
     reader.UpdatePipeline(run["times"][k])
     data = servermanager.Fetch(reader)
     grids = list(blocks(data))
-    structure = [g for g in grids if g.GetPointData().GetArray("s") is not None]
-    loads = [g for g in grids if g.GetPointData().GetArray("sigma") is not None]
-    check(len(structure) == 1 and len(loads) == 1, f"{label}: one structure and one loads grid ({len(grids)} grids)")
+    structure = [g for g in grids if g.GetNumberOfPoints() == run["nodes"]]
+    loads = [g for g in grids if g.GetNumberOfPoints() == 1]
+    check(len(grids) == 2 and len(structure) == 1 and len(loads) == 1,
+          f"{label}: one structure and one loads grid ({[g.GetNumberOfPoints() for g in grids]} points)")
     if len(structure) != 1:
         return
     g = structure[0]
@@ -64,10 +65,19 @@ def check_reader(reader, run, label):
         check(got == want, f"{label}: array {name} at step {k}")
     if len(loads) == 1:
         lp = loads[0]
-        check(lp.GetNumberOfPoints() == 1, f"{label}: one load point")
         p = lp.GetPoint(0)
         check(max(abs(p[c] - run["load"][c]) for c in range(3)) < 1e-12, f"{label}: load at {p}, expected {run['load']}")
-        check(lp.GetPointData().GetArray("sigma").GetValue(0) == run["sigma"], f"{label}: load sigma")
+        # The same arrays as the structure (ParaView colours a multiblock only by an array every
+        # block has), with the values at the load.
+        lpd = lp.GetPointData()
+        lnames = sorted(lpd.GetArrayName(i) for i in range(lpd.GetNumberOfArrays()))
+        check(lnames == names, f"{label}: the load's arrays {lnames} are the structure's")
+        for name, want in run["load_arrays"].items():
+            a = lpd.GetArray(name)
+            got = list(a.GetTuple(0)) if a is not None else None
+            want = want if isinstance(want, list) else [want]
+            check(got is not None and max(abs(x - y) for x, y in zip(got, want)) < 1e-12,
+                  f"{label}: {name} at the load: {got}, expected {want}")
     print(f"{label}: {len(times)} time steps, {g.GetNumberOfPoints()} points, arrays {names}")
 
 
@@ -105,13 +115,15 @@ def render(reader, run, png):
     w, h, _ = img.GetDimensions()
     sc = img.GetPointData().GetScalars()
     ink = [(i % w, i // w) for i in range(w * h) if sum(sc.GetTuple(i)[:3]) < 3 * 250]
+    colours = {sc.GetTuple(i)[:3] for i in range(w * h) if sum(sc.GetTuple(i)[:3]) < 3 * 250}
     frac = len(ink) / float(w * h)
+    check(len(colours) >= 20, f"{png}: {len(colours)} colours: the rod is not coloured by s")
     check(os.path.getsize(png) > 0, "screenshot written")
     check(0.001 < frac < 0.5, f"{png}: {100 * frac:.2f} % of the pixels are not background (a blank or full frame?)")
     if ink:
         xs = [p[0] for p in ink]
         check(max(xs) - min(xs) > 0.5 * w, f"{png}: the drawn rod spans {max(xs) - min(xs)} of {w} pixels across")
-    print(f"{png}: {len(ink)} of {w * h} pixels drawn ({100 * frac:.2f} %)")
+    print(f"{png}: {len(ink)} of {w * h} pixels drawn ({100 * frac:.2f} %), {len(colours)} colours")
 
 
 spec = json.load(open(sys.argv[1]))

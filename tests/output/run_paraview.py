@@ -35,9 +35,11 @@ def expected(xmf):
         j = min(int(np.searchsorted(s, sigma, side="right")) - 1, len(s) - 2)
         xi = (sigma - s[j]) / (s[j + 1] - s[j])
         g = f[f"xdmf/{geometry}/{k}"][()]
+        at_load = {a: ((1 - xi) * np.asarray(v[j]) + xi * np.asarray(v[j + 1])).tolist() for a, v in arrays.items()}
+        at_load["s"] = sigma
         return {"xmf": xmf, "times": f["time"][:steps].tolist(), "step": k, "nodes": len(s),
                 "points": g.tolist(), "arrays": arrays, "load": ((1 - xi) * g[j] + xi * g[j + 1]).tolist(),
-                "sigma": sigma}
+                "sigma": sigma, "load_arrays": at_load}
 
 
 class XvfbDisplay:

@@ -55,6 +55,8 @@ def main():
         cols = np.nonzero(ink.any(axis=0))[0]
         check(0.001 < ink.mean() < 0.5, f"cable.png: {100 * ink.mean():.2f} % of the pixels drawn")
         check(cols.size > 0 and cols[-1] - cols[0] > 0.4 * img.shape[1], "cable.png: the cable spans the picture")
+        colours = len(np.unique(np.round(img[ink] * 255).astype(int), axis=0))
+        check(colours >= 20, f"cable.png: {colours} colours: coloured by s")
     print(f"{passed} passed, {failed} failed")
     sys.exit(0 if failed == 0 else 1)
 
