@@ -1,4 +1,5 @@
 // Scene -> beam::BeamProblem, then the run with its output.
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -100,9 +101,9 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     probe_names.push_back(l.name + "_position");
     probe_names.push_back(l.name + "_deflection");
   }
+  field_names = {"deflection", "position"};  // always written: the sidecar shows the deflected beam
   for (const auto f : sc.output.fields) {
-    if (f == scene::Field::deflection) field_names.insert(field_names.end(), {"deflection", "position"});
-    else field_names.push_back(scene::name_of(f));
+    if (f != scene::Field::deflection) field_names.push_back(scene::name_of(f));
   }
   std::size_t kept = 0;  // output steps of the restarted file to check against the replay
   std::vector<double> old_time;
@@ -132,7 +133,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     writer.add_probe({l.name + "_deflection", 1, "m",
                       "deflection w(x(t), t) under load '" + l.name + "' (NaN while it is off the beam)", {}});
   }
-  bool want_w = false, want_slope = false, want_moment = false;
+  bool want_w = true, want_slope = false, want_moment = false;
   for (const auto f : sc.output.fields) {
     switch (f) {
       case scene::Field::deflection: want_w = true; break;
@@ -142,8 +143,8 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     }
   }
   if (want_w) {
-    writer.add_field({"deflection", 1, "m", "transverse deflection w (positive up, +j)", {"w"}, false});
-    writer.add_field({"position", 3, "m", "deformed position (0, w, x) for plotting", {"x", "y", "z"}, true});
+    writer.add_field({"deflection", 1, "m", "transverse deflection w (positive up, +j)", {"w"}, false, false});
+    writer.add_field({"position", 3, "m", "deformed position (x, w, 0): the beam along x, w along y", {"x", "y", "z"}, true});
   }
   if (want_slope) writer.add_field({"slope", 1, "1", "slope dw/dx", {"w_x"}, false});
   if (want_moment) writer.add_field({"bending_moment", 1, "N m", "bending moment E I d2w/dx2", {"M"}, false});
@@ -157,7 +158,9 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   if (want_moment) fields.emplace_back(layout.count);
   std::vector<double> sigma(std::max<size_t>(1, nl), std::numeric_limits<double>::quiet_NaN());
   const Eigen::Index n = sim.modes().size();
-  VecX phi(n), dphi(n), ddphi(n);
+  // The modes at the local output nodes, evaluated once (w = phi . Y as in BeamSnapshot).
+  std::vector<VecX> node_phi(layout.count, VecX(n)), node_dphi(layout.count, VecX(n)), node_ddphi(layout.count, VecX(n));
+  for (size_t j = 0; j < layout.count; ++j) sim.modes().evaluate(layout.s[j], node_phi[j], node_dphi[j], node_ddphi[j]);
 
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end);
   long outputs = 0;
@@ -192,22 +195,19 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
       auto& w = fields[f++];
       auto& pos = fields[f++];
       for (size_t j = 0; j < layout.count; ++j) {
-        w[j] = s.deflection(layout.s[j]);
-        pos[3 * j] = 0.0;
+        w[j] = node_phi[j].dot(s.Y);
+        pos[3 * j] = layout.s[j];
         pos[3 * j + 1] = w[j];
-        pos[3 * j + 2] = layout.s[j];
+        pos[3 * j + 2] = 0.0;
       }
     }
     if (want_slope) {
       auto& v = fields[f++];
-      for (size_t j = 0; j < layout.count; ++j) v[j] = s.slope(layout.s[j]);
+      for (size_t j = 0; j < layout.count; ++j) v[j] = node_dphi[j].dot(s.Y);
     }
     if (want_moment) {
       auto& v = fields[f++];
-      for (size_t j = 0; j < layout.count; ++j) {
-        sim.modes().evaluate(layout.s[j], phi, dphi, ddphi);
-        v[j] = p.EI * ddphi.dot(s.Y);
-      }
+      for (size_t j = 0; j < layout.count; ++j) v[j] = p.EI * node_ddphi[j].dot(s.Y);
     }
     if (static_cast<std::size_t>(outputs) < kept) {  // restart: the replay must reproduce the file
       const auto o = static_cast<std::size_t>(outputs);
@@ -247,6 +247,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
       }
     }
   };
+  const auto wall_start = std::chrono::steady_clock::now();
   try {
     sim.run(observe);
   } catch (const NumericsError& e) {
@@ -260,9 +261,10 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   writer.finish();
   if (opt.restart && static_cast<std::size_t>(outputs) < kept) output::remove_restart_source(opt.output, comm);  // shorter run
   if (rank == 0 && !opt.quiet) {
-    std::printf("beam scene '%s': %d modes, %ld steps of dt = %.4g s (%s) to t = %.6g s; %ld output steps -> %s\n",
+    std::printf("beam scene '%s': %d modes, %ld steps of dt = %.4g s (%s) to t = %.6g s; %ld output steps -> %s; "
+                "time stepping %.3f s (wall, output included)\n",
                 sc.file.c_str(), b.modes, sim.steps_taken(), p.dt, scene::name_of(b.integrator).c_str(), p.t_end, outputs,
-                opt.output.c_str());
+                opt.output.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
   }
 }
 

@@ -5,6 +5,7 @@
 // one to 1e-12. docs/reliability.md describes the design.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <iostream>
 #include <random>
 
@@ -148,12 +149,18 @@ TEST(InterruptRestart, RodTwoRanksSigkillThenRestart) {
   stop_and_restart("rod-np2-sigkill", 2, kCable, kRodArgs, 3, 40, Stop::sigkill);
 }
 
+// The beam run takes well under the output's 1 s flush cadence: it must flush every step for
+// the test to see output steps in the file while the run goes on.
 TEST(InterruptRestart, BeamSigintThenRestart) {
+  setenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL", "0", 1);
   stop_and_restart("beam-sigint", 1, kBeam, kBeamArgs, 5, 150, Stop::sigint_process);
+  unsetenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL");
 }
 
 TEST(InterruptRestart, BeamSigkillThenRestart) {
+  setenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL", "0", 1);
   stop_and_restart("beam-sigkill", 1, kBeam, kBeamArgs, 5, 150, Stop::sigkill);
+  unsetenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL");
 }
 
 // A restart that was itself killed while copying leaves OUT.h5.before-restart (the file
