@@ -35,8 +35,9 @@ Options:
                       from its last restart point, appending to FILE; the scene is the one
                       stored in FILE unless SCENE.yaml is given (--set applies either way)
   --restart-interval S  rod runs: store a restart point after an output step only when S
-                      seconds (wall clock) have passed since the last one (default 0: after
-                      every output step); always also when the run stops (signal, failure)
+                      seconds (wall clock) have passed since the last one (default: the
+                      scene's output.restart_interval, 60 s; 0: after every output step);
+                      always also at the end and when the run stops (signal, failure)
 
 Ctrl-C (SIGINT) or SIGTERM stops a run after the current time step: the output keeps
 every step written, its status says "interrupted at t = ...", the exit code is 130

@@ -64,7 +64,7 @@ int execute(const app::CommandLine& cl, int rank) {
       app::RunOptions opt;
       opt.output = restart ? cl.restart : cl.output.empty() ? sc.output.file : cl.output;
       opt.restart = restart;
-      opt.restart_interval = cl.restart_interval;
+      opt.restart_interval = cl.restart_interval >= 0.0 ? cl.restart_interval : sc.output.restart_interval;
       opt.overwrite = cl.overwrite;
       opt.quiet = cl.quiet;
       opt.progress = cl.progress;

@@ -21,7 +21,9 @@ const std::string kExe = TRAVERSE_EXE;
 const std::string kCable = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/default.yaml";
 const std::string kBeam = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/beam/cantilever.yaml";
 // Cable: 51 nodes, 50 time steps, every field.
-const std::string kRodArgs = " --set mesh.ds=0.02 --set output.fields=[r,R,u,omega,kappa,n,m] -q";
+// A restart point after every output step (--restart-interval 0, which also flushes every
+// output step), so that a stop mid-run leaves a recent point to restart from.
+const std::string kRodArgs = " --set mesh.ds=0.02 --set output.fields=[r,R,u,omega,kappa,n,m] --restart-interval 0 -q";
 // Cantilever: 3 modes, 200 output steps.
 const std::string kBeamArgs = " --set time.dt=2e-5 --set output.every=5 --set output.fields=[deflection,slope,bending_moment] -q";
 
@@ -141,8 +143,18 @@ TEST(InterruptRestart, RodTwoRanksSigintToOneRankThenRestart) {
 // the signal arrives while it is stepping.
 TEST(InterruptRestart, RodTwoRanksSigintToMpiexecThenRestart) {
   stop_and_restart("rod-np2-mpiexec", 2, kCable,
-                   " --set mesh.ds=0.02 --set time.dt=2.75e-5 --set output.every=100 --set output.fields=[r,n] -q", 3, 40,
-                   Stop::sigint_mpiexec);
+                   " --set mesh.ds=0.02 --set time.dt=2.75e-5 --set output.every=100 --set output.fields=[r,n]"
+                   " --restart-interval 0 -q",
+                   3, 40, Stop::sigint_mpiexec);
+}
+
+// The default restart cadence (output.restart_interval = 60 s): a run of a few seconds has
+// only the restart point of its start when it is killed; its output steps are flushed once a
+// second. The restart recomputes from t = 0 and ends bit for bit equal to the uninterrupted run.
+TEST(InterruptRestart, RodSigkillAtTheDefaultCadenceRestartsFromTheStart) {
+  stop_and_restart("rod-sigkill-cadence", 1, kCable,
+                   " --set mesh.ds=0.02 --set time.dt=2.75e-5 --set output.every=100 --set output.fields=[r,n] -q", 3,
+                   40, Stop::sigkill);
 }
 
 TEST(InterruptRestart, RodTwoRanksSigkillThenRestart) {
