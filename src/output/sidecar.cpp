@@ -63,6 +63,143 @@ std::vector<double> read_rows(hid_t d, hsize_t first, hsize_t count, const std::
 
 }  // namespace
 
+namespace {
+
+// The fields of the file (3-dimensional /fields/* datasets) in name order.
+std::vector<detail::XdmfFieldInfo> read_fields(hid_t f, const std::string& h5_path) {
+  std::vector<detail::XdmfFieldInfo> fields;
+  if (!has_link(f, "fields")) return fields;
+  Handle g = detail::group_handle(check_id(H5Gopen2(f, "fields", H5P_DEFAULT), "H5Gopen2", "/fields"));
+  for (const std::string& name : detail::link_names(g.get(), "/fields")) {
+    Handle d = open_dataset(f, "/fields/" + name, h5_path);
+    const auto dims = detail::dataset_dims(d.get(), "/fields/" + name);
+    if (dims.size() != 3) continue;
+    detail::XdmfFieldInfo fi;
+    fi.name = name;
+    fi.components = static_cast<std::size_t>(dims[2]);
+    if (detail::has_attribute(d.get(), "components"))
+      fi.component_names = detail::split(detail::read_string_attribute(d.get(), "components"), ',');
+    fi.geometry = detail::has_attribute(d.get(), "geometry") && detail::read_int_attribute(d.get(), "geometry") == 1;
+    fields.push_back(fi);
+  }
+  return fields;
+}
+
+// The views as the Writer recorded them in /xdmf, else (older files) planned from the fields.
+detail::XdmfPlan view_plan(hid_t f, const std::vector<detail::XdmfFieldInfo>& fields, const std::string& h5_path) {
+  auto field_index = [&](const std::string& name) -> std::size_t {
+    for (std::size_t i = 0; i < fields.size(); ++i)
+      if (fields[i].name == name) return i;
+    throw OutputError(h5_path + ": /xdmf refers to a field " + name + " that /fields does not hold");
+  };
+  if (!has_link(f, "xdmf")) return detail::plan_views(fields);
+  Handle x = detail::group_handle(check_id(H5Gopen2(f, "xdmf", H5P_DEFAULT), "H5Gopen2", "/xdmf"));
+  if (!detail::has_attribute(x.get(), "arrays")) return detail::plan_views(fields);
+  detail::XdmfPlan plan;
+  const std::string geometry =
+      detail::has_attribute(x.get(), "geometry") ? detail::read_string_attribute(x.get(), "geometry") : "";
+  for (const std::string& a : detail::split(detail::read_string_attribute(x.get(), "arrays"), ',')) {
+    Handle g = detail::group_handle(check_id(H5Gopen2(x.get(), a.c_str(), H5P_DEFAULT), "H5Gopen2", "/xdmf/" + a));
+    detail::XdmfView v;
+    v.array = a;
+    v.field = field_index(detail::read_string_attribute(g.get(), "field"));
+    v.first = static_cast<std::size_t>(detail::read_int_attribute(g.get(), "first_component"));
+    v.count = static_cast<std::size_t>(detail::read_int_attribute(g.get(), "components"));
+    if (a == geometry) plan.geometry = static_cast<int>(plan.views.size());
+    plan.views.push_back(v);
+  }
+  return plan;
+}
+
+// Adds the views missing for some step (an older file) to the file, opened for writing.
+std::size_t add_missing_views(const std::string& h5_path, const std::vector<detail::XdmfFieldInfo>& fields,
+                              const detail::XdmfPlan& plan, std::size_t n, std::size_t steps) {
+  std::size_t created = 0;
+  Handle w = open_file(h5_path, true);
+  auto ensure_group = [&](hid_t loc, const std::string& name) {
+    if (has_link(loc, name))
+      return detail::group_handle(check_id(H5Gopen2(loc, name.c_str(), H5P_DEFAULT), "H5Gopen2", name));
+    return detail::group_handle(
+        check_id(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "H5Gcreate2", name));
+  };
+  Handle x = ensure_group(w.get(), "xdmf");
+  std::vector<std::string> arrays;
+  for (const auto& v : plan.views) {
+    arrays.push_back(v.array);
+    Handle g = ensure_group(x.get(), v.array);
+    detail::write_string_attribute(g.get(), "field", fields[v.field].name);
+    detail::write_int_attribute(g.get(), "first_component", static_cast<std::int64_t>(v.first));
+    detail::write_int_attribute(g.get(), "components", static_cast<std::int64_t>(v.count));
+    const bool copy = sizeof(double) * n * v.count <= detail::max_copied_view_bytes;
+    Handle field = open_dataset(w.get(), "/fields/" + fields[v.field].name, h5_path);
+    const std::size_t nc = fields[v.field].components;
+    for (std::size_t k = 0; k < steps; ++k) {
+      if (has_link(g.get(), std::to_string(k))) continue;
+      if (copy) {
+        const std::vector<double> row = read_rows(field.get(), k, 1, h5_path + ":/fields/" + fields[v.field].name);
+        std::vector<double> values(n * v.count);
+        for (std::size_t i = 0; i < n; ++i)
+          for (std::size_t q = 0; q < v.count; ++q) values[i * v.count + q] = row[i * nc + v.first + q];
+        detail::create_view_copy(g.get(), k, n, v.count, values.data(), h5_path + ":/xdmf/" + v.array);
+      } else {
+        detail::create_view(g.get(), k, "/fields/" + fields[v.field].name, n, nc, v.first, v.count,
+                            h5_path + ":/xdmf/" + v.array);
+      }
+      ++created;
+    }
+  }
+  detail::write_string_attribute(x.get(), "arrays", detail::join(arrays, ','));
+  detail::write_string_attribute(
+      x.get(), "geometry", plan.geometry >= 0 ? plan.views[static_cast<std::size_t>(plan.geometry)].array : "");
+  check(H5Fflush(w.get(), H5F_SCOPE_LOCAL), "H5Fflush", h5_path);
+  return created;
+}
+
+// Where the loads are at every step, and the arrays' values there: on the geometry, else on
+// /mesh/position (m.load_values).
+void load_values(hid_t file, const std::string& h5_path, const std::vector<detail::XdmfFieldInfo>& fields,
+                 const detail::XdmfPlan& plan, const std::vector<double>& s, std::size_t steps, detail::XdmfModel& m) {
+  const std::size_t n = s.size();
+  const std::size_t W = m.load_width();
+  m.load_values.assign(W * steps * m.loads, 0.0);
+  std::vector<double> xyz(3 * n), rows(W * n);
+  if (plan.geometry < 0) {
+    Handle p = open_dataset(file, "/mesh/position", h5_path);
+    xyz = read_rows(p.get(), 0, n, h5_path + ":/mesh/position");
+  }
+  std::vector<Handle> datasets;  // per field
+  for (const auto& fi : fields) datasets.push_back(open_dataset(file, "/fields/" + fi.name, h5_path));
+  for (std::size_t k = 0; k < steps; ++k) {
+    std::vector<std::vector<double>> step(fields.size());
+    auto field_row = [&](std::size_t f) -> const std::vector<double>& {
+      if (step[f].empty()) step[f] = read_rows(datasets[f].get(), k, 1, h5_path + ":/fields/" + fields[f].name);
+      return step[f];
+    };
+    for (std::size_t i = 0; i < n; ++i) {
+      double* out = &rows[W * i];
+      if (plan.geometry >= 0) {
+        const detail::XdmfView& g = plan.views[static_cast<std::size_t>(plan.geometry)];
+        const auto& r = field_row(g.field);
+        std::copy_n(r.begin() + static_cast<std::ptrdiff_t>(i * fields[g.field].components + g.first), 3, out);
+      } else {
+        std::copy_n(xyz.begin() + static_cast<std::ptrdiff_t>(3 * i), 3, out);
+      }
+      std::size_t at = 3;
+      for (const auto& v : plan.views) {
+        const auto& r = field_row(v.field);
+        std::copy_n(r.begin() + static_cast<std::ptrdiff_t>(i * fields[v.field].components + v.first), v.count,
+                    out + at);
+        at += v.count;
+      }
+    }
+    for (std::size_t l = 0; l < m.loads; ++l)
+      detail::load_point(n, 0, n, s.data(), rows.data(), W, m.sigma[k * m.loads + l],
+                         &m.load_values[W * (k * m.loads + l)]);
+  }
+}
+
+}  // namespace
+
 SidecarResult write_sidecar(const std::string& h5_path, const std::string& xmf_path) {
   detail::silence_hdf5_errors();
   SidecarResult result;
@@ -96,144 +233,24 @@ SidecarResult write_sidecar(const std::string& h5_path, const std::string& xmf_p
     m.loads = dims.size() == 2 ? static_cast<std::size_t>(dims[1]) : 1;
     m.sigma = read_rows(sg.get(), 0, steps, h5_path + ":/sigma");
   }
+  const std::vector<detail::XdmfFieldInfo> fields = read_fields(f, h5_path);
+  const detail::XdmfPlan plan = view_plan(f, fields, h5_path);
 
-  // The fields and the views: as the Writer recorded them in /xdmf, else (older files)
-  // planned from /fields in name order.
-  std::vector<detail::XdmfFieldInfo> fields;
-  if (has_link(f, "fields")) {
-    Handle g = detail::group_handle(check_id(H5Gopen2(f, "fields", H5P_DEFAULT), "H5Gopen2", "/fields"));
-    for (const std::string& name : detail::link_names(g.get(), "/fields")) {
-      Handle d = open_dataset(f, "/fields/" + name, h5_path);
-      const auto dims = detail::dataset_dims(d.get(), "/fields/" + name);
-      if (dims.size() != 3) continue;
-      detail::XdmfFieldInfo fi;
-      fi.name = name;
-      fi.components = static_cast<std::size_t>(dims[2]);
-      if (detail::has_attribute(d.get(), "components"))
-        fi.component_names = detail::split(detail::read_string_attribute(d.get(), "components"), ',');
-      fi.geometry = detail::has_attribute(d.get(), "geometry") && detail::read_int_attribute(d.get(), "geometry") == 1;
-      fields.push_back(fi);
-    }
-  }
-  auto field_index = [&](const std::string& name) -> std::size_t {
-    for (std::size_t i = 0; i < fields.size(); ++i)
-      if (fields[i].name == name) return i;
-    throw OutputError(h5_path + ": /xdmf refers to a field " + name + " that /fields does not hold");
-  };
-  detail::XdmfPlan plan;
-  bool recorded = false;
-  if (has_link(f, "xdmf")) {
-    Handle x = detail::group_handle(check_id(H5Gopen2(f, "xdmf", H5P_DEFAULT), "H5Gopen2", "/xdmf"));
-    if (detail::has_attribute(x.get(), "arrays")) {
-      recorded = true;
-      const std::string geometry =
-          detail::has_attribute(x.get(), "geometry") ? detail::read_string_attribute(x.get(), "geometry") : "";
-      for (const std::string& a : detail::split(detail::read_string_attribute(x.get(), "arrays"), ',')) {
-        Handle g = detail::group_handle(check_id(H5Gopen2(x.get(), a.c_str(), H5P_DEFAULT), "H5Gopen2", "/xdmf/" + a));
-        detail::XdmfView v;
-        v.array = a;
-        v.field = field_index(detail::read_string_attribute(g.get(), "field"));
-        v.first = static_cast<std::size_t>(detail::read_int_attribute(g.get(), "first_component"));
-        v.count = static_cast<std::size_t>(detail::read_int_attribute(g.get(), "components"));
-        if (a == geometry) plan.geometry = static_cast<int>(plan.views.size());
-        plan.views.push_back(v);
-      }
-    }
-  }
-  if (!recorded) plan = detail::plan_views(fields);
-
-  // Views missing for some step (an older file): add them.
   std::size_t missing = 0;
   for (const auto& v : plan.views)
     for (std::size_t k = 0; k < steps; ++k)
       if (!has_link(f, "/xdmf/" + v.array + "/" + std::to_string(k))) ++missing;
   if (missing > 0) {
     file.reset();  // every other handle of the read-only file is closed by now
-    Handle w = open_file(h5_path, true);
-    auto ensure_group = [&](hid_t loc, const std::string& name) {
-      if (has_link(loc, name))
-        return detail::group_handle(check_id(H5Gopen2(loc, name.c_str(), H5P_DEFAULT), "H5Gopen2", name));
-      return detail::group_handle(
-          check_id(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "H5Gcreate2", name));
-    };
-    Handle x = ensure_group(w.get(), "xdmf");
-    std::vector<std::string> arrays;
-    for (const auto& v : plan.views) {
-      arrays.push_back(v.array);
-      Handle g = ensure_group(x.get(), v.array);
-      detail::write_string_attribute(g.get(), "field", fields[v.field].name);
-      detail::write_int_attribute(g.get(), "first_component", static_cast<std::int64_t>(v.first));
-      detail::write_int_attribute(g.get(), "components", static_cast<std::int64_t>(v.count));
-      const bool copy = sizeof(double) * n * v.count <= detail::max_copied_view_bytes;
-      Handle field = open_dataset(w.get(), "/fields/" + fields[v.field].name, h5_path);
-      const std::size_t nc = fields[v.field].components;
-      for (std::size_t k = 0; k < steps; ++k) {
-        if (has_link(g.get(), std::to_string(k))) continue;
-        if (copy) {
-          const std::vector<double> row = read_rows(field.get(), k, 1, h5_path + ":/fields/" + fields[v.field].name);
-          std::vector<double> values(n * v.count);
-          for (std::size_t i = 0; i < n; ++i)
-            for (std::size_t q = 0; q < v.count; ++q) values[i * v.count + q] = row[i * nc + v.first + q];
-          detail::create_view_copy(g.get(), k, n, v.count, values.data(), h5_path + ":/xdmf/" + v.array);
-        } else {
-          detail::create_view(g.get(), k, "/fields/" + fields[v.field].name, n, nc, v.first, v.count,
-                              h5_path + ":/xdmf/" + v.array);
-        }
-        ++result.views_created;
-      }
-    }
-    detail::write_string_attribute(x.get(), "arrays", detail::join(arrays, ','));
-    detail::write_string_attribute(
-        x.get(), "geometry", plan.geometry >= 0 ? plan.views[static_cast<std::size_t>(plan.geometry)].array : "");
-    check(H5Fflush(w.get(), H5F_SCOPE_LOCAL), "H5Fflush", h5_path);
-    w.reset();
+    result.views_created = add_missing_views(h5_path, fields, plan, n, steps);
     file = open_file(h5_path, false);
   }
   m.arrays = plan.views;
   m.geometry = plan.geometry;
 
-  // Where the loads are at every step, and the arrays' values there: on the geometry, else
-  // on /mesh/position.
   bool loads_on = m.loads > 0 && steps > 0;
   for (double x : m.sigma) loads_on = loads_on && std::isfinite(x);
-  if (loads_on) {
-    const std::size_t W = m.load_width();
-    m.load_values.assign(W * steps * m.loads, 0.0);
-    std::vector<double> xyz(3 * n), rows(W * n);
-    if (plan.geometry < 0) {
-      Handle p = open_dataset(file.get(), "/mesh/position", h5_path);
-      xyz = read_rows(p.get(), 0, n, h5_path + ":/mesh/position");
-    }
-    std::vector<Handle> datasets;  // per field
-    for (const auto& fi : fields) datasets.push_back(open_dataset(file.get(), "/fields/" + fi.name, h5_path));
-    for (std::size_t k = 0; k < steps; ++k) {
-      std::vector<std::vector<double>> step(fields.size());
-      auto field_row = [&](std::size_t f) -> const std::vector<double>& {
-        if (step[f].empty()) step[f] = read_rows(datasets[f].get(), k, 1, h5_path + ":/fields/" + fields[f].name);
-        return step[f];
-      };
-      for (std::size_t i = 0; i < n; ++i) {
-        double* out = &rows[W * i];
-        if (plan.geometry >= 0) {
-          const detail::XdmfView& g = plan.views[static_cast<std::size_t>(plan.geometry)];
-          const auto& r = field_row(g.field);
-          std::copy_n(r.begin() + static_cast<std::ptrdiff_t>(i * fields[g.field].components + g.first), 3, out);
-        } else {
-          std::copy_n(xyz.begin() + static_cast<std::ptrdiff_t>(3 * i), 3, out);
-        }
-        std::size_t at = 3;
-        for (const auto& v : plan.views) {
-          const auto& r = field_row(v.field);
-          std::copy_n(r.begin() + static_cast<std::ptrdiff_t>(i * fields[v.field].components + v.first), v.count,
-                      out + at);
-          at += v.count;
-        }
-      }
-      for (std::size_t l = 0; l < m.loads; ++l)
-        detail::load_point(n, 0, n, s.data(), rows.data(), W, m.sigma[k * m.loads + l],
-                           &m.load_values[W * (k * m.loads + l)]);
-    }
-  }
+  if (loads_on) load_values(file.get(), h5_path, fields, plan, s, steps, m);
   detail::replace_file(result.xmf_path, detail::xdmf_document(m));
   return result;
 }

@@ -192,6 +192,14 @@ struct Writer::Impl {
   void write_xdmf();
   void write_xdmf_text();
   void close_all() noexcept;
+  // Stages of the constructor.
+  void check_layout(const NodeLayout& nodes, std::size_t loads);
+  void check_output_location(bool overwrite);
+  void create_file(bool overwrite);
+  void write_run_attributes(const RunInfo& info);
+  void create_series(std::size_t loads);
+  void write_mesh();
+  void create_groups();
 };
 
 void Writer::Impl::append_rows(hid_t dataset, std::size_t components, bool matrix, const double* rows, bool local,
@@ -391,6 +399,188 @@ void Writer::Impl::close_all() noexcept {
   state = State::closed;
 }
 
+void Writer::Impl::check_layout(const NodeLayout& nodes, std::size_t moving_loads) {
+  Impl& w = *this;
+  // Arguments, then the node layout (all ranks see all ranges).
+  std::string bad;
+  if (moving_loads < 1) bad = "output: moving_loads must be at least 1";
+  else if (nodes.global_count < 1) bad = "output: the structure needs at least one node";
+  else if (nodes.s.size() != nodes.count)
+    bad = "output: NodeLayout.s has " + std::to_string(nodes.s.size()) + " values for " +
+          std::to_string(nodes.count) + " local nodes";
+  else if (nodes.first + nodes.count > nodes.global_count)
+    bad = "output: local node range exceeds the global node count";
+  agree(w.comm, bad.empty(), bad);
+  std::vector<unsigned long long> ranges(2 * static_cast<std::size_t>(w.size));
+  const unsigned long long mine[2] = {nodes.first, nodes.count};
+  MPI_Allgather(mine, 2, MPI_UNSIGNED_LONG_LONG, ranges.data(), 2, MPI_UNSIGNED_LONG_LONG,
+                w.comm);
+  std::vector<std::pair<unsigned long long, unsigned long long>> sorted;
+  for (int r = 0; r < w.size; ++r)
+    if (ranges[2 * r + 1] > 0) sorted.emplace_back(ranges[2 * r], ranges[2 * r + 1]);
+  std::sort(sorted.begin(), sorted.end());
+  unsigned long long next = 0;
+  for (const auto& [first, count] : sorted) {
+    if (first != next) {
+      bad = "output: the ranks' node ranges do not tile 0.." +
+            std::to_string(nodes.global_count - 1) + " (gap or overlap at node " +
+            std::to_string(std::min(first, next)) + ")";
+      break;
+    }
+    next = first + count;
+  }
+  if (bad.empty() && next != nodes.global_count)
+    bad = "output: the ranks' node ranges cover " + std::to_string(next) + " of " +
+          std::to_string(nodes.global_count) + " nodes";
+  if (!bad.empty()) throw OutputError(bad);  // identical on all ranks
+  w.ranges = ranges;
+  // Neighbours along the structure (for the loads' positions): the owners of the nodes
+  // just before and just after this rank's range.
+  for (int r = 0; r < w.size && nodes.count > 0; ++r) {
+    if (ranges[2 * r + 1] == 0) continue;
+    if (ranges[2 * r] + ranges[2 * r + 1] == nodes.first) w.prev_owner = r;
+    if (ranges[2 * r] == nodes.first + nodes.count) w.next_owner = r;
+  }
+}
+
+void Writer::Impl::check_output_location(bool overwrite) {
+  Impl& w = *this;
+  const std::string& path = w.path;
+  // The location: decided on rank 0, broadcast.
+  std::string location_error;
+  if (w.rank == 0) location_error = check_location(path, w.xmf_path, overwrite);
+  unsigned long len = location_error.size();
+  MPI_Bcast(&len, 1, MPI_UNSIGNED_LONG, 0, w.comm);
+  location_error.resize(len);
+  MPI_Bcast(location_error.data(), static_cast<int>(len), MPI_CHAR, 0, w.comm);
+  if (!location_error.empty()) throw OutputError(location_error);
+}
+
+void Writer::Impl::create_file(bool overwrite) {
+  Impl& w = *this;
+  const std::string& path = w.path;
+  // File access: MPI-IO, collective metadata, dense attribute storage for long attributes
+  // such as the scene text.
+  Handle fapl = detail::plist_handle(check_id(H5Pcreate(H5P_FILE_ACCESS), "H5Pcreate", path));
+  check(H5Pset_fapl_mpio(fapl.get(), w.comm, MPI_INFO_NULL), "H5Pset_fapl_mpio", path);
+  check(H5Pset_all_coll_metadata_ops(fapl.get(), 1), "H5Pset_all_coll_metadata_ops", path);
+  check(H5Pset_coll_metadata_write(fapl.get(), 1), "H5Pset_coll_metadata_write", path);
+  // Objects in the 1.8 format, except the sidecar's views (virtual datasets need 1.10).
+  check(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V110),
+        "H5Pset_libver_bounds", path);
+  Handle fcpl = detail::plist_handle(check_id(H5Pcreate(H5P_FILE_CREATE), "H5Pcreate", path));
+  check(H5Pset_attr_phase_change(fcpl.get(), 0, 0), "H5Pset_attr_phase_change", path);
+  w.file = detail::file_handle(check_id(
+      H5Fcreate(path.c_str(), overwrite ? H5F_ACC_TRUNC : H5F_ACC_EXCL, fcpl.get(), fapl.get()),
+      "H5Fcreate", path));
+  w.dxpl = detail::plist_handle(check_id(H5Pcreate(H5P_DATASET_XFER), "H5Pcreate", path));
+  check(H5Pset_dxpl_mpio(w.dxpl.get(), H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio", path);
+}
+
+void Writer::Impl::write_run_attributes(const RunInfo& info) {
+  Impl& w = *this;
+  const hid_t root = w.file.get();
+  detail::write_string_attribute(root, "status", "running");
+  detail::write_int_attribute(root, "steps_written", 0);
+  detail::write_int_attribute(root, "traverse_output_format", file_format_version);
+  detail::write_string_attribute(root, "traverse_version", info.version);
+  detail::write_string_attribute(root, "command_line", info.command_line);
+  detail::write_string_attribute(root, "scene", info.scene_text);
+  detail::write_string_attribute(root, "scene_file", info.scene_file);
+  detail::write_string_attribute(root, "model", info.model);
+  for (const auto& [name, value] : info.attributes) detail::write_string_attribute(root, name, value);
+}
+
+void Writer::Impl::create_series(std::size_t moving_loads) {
+  Impl& w = *this;
+  const hid_t root = w.file.get();
+  // /time, /sigma
+  w.time_ds = create_extendible(root, "time", {}, {series_chunk_rows(1)});
+  write_meta(w.time_ds.get(), "s", "simulated time of each output step");
+  if (moving_loads == 1)
+    w.sigma_ds = create_extendible(root, "sigma", {}, {series_chunk_rows(1)});
+  else
+    w.sigma_ds = create_extendible(root, "sigma", {moving_loads},
+                                   {series_chunk_rows(moving_loads), moving_loads});
+  write_meta(w.sigma_ds.get(), "m",
+             "position of each moving load along the structure (arclength s)");
+  if (moving_loads > 1)
+    detail::write_string_attribute(w.sigma_ds.get(), "components",
+                                   detail::join(default_component_names(moving_loads), ','));
+}
+
+void Writer::Impl::write_mesh() {
+  Impl& w = *this;
+  const hid_t root = w.file.get();
+  const NodeLayout& nodes = w.nodes;
+  // /mesh: arclength, reference positions ((s, 0, 0) for a beam, (0, 0, s) otherwise),
+  // polyline segments.
+  Handle mesh = create_group(root, "mesh");
+  const hsize_t n = nodes.global_count;
+  const bool has_local = nodes.count > 0;
+  {
+    Handle s = create_fixed(mesh.get(), "s", H5T_IEEE_F64LE, {n});
+    write_meta(s.get(), "m", "arclength of the nodes along the undeformed structure");
+    write_block(s.get(), w.dxpl.get(), H5T_NATIVE_DOUBLE, {nodes.first}, {nodes.count},
+                nodes.s.data(), has_local, "/mesh/s");
+  }
+  {
+    const bool beam = w.model == "beam";
+    std::vector<double> xyz(3 * nodes.count, 0.0);
+    for (std::size_t i = 0; i < nodes.count; ++i) xyz[3 * i + (beam ? 0 : 2)] = nodes.s[i];
+    w.reference_xyz = xyz;
+    Handle p = create_fixed(mesh.get(), "position", H5T_IEEE_F64LE, {n, 3});
+    write_meta(p.get(), "m",
+               std::string("reference node positions ") + (beam ? "(s, 0, 0)" : "(0, 0, s)") +
+                   " used by the XDMF sidecar when no geometry field is written");
+    detail::write_string_attribute(p.get(), "components", "x,y,z");
+    write_block(p.get(), w.dxpl.get(), H5T_NATIVE_DOUBLE, {nodes.first, 0}, {nodes.count, 3},
+                xyz.data(), has_local, "/mesh/position");
+  }
+  {
+    const std::size_t last_seg = static_cast<std::size_t>(n) - 1;  // segments 0..n-2
+    const std::size_t seg_first = std::min(nodes.first, last_seg);
+    const std::size_t seg_end = std::min(nodes.first + nodes.count, last_seg);
+    std::vector<int> seg;
+    for (std::size_t i = seg_first; i < seg_end; ++i) {
+      seg.push_back(static_cast<int>(i));
+      seg.push_back(static_cast<int>(i + 1));
+    }
+    Handle g = create_fixed(mesh.get(), "segments", H5T_STD_I32LE, {n - 1, 2});
+    detail::write_string_attribute(g.get(), "description",
+                                   "node pairs (i, i+1) of the polyline, for the XDMF sidecar");
+    write_block(g.get(), w.dxpl.get(), H5T_NATIVE_INT, {seg_first, 0}, {seg_end - seg_first, 2},
+                seg.data(), seg_end > seg_first, "/mesh/segments");
+  }
+  // The arclength of the node after this rank's last one (for the loads' positions).
+  {
+    const double first_s = nodes.count > 0 ? nodes.s.front() : 0.0;
+    MPI_Sendrecv(&first_s, 1, MPI_DOUBLE, nodes.count > 0 ? w.prev_owner : MPI_PROC_NULL, 7100, &w.halo_s, 1,
+                 MPI_DOUBLE, nodes.count > 0 ? w.next_owner : MPI_PROC_NULL, 7100, w.comm, MPI_STATUS_IGNORE);
+  }
+}
+
+void Writer::Impl::create_groups() {
+  Impl& w = *this;
+  const hid_t root = w.file.get();
+  // TRAVERSE_OUTPUT_FLUSH_INTERVAL=S overrides the flush cadence (0: after every step);
+  // only rank 0's value matters (it decides).
+  if (const char* env = std::getenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL")) {
+    char* end = nullptr;
+    const double v = std::strtod(env, &end);
+    if (end != env && *end == '\0' && v >= 0.0 && std::isfinite(v)) w.flush_seconds = v;
+  }
+  w.probes_group = create_group(root, "probes");
+  w.fields_group = create_group(root, "fields");
+  w.xdmf_group = create_group(root, "xdmf");
+  detail::write_string_attribute(
+      w.xdmf_group.get(), "description",
+      "one virtual dataset per node array and output step for the XDMF sidecar: "
+      "/xdmf/<array>/<step> maps step <step> of /fields/<field> (see the group attributes)");
+  detail::write_string_attribute(w.xdmf_group.get(), "arrays", "");
+  detail::write_string_attribute(w.xdmf_group.get(), "geometry", "");
+}
+
 Writer::Writer(MPI_Comm comm, const std::string& path, bool overwrite, const RunInfo& info,
                const NodeLayout& nodes, std::size_t moving_loads)
     : impl_(std::make_unique<Impl>()) {
@@ -408,161 +598,14 @@ Writer::Writer(MPI_Comm comm, const std::string& path, bool overwrite, const Run
   w.nodes = nodes;
   w.moving_loads = moving_loads;
   w.model = info.model;
-
   try {
-    // Arguments, then the node layout (all ranks see all ranges).
-    std::string bad;
-    if (moving_loads < 1) bad = "output: moving_loads must be at least 1";
-    else if (nodes.global_count < 1) bad = "output: the structure needs at least one node";
-    else if (nodes.s.size() != nodes.count)
-      bad = "output: NodeLayout.s has " + std::to_string(nodes.s.size()) + " values for " +
-            std::to_string(nodes.count) + " local nodes";
-    else if (nodes.first + nodes.count > nodes.global_count)
-      bad = "output: local node range exceeds the global node count";
-    agree(w.comm, bad.empty(), bad);
-    std::vector<unsigned long long> ranges(2 * static_cast<std::size_t>(w.size));
-    const unsigned long long mine[2] = {nodes.first, nodes.count};
-    MPI_Allgather(mine, 2, MPI_UNSIGNED_LONG_LONG, ranges.data(), 2, MPI_UNSIGNED_LONG_LONG,
-                  w.comm);
-    std::vector<std::pair<unsigned long long, unsigned long long>> sorted;
-    for (int r = 0; r < w.size; ++r)
-      if (ranges[2 * r + 1] > 0) sorted.emplace_back(ranges[2 * r], ranges[2 * r + 1]);
-    std::sort(sorted.begin(), sorted.end());
-    unsigned long long next = 0;
-    for (const auto& [first, count] : sorted) {
-      if (first != next) {
-        bad = "output: the ranks' node ranges do not tile 0.." +
-              std::to_string(nodes.global_count - 1) + " (gap or overlap at node " +
-              std::to_string(std::min(first, next)) + ")";
-        break;
-      }
-      next = first + count;
-    }
-    if (bad.empty() && next != nodes.global_count)
-      bad = "output: the ranks' node ranges cover " + std::to_string(next) + " of " +
-            std::to_string(nodes.global_count) + " nodes";
-    if (!bad.empty()) throw OutputError(bad);  // identical on all ranks
-    w.ranges = ranges;
-    // Neighbours along the structure (for the loads' positions): the owners of the nodes
-    // just before and just after this rank's range.
-    for (int r = 0; r < w.size && nodes.count > 0; ++r) {
-      if (ranges[2 * r + 1] == 0) continue;
-      if (ranges[2 * r] + ranges[2 * r + 1] == nodes.first) w.prev_owner = r;
-      if (ranges[2 * r] == nodes.first + nodes.count) w.next_owner = r;
-    }
-
-    // The location: decided on rank 0, broadcast.
-    std::string location_error;
-    if (w.rank == 0) location_error = check_location(path, w.xmf_path, overwrite);
-    unsigned long len = location_error.size();
-    MPI_Bcast(&len, 1, MPI_UNSIGNED_LONG, 0, w.comm);
-    location_error.resize(len);
-    MPI_Bcast(location_error.data(), static_cast<int>(len), MPI_CHAR, 0, w.comm);
-    if (!location_error.empty()) throw OutputError(location_error);
-
-    // File access: MPI-IO, collective metadata, dense attribute storage for long attributes
-    // such as the scene text.
-    Handle fapl = detail::plist_handle(check_id(H5Pcreate(H5P_FILE_ACCESS), "H5Pcreate", path));
-    check(H5Pset_fapl_mpio(fapl.get(), w.comm, MPI_INFO_NULL), "H5Pset_fapl_mpio", path);
-    check(H5Pset_all_coll_metadata_ops(fapl.get(), 1), "H5Pset_all_coll_metadata_ops", path);
-    check(H5Pset_coll_metadata_write(fapl.get(), 1), "H5Pset_coll_metadata_write", path);
-    // Objects in the 1.8 format, except the sidecar's views (virtual datasets need 1.10).
-    check(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V110),
-          "H5Pset_libver_bounds", path);
-    Handle fcpl = detail::plist_handle(check_id(H5Pcreate(H5P_FILE_CREATE), "H5Pcreate", path));
-    check(H5Pset_attr_phase_change(fcpl.get(), 0, 0), "H5Pset_attr_phase_change", path);
-    w.file = detail::file_handle(check_id(
-        H5Fcreate(path.c_str(), overwrite ? H5F_ACC_TRUNC : H5F_ACC_EXCL, fcpl.get(), fapl.get()),
-        "H5Fcreate", path));
-    w.dxpl = detail::plist_handle(check_id(H5Pcreate(H5P_DATASET_XFER), "H5Pcreate", path));
-    check(H5Pset_dxpl_mpio(w.dxpl.get(), H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio", path);
-
-    const hid_t root = w.file.get();
-    detail::write_string_attribute(root, "status", "running");
-    detail::write_int_attribute(root, "steps_written", 0);
-    detail::write_int_attribute(root, "traverse_output_format", file_format_version);
-    detail::write_string_attribute(root, "traverse_version", info.version);
-    detail::write_string_attribute(root, "command_line", info.command_line);
-    detail::write_string_attribute(root, "scene", info.scene_text);
-    detail::write_string_attribute(root, "scene_file", info.scene_file);
-    detail::write_string_attribute(root, "model", info.model);
-    for (const auto& [name, value] : info.attributes) detail::write_string_attribute(root, name, value);
-
-    // /time, /sigma
-    w.time_ds = create_extendible(root, "time", {}, {series_chunk_rows(1)});
-    write_meta(w.time_ds.get(), "s", "simulated time of each output step");
-    if (moving_loads == 1)
-      w.sigma_ds = create_extendible(root, "sigma", {}, {series_chunk_rows(1)});
-    else
-      w.sigma_ds = create_extendible(root, "sigma", {moving_loads},
-                                     {series_chunk_rows(moving_loads), moving_loads});
-    write_meta(w.sigma_ds.get(), "m",
-               "position of each moving load along the structure (arclength s)");
-    if (moving_loads > 1)
-      detail::write_string_attribute(w.sigma_ds.get(), "components",
-                                     detail::join(default_component_names(moving_loads), ','));
-
-    // /mesh: arclength, reference positions ((s, 0, 0) for a beam, (0, 0, s) otherwise),
-    // polyline segments.
-    Handle mesh = create_group(root, "mesh");
-    const hsize_t n = nodes.global_count;
-    const bool has_local = nodes.count > 0;
-    {
-      Handle s = create_fixed(mesh.get(), "s", H5T_IEEE_F64LE, {n});
-      write_meta(s.get(), "m", "arclength of the nodes along the undeformed structure");
-      write_block(s.get(), w.dxpl.get(), H5T_NATIVE_DOUBLE, {nodes.first}, {nodes.count},
-                  nodes.s.data(), has_local, "/mesh/s");
-    }
-    {
-      const bool beam = info.model == "beam";
-      std::vector<double> xyz(3 * nodes.count, 0.0);
-      for (std::size_t i = 0; i < nodes.count; ++i) xyz[3 * i + (beam ? 0 : 2)] = nodes.s[i];
-      w.reference_xyz = xyz;
-      Handle p = create_fixed(mesh.get(), "position", H5T_IEEE_F64LE, {n, 3});
-      write_meta(p.get(), "m",
-                 std::string("reference node positions ") + (beam ? "(s, 0, 0)" : "(0, 0, s)") +
-                     " used by the XDMF sidecar when no geometry field is written");
-      detail::write_string_attribute(p.get(), "components", "x,y,z");
-      write_block(p.get(), w.dxpl.get(), H5T_NATIVE_DOUBLE, {nodes.first, 0}, {nodes.count, 3},
-                  xyz.data(), has_local, "/mesh/position");
-    }
-    {
-      const std::size_t last_seg = static_cast<std::size_t>(n) - 1;  // segments 0..n-2
-      const std::size_t seg_first = std::min(nodes.first, last_seg);
-      const std::size_t seg_end = std::min(nodes.first + nodes.count, last_seg);
-      std::vector<int> seg;
-      for (std::size_t i = seg_first; i < seg_end; ++i) {
-        seg.push_back(static_cast<int>(i));
-        seg.push_back(static_cast<int>(i + 1));
-      }
-      Handle g = create_fixed(mesh.get(), "segments", H5T_STD_I32LE, {n - 1, 2});
-      detail::write_string_attribute(g.get(), "description",
-                                     "node pairs (i, i+1) of the polyline, for the XDMF sidecar");
-      write_block(g.get(), w.dxpl.get(), H5T_NATIVE_INT, {seg_first, 0}, {seg_end - seg_first, 2},
-                  seg.data(), seg_end > seg_first, "/mesh/segments");
-    }
-    // The arclength of the node after this rank's last one (for the loads' positions).
-    {
-      const double first_s = nodes.count > 0 ? nodes.s.front() : 0.0;
-      MPI_Sendrecv(&first_s, 1, MPI_DOUBLE, nodes.count > 0 ? w.prev_owner : MPI_PROC_NULL, 7100, &w.halo_s, 1,
-                   MPI_DOUBLE, nodes.count > 0 ? w.next_owner : MPI_PROC_NULL, 7100, w.comm, MPI_STATUS_IGNORE);
-    }
-    // TRAVERSE_OUTPUT_FLUSH_INTERVAL=S overrides the flush cadence (0: after every step);
-    // only rank 0's value matters (it decides).
-    if (const char* env = std::getenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL")) {
-      char* end = nullptr;
-      const double v = std::strtod(env, &end);
-      if (end != env && *end == '\0' && v >= 0.0 && std::isfinite(v)) w.flush_seconds = v;
-    }
-    w.probes_group = create_group(root, "probes");
-    w.fields_group = create_group(root, "fields");
-    w.xdmf_group = create_group(root, "xdmf");
-    detail::write_string_attribute(
-        w.xdmf_group.get(), "description",
-        "one virtual dataset per node array and output step for the XDMF sidecar: "
-        "/xdmf/<array>/<step> maps step <step> of /fields/<field> (see the group attributes)");
-    detail::write_string_attribute(w.xdmf_group.get(), "arrays", "");
-    detail::write_string_attribute(w.xdmf_group.get(), "geometry", "");
+    w.check_layout(nodes, moving_loads);
+    w.check_output_location(overwrite);
+    w.create_file(overwrite);
+    w.write_run_attributes(info);
+    w.create_series(moving_loads);
+    w.write_mesh();
+    w.create_groups();
     w.flush_file();
     w.write_xdmf();
   } catch (...) {
