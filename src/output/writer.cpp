@@ -643,22 +643,31 @@ Writer& Writer::operator=(Writer&& other) noexcept {
   return *this;
 }
 
+namespace {
+
+// What is wrong with a probe's or field's declaration (`kind` "probe" or "field"), or "".
+std::string declaration_problem(const char* kind, bool started, const std::string& name, std::size_t components,
+                                const std::vector<std::string>& component_names) {
+  const std::string k(kind);
+  if (started) return "output: " + k + " '" + name + "' added after the first output step";
+  if (!detail::valid_name(name))
+    return "output: invalid " + k + " name '" + name + "' (use letters, digits, '_', '.', '-')";
+  if (components < 1) return "output: " + k + " '" + name + "' needs at least one component";
+  if (!component_names.empty() && component_names.size() != components)
+    return "output: " + k + " '" + name + "' has " + std::to_string(component_names.size()) + " component names for " +
+           std::to_string(components) + " components";
+  for (const auto& c : component_names)
+    if (!detail::valid_name(c)) return "output: invalid component name '" + c + "' of " + k + " '" + name + "'";
+  return "";
+}
+
+}  // namespace
+
 std::size_t Writer::add_probe(const ProbeSpec& spec) {
   Impl& w = *impl_;
   w.require_open("add_probe");
-  std::string bad;
-  if (w.steps > 0 || w.state != State::running)
-    bad = "output: probe '" + spec.name + "' added after the first output step";
-  else if (!detail::valid_name(spec.name))
-    bad = "output: invalid probe name '" + spec.name + "' (use letters, digits, '_', '.', '-')";
-  else if (spec.components < 1)
-    bad = "output: probe '" + spec.name + "' needs at least one component";
-  else if (!spec.component_names.empty() && spec.component_names.size() != spec.components)
-    bad = "output: probe '" + spec.name + "' has " + std::to_string(spec.component_names.size()) +
-          " component names for " + std::to_string(spec.components) + " components";
-  for (const auto& c : spec.component_names)
-    if (bad.empty() && !detail::valid_name(c))
-      bad = "output: invalid component name '" + c + "' of probe '" + spec.name + "'";
+  std::string bad = declaration_problem("probe", w.steps > 0 || w.state != State::running, spec.name, spec.components,
+                                        spec.component_names);
   for (const auto& p : w.probes)
     if (bad.empty() && p.name == spec.name) bad = "output: duplicate probe '" + spec.name + "'";
   if (!bad.empty()) throw OutputError(bad);  // replicated arguments: all ranks agree
@@ -685,21 +694,10 @@ std::size_t Writer::add_probe(const ProbeSpec& spec) {
 std::size_t Writer::add_field(const FieldSpec& spec) {
   Impl& w = *impl_;
   w.require_open("add_field");
-  std::string bad;
-  if (w.steps > 0 || w.state != State::running)
-    bad = "output: field '" + spec.name + "' added after the first output step";
-  else if (!detail::valid_name(spec.name))
-    bad = "output: invalid field name '" + spec.name + "' (use letters, digits, '_', '.', '-')";
-  else if (spec.components < 1)
-    bad = "output: field '" + spec.name + "' needs at least one component";
-  else if (!spec.component_names.empty() && spec.component_names.size() != spec.components)
-    bad = "output: field '" + spec.name + "' has " + std::to_string(spec.component_names.size()) +
-          " component names for " + std::to_string(spec.components) + " components";
-  else if (spec.geometry && spec.components != 3)
+  std::string bad = declaration_problem("field", w.steps > 0 || w.state != State::running, spec.name, spec.components,
+                                        spec.component_names);
+  if (bad.empty() && spec.geometry && spec.components != 3)
     bad = "output: geometry field '" + spec.name + "' must have 3 components (x, y, z)";
-  for (const auto& c : spec.component_names)
-    if (bad.empty() && !detail::valid_name(c))
-      bad = "output: invalid component name '" + c + "' of field '" + spec.name + "'";
   for (const auto& f : w.fields) {
     if (bad.empty() && f.spec.name == spec.name) bad = "output: duplicate field '" + spec.name + "'";
     if (bad.empty() && f.spec.geometry && spec.geometry)
