@@ -10,9 +10,9 @@ std::string usage_text() {
 
 Usage:
   traverse run SCENE.yaml [-o OUT.h5] [--set KEY.PATH=VALUE ...] [--overwrite] [-q] [--progress]
-               [--restart-interval S]
+               [--restart-interval S] [--max-memory SIZE] [--max-steps N]
   traverse run --restart OUT.h5 [SCENE.yaml] [--set KEY.PATH=VALUE ...] [-q] [--progress]
-  traverse check SCENE.yaml [--set KEY.PATH=VALUE ...] [--types]
+  traverse check SCENE.yaml [--set KEY.PATH=VALUE ...] [--types] [--max-memory SIZE] [--max-steps N]
   traverse xdmf OUT.h5 [-o OUT.xmf]
   traverse --help | --version
   mpirun -n K traverse run SCENE.yaml ...      (K MPI ranks)
@@ -38,6 +38,15 @@ Options:
                       seconds (wall clock) have passed since the last one (default: the
                       scene's output.restart_interval, 60 s; 0: after every output step);
                       always also at the end and when the run stops (signal, failure)
+  --max-memory SIZE   refuse (exit 2) a run whose estimated memory per rank exceeds SIZE
+                      (e.g. 4G, 512M; K, M, G, T are powers of 1024; default: the memory
+                      available on this host, shared by the ranks on it)
+  --max-steps N       refuse (exit 2) a run of more than N time steps (default 10000000;
+                      2^32 is the most a time grid resolves)
+
+Before anything large is allocated, run and check estimate the run's time steps and memory
+per rank and refuse what exceeds the limits, with the keys that decide it
+(docs/reliability.md, "Limits").
 
 Ctrl-C (SIGINT) or SIGTERM stops a run after the current time step: the output keeps
 every step written, its status says "interrupted at t = ...", the exit code is 130
@@ -114,6 +123,20 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       if (v.empty() || *end != '\0' || !(x >= 0.0) || !std::isfinite(x))
         throw UsageError{a + ": expected a number of seconds >= 0, found '" + v + "'"};
       cl.restart_interval = x;
+    } else if (a == "--max-memory") {
+      const std::string v = value(a);
+      const double bytes = parse_bytes(v);
+      if (!(bytes >= 1.0))
+        throw UsageError{a + ": expected a size such as 4G, 512M or 1000000 (bytes; K, M, G, T are powers of 1024), found '" +
+                         v + "'"};
+      cl.limits.max_memory = bytes;
+    } else if (a == "--max-steps") {
+      const std::string v = value(a);
+      char* end = nullptr;
+      const double x = std::strtod(v.c_str(), &end);
+      if (v.empty() || *end != '\0' || !(x >= 1.0) || x != std::floor(x) || !(x <= kMaxGridSteps))
+        throw UsageError{a + ": expected a whole number of time steps in [1, 4294967296], found '" + v + "'"};
+      cl.limits.max_steps = static_cast<long>(x);
     } else if (run && a == "--overwrite") {
       cl.overwrite = true;
     } else if (run && (a == "-q" || a == "--quiet")) {

@@ -3,6 +3,8 @@
 #include <string>
 #include <vector>
 
+#include "run_limits.hpp"
+
 namespace traverse::app {
 
 /// Exit codes (documented in README.md and `traverse --help`).
@@ -25,6 +27,7 @@ struct CommandLine {
   bool quiet = false;
   bool progress = false;               ///< --progress: report progress even when not a terminal
   bool types = false;                  ///< check --types: also document every registered type
+  RunLimits limits;                    ///< --max-memory, --max-steps (run and check)
   std::string invocation;              ///< the whole command line, for the output file
 };
 

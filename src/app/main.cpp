@@ -30,8 +30,9 @@ int execute(const app::CommandLine& cl, int rank) {
     case Command::Check: {
       const scene::Scene sc = scene::load_scene(cl.scene, cl.overrides);
       if (sc.model == scene::Model::Rod) app::check_rod(sc);
+      const std::string plan = app::check_run(sc, cl.limits, MPI_COMM_WORLD);
       if (rank == 0) {
-        std::cout << "# " << cl.scene << ": valid. The complete scene, every default filled in:\n"
+        std::cout << "# " << cl.scene << ": valid (" << plan << "). The complete scene, every default filled in:\n"
                   << scene::describe_scene(sc);
         if (cl.types) std::cout << "\n" << scene::describe_types();
       }
@@ -69,6 +70,7 @@ int execute(const app::CommandLine& cl, int rank) {
       opt.quiet = cl.quiet;
       opt.progress = cl.progress;
       opt.invocation = cl.invocation;
+      opt.limits = cl.limits;
       switch (sc.model) {
         case scene::Model::Beam:
           app::run_beam(sc, opt, MPI_COMM_WORLD);

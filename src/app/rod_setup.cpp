@@ -2,10 +2,13 @@
 
 #include <Teuchos_DefaultMpiComm.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <sstream>
 
 #include "run.hpp"
+#include "run_limits.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/rod/static_solver.hpp"
 #include "traverse/solver/solver_parameters.hpp"
@@ -46,6 +49,44 @@ rod::RodLoads rod_loads(const scene::Scene& sc) {
   return loads;
 }
 
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+// What a failed static initial state says: how far the load stepping got, how the last
+// Newton solve ended, the keys that set the load and the stiffness, and what to try.
+std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, const rod::StaticReport& rep) {
+  std::string msg = "initial static state: no equilibrium found under the load: " + rep.message;
+  if (rep.failed_factor > 0.0)
+    msg += "; the last Newton solve, at load factor " + fmt(rep.failed_factor) + ", stopped with max |residual| " +
+           fmt(rep.failed_residual) + " (the test is " + fmt(rod::StaticSolver().ftol * rep.failed_scale) +
+           "): " + rep.failed_reason;
+  msg += "; " + std::to_string(rep.iterations) + " Newton iterations in all. The load: ";
+  std::string loads;
+  double W = sm.props.rhoA * sc.gravity * sc.rod.length;
+  for (const auto& l : sc.loads) {
+    const double s0 = l.sigma(0.0);
+    if (!(std::isfinite(s0) && s0 >= 0.0 && s0 <= sc.rod.length)) continue;
+    loads += load_magnitude_key(sc, l) + " (" + fmt(l.force.norm()) + " N), ";
+    W = std::max(W, l.force.norm());
+  }
+  for (const auto* e : {&sc.left, &sc.right})
+    if (e->type == scene::EndType::roller && e->axial_force != 0.0) {
+      loads += std::string("ends.") + (e == &sc.left ? "left" : "right") + ".force (" + fmt(e->axial_force) + " N), ";
+      W = std::max(W, std::abs(e->axial_force));
+    }
+  const double EI = std::min(sm.props.K.x(), sm.props.K.y());
+  msg += loads + "gravity = " + fmt(sc.gravity) + " m/s^2 on rod.density and rod.section (a weight of " +
+         fmt(sm.props.rhoA * sc.gravity * sc.rod.length) + " N); the stiffness: rod.youngs_modulus = " +
+         fmt(sc.rod.youngs_modulus) + " Pa and rod.section (E I = " + fmt(EI) + " N m^2, W L^2 / (E I) = " +
+         fmt(W / EI * sc.rod.length * sc.rod.length) +
+         "). Try a smaller load, a stiffer rod, or initial_state: {type: rest} (the rod starts straight and at rest; "
+         "the loads act from t = 0)";
+  return msg;
+}
+
 // Equilibrium under gravity and the loads on the rod at t = 0 (Newton with load steps).
 InitialState static_equilibrium(const scene::Scene& sc, const rod::RodModel& model) {
   const double L = sc.rod.length;
@@ -62,10 +103,7 @@ InitialState static_equilibrium(const scene::Scene& sc, const rod::RodModel& mod
   }
   auto nodes = rod::straight_static_state(sm);
   const auto rep = rod::StaticSolver().solve_with_load_steps(sm, nodes);
-  if (!rep.converged)
-    throw NumericsError("initial static state: " + rep.message + " (residual " +
-                        scene::format_number(rep.residual_norm) + " after " + std::to_string(rep.iterations) +
-                        " Newton iterations)");
+  if (!rep.converged) throw NumericsError(static_failure(sc, sm, rep));
   InitialState out;
   out.state = rod::dynamic_state_from_static(sm, nodes);
   out.description = "static equilibrium under gravity" +

@@ -6,6 +6,9 @@
 #include <string>
 
 #include "cli.hpp"
+#include "run_limits.hpp"
+#include "traverse/core/time_grid.hpp"
+#include "traverse/rod/rod_model.hpp"
 #include "traverse/scene/scene.hpp"
 
 namespace traverse::app {
@@ -25,7 +28,22 @@ struct RunOptions {
   std::string invocation;
   double restart_interval = 60.0;  ///< wall seconds between restart points (0: every output step)
   bool restart = false;  ///< continue the run of `output` from its last restart point (traverse/output/restart.hpp)
+  RunLimits limits;      ///< --max-memory, --max-steps
 };
+
+/// The outcome of a run's up-front checks (run_limits.hpp, docs/reliability.md "Limits"):
+/// the time grid (dynamic runs) and one line saying what was estimated against what limit.
+/// Each check_*_run throws scene::SceneError (exit 2) for a run that does not fit; they are
+/// collective over `comm` and allocate nothing of the structure's size.
+struct CheckedRun {
+  TimeGrid grid;
+  std::string summary;
+};
+CheckedRun check_beam_run(const scene::Scene& scene, const RunLimits& limits, MPI_Comm comm);
+/// A rod run, dynamic or a continuation (then without a time grid); `model` from build_rod_model.
+CheckedRun check_rod_run(const scene::Scene& scene, const rod::RodModel& model, const RunLimits& limits, MPI_Comm comm);
+/// The checks of the scene's kind of run, for `traverse check`: the summary line.
+std::string check_run(const scene::Scene& scene, const RunLimits& limits, MPI_Comm comm);
 
 /// Runs a beam scene; throws scene::SceneError for input that only shows as bad once the
 /// model is built, output::OutputError for output-path problems, NumericsError when the

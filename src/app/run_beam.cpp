@@ -18,17 +18,6 @@ namespace traverse::app {
 
 namespace {
 
-beam::Support support_of(scene::Supports s) {
-  using S = scene::Supports;
-  switch (s) {
-    case S::simply_supported: return beam::Support::SimplySupported;
-    case S::clamped_free: return beam::Support::ClampedFree;
-    case S::clamped_clamped: return beam::Support::ClampedClamped;
-    case S::clamped_pinned: return beam::Support::ClampedPinned;
-    default: throw std::logic_error("run_beam: unknown supports");
-  }
-}
-
 beam::MovingLoad moving_load(const scene::MovingLoadSpec& l) {
   beam::MovingLoad m;
   m.kind = l.inertia ? beam::LoadKind::Mass : beam::LoadKind::Force;
@@ -43,16 +32,16 @@ beam::MovingLoad moving_load(const scene::MovingLoadSpec& l) {
   return m;
 }
 
-/// Stage 1: the beam problem of a scene, with its time grid (dt auto: a twentieth of the
-/// highest mode's period, at most the time a load needs to cross one mesh cell; end auto:
-/// when the last load leaves).
-beam::BeamProblem beam_problem(const scene::Scene& sc) {
+/// Stage 1: the beam problem of a scene on the time grid of its checked run plan
+/// (run_limits.hpp: dt auto is a twentieth of the highest mode's period, at most the time a
+/// load needs to cross one mesh cell; end auto is when the last load leaves).
+beam::BeamProblem beam_problem(const scene::Scene& sc, const TimeGrid& grid) {
   const auto& b = sc.beam;
   beam::BeamProblem p;
   p.length = b.length;
   p.EI = b.youngs_modulus * b.section.I1;
   p.rhoA = b.density * b.section.area;
-  p.support = support_of(b.supports);
+  p.support = beam_support(b.supports);
   p.n_modes = b.modes;
   p.quadrature_nodes.resize(static_cast<size_t>(sc.mesh.nodes));
   for (int j = 0; j < sc.mesh.nodes; ++j) p.quadrature_nodes[static_cast<size_t>(j)] = j * sc.mesh.ds;
@@ -61,24 +50,10 @@ beam::BeamProblem beam_problem(const scene::Scene& sc) {
   p.gravity = sc.gravity;
   p.self_weight = true;
   p.initial_state = beam::InitialState::Static;
-  double t_end = 0.0, v_max = 0.0;
-  for (const auto& l : sc.loads) {
-    p.loads.push_back(moving_load(l));
-    const double te = l.exit_time(b.length);
-    if (std::isfinite(te)) t_end = std::max(t_end, te);
-    v_max = std::max({v_max, l.speed, std::abs(l.velocity(std::isfinite(te) ? te : l.entry_time))});
-  }
-  p.t_start = 0.0;
-  p.t_end = sc.time.end_auto ? t_end : sc.time.end;
-  if (sc.time.dt_auto) {
-    const beam::UniformModes modes(p.support, p.n_modes, p.length, p.EI, p.rhoA);
-    const double omega_max = modes.circular_frequencies().maxCoeff();
-    double dt = 2.0 * constants::pi / omega_max / 20.0;
-    if (v_max > 0.0) dt = std::min(dt, sc.mesh.ds / v_max);
-    p.dt = dt;
-  } else {
-    p.dt = sc.time.dt;
-  }
+  for (const auto& l : sc.loads) p.loads.push_back(moving_load(l));
+  p.t_start = grid.t_start;
+  p.t_end = grid.t_end;
+  p.dt = grid.dt;
   p.integrator = b.integrator == scene::BeamIntegrator::newmark ? beam::Integrator::Newmark : beam::Integrator::RK4;
   p.output_every = sc.output.every;
   return p;
@@ -329,7 +304,10 @@ void BeamObserver::operator()(const beam::BeamSnapshot& s) {
 void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  const beam::BeamProblem p = beam_problem(sc);
+  // The limits (steps, memory, load ratio: run_limits.hpp) before anything of the beam's size
+  // is allocated; the time grid (dt, end) comes from the same plan.
+  const TimeGrid grid = check_beam_run(sc, opt.limits, comm).grid;
+  const beam::BeamProblem p = beam_problem(sc, grid);
   beam::BeamSimulation sim(p);
   BeamOutputs outputs(sc, p, sim.modes(), comm);
   const BeamReplay replay(opt, outputs.probe_names(), outputs.field_names(), comm);

@@ -61,25 +61,6 @@ std::vector<rod::RodNode> gather_nodes(const solver::DistributedStepper& st, con
   return out;
 }
 
-/// The time grid of a run: `steps` steps of dt, the last one shortened to end at t_end.
-struct TimeGrid {
-  double dt = 0.0, t_end = 0.0;
-  long steps = 0;
-};
-TimeGrid time_grid(const scene::Scene& sc) {
-  TimeGrid g;
-  g.t_end = sc.time.end;
-  if (sc.time.end_auto) {
-    g.t_end = 0.0;
-    for (const auto& l : sc.loads) g.t_end = std::max(g.t_end, l.exit_time(sc.rod.length));
-  }
-  g.dt = sc.time.dt;
-  // A remainder below 1e-6 dt is rounding of dt or of the end time, not a step: it joins the
-  // last step (a sliver step of 1e-12 s makes the Newton matrix, with its 1/dt terms, useless).
-  g.steps = std::max(1L, static_cast<long>(std::ceil(g.t_end / g.dt - 1e-6)));
-  return g;
-}
-
 /// A load that crosses more than one cell per time step is resolved by the space grid but
 /// not in time: the run goes on (it converges as dt falls), with a warning naming the keys.
 void warn_under_resolved_loads(const scene::Scene& sc, const TimeGrid& g) {
@@ -334,10 +315,24 @@ void RodTimeLoop::fail_step(long i, double t0, const solver::StepFailure& e, Pro
   progress.done();
   std::ostringstream os;
   os << "time step " << i << " of " << g_.steps << " (t = " << e.time() << " s, dt = " << e.step()
-     << " s) failed after halving it " << e.depth() << " times: " << e.report().status << " (residual "
-     << e.report().residual_norm
-     << "); try scheme.rho_inf < 1, a smaller time.dt, or a larger 'Max Subdivision Depth' in solver"
-     << " (traverse run --restart " << opt_.output << " --set ... continues from t = " << t0 << " s)";
+     << " s) failed after halving it " << e.depth() << " times: " << e.report().status << " (residual ";
+  // A norm is >= 0: NOX reports a non-finite residual as a huge negative number.
+  const double residual = e.report().residual_norm;
+  if (residual >= 0.0 && std::isfinite(residual)) os << residual;
+  else os << "not finite";
+  os << "); ";
+  // A step far shorter than the time a bending wave needs to cross a cell: the residual's
+  // 1/dt terms round above the absolute residual tolerance, so a smaller dt cannot help.
+  const auto& props = st_.model().props;
+  const double ds = st_.model().ds(), cell_time = ds * ds * std::sqrt(props.rhoA / props.bending_stiffness());
+  if (g_.dt < 1e-6 * cell_time)
+    os << "time.dt = " << g_.dt << " s is " << cell_time / g_.dt << " times shorter than a bending wave needs to "
+       << "cross a cell (mesh.ds^2 sqrt(rho A / (E I)) = " << cell_time << " s), where the rounding of the 1/dt "
+       << "terms keeps the residual above 'Residual Tolerance': try a larger time.dt (auto: mesh.ds / the fastest "
+       << "loads.*.speed) or a larger 'Residual Tolerance' in solver";
+  else
+    os << "try scheme.rho_inf < 1, a smaller time.dt, or a larger 'Max Subdivision Depth' in solver";
+  os << " (traverse run --restart " << opt_.output << " --set ... continues from t = " << t0 << " s)";
   rp_.store(i - 1, left_.position());  // the stepper kept the state before the failed step
   w_.fail(os.str());
   throw NumericsError(os.str());
@@ -370,9 +365,14 @@ LoopTotals RodTimeLoop::run(long first_step, bool show_progress) {
   tot.last_step = first_step - 1;
   const auto start = std::chrono::steady_clock::now();
   for (long i = first_step; i <= g_.steps; ++i) {
+    // Step i ends at the grid time i dt (t_end for the last): computed from i, not accumulated,
+    // so the stepper's time (t0 + h, exact) stays on the grid and the run takes the steps it
+    // reported (core/time_grid.hpp bounds the rounding of i dt).
     const double t0 = st_.time();
-    const double h = i == g_.steps ? g_.t_end - t0 : g_.dt;
-    if (h <= 0.0) break;
+    const double h = g_.time(i) - t0;
+    if (!(h > 0.0))
+      throw std::logic_error("rod time loop: step " + std::to_string(i) + " of " + std::to_string(g_.steps) +
+                             " has length " + std::to_string(h) + " s (t = " + std::to_string(t0) + " s)");
     left_.before_step();
     try {
       const auto rep = st_.step(h);
@@ -456,12 +456,14 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   char** no_argv = nullptr;
   Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);
 
-  // Model and stepper first: the partition (ranks <= nodes), the linear solver and a
-  // required planar path are bad input (exit 2), found before any initial state is computed.
+  // Model, limits and stepper first: the limits (steps, memory, load ratio: run_limits.hpp),
+  // the partition (ranks <= nodes), the linear solver and a required planar path are bad
+  // input (exit 2), found before anything of the rod's size is allocated and before any
+  // initial state is computed.
   const RodSetup setup = build_rod_model(sc);
+  const TimeGrid grid = check_rod_run(sc, setup.model, opt.limits, comm).grid;
   auto stepper = make_stepper(sc, setup, comm);
   if (!opt.restart) precheck_planar(sc, setup.model);
-  const TimeGrid grid = time_grid(sc);
 
   InitialState start;
   RestartSource restart;

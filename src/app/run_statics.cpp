@@ -185,6 +185,7 @@ void print_summary(const scene::Scene& sc, const RunOptions& opt, double start, 
 void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
+  check_rod_run(sc, build_rod_model(sc).model, opt.limits, comm);  // memory, load ratio (run_limits.hpp)
   int no_argc = 0;
   char** no_argv = nullptr;
   Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);

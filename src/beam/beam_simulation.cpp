@@ -1,9 +1,12 @@
 #include "traverse/beam/beam_simulation.hpp"
 
 #include <algorithm>
+#include <string>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+
+#include "traverse/core/time_grid.hpp"
 
 namespace traverse::beam {
 
@@ -48,6 +51,9 @@ BeamSimulation::BeamSimulation(BeamProblem problem) : problem_(std::move(problem
     throw std::invalid_argument("BeamSimulation: length, EI and rhoA must be positive");
   if (!(p.dt > 0) || !(p.t_end > p.t_start))
     throw std::invalid_argument("BeamSimulation: need dt > 0 and t_end > t_start");
+  if (!make_time_grid(p.t_start, p.t_end, p.dt, kGridJoin).ok)
+    throw std::invalid_argument("BeamSimulation: (t_end - t_start) / dt = " + std::to_string((p.t_end - p.t_start) / p.dt) +
+                                " steps; at most 2^32 can be represented (traverse/core/time_grid.hpp)");
   if (p.output_every < 1) throw std::invalid_argument("BeamSimulation: output_every must be >= 1");
   switch (p.integrator) {
     case Integrator::RK4:
@@ -329,13 +335,14 @@ void BeamSimulation::run(const BeamObserver& observer) {
     }
   std::sort(events.begin(), events.end());
   // Grid t_k = t_start + k dt, k < N, t_N = t_end: the last step is shortened (a remainder
-  // below 1e-9 dt is merged into the previous step instead of making a sliver step).
-  const double span = p.t_end - p.t_start;
-  const long N = std::max<long>(1, static_cast<long>(std::ceil(span / p.dt - 1e-9)));
+  // below 1e-9 dt is merged into the previous step instead of making a sliver step). The
+  // constructor checked that the count is representable.
+  const TimeGrid grid = make_time_grid(p.t_start, p.t_end, p.dt, kGridJoin).grid;
+  const long N = grid.steps;
   std::size_t next_event = 0;
   const double tol = 1e-9 * p.dt;
   for (long k = 1; k <= N; ++k) {
-    const double tb = (k == N) ? p.t_end : p.t_start + static_cast<double>(k) * p.dt;
+    const double tb = grid.time(k);
     double ta = t_;
     while (ta < tb) {
       while (next_event < events.size() && events[next_event] <= ta + tol) ++next_event;

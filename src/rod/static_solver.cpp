@@ -3,6 +3,7 @@
 #include <Eigen/SparseLU>
 
 #include <cmath>
+#include <cstdio>
 
 namespace traverse::rod {
 
@@ -96,27 +97,45 @@ StaticReport StaticSolver::newton(const StaticModel& m, std::vector<StaticNode>&
       rep.residual_norm = rn.cwiseAbs().maxCoeff();
       if (rep.residual_norm <= ftol * fscale) {
         rep.converged = true;
+        rep.load_scale = fscale;
         for (auto& n : nodes) n.rebase();
         return rep;
       }
     }
   }
-  rep.residual_norm = r.size() ? r.cwiseAbs().maxCoeff() : 0.0;
-  if (rep.message.empty()) rep.message = "Newton did not converge in " + std::to_string(max_iterations) + " iterations";
+  // The residual where Newton stopped (not the one before its last update).
+  const VecX rn = residual(m, nodes);
+  rep.residual_norm = rn.size() ? rn.cwiseAbs().maxCoeff() : 0.0;
+  rep.load_scale = fscale;
+  if (rep.message.empty()) {
+    char buf[200];
+    if (!std::isfinite(rep.residual_norm))
+      std::snprintf(buf, sizeof buf, "Newton diverged (the residual is not finite)");
+    else if (rep.residual_norm <= ftol * fscale)
+      std::snprintf(buf, sizeof buf, "Newton did not converge in %d iterations: the residual test held, but the "
+                    "scaled update stayed above %.3g (rounding)", max_iterations, rtol);
+    else
+      std::snprintf(buf, sizeof buf, "Newton did not converge in %d iterations", max_iterations);
+    rep.message = buf;
+  }
   nodes = start;
   return rep;
 }
 
 StaticReport StaticSolver::solve_with_load_steps(const StaticModel& m, std::vector<StaticNode>& nodes) const {
   StaticReport total;
-  double lambda = 0.0, step = 1.0;
+  double lambda = 0.0, step = 1.0, tried = 0.0;
   while (lambda < 1.0) {
     if (total.load_steps + 1 > max_load_steps || step < 1e-8) {
-      total.message = "load stepping stalled at load factor " + std::to_string(lambda) + " (step " +
-                      std::to_string(step) + ")";
+      char buf[160];
+      std::snprintf(buf, sizeof buf, "load stepping stalled at load factor %.6g of 1 (%d load steps accepted; the last "
+                    "increment tried was %.3g)", lambda, total.load_steps, tried);
+      total.message = buf;
+      total.load_factor = lambda;
       return total;
     }
     const double next = std::min(1.0, lambda + step);
+    tried = next - lambda;
     std::vector<StaticNode> trial = nodes;
     const StaticReport r = newton(scaled_loads(m, next), trial);
     total.iterations += r.iterations;
@@ -125,11 +144,17 @@ StaticReport StaticSolver::solve_with_load_steps(const StaticModel& m, std::vect
       lambda = next;
       ++total.load_steps;
       total.residual_norm = r.residual_norm;
+      total.load_scale = r.load_scale;
       if (r.iterations <= 4) step *= 2.0;
     } else {
+      total.failed_factor = next;
+      total.failed_residual = r.residual_norm;
+      total.failed_scale = r.load_scale;
+      total.failed_reason = r.message;
       step *= 0.5;
     }
   }
+  total.load_factor = 1.0;
   total.converged = true;
   return total;
 }

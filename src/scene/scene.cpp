@@ -408,6 +408,9 @@ Param build_schema() {
       else if (model != kBeam && std::round(cells) < 2.0)
         ctx.fail("mesh.ds", "at least 2 cells along a rod (ds <= " + format_number(length / 2.0) + ")",
                  format_number(ds) + " (1 cell)");
+      else if (std::round(cells) > 2147483646.0)  // mesh.nodes is an int
+        ctx.fail("mesh.ds", "at most 2147483646 cells (ds >= " + format_number(length / 2147483646.0) +
+                 "; the node count is a 32-bit integer)", format_number(ds) + " (" + format_number(cells) + " cells)");
     } else if (model != kBeam && mesh.isParameter("nodes") && mesh.get<int>("nodes") < 3) {
       ctx.fail("mesh.nodes", "at least 3 nodes (2 cells) along a rod", std::to_string(mesh.get<int>("nodes")));
     }
@@ -494,10 +497,15 @@ double MovingLoadSpec::velocity(double t) const { return direction() * (speed + 
 double MovingLoadSpec::exit_time(double length) const {
   const double d = direction() > 0 ? length - start : start;  // distance to the far end
   const double v = speed, a = acceleration;
+  if (!(d > 0.0)) return entry_time;
   if (a == 0.0) return v > 0.0 ? entry_time + d / v : std::numeric_limits<double>::infinity();
-  const double disc = v * v + 2.0 * a * d;
-  if (disc < 0.0) return std::numeric_limits<double>::infinity();
-  return entry_time + (std::sqrt(disc) - v) / a;
+  // v tau + a tau^2 / 2 = d, as tau = 2 d / (v + sqrt(v^2 + 2 a d)): no cancellation, and the
+  // root by hypot (a > 0) or scaled by v (a < 0) so that v^2 and a d cannot overflow.
+  if (a > 0.0) return entry_time + 2.0 * d / (v + std::hypot(v, std::sqrt(2.0) * std::sqrt(a) * std::sqrt(d)));
+  if (!(v > 0.0)) return std::numeric_limits<double>::infinity();
+  const double r = (2.0 * -a / v) * (d / v);  // 2 |a| d / v^2: it stops before the end when > 1
+  if (!(r <= 1.0)) return std::numeric_limits<double>::infinity();
+  return entry_time + 2.0 * (d / v) / (1.0 + std::sqrt(1.0 - r));
 }
 
 const Param& scene_schema() {

@@ -74,6 +74,11 @@ TEST(Cli, CommandLineErrorsExitWithCode2) {
            {"run " + kScene.string() + " -o", "-o: expected a value after it"},
            {"check " + kScene.string() + " --overwrite", "unknown option '--overwrite'"},
            {"run /no/such/scene.yaml", "/no/such/scene.yaml: expected a readable scene file, found no such file"},
+           {"run " + kScene.string() + " --max-memory lots", "--max-memory: expected a size such as 4G"},
+           {"run " + kScene.string() + " --max-memory 0", "--max-memory: expected a size such as 4G"},
+           {"check " + kScene.string() + " --max-steps 0", "--max-steps: expected a whole number of time steps in [1, 4294967296]"},
+           {"run " + kScene.string() + " --max-steps 1e20", "found '1e20'"},
+           {"run " + kScene.string() + " --max-steps 2.5", "found '2.5'"},
        }) {
     const auto r = run(args);
     EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
@@ -130,34 +135,57 @@ TEST(Cli, UnstableTimeStepFailsWithCode3AndAMarkedFile) {
 }
 
 TEST(Cli, BadInputSuite) {
+  // Each file: "# expect: FRAGMENT" lines (every one must be in the message), optionally
+  // "# args: ..." (extra command-line arguments) and "# exit: 3" (the numerics fail; default
+  // 2: refused). Exit 2 names the file and leaves no output file; exit 3 leaves none or one
+  // whose status says failed (nothing that could be taken for a result).
   const fs::path dir = fs::path(TRAVERSE_SOURCE_DIR) / "tests" / "app" / "bad_input";
   const fs::path d = scratch("bad");
-  int cases = 0;
+  int cases = 0, failing = 0;
   for (const auto& entry : fs::directory_iterator(dir)) {
     if (entry.path().extension() != ".yaml") continue;
     std::ifstream in(entry.path());
-    std::string line, expect, args;
+    std::string line, args;
+    std::vector<std::string> expect;
+    int exit_code = 2;
     while (std::getline(in, line) && line.rfind("# ", 0) == 0) {
-      if (line.rfind("# expect: ", 0) == 0) expect = line.substr(10);
+      if (line.rfind("# expect: ", 0) == 0) expect.push_back(line.substr(10));
       if (line.rfind("# args: ", 0) == 0) args = line.substr(8);
+      if (line.rfind("# exit: ", 0) == 0) exit_code = std::stoi(line.substr(8));
     }
+    const std::string name = entry.path().filename().string();
     ASSERT_FALSE(expect.empty()) << entry.path() << " has no '# expect:' line";
+    ASSERT_TRUE(exit_code == 2 || exit_code == 3) << name << ": '# exit:' must be 2 or 3";
     args = std::regex_replace(args, std::regex("@SCENE@"), entry.path().string());
     const std::string out = (d / (entry.path().stem().string() + ".h5")).string();
     const bool own_output = args.find("-o ") != std::string::npos;
     const auto r = run("run " + entry.path().string() + " " + args + (own_output ? "" : " -o " + out) + " -q");
-    EXPECT_EQ(r.code, 2) << entry.path().filename() << "\n" << r.out;
-    EXPECT_NE(r.out.find(expect), std::string::npos) << entry.path().filename() << ": expected '" << expect
-                                                     << "' in\n" << r.out;
-    if (!own_output) {
-      EXPECT_FALSE(fs::exists(out)) << entry.path().filename() << " left an output file";
+    EXPECT_EQ(r.code, exit_code) << name << "\n" << r.out;
+    for (const auto& e : expect)
+      EXPECT_NE(r.out.find(e), std::string::npos) << name << ": expected '" << e << "' in\n" << r.out;
+    if (exit_code == 3) {
+      ++failing;
+      EXPECT_NE(r.out.find("numerics failed: "), std::string::npos) << name << "\n" << r.out;
+      // A failed time step keeps the steps written so far, marked failed; a failed start writes nothing.
+      if (r.out.find("numerics failed: time step ") != std::string::npos) {
+        EXPECT_TRUE(fs::exists(out)) << name << ": the steps written before the failure are kept";
+      }
+      if (fs::exists(out)) {
+        const std::string status = traverse::output::Reader(out).status();
+        EXPECT_EQ(status.rfind("failed: ", 0), 0u) << name << ": the output file's status is '" << status << "'";
+      }
+      continue;
     }
-    if (r.out.find(entry.path().filename().string()) == std::string::npos && !own_output)
-      ADD_FAILURE() << entry.path().filename() << ": message does not name the file:\n" << r.out;
+    if (!own_output) {
+      EXPECT_FALSE(fs::exists(out)) << name << " left an output file";
+    }
+    if (r.out.find(name) == std::string::npos && !own_output)
+      ADD_FAILURE() << name << ": message does not name the file:\n" << r.out;
     ++cases;
   }
-  std::cout << "  bad-input cases: " << cases << "\n";
+  std::cout << "  bad-input cases: " << cases << " refused (exit 2), " << failing << " failing numerics (exit 3)\n";
   EXPECT_GE(cases, 40);
+  EXPECT_GE(failing, 3);
 }
 
 TEST(Cli, RodRunWritesProbesFieldsAndStatus) {

@@ -44,6 +44,10 @@ using BeamObserver = std::function<void(const BeamSnapshot&)>;
 /// (resp. (Mb + h^2/4 Kb)^{-1} for Newmark), so a step costs O(n^2) per load.
 class BeamSimulation {
  public:
+  /// A remainder of the time span below this fraction of dt joins the last step.
+  static constexpr double kGridJoin = 1e-9;
+  /// Throws std::invalid_argument for a problem it cannot integrate (non-positive sizes, a
+  /// time grid of more than kMaxGridSteps steps: traverse/core/time_grid.hpp).
   explicit BeamSimulation(BeamProblem problem);
   ~BeamSimulation();
   BeamSimulation(const BeamSimulation&) = delete;

@@ -12,8 +12,15 @@ struct StaticReport {
   bool converged = false;
   int iterations = 0;        ///< Newton iterations in all
   int load_steps = 0;        ///< accepted load steps
-  double residual_norm = 0;  ///< max |r| at the returned state
+  double residual_norm = 0;  ///< max |r| at the returned state (newton: where it stopped)
+  double load_scale = 0;     ///< the force scale of the convergence test [N] (ftol * load_scale)
   std::string message;       ///< why it failed (empty when converged)
+  // solve_with_load_steps:
+  double load_factor = 0;      ///< the largest load factor reached (1 when converged)
+  double failed_factor = 0;    ///< the load factor of the last failed Newton solve (0: none failed)
+  double failed_residual = 0;  ///< max |r| where that solve stopped
+  double failed_scale = 0;     ///< its force scale [N]
+  std::string failed_reason;   ///< why it failed
 };
 
 class StaticSolver {

@@ -1,0 +1,17 @@
+#pragma once
+// What the machine allows one rank to use, for the memory check of run_limits.hpp.
+#include <mpi.h>
+
+#include "run_limits.hpp"
+
+namespace traverse::app {
+
+/// The memory one rank may use: --max-memory when given; else the memory available on this
+/// host (the smallest of /proc/meminfo MemAvailable and the room left under this process's
+/// cgroup limit, sysconf when neither is readable) shared by the ranks on this host, and at
+/// most the room left under the process's address-space and data limits (ulimit -v, -d).
+/// Collective over `comm`: every rank gets the smallest figure of all ranks (and its source),
+/// so every rank takes the same decision.
+MemoryLimit memory_limit(const RunLimits& limits, MPI_Comm comm);
+
+}  // namespace traverse::app

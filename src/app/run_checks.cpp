@@ -1,0 +1,84 @@
+// The up-front checks of a run (run_limits.hpp) for each kind of run, collective over the
+// ranks: every rank computes the same estimate and gets the same limit, so all refuse together.
+#include <mpi.h>
+
+#include "memory_limit.hpp"
+#include "rod_setup.hpp"
+#include "run.hpp"
+
+namespace traverse::app {
+
+namespace {
+
+int comm_size(MPI_Comm comm) {
+  int n = 1;
+  MPI_Comm_size(comm, &n);
+  return n;
+}
+
+// Whether the planar path is expected: scheme.planar on, or auto and the scene planar (the
+// rod, its loads, gravity and ends checked on a 2-cell copy of the model in the straight
+// reference state: planarity does not depend on the mesh, and nothing of the rod's size is
+// allocated before the memory check).
+bool expect_planar(const scene::Scene& sc, const rod::RodModel& model) {
+  if (sc.scheme.planar == scene::PlanarMode::off) return false;
+  if (sc.scheme.planar == scene::PlanarMode::on) return true;
+  rod::RodModel small = model;
+  small.num_cells = 2;
+  return rod::check_planar(small, rod::straight_rest_state(2, model.length), point_force_vectors(sc)).planar;
+}
+
+std::string summary(const TimePlan* time, const MemoryPlan& memory, const MemoryLimit& limit) {
+  std::string s;
+  if (time)
+    s = std::to_string(time->grid.steps) + " time steps of dt = " + scene::format_number(time->grid.dt) + " s to t = " +
+        scene::format_number(time->grid.t_end) + " s; ";
+  return s + "memory estimate " + format_bytes(memory.bytes) + " per rank (limit " +
+         (limit.bytes > 0.0 ? format_bytes(limit.bytes) + ": " + limit.source : std::string("none known")) + ")";
+}
+
+}  // namespace
+
+CheckedRun check_beam_run(const scene::Scene& sc, const RunLimits& limits, MPI_Comm comm) {
+  CheckedRun out;
+  check_load_ratio(sc);
+  check_load_speeds(sc);
+  const MemoryPlan memory = beam_memory(sc, comm_size(comm));
+  const MemoryLimit limit = memory_limit(limits, comm);
+  check_memory(sc, memory, limit);
+  TimePlan time = beam_time_plan(sc);
+  check_time_plan(sc, time, limits.max_steps);
+  out.grid = time.grid;
+  out.summary = summary(&time, memory, limit);
+  return out;
+}
+
+CheckedRun check_rod_run(const scene::Scene& sc, const rod::RodModel& model, const RunLimits& limits, MPI_Comm comm) {
+  CheckedRun out;
+  check_load_ratio(sc);
+  const RodPathGuess path{expect_planar(sc, model), comm_size(comm)};
+  const MemoryPlan memory = rod_memory(sc, path);
+  const MemoryLimit limit = memory_limit(limits, comm);
+  check_memory(sc, memory, limit);
+  check_counters(sc, path);
+  if (sc.continuation.enabled) {
+    out.summary = summary(nullptr, memory, limit);
+    return out;
+  }
+  check_load_speeds(sc);
+  TimePlan time = rod_time_plan(sc);
+  check_time_plan(sc, time, limits.max_steps);
+  out.grid = time.grid;
+  out.summary = summary(&time, memory, limit);
+  return out;
+}
+
+std::string check_run(const scene::Scene& sc, const RunLimits& limits, MPI_Comm comm) {
+  switch (sc.model) {
+    case scene::Model::Beam: return check_beam_run(sc, limits, comm).summary;
+    case scene::Model::Rod: return check_rod_run(sc, build_rod_model(sc).model, limits, comm).summary;
+    default: throw std::logic_error("check_run: model not handled");
+  }
+}
+
+}  // namespace traverse::app

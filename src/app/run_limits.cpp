@@ -1,0 +1,449 @@
+#include "run_limits.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <stdexcept>
+
+#include "traverse/beam/uniform_modes.hpp"
+#include "traverse/rod/alpha_parameters.hpp"
+
+namespace traverse::app {
+
+namespace {
+
+using scene::format_number;
+
+std::string fmt(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+// A count: every digit up to 10^15, else as fmt.
+std::string count(double v) {
+  if (!(std::abs(v) < 1e15)) return fmt(v);
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.0f", v);
+  return buf;
+}
+
+std::string ranks_text(int ranks) { return std::to_string(ranks) + (ranks == 1 ? " rank" : " ranks"); }
+
+// The mesh key the scene gives (ds or nodes; nodes when neither: the default 101).
+std::string mesh_key(const scene::Scene& sc) {
+  return sc.tree.params.sublist("mesh").isParameter("ds") ? "mesh.ds" : "mesh.nodes";
+}
+
+std::string mesh_text(const scene::Scene& sc) {
+  const std::string model = sc.model == scene::Model::Beam ? "beam" : "rod";
+  return std::to_string(sc.mesh.nodes) + " nodes (" +
+         (mesh_key(sc) == "mesh.ds" ? "mesh.ds = " + fmt(sc.mesh.ds) + " m over " + model + ".length = " + fmt(sc.length()) + " m"
+                                    : "mesh.nodes") +
+         ")";
+}
+
+// The end time of a run whose time.end is auto: when the last load leaves; its keys.
+double auto_end(const scene::Scene& sc, TimePlan& p) {
+  const scene::MovingLoadSpec* last = nullptr;
+  double t_end = 0.0;
+  for (const auto& l : sc.loads) {
+    const double te = l.exit_time(sc.length());
+    if (std::isfinite(te) && (!last || te > t_end)) {
+      t_end = te;
+      last = &l;
+    }
+  }
+  if (!last) {
+    p.end_text = "time.end: auto (no load leaves the structure)";
+    p.end_keys = {"time.end"};
+    return 0.0;
+  }
+  const std::string k = "loads." + last->name + ".";
+  p.end_text = "time.end: auto = when load '" + last->name + "' leaves, t = " + fmt(t_end) + " s (" + k +
+               "entry_time = " + fmt(last->entry_time) + " s, speed = " + fmt(last->speed) + " m/s";
+  if (last->acceleration != 0.0) p.end_text += ", acceleration = " + fmt(last->acceleration) + " m/s^2";
+  p.end_text += ", from " + fmt(last->start) + " m)";
+  const double distance = last->direction() > 0 ? sc.length() - last->start : last->start;
+  // A load that starts at the far end, or whose entry time is most of the end time, is decided
+  // by its start or its entry time; otherwise by its motion.
+  if (!(distance > 0.0)) p.end_keys.push_back(k + "start");
+  p.entry_dominated = distance > 0.0 && last->entry_time > 0.0 && last->entry_time >= 0.5 * t_end;
+  if (p.entry_dominated) p.end_keys.push_back(k + "entry_time");
+  p.end_keys.push_back(k + "speed");
+  if (last->acceleration != 0.0) p.end_keys.push_back(k + "acceleration");
+  p.end_keys.push_back(k + "entry_time");
+  p.end_keys.push_back(k + "start");
+  return t_end;
+}
+
+double fixed_end(const scene::Scene& sc, TimePlan& p) {
+  p.end_text = "time.end = " + fmt(sc.time.end) + " s";
+  p.end_keys = {"time.end"};
+  return sc.time.end;
+}
+
+std::vector<std::string> joined(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+// Per-node figures of the memory model (docs/reliability.md "Limits": peak resident memory
+// measured at 2 x 10^4 nodes on 1 and 2 ranks, Release build, Open MPI 4.1).
+constexpr double kProgramBytes = 64.0 * 1024 * 1024;  // MPI, Kokkos, Trilinos, the executable
+constexpr double kRodReplicated = 800.0;    // per node of the whole rod on every rank: states, gathers
+constexpr double kRodStaticStart = 7700.0;  // per node of the whole rod: the static initial state (SparseLU)
+constexpr double kRodStatics = 70000.0;     // per owned node: continuation (LOCA, Anasazi), arch formation
+constexpr double kRodSystemShare = 0.46;    // the 3D system built before the path is chosen, of the 3D stepper
+
+// Stepper per owned node with the block-tridiagonal LU (auto), by unknowns per node.
+double rod_stepper_bytes(int unknowns) {
+  if (unknowns <= 6) return 8800.0;
+  if (unknowns <= 12) return 17500.0;
+  return 54000.0;
+}
+
+// The linear solver of the time steps and its memory relative to auto.
+double rod_solver_factor(const scene::Scene& sc, int ranks, std::string& name) {
+  const auto& s = sc.solver_parameters();
+  if (s.isSublist("Stratimikos") && s.sublist("Stratimikos").numParams() > 0) {
+    name = "Stratimikos pass-through (counted as GMRES)";
+    return 1.4;
+  }
+  name = s.isType<std::string>("Linear Solver") ? s.get<std::string>("Linear Solver") : "auto";
+  const std::string prec = s.isType<std::string>("Preconditioner") ? s.get<std::string>("Preconditioner") : "SCHWARZ";
+  if (name == "KLU2" && ranks == 1) return 1.07;
+  if (name == "KLU2") {
+    name = "KLU2 (rerouted to GMRES on " + std::to_string(ranks) + " ranks)";
+    return 1.4;
+  }
+  if (name == "GMRES" && prec != "BLOCK_TRIDIAGONAL") {
+    name = "GMRES + " + prec;
+    return 1.4;
+  }
+  return 1.0;
+}
+
+int rod_unknowns_3d(const scene::Scene& sc) {
+  const auto& s = sc.scheme;
+  const rod::AlphaParameters a = s.explicit_parameters ? rod::AlphaParameters{s.as, s.bs, s.gs, s.at, s.bt, s.gt}
+                                                       : rod::AlphaParameters::from_rho_inf(s.rho_inf, s.rho_inf_space);
+  return a.box_in_space() ? 12 : 24;
+}
+
+double owned_nodes(const scene::Scene& sc, int ranks) {
+  return std::ceil(static_cast<double>(sc.mesh.nodes) / std::max(1, ranks));
+}
+
+std::string kb(double bytes) { return fmt(bytes / 1000.0) + " kB"; }
+
+}  // namespace
+
+std::string load_magnitude_key(const scene::Scene& sc, const scene::MovingLoadSpec& l) {
+  const auto& p = sc.tree.params.sublist("loads").sublist(l.name);
+  for (const char* k : {"force", "force_vector", "mass", "mass_fraction"})
+    if (p.isParameter(k)) return "loads." + l.name + "." + k;
+  return "loads." + l.name;
+}
+
+std::string format_bytes(double b) {
+  if (!std::isfinite(b)) return fmt(b) + " bytes";
+  const char* units[] = {"bytes", "KiB", "MiB", "GiB", "TiB", "PiB", "EiB"};
+  int u = 0;
+  while (u < 6 && std::abs(b) >= 1024.0) {
+    b /= 1024.0;
+    ++u;
+  }
+  char buf[48];
+  std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.3g %s", b, units[u]);
+  return buf;
+}
+
+double parse_bytes(const std::string& text) {
+  std::string t = text;
+  auto ends_with = [&](const std::string& suf) {
+    if (t.size() > suf.size() && t.compare(t.size() - suf.size(), suf.size(), suf) == 0) {
+      t.resize(t.size() - suf.size());
+      return true;
+    }
+    return false;
+  };
+  if (!ends_with("iB")) ends_with("B");
+  double scale = 1.0;
+  if (!t.empty()) {
+    const char c = static_cast<char>(std::toupper(static_cast<unsigned char>(t.back())));
+    const std::string units = "KMGTP";
+    const auto pos = units.find(c);
+    if (pos != std::string::npos) {
+      scale = std::pow(1024.0, static_cast<double>(pos + 1));
+      t.pop_back();
+    }
+  }
+  if (t.empty() || !(std::isdigit(static_cast<unsigned char>(t[0])) || t[0] == '.')) return -1.0;
+  char* end = nullptr;
+  const double v = std::strtod(t.c_str(), &end);
+  if (*end != '\0' || !std::isfinite(v) || !(v > 0.0)) return -1.0;
+  const double bytes = v * scale;
+  return std::isfinite(bytes) ? bytes : -1.0;
+}
+
+std::string deciding_key(const scene::Scene& sc, const std::vector<std::string>& keys) {
+  for (const auto& k : keys) {
+    const auto it = sc.tree.marks.find(k);
+    if (it != sc.tree.marks.end() && it->second.first < 0) return k;
+  }
+  return keys.empty() ? std::string() : keys.front();
+}
+
+TimePlan rod_time_plan(const scene::Scene& sc) {
+  TimePlan p;
+  p.dt = sc.time.dt;
+  if (sc.time.dt_auto) {
+    const scene::MovingLoadSpec* fast = nullptr;
+    for (const auto& l : sc.loads)
+      if (!fast || l.speed > fast->speed) fast = &l;
+    const std::string k = fast ? "loads." + fast->name + ".speed" : "loads";
+    p.dt_text = "time.dt: auto = mesh.ds / " + k + " = " + fmt(sc.mesh.ds) + " m / " + fmt(fast ? fast->speed : 0.0) +
+                " m/s = " + fmt(p.dt) + " s";
+    p.dt_keys = {k, mesh_key(sc)};
+  } else {
+    p.dt_text = "time.dt = " + fmt(p.dt) + " s";
+    p.dt_keys = {"time.dt"};
+  }
+  p.t_end = sc.time.end_auto ? auto_end(sc, p) : fixed_end(sc, p);
+  p.steps = grid_step_count(p.t_end, p.dt, 1e-6);
+  return p;
+}
+
+beam::Support beam_support(scene::Supports s) {
+  using S = scene::Supports;
+  switch (s) {
+    case S::simply_supported: return beam::Support::SimplySupported;
+    case S::clamped_free: return beam::Support::ClampedFree;
+    case S::clamped_clamped: return beam::Support::ClampedClamped;
+    case S::clamped_pinned: return beam::Support::ClampedPinned;
+    default: throw std::logic_error("beam_support: unknown supports");
+  }
+}
+
+TimePlan beam_time_plan(const scene::Scene& sc) {
+  TimePlan p;
+  const auto& b = sc.beam;
+  double v_max = 0.0;
+  const scene::MovingLoadSpec* fast = nullptr;
+  for (const auto& l : sc.loads) {
+    const double te = l.exit_time(b.length);
+    const double v = std::max(l.speed, std::abs(l.velocity(std::isfinite(te) ? te : l.entry_time)));
+    if (!fast || v > v_max) fast = &l;
+    v_max = std::max(v_max, v);
+  }
+  if (sc.time.dt_auto) {
+    const double EI = b.youngs_modulus * b.section.I1, rhoA = b.density * b.section.area;
+    const beam::UniformModes modes(beam_support(b.supports), b.modes, b.length, EI, rhoA);
+    const double omega_max = modes.circular_frequencies().maxCoeff();
+    p.dt = 2.0 * constants::pi / omega_max / 20.0;
+    p.dt_text = "time.dt: auto = a twentieth of the period of mode " + std::to_string(b.modes) + " (beam.modes; " +
+                fmt(omega_max) + " rad/s) = " + fmt(p.dt) + " s";
+    p.dt_keys = {"beam.modes", "beam.youngs_modulus", "beam.density", "beam.section"};
+    p.dt_from_modes = true;
+    if (v_max > 0.0 && !(p.dt <= sc.mesh.ds / v_max)) {
+      p.dt = sc.mesh.ds / v_max;
+      const std::string k = "loads." + fast->name;
+      p.dt_text = "time.dt: auto = mesh.ds / (the fastest speed of load '" + fast->name + "') = " + fmt(sc.mesh.ds) +
+                  " m / " + fmt(v_max) + " m/s = " + fmt(p.dt) + " s";
+      p.dt_keys = {k + ".speed", k + ".acceleration", mesh_key(sc)};
+      p.dt_from_modes = false;
+    }
+  } else {
+    p.dt = sc.time.dt;
+    p.dt_text = "time.dt = " + fmt(p.dt) + " s";
+    p.dt_keys = {"time.dt"};
+  }
+  p.t_end = sc.time.end_auto ? auto_end(sc, p) : fixed_end(sc, p);
+  p.steps = grid_step_count(p.t_end, p.dt, beam::BeamSimulation::kGridJoin);
+  return p;
+}
+
+void check_time_plan(const scene::Scene& sc, TimePlan& p, long max_steps) {
+  if (!(p.dt > 0.0) || !std::isfinite(p.dt))
+    scene::fail_at(sc, deciding_key(sc, joined(p.dt_keys, p.end_keys)),
+                   "a time step that is a positive finite number of seconds", p.dt_text);
+  if (!(p.t_end > 0.0) || !std::isfinite(p.t_end))
+    scene::fail_at(sc, deciding_key(sc, joined(p.end_keys, p.dt_keys)),
+                   "an end time that is a positive finite number of seconds", p.end_text);
+  // The step count: a load's entry time, a given end time, or (a beam's dt from its modes)
+  // the load's motion before the keys of dt.
+  const bool end_first = p.entry_dominated || (!sc.time.end_auto && sc.time.dt_auto) || p.dt_from_modes;
+  const std::string key =
+      deciding_key(sc, end_first ? joined(p.end_keys, p.dt_keys) : joined(p.dt_keys, p.end_keys));
+  const std::string found = count(p.steps) + " time steps of " + p.dt_text + " to " + p.end_text;
+  if (!(p.steps <= kMaxGridSteps))
+    scene::fail_at(sc, key,
+                   "at most 2^32 = 4294967296 time steps (the most a double-precision time grid resolves: "
+                   "--max-steps cannot raise it; docs/reliability.md \"Limits\")",
+                   found);
+  if (!(p.steps <= static_cast<double>(max_steps)))
+    scene::fail_at(sc, key,
+                   "at most " + std::to_string(max_steps) + " time steps (--max-steps N raises this limit" +
+                       (max_steps == kDefaultMaxSteps ? ", default 10^7" : "") + ")",
+                   found);
+  p.grid = make_time_grid(0.0, p.t_end, p.dt,
+                          sc.model == scene::Model::Beam ? beam::BeamSimulation::kGridJoin : 1e-6).grid;
+}
+
+MemoryPlan rod_memory(const scene::Scene& sc, const RodPathGuess& path) {
+  MemoryPlan m;
+  const double N = sc.mesh.nodes, n = owned_nodes(sc, path.ranks);
+  const std::string ranks = ranks_text(path.ranks);
+  m.keys = {mesh_key(sc)};
+  const double replicated = kRodReplicated * N;
+  std::string tail = " + " + count(N) + " nodes x " + kb(kRodReplicated) + " (states held on every rank) + " +
+                     format_bytes(kProgramBytes) + " (program)";
+  if (sc.continuation.enabled) {
+    m.bytes = kProgramBytes + kRodStatics * n + replicated;
+    m.detail = mesh_text(sc) + " on " + ranks + ": " + count(n) + " nodes x " + kb(kRodStatics) +
+               " (continuation: Newton, LOCA, eigenvalues)" + tail;
+    return m;
+  }
+  const int u3 = rod_unknowns_3d(sc), u = path.planar ? u3 / 2 : u3;
+  std::string solver;
+  const double factor = rod_solver_factor(sc, path.ranks, solver);
+  const double stepper = factor * rod_stepper_bytes(u), system = kRodSystemShare * factor * rod_stepper_bytes(u3);
+  const bool static_start = sc.initial_state.type == scene::InitialStateType::static_equilibrium;
+  const bool arch = sc.initial_state.type == scene::InitialStateType::arch;
+  const double stepping = stepper * n;
+  const double starting = static_start ? system * n + kRodStaticStart * N : arch ? kRodStatics * n : 0.0;
+  m.bytes = kProgramBytes + std::max(stepping, starting) + replicated;
+  const std::string stepping_text = count(n) + " nodes x " + kb(stepper) + " (time steps on the " +
+                                    (path.planar ? "planar" : "3D") + " path, " + std::to_string(u) +
+                                    " unknowns per node, linear solver " + solver + ")";
+  std::string text;
+  if (starting > stepping && static_start)
+    text = count(n) + " nodes x " + kb(system) + " (the 3D system) + " + count(N) + " nodes x " + kb(kRodStaticStart) +
+           " (the static initial state, solved on every rank; initial_state.type)";
+  else if (starting > stepping)
+    text = count(n) + " nodes x " + kb(kRodStatics) + " (the arch formation; initial_state.type)";
+  else
+    text = stepping_text;
+  m.detail = mesh_text(sc) + " on " + ranks + ": " + text + tail;
+  if (u3 == 24) m.keys.push_back("scheme.rho_inf_space");
+  return m;
+}
+
+MemoryPlan beam_memory(const scene::Scene& sc, int ranks) {
+  MemoryPlan m;
+  const double N = sc.mesh.nodes, n = owned_nodes(sc, ranks), modes = sc.beam.modes;
+  // The deflection and the deflected shape (x, w, 0) are always written; slope and moment on
+  // request.
+  double components = 4.0;
+  for (const auto f : sc.output.fields) components += f == scene::Field::deflection ? 0.0 : 1.0;
+  // Per owned node: positions and the fields' values, and the modes with their first two
+  // derivatives evaluated once at the node (three Eigen vectors of beam.modes values).
+  const double per_owned = 8.0 + 11.0 * components + 3.0 * (8.0 * modes + 32.0);
+  const double matrices = 80.0 * modes * modes + 48.0 * modes * static_cast<double>(sc.loads.size());
+  // The output steps the writer keeps until it flushes them (at most 64 MiB over all ranks,
+  // this rank's share) and the step being written.
+  const double kept = 64.0 * 1024.0 * 1024.0 * n / N + 8.0 * components * n;
+  m.bytes = kProgramBytes + 16.0 * N + per_owned * n + matrices + kept;
+  m.detail = mesh_text(sc) + " on " + ranks_text(ranks) + ": " + count(N) + " nodes x 16 bytes (quadrature, " +
+             "on every rank) + " + count(n) + " nodes x " + fmt(per_owned) + " bytes (positions, output.fields, " +
+             "the modes at the node) + " + format_bytes(kept) + " (output steps kept until a flush) + " +
+             format_bytes(matrices) + " (beam.modes = " + std::to_string(sc.beam.modes) + ": modal matrices) + " +
+             format_bytes(kProgramBytes) + " (program)";
+  m.keys = {mesh_key(sc), "beam.modes"};
+  return m;
+}
+
+void check_memory(const scene::Scene& sc, const MemoryPlan& plan, const MemoryLimit& limit) {
+  if (!(limit.bytes > 0.0) || plan.bytes <= limit.bytes) return;
+  scene::fail_at(sc, deciding_key(sc, plan.keys),
+                 "a run that fits the memory of one rank, at most " + format_bytes(limit.bytes) + " (" + limit.source +
+                     (limit.source.rfind("--max-memory", 0) == 0 ? "" : "; --max-memory sets the limit") + ")",
+                 "an estimated " + format_bytes(plan.bytes) + " per rank: " + plan.detail +
+                     " (a coarser mesh or more ranks need less; docs/reliability.md \"Limits\")");
+}
+
+void check_counters(const scene::Scene& sc, const RodPathGuess& path) {
+  const double N = sc.mesh.nodes, n = owned_nodes(sc, path.ranks);
+  const double u3 = rod_unknowns_3d(sc);
+  const double int_max = static_cast<double>(INT_MAX);
+  if (n * u3 > int_max)
+    scene::fail_at(sc, deciding_key(sc, {mesh_key(sc)}),
+                   "at most " + count(std::floor(int_max / u3)) + " nodes per rank (" + fmt(u3) +
+                       " unknowns per node; a rank's unknowns are counted in 32-bit integers)",
+                   count(n) + " nodes per rank: " + mesh_text(sc));
+  if (N * 45.0 > int_max)
+    scene::fail_at(sc, deciding_key(sc, {mesh_key(sc)}),
+                   "at most " + count(std::floor(int_max / 45.0)) +
+                       " nodes (a gathered state of 45 values per node is counted in a 32-bit MPI count)",
+                   mesh_text(sc));
+}
+
+void check_load_speeds(const scene::Scene& sc) {
+  for (const auto& l : sc.loads) {
+    const double te = l.exit_time(sc.length());
+    const double at_exit = std::isfinite(te) ? std::abs(l.velocity(te)) : 0.0;
+    const double fastest = std::max(l.speed, at_exit);
+    if (fastest <= kSpeedOfLight) continue;
+    const std::string k = "loads." + l.name + ".";
+    const bool at_entry = l.speed > kSpeedOfLight;
+    scene::fail_at(sc, deciding_key(sc, at_entry ? std::vector<std::string>{k + "speed", k + "acceleration"}
+                                                 : std::vector<std::string>{k + "acceleration", k + "speed"}),
+                   "a load slower than light while it is on the " + std::string(sc.model == scene::Model::Beam ? "beam" : "rod") +
+                       ", at most 299792458 m/s (docs/reliability.md \"Limits\")",
+                   at_entry ? fmt(l.speed) + " m/s at entry (" + k + "speed)"
+                            : fmt(fastest) + " m/s when it reaches the far end (" + k + "speed = " + fmt(l.speed) +
+                                  " m/s, " + k + "acceleration = " + fmt(l.acceleration) + " m/s^2)");
+  }
+}
+
+void check_load_ratio(const scene::Scene& sc) {
+  const bool beam = sc.model == scene::Model::Beam;
+  const std::string model = beam ? "beam" : "rod";
+  const double L = sc.length();
+  const double E = beam ? sc.beam.youngs_modulus : sc.rod.youngs_modulus;
+  const auto& sec = beam ? sc.beam.section : sc.rod.section;
+  const double I = beam ? sec.I1 : std::min(sec.I1, sec.I2);
+  const double EI = E * I;
+  // The largest load and its keys.
+  double W = (beam ? sc.beam.density : sc.rod.density) * sec.area * sc.gravity * L;
+  std::string what = "the weight of the " + model + " (gravity, " + model + ".density)";
+  std::vector<std::string> keys = {"gravity", model + ".density"};
+  for (const auto& l : sc.loads) {
+    const double f = l.force.norm();
+    if (f > W || std::isnan(f)) {
+      W = f;
+      const std::string k = load_magnitude_key(sc, l);
+      what = "load '" + l.name + "' (" + k + ")";
+      keys = {k};
+    }
+  }
+  if (!beam)
+    for (const auto* e : {&sc.left, &sc.right})
+      if (e->type == scene::EndType::roller && std::abs(e->axial_force) > W) {
+        W = std::abs(e->axial_force);
+        const std::string k = std::string("ends.") + (e == &sc.left ? "left" : "right") + ".force";
+        what = k;
+        keys = {k};
+      }
+  const double ratio = W / EI * L * L;
+  if (ratio <= kMaxLoadRatio) return;
+  // When the structure cannot even carry its own weight, the stiffness (or gravity, density)
+  // is what is extreme; otherwise the load.
+  const double own = (beam ? sc.beam.density : sc.rod.density) * sec.area * sc.gravity * L / EI * L * L;
+  const std::vector<std::string> stiffness = {model + ".youngs_modulus", model + ".section"};
+  keys = own > kMaxLoadRatio || std::isnan(own) ? joined(joined(stiffness, {"gravity", model + ".density"}), keys)
+                                                 : joined(keys, stiffness);
+  scene::fail_at(sc, deciding_key(sc, keys),
+                 "a load the bending stiffness can carry in double precision: W L^2 / (E I) <= 4.5e15 (beyond it E I "
+                 "kappa is below the rounding of the load's moment; docs/reliability.md \"Limits\")",
+                 "W L^2 / (E I) = " + fmt(ratio) + " with W = " + fmt(W) + " N from " + what + ", L = " + fmt(L) +
+                     " m (" + model + ".length), E I = " + fmt(EI) + " N m^2 (" + model + ".youngs_modulus = " + fmt(E) +
+                     " Pa, I = " + fmt(I) + " m^4 of " + model + ".section): use a smaller load or a stiffer " + model);
+}
+
+}  // namespace traverse::app

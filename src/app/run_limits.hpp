@@ -1,0 +1,114 @@
+#pragma once
+// What a run will cost, estimated from the validated scene before anything large is allocated,
+// and the limits it must fit (docs/reliability.md, "Limits"): the time grid (step count),
+// the memory per rank, the counters, and the load against the stiffness. Each check throws
+// scene::SceneError located at the key that decides it (exit code 2). Pure functions of the
+// scene: no MPI, no Trilinos (the fuzz target calls them too); memory_limit.hpp finds what the
+// machine allows.
+#include <string>
+#include <vector>
+
+#include "traverse/beam/beam_simulation.hpp"
+#include "traverse/beam/uniform_modes.hpp"
+#include "traverse/core/time_grid.hpp"
+#include "traverse/scene/scene.hpp"
+
+namespace traverse::app {
+
+/// Default of --max-steps: a sanity limit on the number of time steps (10^7: about 6 hours
+/// of the default scene's 101-node rod, far beyond any scene in inputs/).
+constexpr long kDefaultMaxSteps = 10000000;
+
+/// The largest load ratio W L^2 / (E I) a run accepts: 1 / machine epsilon (4.5e15). Beyond
+/// it the bending stiffness E I kappa changes the moment balance by less than the rounding
+/// of the load's moment W L in double precision: the stiffness is numerically absent.
+constexpr double kMaxLoadRatio = 4503599627370496.0;
+
+/// Limits given on the command line.
+struct RunLimits {
+  double max_memory = 0.0;            ///< --max-memory [bytes per rank]; 0: what the machine allows
+  long max_steps = kDefaultMaxSteps;  ///< --max-steps
+};
+
+/// The time grid of a dynamic run and the keys that decide it.
+struct TimePlan {
+  double dt = 0.0, t_end = 0.0;
+  double steps = 0.0;         ///< grid_step_count (may be huge or NaN before the check)
+  TimeGrid grid;              ///< valid after check_time_plan
+  std::string dt_text;        ///< "time.dt = 0.001 s" or "time.dt: auto = mesh.ds / loads.F.speed = ... s"
+  std::string end_text;       ///< likewise for the end time
+  std::vector<std::string> dt_keys, end_keys;  ///< the keys that decide each, most specific first
+  bool entry_dominated = false;  ///< time.end auto and mostly a load's entry_time
+  bool dt_from_modes = false;    ///< beam time.dt auto from the highest mode (not capped by a load)
+};
+
+/// The rod's grid: time.dt (auto resolved by the scene: ds / v), time.end or the time the last
+/// load leaves; a remainder below 1e-6 dt joins the last step.
+TimePlan rod_time_plan(const scene::Scene& sc);
+/// The beam's grid: time.dt or auto (a twentieth of the period of the highest mode, at most
+/// the time a load needs to cross a cell), time.end or when the last load leaves.
+TimePlan beam_time_plan(const scene::Scene& sc);
+
+/// Throws SceneError unless dt and the end time are positive and finite and the step count
+/// is at most max_steps and kMaxGridSteps; fills plan.grid.
+void check_time_plan(const scene::Scene& sc, TimePlan& plan, long max_steps);
+
+/// A memory estimate of one rank [bytes] with its parts, for the message.
+struct MemoryPlan {
+  double bytes = 0.0;
+  std::string detail;             ///< how it was obtained (nodes, bytes per node, path, solver)
+  std::vector<std::string> keys;  ///< the keys that decide it
+};
+
+/// The rod's path for the estimate.
+struct RodPathGuess {
+  bool planar = false;    ///< the planar path is expected (scheme.planar on, or auto and planar)
+  int ranks = 1;
+};
+/// Peak resident memory of one rank of a rod run (dynamics or continuation).
+MemoryPlan rod_memory(const scene::Scene& sc, const RodPathGuess& path);
+/// Peak resident memory of one rank of a beam run.
+MemoryPlan beam_memory(const scene::Scene& sc, int ranks);
+
+/// What one rank may use [bytes], and where the figure comes from.
+struct MemoryLimit {
+  double bytes = 0.0;   ///< <= 0: no limit known
+  std::string source;   ///< "--max-memory 4G" or "MemAvailable of this host (...) / 2 ranks on it"
+};
+/// Throws SceneError when plan.bytes exceeds the limit.
+void check_memory(const scene::Scene& sc, const MemoryPlan& plan, const MemoryLimit& limit);
+
+/// Throws SceneError when a count of the run does not fit the integers that hold it (local
+/// unknowns of a rank in int, a gathered rod state in an int MPI count).
+void check_counters(const scene::Scene& sc, const RodPathGuess& path);
+
+/// Throws SceneError when the load ratio W L^2 / (E I) exceeds kMaxLoadRatio (W: the largest
+/// of the point loads, the mass weights, the structure's weight and a roller end's force).
+void check_load_ratio(const scene::Scene& sc);
+
+/// The beam module's supports of a scene's.
+beam::Support beam_support(scene::Supports s);
+
+/// The speed of light [m/s]: the largest speed a load may have while it is on the structure.
+constexpr double kSpeedOfLight = 299792458.0;
+
+/// Throws SceneError when a load moves faster than light while it is on the structure (its
+/// speed at entry, or at the far end when it accelerates): no load does, and far beyond it
+/// the moving-load terms (M v^2) and the time steps (dt = ds / v) leave double precision.
+void check_load_speeds(const scene::Scene& sc);
+
+/// Bytes as "512 MiB", "3.2 GiB".
+std::string format_bytes(double bytes);
+/// "4G", "512M", "1.5T", "1000000" -> bytes (K, M, G, T: powers of 1024; a trailing B or iB is
+/// allowed); returns a negative value for anything else.
+double parse_bytes(const std::string& text);
+
+/// The key under which a load's magnitude is given: loads.<name>.force, force_vector, mass or
+/// mass_fraction.
+std::string load_magnitude_key(const scene::Scene& sc, const scene::MovingLoadSpec& l);
+
+/// The first key of `keys` that was set by --set, else the first key (where a message
+/// is located).
+std::string deciding_key(const scene::Scene& sc, const std::vector<std::string>& keys);
+
+}  // namespace traverse::app

@@ -1,0 +1,201 @@
+// The up-front limits of a run (src/app/run_limits.hpp, docs/reliability.md "Limits") through
+// the executable: extreme time steps, end times, entry times, speeds and accelerations either
+// run exactly the steps they report or are refused with exit 2 (or fail their numerics with
+// exit 3 and a file marked failed: never another code, never a different number of steps);
+// the memory estimate against the measured peak; the option parsers.
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "process.hpp"
+#include "run_limits.hpp"
+#include "traverse/output/reader.hpp"
+
+namespace fs = std::filesystem;
+using traverse::testing::Child;
+
+namespace {
+
+const fs::path kBeam = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "beam" / "cantilever.yaml";
+const fs::path kRod = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "hanging_cable_F2_a0.5.yaml";
+constexpr long kMaxSteps = 200;
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+struct Case {
+  std::string label, log, out;
+  std::vector<std::string> argv;
+  Child child;
+  bool beam = false;
+};
+
+long first_number(const std::string& text, const std::string& pattern) {
+  std::smatch m;
+  return std::regex_search(text, m, std::regex(pattern)) ? std::stol(m[1].str()) : -1;
+}
+
+// Checks one finished case; returns its exit code (or -1 after a failure).
+int check_case(const Case& c, int code) {
+  const std::string log = traverse::testing::read_text(c.log);
+  const std::string where = c.label + "\n" + log;
+  if (code == 2) {
+    EXPECT_FALSE(fs::exists(c.out)) << "exit 2 left an output file: " << where;
+    EXPECT_NE(log.find("bad scene: "), std::string::npos) << where;
+    EXPECT_TRUE(std::regex_search(log, std::regex(R"(: (time\.dt|time\.end|loads\.\w+\.\w+|mesh\.\w+): expected)")))
+        << "the message names no key of the case: " << where;
+    return 2;
+  }
+  if (code == 3) {
+    const auto at = log.find("numerics failed: ");
+    EXPECT_NE(at, std::string::npos) << where;
+    if (at != std::string::npos) std::cout << "  exit 3: " << c.label << ": " << log.substr(at, 150) << "...\n";
+    if (fs::exists(c.out)) {
+      const std::string status = traverse::output::Reader(c.out).status();
+      EXPECT_EQ(status.rfind("failed: ", 0), 0u) << "status '" << status << "': " << where;
+    }
+    return 3;
+  }
+  if (code != 0) {
+    ADD_FAILURE() << "exit " << code << ": " << where;
+    return -1;
+  }
+  // Completed: every step is in the file (output.every = 1), as many as reported, on the grid.
+  const traverse::output::Reader f(c.out);
+  EXPECT_EQ(f.status(), "complete") << where;
+  const std::vector<double> t = f.time();
+  const long written = static_cast<long>(f.steps_written());
+  const long steps = written - 1;
+  EXPECT_GE(steps, 1) << where;
+  EXPECT_LE(steps, kMaxSteps) << where;
+  if (c.beam) {
+    // The beam reports its (sub)steps: the grid steps plus at most a split at each load event.
+    EXPECT_EQ(first_number(log, R"(([0-9]+) output steps)"), written) << where;
+    const long reported = first_number(log, R"(([0-9]+) steps of dt)");
+    EXPECT_GE(reported, steps) << where;
+    EXPECT_LE(reported, steps + 2) << where;
+  } else {
+    EXPECT_EQ(first_number(log, R"(([0-9]+) steps of dt)"), steps) << where;
+    EXPECT_EQ(first_number(log, R"(([0-9]+) output steps)"), written) << where;
+  }
+  if (t.size() >= 2) {
+    const double dt = t[1] - t[0];
+    for (size_t k = 1; k < t.size(); ++k) {
+      const double h = t[k] - t[k - 1];
+      EXPECT_GT(h, 0.0) << "step " << k << ": " << where;
+      if (k + 1 < t.size()) EXPECT_NEAR(h, dt, 1e-6 * dt) << "step " << k << ": " << where;
+      else EXPECT_LE(h, dt * (1.0 + 1e-6)) << "last step: " << where;
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+TEST(Limits, ExtremeTimesRunTheStepsTheyReportOrAreRefused) {
+  const fs::path d = scratch("limits-property");
+  const std::vector<std::string> dts = {"1e-300", "1e-3", "auto"}, ends = {"auto", "1e-3", "1e30"},
+                                 entries = {"0", "1e30"}, speeds = {"1e-300", "1", "1e300"},
+                                 accelerations = {"0", "1e300", "-0.5"};
+  std::vector<Case> cases;
+  for (const bool beam : {true, false})
+    for (const auto& dt : dts)
+      for (const auto& end : ends)
+        for (const auto& entry : entries)
+          for (const auto& v : speeds)
+            for (const auto& a : accelerations) {
+              Case c;
+              c.beam = beam;
+              const std::string load = beam ? "loads.mass." : "loads.F.";
+              c.label = std::string(beam ? "beam" : "rod") + " dt=" + dt + " end=" + end + " entry_time=" + entry +
+                        " speed=" + v + " acceleration=" + a;
+              const std::string id = std::to_string(cases.size());
+              c.out = (d / ("case" + id + ".h5")).string();
+              c.log = (d / ("case" + id + ".log")).string();
+              c.argv = {TRAVERSE_EXE, "run", (beam ? kBeam : kRod).string(), "-o", c.out, "--max-steps",
+                        std::to_string(kMaxSteps), "--set", "output.every=1", "--set", "time.dt=" + dt, "--set",
+                        "time.end=" + end, "--set", load + "entry_time=" + entry, "--set", load + "speed=" + v,
+                        "--set", load + "acceleration=" + a};
+              const std::vector<std::string> small =
+                  beam ? std::vector<std::string>{"mesh.nodes=11", "beam.modes=2"}
+                       : std::vector<std::string>{"mesh.ds=0.1", "output.fields=[]"};
+              for (const auto& s : small) c.argv.insert(c.argv.end(), {"--set", s});
+              cases.push_back(c);
+            }
+  // Four at a time: the runs mostly wait for MPI to start.
+  int counts[4] = {0, 0, 0, 0};
+  const size_t width = 4;
+  for (size_t first = 0; first < cases.size(); first += width) {
+    const size_t last = std::min(cases.size(), first + width);
+    for (size_t i = first; i < last; ++i) cases[i].child = traverse::testing::spawn(cases[i].argv, cases[i].log);
+    for (size_t i = first; i < last; ++i) {
+      const int code = check_case(cases[i], traverse::testing::wait_exit(cases[i].child));
+      if (code >= 0) ++counts[code];
+    }
+  }
+  std::cout << "  " << cases.size() << " combinations: " << counts[0] << " ran the steps they reported, " << counts[2]
+            << " refused (exit 2), " << counts[3] << " failed their numerics (exit 3, file marked failed)\n";
+  // Both outcomes are exercised (the refusals include every time.dt = 1e-300 and entry_time = 1e30 case).
+  EXPECT_GE(counts[0], 10);
+  EXPECT_GE(counts[2], static_cast<int>(cases.size() / 2));
+}
+
+TEST(Limits, MemoryEstimateBoundsTheMeasuredPeak) {
+  // The estimate `check` prints against the peak resident memory of the run (getrusage of the
+  // child): within [0.9, 1.5] of it for a rod on the planar and the 3D path and for a beam.
+  const fs::path d = scratch("limits-memory");
+  struct Sized {
+    std::string name, scene, args;
+  };
+  const std::vector<Sized> runs = {
+      {"rod 20001 nodes, planar", kRod.string(), "--set mesh.ds=5e-5 --set time.dt=0.00275 --set time.end=0.0055"},
+      {"rod 20001 nodes, 3D", kRod.string(),
+       "--set mesh.ds=5e-5 --set time.dt=0.00275 --set time.end=0.0055 --set scheme.planar=off"},
+      {"beam 500001 nodes", kBeam.string(),
+       "--set mesh.nodes=500001 --set time.end=0.001 --set output.fields=[deflection,slope,bending_moment]"},
+  };
+  for (const auto& r : runs) {
+    const auto check = traverse::testing::run_command(std::string(TRAVERSE_EXE) + " check " + r.scene + " " + r.args);
+    ASSERT_EQ(check.code, 0) << check.out;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(check.out, m, std::regex(R"(memory estimate ([0-9.]+) (MiB|GiB) per rank)")))
+        << check.out;
+    const double estimate = std::stod(m[1].str()) * (m[2].str() == "GiB" ? 1024.0 : 1.0);  // MiB
+    const std::string out = (d / "m.h5").string();
+    std::vector<std::string> argv = {TRAVERSE_EXE, "run", r.scene, "-o", out, "--overwrite", "-q"};
+    for (const auto& a : traverse::testing::split_args(r.args)) argv.push_back(a);
+    const Child c = traverse::testing::spawn(argv, (d / "m.log").string());
+    int status = 0;
+    rusage ru{};
+    ASSERT_EQ(wait4(c.pid, &status, 0, &ru), c.pid);
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << traverse::testing::read_text((d / "m.log").string());
+    const double measured = static_cast<double>(ru.ru_maxrss) / 1024.0;  // kB -> MiB
+    std::cout << "  " << r.name << ": estimate " << estimate << " MiB, measured peak " << measured << " MiB (ratio "
+              << estimate / measured << ")\n";
+    EXPECT_GE(estimate, 0.9 * measured) << r.name;
+    EXPECT_LE(estimate, 1.5 * measured) << r.name;
+  }
+}
+
+TEST(Limits, SizesAndKeys) {
+  using traverse::app::parse_bytes;
+  EXPECT_EQ(parse_bytes("4G"), 4.0 * 1024 * 1024 * 1024);
+  EXPECT_EQ(parse_bytes("512M"), 512.0 * 1024 * 1024);
+  EXPECT_EQ(parse_bytes("1.5KiB"), 1536.0);
+  EXPECT_EQ(parse_bytes("2TB"), 2.0 * std::pow(1024.0, 4));
+  EXPECT_EQ(parse_bytes("1000000"), 1e6);
+  for (const char* bad : {"", "G", "-1G", "4X", "lots", "1e999", "nan", "0"}) EXPECT_LT(parse_bytes(bad), 0.0) << bad;
+  EXPECT_EQ(traverse::app::format_bytes(3.5 * 1024 * 1024 * 1024), "3.5 GiB");
+  EXPECT_EQ(traverse::app::format_bytes(512), "512 bytes");
+}
