@@ -19,7 +19,7 @@ endif()
 # libFuzzer build (clang only): instruments every project target for coverage and with
 # AddressSanitizer + UndefinedBehaviorSanitizer; the fuzz targets live in tests/fuzz/.
 # Configure in a separate tree, e.g. (docs/reliability.md):
-#   CC=clang CXX=clang++ cmake -S . -B /tmp/build-fuzz -DTRAVERSE_FUZZ=ON && make -C /tmp/build-fuzz fuzz_scene
+#   CC=clang CXX=clang++ cmake -S . -B build-fuzz -DTRAVERSE_FUZZ=ON && make -C build-fuzz fuzz_scene
 option(TRAVERSE_FUZZ "Build the libFuzzer targets (needs clang and libclang-rt-*-dev)" OFF)
 if(TRAVERSE_FUZZ)
   if(NOT CMAKE_CXX_COMPILER_ID MATCHES "Clang")

@@ -3,6 +3,7 @@
 load's position x(t) on the beam (the "beam coordinate").
 
 Usage: plot_beam.py RUN.h5 [-o FIGURE.png] [--probe tip]
+Exits with status 2 and a message when RUN.h5 is not a complete beam run or has no such probe.
 """
 import argparse
 import os
@@ -49,7 +50,8 @@ def main(argv=None):
     ap.add_argument("-o", "--output", help="PNG file (default: RUN with .png)")
     ap.add_argument("--probe", default="tip", help="probe to draw besides the loads (default: tip)")
     a = ap.parse_args(argv)
-    run = traverse_io.load(a.run)
+    run = traverse_io.load_for_plot(a.run, "beam", "plot_beam")
+    traverse_io.require_probe(run, a.probe, "plot_beam")
     fig, ax = plt.subplots(figsize=(7, 4.2))
     draw(run, ax, a.probe)
     ax.set_title(traverse_io.scene_title(run) or os.path.basename(a.run))

@@ -1,8 +1,10 @@
 #!/usr/bin/env python3
 """Figure of one rod run: the vertical position of a probe (default: midspan) against the
-load position sigma, and the shapes y(z) of the centreline at a few sigma (needs the field r).
+load position sigma, and the shapes y(z) of the centreline at a few sigma (needs the field r),
+each with the load marked where it is on that shape.
 
 Usage: plot_rod.py RUN.h5 [-o FIGURE.png] [--probe midspan]
+Exits with status 2 and a message when RUN.h5 is not a complete rod run or has no such probe.
 """
 import argparse
 import os
@@ -28,27 +30,38 @@ def shapes_at(run, sigmas):
     return out
 
 
+def point_at(s, r, sigma):
+    """The centreline r (nodes x 3) at arclength sigma (linear between nodes), or None off the rod."""
+    if not np.isfinite(sigma) or sigma < s[0] or sigma > s[-1]:
+        return None
+    return np.array([np.interp(sigma, s, r[:, c]) for c in range(3)])
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("run")
     ap.add_argument("-o", "--output")
     ap.add_argument("--probe", default="midspan")
     a = ap.parse_args(argv)
-    run = traverse_io.load(a.run)
+    run = traverse_io.load_for_plot(a.run, "rod", "plot_rod")
+    traverse_io.require_probe(run, a.probe, "plot_rod")
     has_r = "r" in run.field_names
     fig, axes = plt.subplots(1, 2 if has_r else 1, figsize=(12 if has_r else 7, 4.2), squeeze=False)
     ax = axes[0, 0]
     sig = traverse_io.first_load_sigma(run)
-    if a.probe in run.probes:
-        ax.plot(sig, run.probes[a.probe][:, 1], label=f"{a.probe} y")
+    ax.plot(sig, run.probes[a.probe][:, 1], label=f"{a.probe} y")
     ax.set_xlabel("load position sigma [m]")
     ax.set_ylabel("vertical position y [m]")
     ax.grid(True, alpha=0.3)
     ax.legend()
     if has_r:
         ax2 = axes[0, 1]
-        for s, r in shapes_at(run, np.linspace(0.0, float(run.s[-1]), 5)):
-            ax2.plot(r[:, 2], r[:, 1], label=f"sigma = {s:.2f} m")
+        for i, (s, r) in enumerate(shapes_at(run, np.linspace(0.0, float(run.s[-1]), 5))):
+            line, = ax2.plot(r[:, 2], r[:, 1], label=f"sigma = {s:.2f} m")
+            p = point_at(run.s, r, s)
+            if p is not None:  # the load on this shape
+                ax2.plot(p[2], p[1], "v", color=line.get_color(), markersize=8,
+                         label="load position" if i == 0 else None)
         ax2.set_xlabel("z [m]")
         ax2.set_ylabel("y [m]")
         ax2.set_aspect("equal", adjustable="datalim")

@@ -158,6 +158,36 @@ def load(path, allow_incomplete=False):
     return out
 
 
+def _exit_with(message, status=2):
+    print(message, file=sys.stderr)
+    sys.exit(status)
+
+
+def load_for_plot(path, model, script):
+    """load(path) for a figure script: exits with a clear message (status 2) when the file
+    cannot be read, is not a time-series output of `model` ("rod" or "beam") or did not
+    complete."""
+    try:
+        out = load(path)
+    except IncompleteOutputError as e:
+        _exit_with(f"{script}: {e}")
+    except (OSError, ValueError, KeyError) as e:
+        _exit_with(f"{script}: cannot read {path} as a traverse time-series output: {e}")
+    have = out.attrs.get("model", "")
+    if have != model:
+        other = {"rod": "plot_rod.py", "beam": "plot_beam.py"}.get(have, "")
+        _exit_with(f"{script}: {path} is a {have or 'unknown'} run, not a {model} run"
+                         + (f"; draw it with {other}" if other else ""))
+    return out
+
+
+def require_probe(out, name, script):
+    """Exits with a clear message (status 2) when `out` has no probe `name`."""
+    if name not in out.probes:
+        _exit_with(f"{script}: {out.path} has no probe '{name}' (its probes: "
+                         f"{', '.join(out.probe_names) or 'none'}); choose one with --probe")
+
+
 def scene_title(out):
     """The `title:` of the validated scene stored in the file ("" when there is none)."""
     for line in str(out.attrs.get("scene", "")).splitlines():

@@ -13,6 +13,7 @@ Usage:
                [--restart-interval S] [--max-memory SIZE] [--max-steps N]
   traverse run --restart OUT.h5 [SCENE.yaml] [--set KEY.PATH=VALUE ...] [-q] [--progress]
   traverse check SCENE.yaml [--set KEY.PATH=VALUE ...] [--types] [--max-memory SIZE] [--max-steps N]
+  traverse xdmf OUT.h5 [-o OUT.xmf]
   traverse --help | --version
   mpirun -n K traverse run SCENE.yaml ...      (K MPI ranks)
 
@@ -20,6 +21,8 @@ Commands:
   run      validate the scene, run it, write the HDF5 output (and its .xmf sidecar)
   check    validate only and print the complete scene, every default filled in and
            documented (--types: also list every end-condition, load, probe and section type)
+  xdmf     (re)write the XDMF sidecar of an output file (any run's, a killed one's too) from
+           the file alone, for ParaView and meshio (docs/output.md)
 
 Options:
   -o, --output FILE   output file (default: the scene's output.file)
@@ -32,8 +35,9 @@ Options:
                       from its last restart point, appending to FILE; the scene is the one
                       stored in FILE unless SCENE.yaml is given (--set applies either way)
   --restart-interval S  rod runs: store a restart point after an output step only when S
-                      seconds (wall clock) have passed since the last one (default 0: after
-                      every output step); always also when the run stops (signal, failure)
+                      seconds (wall clock) have passed since the last one (default: the
+                      scene's output.restart_interval, 60 s; 0: after every output step);
+                      always also at the end and when the run stops (signal, failure)
   --max-memory SIZE   refuse (exit 2) a run whose estimated memory per rank exceeds SIZE
                       (e.g. 4G, 512M; K, M, G, T are powers of 1024; default: the memory
                       available on this host, shared by the ranks on it)
@@ -56,7 +60,7 @@ Exit codes: 0 success; 2 bad input (scene, overrides, command line, output path)
 CommandLine parse_command_line(int argc, const char* const* argv) {
   CommandLine cl;
   for (int i = 0; i < argc; ++i) cl.invocation += (i ? " " : "") + std::string(argv[i]);
-  if (argc < 2) throw UsageError{"expected a command (run, check, --help or --version), found nothing"};
+  if (argc < 2) throw UsageError{"expected a command (run, check, xdmf, --help or --version), found nothing"};
   const std::string cmd = argv[1];
   if (cmd == "--help" || cmd == "-h" || cmd == "help") {
     cl.command = CommandLine::Command::Help;
@@ -70,8 +74,27 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     cl.command = CommandLine::Command::Run;
   } else if (cmd == "check") {
     cl.command = CommandLine::Command::Check;
+  } else if (cmd == "xdmf") {
+    cl.command = CommandLine::Command::Xdmf;
+    for (int i = 2; i < argc; ++i) {
+      const std::string a = argv[i];
+      if (a == "--help" || a == "-h") {
+        cl.command = CommandLine::Command::Help;
+        return cl;
+      } else if ((a == "-o" || a == "--output") && i + 1 < argc && argv[i + 1][0] != '\0') {
+        cl.output = argv[++i];
+      } else if (!a.empty() && a[0] == '-') {
+        throw UsageError{"'xdmf': unknown option or missing value '" + a + "' (see traverse --help)"};
+      } else if (cl.scene.empty()) {
+        cl.scene = a;
+      } else {
+        throw UsageError{"'xdmf': expected one output file, found a second one '" + a + "'"};
+      }
+    }
+    if (cl.scene.empty()) throw UsageError{"'xdmf': expected an output file (OUT.h5), found none"};
+    return cl;
   } else {
-    throw UsageError{"expected a command (run, check, --help or --version), found '" + cmd + "'"};
+    throw UsageError{"expected a command (run, check, xdmf, --help or --version), found '" + cmd + "'"};
   }
   const bool run = cl.command == CommandLine::Command::Run;
   for (int i = 2; i < argc; ++i) {

@@ -16,12 +16,12 @@ enum ExitCode : int {
 };
 
 struct CommandLine {
-  enum class Command { Help, Version, Run, Check };
+  enum class Command { Help, Version, Run, Check, Xdmf };
   Command command = Command::Help;
-  std::string scene;                   ///< scene file
+  std::string scene;                   ///< scene file (xdmf: the output file)
   std::string output;                  ///< -o (empty: the scene's output.file)
   std::string restart;                 ///< --restart FILE: continue the run of FILE (run only)
-  double restart_interval = 0.0;       ///< --restart-interval S: wall seconds between restart points
+  double restart_interval = -1.0;      ///< --restart-interval S: wall seconds between restart points (-1: the scene's)
   std::vector<std::string> overrides;  ///< --set KEY.PATH=VALUE, in order
   bool overwrite = false;
   bool quiet = false;

@@ -10,6 +10,7 @@
 #include "restart.hpp"
 #include "run.hpp"
 #include "traverse/output/output_error.hpp"
+#include "traverse/output/sidecar.hpp"
 #include "traverse/scene/scene.hpp"
 #include "traverse/version.hpp"
 
@@ -37,6 +38,23 @@ int execute(const app::CommandLine& cl, int rank) {
       }
       return app::kSuccess;
     }
+    case Command::Xdmf: {  // rank 0 works; every rank returns its outcome
+      std::string error;
+      if (rank == 0) {
+        try {
+          const auto r = output::write_sidecar(cl.scene, cl.output);
+          std::cout << "traverse xdmf: wrote " << r.xmf_path << " (" << r.steps << " output steps"
+                    << (r.views_created ? ", " + std::to_string(r.views_created) + " views added to " + cl.scene : "")
+                    << ")\n";
+        } catch (const output::OutputError& e) {
+          error = e.what();
+        }
+      }
+      int failed = error.empty() ? 0 : 1;
+      MPI_Bcast(&failed, 1, MPI_INT, 0, MPI_COMM_WORLD);
+      if (failed) throw app::UsageError{"xdmf " + cl.scene + ": " + (rank == 0 ? error : std::string("failed"))};
+      return app::kSuccess;
+    }
     case Command::Run: {
       app::install_interrupt_handlers();
       const bool restart = !cl.restart.empty();
@@ -47,7 +65,7 @@ int execute(const app::CommandLine& cl, int rank) {
       app::RunOptions opt;
       opt.output = restart ? cl.restart : cl.output.empty() ? sc.output.file : cl.output;
       opt.restart = restart;
-      opt.restart_interval = cl.restart_interval;
+      opt.restart_interval = cl.restart_interval >= 0.0 ? cl.restart_interval : sc.output.restart_interval;
       opt.overwrite = cl.overwrite;
       opt.quiet = cl.quiet;
       opt.progress = cl.progress;

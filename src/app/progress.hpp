@@ -1,7 +1,10 @@
 #pragma once
 // Progress on stderr: position, steps per second and estimated time left, at most once per
-// second, only where enabled (a terminal, or --progress) and never with -q.
+// second, only where enabled (a terminal, or --progress) and never with -q. On a terminal
+// the line is rewritten in place; elsewhere (a log file, a pipe) every report is its own
+// line. Rate and time left come from the last 10 s of the run, not from its start.
 #include <chrono>
+#include <deque>
 #include <string>
 
 namespace traverse::app {
@@ -16,10 +19,16 @@ class Progress {
   void done();
 
  private:
-  bool enabled_;
+  struct Sample {
+    std::chrono::steady_clock::time_point when;
+    double current;
+    long steps;
+  };
+  bool enabled_, tty_;
   std::string what_, units_;
   double start_, total_;
   std::chrono::steady_clock::time_point begin_, last_;
+  std::deque<Sample> recent_;  ///< reports of the last 10 s (and the one before them)
   bool printed_ = false;
 };
 

@@ -26,7 +26,7 @@ struct RunOptions {
   bool quiet = false;
   bool progress = false;
   std::string invocation;
-  double restart_interval = 0.0;  ///< wall seconds between restart points (0: every output step)
+  double restart_interval = 60.0;  ///< wall seconds between restart points (0: every output step)
   bool restart = false;  ///< continue the run of `output` from its last restart point (traverse/output/restart.hpp)
   RunLimits limits;      ///< --max-memory, --max-steps
 };

@@ -337,13 +337,21 @@ MemoryPlan rod_memory(const scene::Scene& sc, const RodPathGuess& path) {
 MemoryPlan beam_memory(const scene::Scene& sc, int ranks) {
   MemoryPlan m;
   const double N = sc.mesh.nodes, n = owned_nodes(sc, ranks), modes = sc.beam.modes;
-  double components = 0.0;
-  for (const auto f : sc.output.fields) components += f == scene::Field::deflection ? 4.0 : 1.0;
-  const double per_owned = 8.0 + 11.0 * components;
+  // The deflection and the deflected shape (x, w, 0) are always written; slope and moment on
+  // request.
+  double components = 4.0;
+  for (const auto f : sc.output.fields) components += f == scene::Field::deflection ? 0.0 : 1.0;
+  // Per owned node: positions and the fields' values, and the modes with their first two
+  // derivatives evaluated once at the node (three Eigen vectors of beam.modes values).
+  const double per_owned = 8.0 + 11.0 * components + 3.0 * (8.0 * modes + 32.0);
   const double matrices = 80.0 * modes * modes + 48.0 * modes * static_cast<double>(sc.loads.size());
-  m.bytes = kProgramBytes + 16.0 * N + per_owned * n + matrices;
+  // The output steps the writer keeps until it flushes them (at most 64 MiB over all ranks,
+  // this rank's share) and the step being written.
+  const double kept = 64.0 * 1024.0 * 1024.0 * n / N + 8.0 * components * n;
+  m.bytes = kProgramBytes + 16.0 * N + per_owned * n + matrices + kept;
   m.detail = mesh_text(sc) + " on " + ranks_text(ranks) + ": " + count(N) + " nodes x 16 bytes (quadrature, " +
-             "on every rank) + " + count(n) + " nodes x " + fmt(per_owned) + " bytes (positions, output.fields) + " +
+             "on every rank) + " + count(n) + " nodes x " + fmt(per_owned) + " bytes (positions, output.fields, " +
+             "the modes at the node) + " + format_bytes(kept) + " (output steps kept until a flush) + " +
              format_bytes(matrices) + " (beam.modes = " + std::to_string(sc.beam.modes) + ": modal matrices) + " +
              format_bytes(kProgramBytes) + " (program)";
   m.keys = {mesh_key(sc), "beam.modes"};

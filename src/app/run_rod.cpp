@@ -284,6 +284,7 @@ class RodRestartPoints {
 /// Counters of the time loop, for the final report.
 struct LoopTotals {
   long newton = 0, solves = 0;
+  long last_step = 0;  ///< index of the last time step taken
   double seconds = 0.0;
 };
 
@@ -375,6 +376,7 @@ void RodTimeLoop::interrupt(long i, int sig, Progress& progress) {
 LoopTotals RodTimeLoop::run(long first_step, bool show_progress) {
   Progress progress(show_progress, "t", "s", st_.time(), g_.t_end);
   LoopTotals tot;
+  tot.last_step = first_step - 1;
   const auto start = std::chrono::steady_clock::now();
   for (long i = first_step; i <= g_.steps; ++i) {
     // Step i ends at the grid time i dt (t_end for the last): computed from i, not accumulated,
@@ -396,6 +398,7 @@ LoopTotals RodTimeLoop::run(long first_step, bool show_progress) {
       fail_planar(i, e, progress);
     }
     left_.after_step(h);
+    tot.last_step = i;
     if (i % every_ == 0 || i == g_.steps) {
       out_.write(w_, st_.time(), left_.position());
       if (rp_.due()) rp_.store(i, left_.position());
@@ -527,6 +530,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   }
   RodTimeLoop loop(*stepper, outputs, writer, points, left, grid, sc.output.every, opt, load_ratio(sc), comm);
   const LoopTotals tot = loop.run(first_step, rank == 0 && progress_wanted(opt.quiet, opt.progress));
+  points.store(tot.last_step, left.position());  // the end (a no-op when the last output step stored it)
   writer.finish();
   if (rank == 0 && !opt.quiet)
     std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve) on the %s path; %zu output steps -> %s; "

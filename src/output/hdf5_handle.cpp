@@ -161,6 +161,43 @@ std::vector<std::string> link_names(hid_t group, const std::string& what) {
   return names;
 }
 
+void create_view(hid_t group, std::size_t step, const std::string& field_path, hsize_t nodes, hsize_t components,
+                 hsize_t first, hsize_t count, const std::string& what) {
+  const hsize_t src_dims[3] = {static_cast<hsize_t>(step + 1), nodes, components};
+  const hsize_t src_max[3] = {H5S_UNLIMITED, nodes, components};
+  Handle src = space_handle(check_id(H5Screate_simple(3, src_dims, src_max), "H5Screate_simple", what));
+  const hsize_t start[3] = {static_cast<hsize_t>(step), 0, first}, cnt[3] = {1, nodes, count};
+  check(H5Sselect_hyperslab(src.get(), H5S_SELECT_SET, start, nullptr, cnt, nullptr), "H5Sselect_hyperslab", what);
+  const hsize_t vdims[2] = {nodes, count};
+  Handle vspace = space_handle(check_id(H5Screate_simple(count == 1 ? 1 : 2, vdims, nullptr), "H5Screate_simple", what));
+  Handle dcpl = plist_handle(check_id(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate", what));
+  check(H5Pset_virtual(dcpl.get(), vspace.get(), ".", field_path.c_str(), src.get()), "H5Pset_virtual", what);
+  const std::string name = std::to_string(step);
+  dataset_handle(check_id(
+      H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, vspace.get(), H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+      "H5Dcreate2", what + "/" + name));
+}
+
+ViewCopies::ViewCopies(hsize_t nodes, hsize_t count, const std::string& what) : what_(what) {
+  const hsize_t dims[2] = {nodes, count};
+  space_ = space_handle(check_id(H5Screate_simple(count == 1 ? 1 : 2, dims, nullptr), "H5Screate_simple", what));
+  dcpl_ = plist_handle(check_id(H5Pcreate(H5P_DATASET_CREATE), "H5Pcreate", what));
+  check(H5Pset_layout(dcpl_.get(), H5D_COMPACT), "H5Pset_layout", what);
+}
+
+void ViewCopies::create(hid_t group, std::size_t step, const double* values) const {
+  const std::string name = std::to_string(step);
+  Handle d = dataset_handle(check_id(
+      H5Dcreate2(group, name.c_str(), H5T_IEEE_F64LE, space_.get(), H5P_DEFAULT, dcpl_.get(), H5P_DEFAULT),
+      "H5Dcreate2", what_ + "/" + name));
+  check(H5Dwrite(d.get(), H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values), "H5Dwrite", what_ + "/" + name);
+}
+
+void create_view_copy(hid_t group, std::size_t step, hsize_t nodes, hsize_t count, const double* values,
+                      const std::string& what) {
+  ViewCopies(nodes, count, what).create(group, step, values);
+}
+
 bool valid_name(const std::string& name) {
   if (name.empty() || name == "." || name == "..") return false;
   for (const char c : name) {

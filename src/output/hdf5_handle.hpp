@@ -3,6 +3,7 @@
 // translation into OutputError, and attribute access. Not installed, not public.
 #include <hdf5.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -81,6 +82,33 @@ double read_double_attribute(hid_t obj, const std::string& name);
 std::vector<hsize_t> dataset_dims(hid_t dataset, const std::string& what);
 /// Names of the links of a group, in name order.
 std::vector<std::string> link_names(hid_t group, const std::string& what);
+
+/// Creates the virtual dataset `<step>` in `group` (the sidecar's view of one step, see
+/// xdmf.hpp): step `step` of the dataset `field_path` (steps x nodes x components, in the same
+/// file), components [first, first + count); shape (nodes) if count is 1, else (nodes, count).
+void create_view(hid_t group, std::size_t step, const std::string& field_path, hsize_t nodes, hsize_t components,
+                 hsize_t first, hsize_t count, const std::string& what);
+
+/// Views of at most this many bytes are stored as compact copies (create_view_copy): an HDF5
+/// object costs about 15 us to create that way against about 50 us (and as much again when
+/// the file is closed) for a virtual dataset; larger ones are virtual (no data stored twice).
+inline constexpr std::size_t max_copied_view_bytes = 60000;
+
+/// Creates the dataset `<step>` in `group` holding `values` (nodes x count doubles, node-major)
+/// in the compact layout (in its object header); shape (nodes) if count is 1, else
+/// (nodes, count). With MPI-IO every rank must pass the same values.
+void create_view_copy(hid_t group, std::size_t step, hsize_t nodes, hsize_t count, const double* values,
+                      const std::string& what);
+/// The same for many steps of one array: the dataspace and creation properties made once.
+class ViewCopies {
+ public:
+  ViewCopies(hsize_t nodes, hsize_t count, const std::string& what);
+  void create(hid_t group, std::size_t step, const double* values) const;
+
+ private:
+  Handle space_, dcpl_;
+  std::string what_;
+};
 
 /// True for names made of [A-Za-z0-9_.-], not empty and not "." or "..".
 bool valid_name(const std::string& name);

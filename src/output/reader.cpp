@@ -45,8 +45,9 @@ struct Reader::Impl {
     check(H5Sselect_hyperslab(fspace.get(), H5S_SELECT_SET, start.data(), nullptr, count.data(),
                               nullptr),
           "H5Sselect_hyperslab", what);
-    Handle mspace =
-        detail::space_handle(check_id(H5Screate_simple(1, &n, nullptr), "H5Screate_simple", what));
+    // Memory space of the selection's shape (block-wise chunk mapping, see the Writer).
+    Handle mspace = detail::space_handle(check_id(
+        H5Screate_simple(static_cast<int>(count.size()), count.data(), nullptr), "H5Screate_simple", what));
     check(H5Dread(d, H5T_NATIVE_DOUBLE, mspace.get(), fspace.get(), H5P_DEFAULT, out.data()),
           "H5Dread", what);
     return out;

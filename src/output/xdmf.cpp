@@ -1,10 +1,12 @@
 #include "xdmf.hpp"
 
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
-#include <sstream>
+#include <set>
 
 #include "traverse/output/output_error.hpp"
 
@@ -28,103 +30,199 @@ std::string xml_escape(const std::string& in) {
   return out;
 }
 
-std::string number(double v) {
+void number(std::string& o, double v) {
   char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
+  // + 0.0 turns -0 into 0: the Writer's values pass an MPI sum, the tool's do not.
+  std::snprintf(buf, sizeof buf, "%.17g", v + 0.0);
+  o += buf;
 }
 
-// A hyperslab of one step of /fields/<name> (steps x nodes x components): all nodes,
-// components [c0, c0 + nc).
-void field_slab(std::ostringstream& o, const std::string& indent, const std::string& h5,
-                const std::string& field, std::size_t steps, std::size_t step, std::size_t nodes,
-                std::size_t comps, std::size_t c0, std::size_t nc) {
-  const std::string dims = nc == 1 ? std::to_string(nodes) : std::to_string(nodes) + " " + std::to_string(nc);
-  o << indent << "<DataItem ItemType=\"HyperSlab\" Dimensions=\"" << dims << "\">\n"
-    << indent << "  <DataItem Dimensions=\"3 3\" Format=\"XML\">" << step << " 0 " << c0
-    << " 1 1 1 1 " << nodes << " " << nc << "</DataItem>\n"
-    << indent << "  <DataItem Dimensions=\"" << steps << " " << nodes << " " << comps
-    << "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5 << ":/fields/"
-    << xml_escape(field) << "</DataItem>\n"
-    << indent << "</DataItem>\n";
+void count(std::string& o, std::size_t v) { o += std::to_string(v); }
+
+void hdf_item(std::string& o, const std::string& dims, const char* type, int precision, const std::string& h5,
+              const std::string& dataset) {
+  o += "<DataItem Dimensions=\"";
+  o += dims;
+  o += "\" DataType=\"";
+  o += type;
+  o += "\" Precision=\"";
+  o += std::to_string(precision);
+  o += "\" Format=\"HDF\">";
+  o += h5;
+  o += ':';
+  o += dataset;
+  o += "</DataItem>";
 }
 
 }  // namespace
+
+XdmfPlan plan_views(const std::vector<XdmfFieldInfo>& fields) {
+  XdmfPlan plan;
+  std::set<std::string> taken{"s"};
+  auto add = [&](std::string array, std::size_t f, std::size_t first, std::size_t n) {
+    if (taken.count(array) > 0) array = fields[f].name + "_" + array;
+    while (taken.count(array) > 0) array += "_";
+    taken.insert(array);
+    plan.views.push_back({array, f, first, n});
+  };
+  // Whole fields first, so that a field keeps its own name against a derived one.
+  for (std::size_t f = 0; f < fields.size(); ++f)
+    if ((fields[f].sidecar || fields[f].geometry) && (fields[f].components == 1 || fields[f].components == 3))
+      taken.insert(fields[f].name);
+  for (std::size_t f = 0; f < fields.size(); ++f) {
+    const XdmfFieldInfo& fi = fields[f];
+    if (!fi.sidecar && !fi.geometry) continue;
+    if (fi.components == 1 || fi.components == 3) {
+      taken.erase(fi.name);
+      add(fi.name, f, 0, fi.components);
+      if (fi.components == 3 && (fi.geometry || (plan.geometry < 0 && fi.name == "r")))
+        plan.geometry = static_cast<int>(plan.views.size() - 1);
+      continue;
+    }
+    bool triples = fi.components % 3 == 0 && fi.component_names.size() == fi.components;
+    for (std::size_t c = 0; triples && c < fi.components; c += 3) {
+      const std::string& a = fi.component_names[c];
+      const std::string p = a.empty() ? std::string() : a.substr(0, a.size() - 1);
+      triples = !p.empty() && a == p + "x" && fi.component_names[c + 1] == p + "y" &&
+                fi.component_names[c + 2] == p + "z";
+    }
+    if (triples) {
+      for (std::size_t c = 0; c < fi.components; c += 3) {
+        const std::string& a = fi.component_names[c];
+        add(a.substr(0, a.size() - 1), f, c, 3);
+      }
+    } else {
+      for (std::size_t c = 0; c < fi.components; ++c)
+        add(fi.name + "_" + (c < fi.component_names.size() ? fi.component_names[c] : std::to_string(c)), f, c, 1);
+    }
+  }
+  // A field marked geometry wins over "r", whatever the order.
+  for (std::size_t v = 0; v < plan.views.size(); ++v)
+    if (fields[plan.views[v].field].geometry && plan.views[v].count == 3) plan.geometry = static_cast<int>(v);
+  return plan;
+}
+
+bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, const double* s, const double* values,
+                std::size_t width, double sigma, double* out) {
+  if (n == 0 || !std::isfinite(sigma)) return false;
+  if (global_nodes == 1) {
+    std::copy(values, values + width, out);
+    return true;
+  }
+  if (n < 2) return false;
+  // Segment j (local index) joins local nodes j and j+1; global index first + j.
+  const std::size_t last_global_segment = global_nodes - 2;
+  std::size_t j = static_cast<std::size_t>(std::upper_bound(s, s + n, sigma) - s);  // first s > sigma
+  j = j == 0 ? 0 : j - 1;                                                         // s_j <= sigma
+  if (j > n - 2) j = n - 2;
+  const std::size_t g = first + j;
+  const bool lower_ok = g == 0 || sigma >= s[j];
+  const bool upper_ok = g == last_global_segment || sigma < s[j + 1];
+  if (!lower_ok || !upper_ok) return false;
+  const double xi = (sigma - s[j]) / (s[j + 1] - s[j]);
+  for (std::size_t c = 0; c < width; ++c) out[c] = (1.0 - xi) * values[width * j + c] + xi * values[width * (j + 1) + c];
+  return true;
+}
 
 std::string xdmf_document(const XdmfModel& m) {
   const std::string h5 = xml_escape(m.h5_name);
   const std::size_t steps = m.times.size();
   const std::size_t n = m.nodes;
-  std::ostringstream o;
-  o << "<?xml version=\"1.0\" ?>\n"
-    << "<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n"
-    << "<Xdmf Version=\"2.0\">\n"
-    << "  <Domain>\n"
-    << "    <Grid Name=\"traverse\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (std::size_t k = 0; k < steps; ++k) {
-    o << "      <Grid Name=\"step_" << k << "\" GridType=\"Uniform\">\n"
-      << "        <Time Value=\"" << number(m.times[k]) << "\"/>\n";
-    if (n >= 2 && m.geometry_field >= 0) {
-      // ParaView's XDMF 2 reader caches a grid's points keyed by the text of the first
-      // DataItem of its Topology and Geometry; a hyperslab Geometry has no such text and
-      // makes it log an error. A (whole-array) hyperslab Topology switches the cache off
-      // quietly; the points change at every step anyway.
-      o << "        <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << n - 1
-        << "\" NodesPerElement=\"2\">\n"
-        << "          <DataItem ItemType=\"HyperSlab\" Dimensions=\"" << n - 1 << " 2\">\n"
-        << "            <DataItem Dimensions=\"3 2\" Format=\"XML\">0 0 1 1 " << n - 1
-        << " 2</DataItem>\n"
-        << "            <DataItem Dimensions=\"" << n - 1
-        << " 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" << h5
-        << ":/mesh/segments</DataItem>\n"
-        << "          </DataItem>\n"
-        << "        </Topology>\n";
-    } else if (n >= 2) {
-      o << "        <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << n - 1
-        << "\" NodesPerElement=\"2\">\n"
-        << "          <DataItem Dimensions=\"" << n - 1
-        << " 2\" NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">" << h5
-        << ":/mesh/segments</DataItem>\n"
-        << "        </Topology>\n";
-    } else {
-      o << "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"1\" NodesPerElement=\"1\">\n"
-        << "          <DataItem Dimensions=\"1\" NumberType=\"Int\" Precision=\"4\" Format=\"XML\">0</DataItem>\n"
-        << "        </Topology>\n";
-    }
-    o << "        <Geometry GeometryType=\"XYZ\">\n";
-    if (m.geometry_field >= 0) {
-      const XdmfField& g = m.fields[static_cast<std::size_t>(m.geometry_field)];
-      field_slab(o, "          ", h5, g.name, steps, k, n, g.components, 0, 3);
-    } else {
-      o << "          <DataItem Dimensions=\"" << n
-        << " 3\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">" << h5
-        << ":/mesh/position</DataItem>\n";
-    }
-    o << "        </Geometry>\n";
-    for (const XdmfField& f : m.fields) {
-      if (f.components == 1 || f.components == 3) {
-        o << "        <Attribute Name=\"" << xml_escape(f.name) << "\" AttributeType=\""
-          << (f.components == 1 ? "Scalar" : "Vector") << "\" Center=\"Node\">\n";
-        field_slab(o, "          ", h5, f.name, steps, k, n, f.components, 0, f.components);
-        o << "        </Attribute>\n";
-      } else {
-        // XDMF has no general n-vector attribute: one scalar per component, <name>_<component>.
-        for (std::size_t c = 0; c < f.components; ++c) {
-          const std::string cname =
-              c < f.component_names.size() ? f.component_names[c] : std::to_string(c);
-          o << "        <Attribute Name=\"" << xml_escape(f.name + "_" + cname)
-            << "\" AttributeType=\"Scalar\" Center=\"Node\">\n";
-          field_slab(o, "          ", h5, f.name, steps, k, n, f.components, c, 1);
-          o << "        </Attribute>\n";
+  std::string o;
+  o.reserve(512 + steps * (400 + 260 * m.arrays.size()));
+  o += "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n";
+
+  const std::size_t W = m.load_width();
+  bool loads_grid = m.loads > 0 && steps > 0 && m.sigma.size() == steps * m.loads &&
+                    m.load_values.size() == W * steps * m.loads;
+  for (std::size_t i = 0; loads_grid && i < m.sigma.size(); ++i) loads_grid = std::isfinite(m.sigma[i]);
+  if (loads_grid) {
+    std::string vertices;
+    for (std::size_t l = 0; l < m.loads; ++l) vertices += (l ? " " : "") + std::to_string(l);
+    const std::string L = std::to_string(m.loads);
+    auto xml_item = [&](const std::string& dims, std::size_t k, std::size_t offset, std::size_t count) {
+      o += "<DataItem Dimensions=\"" + dims + "\" DataType=\"Float\" Precision=\"8\" Format=\"XML\">";
+      for (std::size_t l = 0; l < m.loads; ++l)
+        for (std::size_t c = 0; c < count; ++c) {
+          if (l || c) o += ' ';
+          number(o, m.load_values[W * (m.loads * k + l) + offset + c]);
         }
+      o += "</DataItem>";
+    };
+    o += "    <Grid Name=\"loads\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (std::size_t k = 0; k < steps; ++k) {
+      o += "      <Grid Name=\"loads_";
+      count(o, k);
+      o += "\" GridType=\"Uniform\">\n        <Time Value=\"";
+      number(o, m.times[k]);
+      o += "\"/>\n        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" + L +
+           "\" NodesPerElement=\"1\"><DataItem Dimensions=\"" + L +
+           "\" DataType=\"Int\" Precision=\"4\" Format=\"XML\">" + vertices + "</DataItem></Topology>\n";
+      o += "        <Geometry GeometryType=\"XYZ\">";
+      xml_item(L + " 3", k, 0, 3);
+      o += "</Geometry>\n        <Attribute Name=\"s\" AttributeType=\"Scalar\" Center=\"Node\">"
+           "<DataItem Dimensions=\"" + L + "\" DataType=\"Float\" Precision=\"8\" Format=\"XML\">";
+      for (std::size_t l = 0; l < m.loads; ++l) {
+        if (l) o += ' ';
+        number(o, m.sigma[m.loads * k + l]);
       }
+      o += "</DataItem></Attribute>\n";
+      std::size_t offset = 3;
+      for (const XdmfView& a : m.arrays) {
+        o += "        <Attribute Name=\"" + xml_escape(a.array) + "\" AttributeType=\"" +
+             (a.count == 3 ? "Vector" : "Scalar") + "\" Center=\"Node\">";
+        xml_item(a.count == 3 ? L + " 3" : L, k, offset, a.count);
+        o += "</Attribute>\n";
+        offset += a.count;
+      }
+      o += "      </Grid>\n";
     }
-    o << "      </Grid>\n";
+    o += "    </Grid>\n";
   }
-  o << "    </Grid>\n"
-    << "  </Domain>\n"
-    << "</Xdmf>\n";
-  return o.str();
+
+  const std::string N = std::to_string(n);
+  std::string topology;
+  if (n >= 2) {
+    topology = "        <Topology TopologyType=\"Polyline\" NumberOfElements=\"" + std::to_string(n - 1) +
+               "\" NodesPerElement=\"2\">";
+    hdf_item(topology, std::to_string(n - 1) + " 2", "Int", 4, h5, "/mesh/segments");
+    topology += "</Topology>\n";
+  } else {
+    topology = "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"1\" NodesPerElement=\"1\">"
+               "<DataItem Dimensions=\"1\" DataType=\"Int\" Precision=\"4\" Format=\"XML\">0</DataItem></Topology>\n";
+  }
+  std::string s_attr = "        <Attribute Name=\"s\" AttributeType=\"Scalar\" Center=\"Node\">";
+  hdf_item(s_attr, N, "Float", 8, h5, "/mesh/s");
+  s_attr += "</Attribute>\n";
+  std::vector<std::string> array_head, array_dims;
+  for (const XdmfView& a : m.arrays) {
+    array_head.push_back("        <Attribute Name=\"" + xml_escape(a.array) + "\" AttributeType=\"" +
+                         (a.count == 3 ? "Vector" : "Scalar") + "\" Center=\"Node\">");
+    array_dims.push_back(a.count == 3 ? N + " 3" : N);
+  }
+  o += "    <Grid Name=\"structure\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (std::size_t k = 0; k < steps; ++k) {
+    const std::string step = std::to_string(k);
+    o += "      <Grid Name=\"step_" + step + "\" GridType=\"Uniform\">\n        <Time Value=\"";
+    number(o, m.times[k]);
+    o += "\"/>\n";
+    o += topology;
+    o += "        <Geometry GeometryType=\"XYZ\">";
+    if (m.geometry >= 0)
+      hdf_item(o, N + " 3", "Float", 8, h5, "/xdmf/" + xml_escape(m.arrays[static_cast<std::size_t>(m.geometry)].array) + "/" + step);
+    else
+      hdf_item(o, N + " 3", "Float", 8, h5, "/mesh/position");
+    o += "</Geometry>\n";
+    o += s_attr;
+    for (std::size_t a = 0; a < m.arrays.size(); ++a) {
+      o += array_head[a];
+      hdf_item(o, array_dims[a], "Float", 8, h5, "/xdmf/" + xml_escape(m.arrays[a].array) + "/" + step);
+      o += "</Attribute>\n";
+    }
+    o += "      </Grid>\n";
+  }
+  o += "    </Grid>\n  </Domain>\n</Xdmf>\n";
+  return o;
 }
 
 void replace_file(const std::string& path, const std::string& text) {

@@ -348,6 +348,11 @@ Param build_schema() {
   out.add(text("file", "HDF5 output file; auto: the scene file's name with .h5, in the working directory "
                        "(the command line's -o wins)").def("auto"));
   out.add(integer("every", "Write every this many time steps (the first and last states are always written)").at_least(1).def(1.0));
+  out.add(real("restart_interval", "Rod runs: wall time between restart points (docs/reliability.md); one is also "
+                                   "stored at the start, at the end, on a signal and on a failure; 0: after every "
+                                   "output step (the command line's --restart-interval wins)", "s")
+              .non_negative()
+              .def(60.0));
   out.add(collection("probes", "Time series of chosen quantities, each under a name of your choice", probe_types()));
   out.add(word_list("fields", "Fields written at every node at each output step (beam: deflection, slope, "
                               "bending_moment; rod: u, omega, kappa, n, m (body components), r (centreline), "
@@ -650,6 +655,7 @@ void read_output(const ParameterList& o, const std::string& file_name, OutputSpe
   out.file = o.get<std::string>("file");
   if (out.file == "auto") out.file = std::filesystem::path(file_name).stem().string() + ".h5";
   out.every = o.get<int>("every");
+  out.restart_interval = o.get<double>("restart_interval");
   const auto& probes = o.sublist("probes");
   for (auto it = probes.begin(); it != probes.end(); ++it) {
     const auto& pr = probes.sublist(probes.name(it));

@@ -5,6 +5,7 @@
 // one to 1e-12. docs/reliability.md describes the design.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <iostream>
 #include <random>
 
@@ -20,7 +21,9 @@ const std::string kExe = TRAVERSE_EXE;
 const std::string kCable = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/default.yaml";
 const std::string kBeam = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/beam/cantilever.yaml";
 // Cable: 51 nodes, 50 time steps, every field.
-const std::string kRodArgs = " --set mesh.ds=0.02 --set output.fields=[r,R,u,omega,kappa,n,m] -q";
+// A restart point after every output step (--restart-interval 0, which also flushes every
+// output step), so that a stop mid-run leaves a recent point to restart from.
+const std::string kRodArgs = " --set mesh.ds=0.02 --set output.fields=[r,R,u,omega,kappa,n,m] --restart-interval 0 -q";
 // Cantilever: 3 modes, 200 output steps.
 const std::string kBeamArgs = " --set time.dt=2e-5 --set output.every=5 --set output.fields=[deflection,slope,bending_moment] -q";
 
@@ -140,20 +143,36 @@ TEST(InterruptRestart, RodTwoRanksSigintToOneRankThenRestart) {
 // the signal arrives while it is stepping.
 TEST(InterruptRestart, RodTwoRanksSigintToMpiexecThenRestart) {
   stop_and_restart("rod-np2-mpiexec", 2, kCable,
-                   " --set mesh.ds=0.02 --set time.dt=2.75e-5 --set output.every=100 --set output.fields=[r,n] -q", 3, 40,
-                   Stop::sigint_mpiexec);
+                   " --set mesh.ds=0.02 --set time.dt=2.75e-5 --set output.every=100 --set output.fields=[r,n]"
+                   " --restart-interval 0 -q",
+                   3, 40, Stop::sigint_mpiexec);
+}
+
+// The default restart cadence (output.restart_interval = 60 s): a run of a few seconds has
+// only the restart point of its start when it is killed; its output steps are flushed once a
+// second. The restart recomputes from t = 0 and ends bit for bit equal to the uninterrupted run.
+TEST(InterruptRestart, RodSigkillAtTheDefaultCadenceRestartsFromTheStart) {
+  stop_and_restart("rod-sigkill-cadence", 1, kCable,
+                   " --set mesh.ds=0.02 --set time.dt=2.75e-5 --set output.every=100 --set output.fields=[r,n] -q", 3,
+                   40, Stop::sigkill);
 }
 
 TEST(InterruptRestart, RodTwoRanksSigkillThenRestart) {
   stop_and_restart("rod-np2-sigkill", 2, kCable, kRodArgs, 3, 40, Stop::sigkill);
 }
 
+// The beam run takes well under the output's 1 s flush cadence: it must flush every step for
+// the test to see output steps in the file while the run goes on.
 TEST(InterruptRestart, BeamSigintThenRestart) {
+  setenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL", "0", 1);
   stop_and_restart("beam-sigint", 1, kBeam, kBeamArgs, 5, 150, Stop::sigint_process);
+  unsetenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL");
 }
 
 TEST(InterruptRestart, BeamSigkillThenRestart) {
+  setenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL", "0", 1);
   stop_and_restart("beam-sigkill", 1, kBeam, kBeamArgs, 5, 150, Stop::sigkill);
+  unsetenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL");
 }
 
 // A restart that was itself killed while copying leaves OUT.h5.before-restart (the file

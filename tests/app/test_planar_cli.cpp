@@ -109,7 +109,7 @@ TEST(PlanarCli, RestartKeepsThePath) {
   using namespace traverse::testing;
   const fs::path d = scratch("planar_restart");
   const std::string ref = (d / "reference.h5").string();
-  const std::string args = " --set mesh.ds=0.02" + solver(1) + kFields;
+  const std::string args = " --set mesh.ds=0.02 --restart-interval 0" + solver(1) + kFields;
   ASSERT_EQ(run("", "run " + kCable + " -o " + ref + args).code, 0);
   for (const std::string mode : {"", " --set scheme.planar=off"}) {
     const std::string out = (d / (mode.empty() ? "run.h5" : "run_off.h5")).string();

@@ -67,8 +67,8 @@ def check_xdmf(h5_path, steps):
     except ET.ParseError as e:
         check(False, f"{xmf} is well-formed XML: {e}")
         return
-    check(root.tag == "Xdmf", "XDMF root element")
-    grids = root.findall("./Domain/Grid/Grid")
+    check(root.tag == "Xdmf" and root.get("Version") == "3.0", "XDMF 3 root element")
+    grids = root.findall("./Domain/Grid[@Name='structure']/Grid")
     check(len(grids) == steps, f"{len(grids)} XDMF grids == {steps} steps")
     times = [float(g.find("Time").get("Value")) for g in grids]
     check(times == [0.25 * k for k in range(steps)], "XDMF time values")
@@ -83,7 +83,7 @@ def check_xdmf(h5_path, steps):
                 bad.append(f"{name} {dims}")
     check(not bad, f"XDMF data items match datasets: {bad[:3]}")
     names = {a.get("Name") for a in grids[-1].iter("Attribute")} if grids else set()
-    want = {"w", "r"} | {f"strain_{c}" for c in ("g1", "g2", "g3", "k1", "k2", "k3")}
+    want = {"s", "w", "r"} | {f"strain_{c}" for c in ("g1", "g2", "g3", "k1", "k2", "k3")}
     check(names == want, f"XDMF attributes {sorted(names)}")
 
 

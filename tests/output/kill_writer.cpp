@@ -1,7 +1,8 @@
 // Writes the sample run step after step with a pause, forever (or up to argv[2] steps),
 // so that test_output_kill can SIGKILL it mid-run. Every rank prints "pid <pid>" at start;
-// rank 0 prints "step <k>" once step k is fully written (after the flushes).
-// Usage: output_kill_writer FILE [max_steps [pause_ms]]
+// rank 0 prints "step <k> flushed <f>" once write_step(k) returned, f being the steps then
+// in the file and announced. flush_s: the writer's flush interval (default: the Writer's).
+// Usage: output_kill_writer FILE [max_steps [pause_ms [flush_s]]]
 #include <mpi.h>
 #include <unistd.h>
 
@@ -19,7 +20,7 @@ int main(int argc, char** argv) {
   int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   if (argc < 2) {
-    if (rank == 0) std::fprintf(stderr, "usage: %s FILE [max_steps [pause_ms]]\n", argv[0]);
+    if (rank == 0) std::fprintf(stderr, "usage: %s FILE [max_steps [pause_ms [flush_s]]]\n", argv[0]);
     MPI_Finalize();
     return 2;
   }
@@ -31,11 +32,12 @@ int main(int argc, char** argv) {
   try {
     const NodeLayout l = sample::layout(MPI_COMM_WORLD);
     Writer w(MPI_COMM_WORLD, argv[1], true, sample::run_info(), l, sample::loads);
+    if (argc > 4) w.set_intervals(std::atof(argv[4]), w.xdmf_interval());
     sample::declare(w);
     for (long k = 0; k < max_steps; ++k) {
       sample::write_step(w, l, static_cast<std::size_t>(k));
       if (rank == 0) {
-        std::printf("step %ld\n", k);
+        std::printf("step %ld flushed %zu\n", k, w.steps_flushed());
         std::fflush(stdout);
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(pause_ms));

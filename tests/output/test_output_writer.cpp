@@ -11,6 +11,7 @@
 
 #include "sample_run.hpp"
 #include "traverse/output/reader.hpp"
+#include "traverse/output/sidecar.hpp"
 #include "traverse/output/writer.hpp"
 #include "xdmf_check.hpp"
 
@@ -181,50 +182,106 @@ TEST(OutputWriter, XdmfSidecarIsWellFormed) {
   // Beam-like run: no "r"; a designated geometry field, and one without any geometry.
   const std::string beam = dir + "/beam.h5", plain = dir + "/plain.h5";
   for (const std::string& p : {beam, plain}) {
-    Writer w(MPI_COMM_WORLD, p, false, sample::run_info(), l, 1);
+    RunInfo info = sample::run_info();
+    info.model = "beam";
+    Writer w(MPI_COMM_WORLD, p, false, info, l, 1);
     w.add_field({"w", 1, "m", "deflection", {}, false});
-    if (p == beam) w.add_field({"position", 3, "m", "(0, w, s)", {"x", "y", "z"}, true});
+    if (p == beam) w.add_field({"position", 3, "m", "(s, w, 0)", {"x", "y", "z"}, true});
     for (std::size_t k = 0; k < 3; ++k) {
       std::vector<double> wv, pos;
       for (std::size_t i = 0; i < l.count; ++i) {
-        wv.push_back(0.5 * static_cast<double>(k));
-        pos.insert(pos.end(), {0.0, wv.back(), l.s[i]});
+        wv.push_back(0.5 * static_cast<double>(k) + 0.0625 * static_cast<double>(l.first + i));
+        pos.insert(pos.end(), {l.s[i], wv.back(), 0.0});
       }
-      if (p == beam) w.write_step(sample::time(k), {0.0}, {}, {wv, pos});
-      else w.write_step(sample::time(k), {0.0}, {}, {wv});
+      // The load moves along the beam: 0.1 m per step.
+      if (p == beam) w.write_step(sample::time(k), {0.1 * static_cast<double>(k)}, {}, {wv, pos});
+      else w.write_step(sample::time(k), {0.1 * static_cast<double>(k)}, {}, {wv});
     }
     w.finish();
   }
   MPI_Barrier(MPI_COMM_WORLD);
   if (rank() != 0) return;
-  auto slurp = [](const std::string& f) {
-    std::ifstream in(f);
-    std::stringstream b;
-    b << in.rdbuf();
-    return b.str();
-  };
   const auto rep = test::check_xdmf(dir + "/run.xmf", path);
   for (const auto& p : rep.problems) ADD_FAILURE() << p;
   EXPECT_EQ(rep.grids, 4u);
-  // Per grid: segments + geometry(r) + w + r + 6 strain scalars = 10 HDF items, 9 hyperslabs.
-  EXPECT_EQ(rep.hdf_items, 4u * 10u);
-  EXPECT_EQ(rep.hyperslabs, 4u * 9u);
-  const std::string run_xmf = slurp(dir + "/run.xmf");
+  // Per grid: segments + geometry (r) + s + w + r + 6 strain scalars = 11 HDF items, 9 of them views.
+  EXPECT_EQ(rep.hdf_items, 4u * 11u);
+  EXPECT_EQ(rep.views, 4u * 9u);
+  // The sample's second load is off the structure at s = 10 m: both loads are drawn (extrapolated).
+  EXPECT_EQ(rep.load_grids, 4u);
+  const std::string run_xmf = test::slurp(dir + "/run.xmf");
   EXPECT_NE(run_xmf.find("Name=\"strain_k2\""), std::string::npos);
   EXPECT_NE(run_xmf.find("AttributeType=\"Vector\""), std::string::npos);
+  EXPECT_NE(run_xmf.find("Name=\"s\" AttributeType=\"Scalar\""), std::string::npos);
   EXPECT_NE(run_xmf.find("<Time Value=\"0.75\"/>"), std::string::npos);
   EXPECT_FALSE(fs::exists(dir + "/run.xmf.tmp"));
-  std::printf("run.xmf: %zu grids, %zu HDF items, %zu hyperslabs, %zu problems\n", rep.grids,
-              rep.hdf_items, rep.hyperslabs, rep.problems.size());
+  std::printf("run.xmf: %zu grids, %zu HDF items (%zu views), %zu load grids, %zu problems\n", rep.grids,
+              rep.hdf_items, rep.views, rep.load_grids, rep.problems.size());
+  // Every view holds exactly its step of the field.
+  std::size_t mismatches = 0, compared = 0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    const auto r = test::read_doubles(path, "/xdmf/r/" + std::to_string(k));
+    const auto k2 = test::read_doubles(path, "/xdmf/strain_k2/" + std::to_string(k));
+    ASSERT_EQ(r.size(), 3 * sample::nodes);
+    ASSERT_EQ(k2.size(), sample::nodes);
+    for (std::size_t i = 0; i < sample::nodes; ++i) {
+      for (std::size_t c = 0; c < 3; ++c, ++compared) mismatches += r[3 * i + c] != sample::field(1, k, i, c);
+      ++compared;
+      mismatches += k2[i] != sample::field(2, k, i, 4);
+    }
+  }
+  EXPECT_EQ(mismatches, 0u) << compared << " view values compared";
+  // `traverse xdmf` (write_sidecar) rebuilds the same text from the file alone.
+  const SidecarResult again = write_sidecar(path, dir + "/again.xmf");
+  EXPECT_EQ(again.steps, 4u);
+  EXPECT_EQ(again.views_created, 0u);
+  EXPECT_EQ(test::slurp(dir + "/again.xmf"), run_xmf);
+
+  // A file without views (as older traverse versions wrote them): write_sidecar adds them.
+  {
+    const std::string old = dir + "/old.h5";
+    fs::copy_file(path, old);
+    hid_t f = H5Fopen(old.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    EXPECT_GE(H5Ldelete(f, "/xdmf", H5P_DEFAULT), 0);
+    H5Fclose(f);
+    const SidecarResult added = write_sidecar(old);
+    EXPECT_EQ(added.views_created, 4u * 8u);  // w, r and 6 strain components per step
+    const auto ro = test::check_xdmf(dir + "/old.xmf", old);
+    for (const auto& p : ro.problems) ADD_FAILURE() << "old file: " << p;
+    EXPECT_EQ(ro.grids, 4u);
+    const auto k1 = test::read_doubles(old, "/xdmf/strain_k1/3");
+    ASSERT_EQ(k1.size(), sample::nodes);
+    EXPECT_EQ(k1[6], sample::field(2, 3, 6, 3));
+    EXPECT_EQ(write_sidecar(old).views_created, 0u);  // now complete
+  }
 
   const auto rb = test::check_xdmf(dir + "/beam.xmf", beam);
   for (const auto& p : rb.problems) ADD_FAILURE() << p;
   EXPECT_EQ(rb.grids, 3u);
-  EXPECT_NE(slurp(dir + "/beam.xmf").find("/fields/position</DataItem>\n          </DataItem>\n        </Geometry>"),
+  const std::string beam_xmf = test::slurp(dir + "/beam.xmf");
+  EXPECT_NE(beam_xmf.find("<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"7 3\" DataType=\"Float\" "
+                          "Precision=\"8\" Format=\"HDF\">beam.h5:/xdmf/position/2</DataItem></Geometry>"),
             std::string::npos);
+  // The load at sigma = 0.2 m sits between nodes 1 (s = 0.125) and 2 (s = 0.25) of the
+  // deflected beam: x = 0.2, w interpolated linearly.
+  const double xi = (0.2 - sample::s(1)) / (sample::s(2) - sample::s(1));
+  const double x_load = (1.0 - xi) * sample::s(1) + xi * sample::s(2);
+  const double w_load = (1.0 - xi) * (1.0 + 0.0625) + xi * (1.0 + 0.125);
+  EXPECT_NEAR(x_load, 0.2, 1e-15);
+  EXPECT_NEAR(w_load, 1.1, 1e-15);
+  char want[128];
+  std::snprintf(want, sizeof want, "Format=\"XML\">%.17g %.17g 0</DataItem></Geometry>", x_load, w_load);
+  EXPECT_NE(beam_xmf.find(want), std::string::npos) << "expected " << want;
+  EXPECT_EQ(test::slurp(dir + "/beam.xmf"), (write_sidecar(beam, dir + "/beam_again.xmf"), test::slurp(dir + "/beam_again.xmf")));
   const auto rp = test::check_xdmf(dir + "/plain.xmf", plain);
   for (const auto& p : rp.problems) ADD_FAILURE() << p;
-  EXPECT_NE(slurp(dir + "/plain.xmf").find(":/mesh/position</DataItem>"), std::string::npos);
+  EXPECT_NE(test::slurp(dir + "/plain.xmf").find(":/mesh/position</DataItem>"), std::string::npos);
+  // A beam's reference positions lie along x.
+  const auto ref = test::read_doubles(plain, "/mesh/position");
+  ASSERT_EQ(ref.size(), 3 * sample::nodes);
+  EXPECT_EQ(ref[3 * 6 + 0], sample::s(6));
+  EXPECT_EQ(ref[3 * 6 + 2], 0.0);
   Reader r(plain);
   EXPECT_EQ(r.arclength().size(), sample::nodes);
 }
@@ -324,18 +381,37 @@ TEST(OutputWriter, StatusTransitionsAndStepOrdering) {
   };
   {
     Writer w(MPI_COMM_WORLD, ok, false, sample::run_info(), l, sample::loads);
+    w.set_intervals(3600.0, 3600.0);  // no timed flush during the test: only explicit ones
     sample::declare(w);
     peek(ok, "running", 0);
     for (std::size_t k = 0; k < 3; ++k) {
       sample::write_step(w, l, k);
+      // Kept in memory: the file still shows the steps before.
+      peek(ok, "running", k);
+      EXPECT_EQ(w.steps_written(), k + 1);
+      EXPECT_EQ(w.steps_flushed(), k);
+      w.flush();
       peek(ok, "running", k + 1);
+      EXPECT_EQ(w.steps_flushed(), k + 1);
     }
-    w.finish();
-    peek(ok, "complete", 3);
-    EXPECT_THROW(sample::write_step(w, l, 3), OutputError);
+    sample::write_step(w, l, 3);
+    sample::write_step(w, l, 4);
+    peek(ok, "running", 3);
+    // The sidecar is not rewritten by flushes within its interval: still the empty one.
+    if (rank() == 0) {
+      EXPECT_EQ(test::check_xdmf(dir + "/ok.xmf", ok).grids, 0u);
+    }
+    w.finish();  // flushes the kept steps, writes the sidecar
+    peek(ok, "complete", 5);
+    if (rank() == 0) {
+      EXPECT_EQ(test::check_xdmf(dir + "/ok.xmf", ok).grids, 5u);
+    }
+    EXPECT_THROW(sample::write_step(w, l, 5), OutputError);
   }
   {
+    // Interval 0: every step is flushed and announced at once.
     Writer w(MPI_COMM_WORLD, bad, false, sample::run_info(), l, sample::loads);
+    w.set_intervals(0.0, 3600.0);
     sample::declare(w);
     sample::write_step(w, l, 0);
     peek(bad, "running", 1);
@@ -343,10 +419,28 @@ TEST(OutputWriter, StatusTransitionsAndStepOrdering) {
     peek(bad, "failed: Newton iteration diverged at t = 0.25 s", 1);
   }
   {
-    Writer w(MPI_COMM_WORLD, dropped, false, sample::run_info(), l, sample::loads);
+    // Both intervals 0: every step is flushed and the sidecar describes it at once.
+    Writer w(MPI_COMM_WORLD, dir + "/eager.h5", false, sample::run_info(), l, sample::loads);
+    w.set_intervals(0.0, 0.0);
     sample::declare(w);
+    for (std::size_t k = 0; k < 3; ++k) {
+      sample::write_step(w, l, k);
+      peek(dir + "/eager.h5", "running", k + 1);
+      if (rank() == 0) {
+        EXPECT_EQ(test::check_xdmf(dir + "/eager.xmf", dir + "/eager.h5").grids, k + 1);
+      }
+    }
+    w.finish();
   }
-  peek(dropped, "failed: output closed before finish() or fail()", 0);
+  {
+    // Destroyed with kept steps (e.g. by an exception): they are flushed, the status says why.
+    Writer w(MPI_COMM_WORLD, dropped, false, sample::run_info(), l, sample::loads);
+    w.set_intervals(3600.0, 3600.0);
+    sample::declare(w);
+    sample::write_step(w, l, 0);
+    sample::write_step(w, l, 1);
+  }
+  peek(dropped, "failed: output closed before finish() or fail()", 2);
   peek(bad, "failed: Newton iteration diverged at t = 0.25 s", 1);
 }
 

@@ -65,9 +65,13 @@ struct FieldSpec {
   std::vector<std::string> component_names;  ///< optional; default "0,1,...". Size `components`
   /// Use this field (3 components: x, y, z in m) as the node positions in the XDMF sidecar.
   /// At most one field may set it. Without one, a 3-component field named "r" is used;
-  /// without that, positions (0, 0, s). A beam writer provides e.g. a field "position" =
-  /// (0, w, s) built from the deflection w and sets this flag.
+  /// without that, the reference positions /mesh/position. A beam writer provides the field
+  /// "position" = (x, w, 0) built from the deflection w and sets this flag.
   bool geometry = false;
+  /// Whether the field is an array of the XDMF sidecar (one HDF5 object per output step,
+  /// 15-50 us each: docs/output.md). false: only in /fields, e.g. the beam's deflection,
+  /// which the beam's geometry (x, w, 0) already shows.
+  bool sidecar = true;
 };
 
 /// How a restart array is distributed over the ranks.

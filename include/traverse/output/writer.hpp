@@ -13,12 +13,20 @@
 
 namespace traverse::output {
 
-/// Writes `/time`, `/sigma`, `/probes/*`, `/fields/*`, `/mesh/*`, `/restart/*` and the root
-/// attributes of one output file. Every member function except the accessors is COLLECTIVE
-/// over the communicator given to the constructor: all ranks call it, in the same order,
-/// with the same replicated arguments. Crash safety: after every write_step the file is
-/// flushed so that a run killed at any later moment leaves a file whose first
-/// `steps_written` steps read back intact.
+/// Writes `/time`, `/sigma`, `/probes/*`, `/fields/*`, `/mesh/*`, `/xdmf/*`, `/restart/*` and
+/// the root attributes of one output file. Every member function except the accessors is
+/// COLLECTIVE over the communicator given to the constructor: all ranks call it, in the same
+/// order, with the same replicated arguments.
+///
+/// Cost and crash safety: write_step only copies the step into memory. The steps kept in
+/// memory are appended to the file (one write per dataset for all of them) and flushed, and
+/// only then announced in the root attribute `steps_written`, when flush_interval() seconds
+/// of wall time have passed since the last flush (rank 0's clock decides for all ranks), when
+/// they fill max_pending_bytes, and in flush(), write_restart(), finish() and fail(). A run
+/// killed at any moment leaves a file whose first `steps_written` steps read back intact; it
+/// loses at most the steps of the last flush interval. The XDMF sidecar is rewritten after a
+/// flush at most every xdmf_interval() seconds (longer when writing it takes long), and always
+/// by finish() and fail(); `traverse xdmf` (write_sidecar) rewrites it from the file.
 class Writer {
  public:
   /// Creates `path` (and the sidecar `path` with extension ".xmf") and writes the run
@@ -45,24 +53,42 @@ class Writer {
   /// Appends one output step. `time` [s]; `sigma` [m]: position of each moving load, size
   /// moving_loads; `probes[i]`: values of the i-th declared probe (size = its components;
   /// replicated, rank 0's are written); `fields[j]`: this rank's values of the j-th declared
-  /// field, node-major, size local node count * components. Writes all data, flushes, then
-  /// increments `steps_written` and flushes again, then rewrites the XDMF sidecar.
+  /// field, node-major, size local node count * components. Keeps the step in memory; writes
+  /// and flushes the kept steps when one of the conditions above holds (see the class comment).
   void write_step(double time, const std::vector<double>& sigma,
                   const std::vector<std::vector<double>>& probes,
                   const std::vector<DoubleView>& fields);
 
+  /// Appends the steps kept in memory, flushes, then announces them (`steps_written`).
+  void flush();
+
+  /// Wall-time cadence [s] of the automatic flushes (default 1; 0: after every step) and of
+  /// the sidecar rewrites while running (default 5, or 20 times as long as the last rewrite
+  /// took if that is longer; 0: after every flush). Collective; call it before write_step.
+  void set_intervals(double flush_seconds, double xdmf_seconds);
+  double flush_interval() const;
+  double xdmf_interval() const;
+  /// The kept steps are flushed when their field data reach this many bytes (all ranks
+  /// together; default 64 MiB), whatever the time.
+  static constexpr std::size_t max_pending_bytes = std::size_t(64) << 20;
+
   /// Replaces the content of the `/restart` group by `arrays` (arrays of earlier calls
   /// that are not repeated are removed) and records `time` [s] and the current
-  /// steps_written as attributes. The group's attribute `valid` is 0 while it is being
-  /// written and 1 once the arrays are flushed.
+  /// steps_written as attributes, after flushing the steps kept in memory. The group's
+  /// attribute `valid` is 0 while it is being written and 1 once the arrays are flushed.
   void write_restart(double time, const std::vector<RestartArray>& arrays);
 
-  /// Sets status "complete" and flushes. The file stays open until destruction.
+  /// Flushes the kept steps, writes the sidecar, sets status "complete" and flushes. The file
+  /// stays open until destruction.
   void finish();
-  /// Sets status "failed: <reason>" and flushes (the numerics failed; collective).
+  /// As finish() with status "failed: <reason>" (the numerics failed, or the run was stopped).
   void fail(const std::string& reason);
 
+  /// Steps passed to write_step (those kept in memory included: all are in the file after
+  /// the next flush).
   std::size_t steps_written() const;
+  /// Steps in the file and announced in its `steps_written` attribute.
+  std::size_t steps_flushed() const;
   const std::string& path() const;
   const std::string& xdmf_path() const;
 

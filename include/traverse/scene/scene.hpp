@@ -202,6 +202,7 @@ struct OutputProbeSpec {
 struct OutputSpec {
   std::string file;  ///< HDF5 output path
   int every = 1;     ///< write every this many steps (plus the first and the last state)
+  double restart_interval = 60.0;  ///< wall seconds between rod restart points (0: every output step)
   std::vector<OutputProbeSpec> probes;
   std::vector<Field> fields;
 };

@@ -1,0 +1,113 @@
+"""Runs check_paraview.py in Debian's ParaView (pvbatch) on a display of its own: starts
+Xvfb on a free display number, runs pvbatch there, stops that Xvfb. The expected values
+(times, nodes, a step's points and arrays, the load's position) come from the HDF5 files
+(h5py) and are handed to pvbatch as JSON.
+Usage: run_paraview.py PVBATCH ROD.xmf BEAM.xmf OUT_DIR      (exit status 1 on any failure)
+"""
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+import h5py
+import numpy as np
+
+
+def fail(msg):
+    print("FAILED: " + msg)
+    sys.exit(1)
+
+
+def expected(xmf):
+    xmf = os.path.abspath(xmf)
+    with h5py.File(os.path.splitext(xmf)[0] + ".h5", "r") as f:
+        steps = int(f.attrs["steps_written"])
+        k = steps // 2
+        x = f["xdmf"]
+        geometry = x.attrs["geometry"]
+        arrays = {"s": f["mesh/s"][()].tolist()}
+        for a in x.attrs["arrays"].split(","):
+            arrays[a] = f[f"xdmf/{a}/{k}"][()].tolist()
+        s = f["mesh/s"][()]
+        sigma = float(np.atleast_2d(f["sigma"][k])[0, 0]) if f["sigma"].ndim == 2 else float(f["sigma"][k])
+        j = min(int(np.searchsorted(s, sigma, side="right")) - 1, len(s) - 2)
+        xi = (sigma - s[j]) / (s[j + 1] - s[j])
+        g = f[f"xdmf/{geometry}/{k}"][()]
+        at_load = {a: ((1 - xi) * np.asarray(v[j]) + xi * np.asarray(v[j + 1])).tolist() for a, v in arrays.items()}
+        at_load["s"] = sigma
+        return {"xmf": xmf, "times": f["time"][:steps].tolist(), "step": k, "nodes": len(s),
+                "points": g.tolist(), "arrays": arrays, "load": ((1 - xi) * g[j] + xi * g[j + 1]).tolist(),
+                "sigma": sigma, "load_arrays": at_load}
+
+
+class XvfbDisplay:
+    """A display of our own: Xvfb picks a free display number and reports it (-displayfd) once
+    it accepts connections; stopped on exit. .env is the environment for pvbatch."""
+
+    def __enter__(self):
+        xvfb = shutil.which("Xvfb")
+        if xvfb is None:
+            fail("Xvfb not found; install the Debian package xvfb")
+        rfd, wfd = os.pipe()
+        self.server = subprocess.Popen([xvfb, "-displayfd", str(wfd), "-ac", "-nolisten", "tcp",
+                                        "-screen", "0", "1280x1024x24"],
+                                       pass_fds=(wfd,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        os.close(wfd)
+        number = b""
+        deadline = time.time() + 30
+        with os.fdopen(rfd, "rb") as r:
+            while not number.endswith(b"\n") and time.time() < deadline:
+                chunk = r.read(1)
+                if not chunk:
+                    break
+                number += chunk
+        if not number.strip().isdigit():
+            self.__exit__()
+            fail(f"Xvfb did not report a display (exit status {self.server.poll()})")
+        self.env = dict(os.environ, DISPLAY=":" + number.decode().strip())
+        return self
+
+    def __exit__(self, *_):
+        self.server.terminate()
+        try:
+            self.server.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.server.kill()
+
+
+def run_pvbatch(pvbatch, args, cwd=None, capture=False):
+    """pvbatch ARGS on a display of our own. pvbatch sometimes cannot connect to a fresh Xvfb
+    ("bad X server connection", about 1 run in 5 here, right after an earlier server on the
+    same number stopped): then it is run again, on a new server, up to 3 times."""
+    for attempt in range(3):
+        with XvfbDisplay() as x:
+            run = subprocess.run([pvbatch] + args, cwd=cwd, env=x.env, capture_output=True, text=True)
+        if "bad X server connection" not in run.stderr:
+            break
+        print(f"note: pvbatch could not connect to Xvfb ({x.env['DISPLAY']}), attempt {attempt + 1} of 3")
+    if not capture:
+        sys.stdout.write(run.stdout)
+        sys.stderr.write("\n".join(line for line in run.stderr.splitlines() if "0x" not in line))
+    return run
+
+
+def require_pvbatch(pvbatch):
+    if shutil.which(pvbatch) is None and not os.access(pvbatch, os.X_OK):
+        fail(f"pvbatch not found ({pvbatch}); install the Debian packages paraview and python3-paraview")
+
+
+def main():
+    pvbatch, rod, beam, out = sys.argv[1:5]
+    require_pvbatch(pvbatch)
+    os.makedirs(out, exist_ok=True)
+    spec = os.path.join(out, "expected.json")
+    with open(spec, "w") as fh:
+        json.dump({"runs": [expected(rod), expected(beam)], "out": os.path.abspath(out)}, fh)
+    here = os.path.dirname(os.path.abspath(__file__))
+    sys.exit(run_pvbatch(pvbatch, [os.path.join(here, "check_paraview.py"), spec]).returncode)
+
+
+if __name__ == "__main__":
+    main()
