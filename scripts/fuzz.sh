@@ -31,6 +31,12 @@ export OMPI_MCA_ess_singleton_isolated=1   # singleton MPI runs without starting
 mkdir -p "$build/corpus" "$build/artifacts"
 # -timeout: an input taking over 30 s is a hang (a run of the executable is killed after 15 s
 # and reported by the target itself); -rss_limit_mb: memory blow-ups are findings.
+# TRAVERSE_FUZZ_KEEP_GOING=1: fork mode, which records a finding and goes on fuzzing (the
+# default stops at the first finding, as libFuzzer does).
+keep_going=()
+if [ "${TRAVERSE_FUZZ_KEEP_GOING:-0}" = 1 ]; then
+  keep_going=(-fork=1 -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1)
+fi
 exec nice "$build/tests/fuzz/fuzz_scene" "$build/corpus" "$here/tests/fuzz/corpus/scene" \
   -max_total_time="$seconds" -timeout=30 -rss_limit_mb=2048 -max_len=8192 \
-  -artifact_prefix="$build/artifacts/" -print_final_stats=1
+  -artifact_prefix="$build/artifacts/" -print_final_stats=1 "${keep_going[@]}"

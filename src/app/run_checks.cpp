@@ -41,6 +41,7 @@ std::string summary(const TimePlan* time, const MemoryPlan& memory, const Memory
 
 CheckedRun check_beam_run(const scene::Scene& sc, const RunLimits& limits, MPI_Comm comm) {
   CheckedRun out;
+  check_properties(sc);
   check_load_ratio(sc);
   check_load_speeds(sc);
   const MemoryPlan memory = beam_memory(sc, comm_size(comm));
@@ -55,6 +56,7 @@ CheckedRun check_beam_run(const scene::Scene& sc, const RunLimits& limits, MPI_C
 
 CheckedRun check_rod_run(const scene::Scene& sc, const rod::RodModel& model, const RunLimits& limits, MPI_Comm comm) {
   CheckedRun out;
+  check_properties(sc);
   check_load_ratio(sc);
   const RodPathGuess path{expect_planar(sc, model), comm_size(comm)};
   const MemoryPlan memory = rod_memory(sc, path);

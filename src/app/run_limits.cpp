@@ -383,6 +383,46 @@ void check_counters(const scene::Scene& sc, const RodPathGuess& path) {
                    mesh_text(sc));
 }
 
+void check_properties(const scene::Scene& sc) {
+  const bool beam = sc.model == scene::Model::Beam;
+  const std::string model = beam ? "beam" : "rod";
+  const auto& sec = beam ? sc.beam.section : sc.rod.section;
+  const double E = beam ? sc.beam.youngs_modulus : sc.rod.youngs_modulus;
+  const double rho = beam ? sc.beam.density : sc.rod.density;
+  auto usable = [](double x) { return x > 0.0 && std::isfinite(x); };
+  struct Quantity {
+    const char* what;
+    double value;
+    std::vector<std::string> keys;
+    std::string parts;
+  };
+  std::vector<Quantity> q = {
+      {"the section's area A [m^2]", sec.area, {model + ".section"}, "from the dimensions of " + model + ".section"},
+      {"the section's second moment I [m^4]", beam ? sec.I1 : std::min(sec.I1, sec.I2), {model + ".section"},
+       "from the dimensions of " + model + ".section"},
+      {"the mass per length rho A [kg/m]", rho * sec.area, {model + ".density", model + ".section"},
+       model + ".density = " + fmt(rho) + " kg/m^3 x A = " + fmt(sec.area) + " m^2"},
+      {"the bending stiffness E I [N m^2]", E * (beam ? sec.I1 : std::min(sec.I1, sec.I2)),
+       {model + ".youngs_modulus", model + ".section"},
+       model + ".youngs_modulus = " + fmt(E) + " Pa x I = " + fmt(beam ? sec.I1 : std::min(sec.I1, sec.I2)) + " m^4"}};
+  if (!beam)
+    q.push_back({"the torsional stiffness G J [N m^2]", sc.rod.shear_modulus * sec.J,
+                 {"rod.shear_modulus", "rod.poisson_ratio", "rod.youngs_modulus", "rod.section"},
+                 "G = " + fmt(sc.rod.shear_modulus) + " Pa x J = " + fmt(sec.J) + " m^4"});
+  for (const auto& x : q)
+    if (!usable(x.value))
+      scene::fail_at(sc, deciding_key(sc, x.keys), std::string(x.what) + " that is a positive finite number",
+                     fmt(x.value) + " (" + x.parts + ": the product leaves double precision)");
+  // Both models are theories of slender structures: a section as wide as the structure is long
+  // is no beam and no rod.
+  const double width = std::sqrt(sec.area), L = sc.length();
+  if (!(width <= L))
+    scene::fail_at(sc, deciding_key(sc, {model + ".section", model + ".length"}),
+                   "a slender " + model + ": a section smaller than the length, sqrt(A) <= " + model + ".length = " +
+                       fmt(L) + " m",
+                   "sqrt(A) = " + fmt(width) + " m (" + model + ".section)");
+}
+
 void check_load_speeds(const scene::Scene& sc) {
   for (const auto& l : sc.loads) {
     const double te = l.exit_time(sc.length());
@@ -401,49 +441,60 @@ void check_load_speeds(const scene::Scene& sc) {
   }
 }
 
-void check_load_ratio(const scene::Scene& sc) {
+LoadRatio load_ratio(const scene::Scene& sc) {
   const bool beam = sc.model == scene::Model::Beam;
   const std::string model = beam ? "beam" : "rod";
   const double L = sc.length();
-  const double E = beam ? sc.beam.youngs_modulus : sc.rod.youngs_modulus;
   const auto& sec = beam ? sc.beam.section : sc.rod.section;
-  const double I = beam ? sec.I1 : std::min(sec.I1, sec.I2);
-  const double EI = E * I;
-  // The largest load and its keys.
-  double W = (beam ? sc.beam.density : sc.rod.density) * sec.area * sc.gravity * L;
-  std::string what = "the weight of the " + model + " (gravity, " + model + ".density)";
-  std::vector<std::string> keys = {"gravity", model + ".density"};
+  LoadRatio r;
+  r.EI = (beam ? sc.beam.youngs_modulus : sc.rod.youngs_modulus) * (beam ? sec.I1 : std::min(sec.I1, sec.I2));
+  r.W = (beam ? sc.beam.density : sc.rod.density) * sec.area * sc.gravity * L;
+  r.what = "the weight of the " + model + " (gravity, " + model + ".density)";
+  r.keys = {"gravity", model + ".density"};
   for (const auto& l : sc.loads) {
     const double f = l.force.norm();
-    if (f > W || std::isnan(f)) {
-      W = f;
+    if (f > r.W || std::isnan(f)) {
+      r.W = f;
       const std::string k = load_magnitude_key(sc, l);
-      what = "load '" + l.name + "' (" + k + ")";
-      keys = {k};
+      r.what = "load '" + l.name + "' (" + k + ")";
+      r.keys = {k};
     }
   }
   if (!beam)
     for (const auto* e : {&sc.left, &sc.right})
-      if (e->type == scene::EndType::roller && std::abs(e->axial_force) > W) {
-        W = std::abs(e->axial_force);
+      if (e->type == scene::EndType::roller && std::abs(e->axial_force) > r.W) {
+        r.W = std::abs(e->axial_force);
         const std::string k = std::string("ends.") + (e == &sc.left ? "left" : "right") + ".force";
-        what = k;
-        keys = {k};
+        r.what = k;
+        r.keys = {k};
       }
-  const double ratio = W / EI * L * L;
-  if (ratio <= kMaxLoadRatio) return;
+  r.ratio = r.W / r.EI * L * L;
+  return r;
+}
+
+void check_load_ratio(const scene::Scene& sc) {
+  const LoadRatio r = load_ratio(sc);
+  if (r.ratio <= kMaxLoadRatio) return;
+  const bool beam = sc.model == scene::Model::Beam;
+  const std::string model = beam ? "beam" : "rod";
+  const double L = sc.length();
+  const auto& sec = beam ? sc.beam.section : sc.rod.section;
+  const double E = beam ? sc.beam.youngs_modulus : sc.rod.youngs_modulus;
+  const double I = beam ? sec.I1 : std::min(sec.I1, sec.I2);
   // When the structure cannot even carry its own weight, the stiffness (or gravity, density)
   // is what is extreme; otherwise the load.
-  const double own = (beam ? sc.beam.density : sc.rod.density) * sec.area * sc.gravity * L / EI * L * L;
+  const double own = (beam ? sc.beam.density : sc.rod.density) * sec.area * sc.gravity * L / r.EI * L * L;
   const std::vector<std::string> stiffness = {model + ".youngs_modulus", model + ".section"};
-  keys = own > kMaxLoadRatio || std::isnan(own) ? joined(joined(stiffness, {"gravity", model + ".density"}), keys)
-                                                 : joined(keys, stiffness);
+  const std::vector<std::string> keys = own > kMaxLoadRatio || std::isnan(own)
+                                            ? joined(joined(stiffness, {"gravity", model + ".density"}), r.keys)
+                                            : joined(r.keys, stiffness);
   scene::fail_at(sc, deciding_key(sc, keys),
                  "a load the bending stiffness can carry in double precision: W L^2 / (E I) <= 4.5e15 (beyond it E I "
                  "kappa is below the rounding of the load's moment; docs/reliability.md \"Limits\")",
-                 "W L^2 / (E I) = " + fmt(ratio) + " with W = " + fmt(W) + " N from " + what + ", L = " + fmt(L) +
-                     " m (" + model + ".length), E I = " + fmt(EI) + " N m^2 (" + model + ".youngs_modulus = " + fmt(E) +
-                     " Pa, I = " + fmt(I) + " m^4 of " + model + ".section): use a smaller load or a stiffer " + model);
+                 "W L^2 / (E I) = " + fmt(r.ratio) + " with W = " + fmt(r.W) + " N from " + r.what + ", L = " + fmt(L) +
+                     " m (" + model + ".length), E I = " + fmt(r.EI) + " N m^2 (" + model + ".youngs_modulus = " +
+                     fmt(E) + " Pa, I = " + fmt(I) + " m^4 of " + model + ".section): use a smaller load or a stiffer " +
+                     model);
 }
 
 }  // namespace traverse::app

@@ -82,6 +82,20 @@ void check_memory(const scene::Scene& sc, const MemoryPlan& plan, const MemoryLi
 /// unknowns of a rank in int, a gathered rod state in an int MPI count).
 void check_counters(const scene::Scene& sc, const RodPathGuess& path);
 
+/// Throws SceneError when a derived property of the structure is not a positive finite number
+/// though its inputs are (a product that underflows to 0 or overflows: rho A, E I, G J, the
+/// section's A and I from tiny or huge dimensions); the models divide by them.
+void check_properties(const scene::Scene& sc);
+
+/// The load ratio W L^2 / (E I) of a scene: W the largest of the point loads, the mass weights,
+/// the structure's weight and a roller end's force; `what` says which, `keys` its keys.
+struct LoadRatio {
+  double ratio = 0.0, W = 0.0, EI = 0.0;
+  std::string what;
+  std::vector<std::string> keys;
+};
+LoadRatio load_ratio(const scene::Scene& sc);
+
 /// Throws SceneError when the load ratio W L^2 / (E I) exceeds kMaxLoadRatio (W: the largest
 /// of the point loads, the mass weights, the structure's weight and a roller end's force).
 void check_load_ratio(const scene::Scene& sc);

@@ -292,8 +292,9 @@ struct LoopTotals {
 class RodTimeLoop {
  public:
   RodTimeLoop(solver::DistributedStepper& st, RodOutputs& outputs, output::Writer& w, RodRestartPoints& restart,
-              LeftEnd& left, const TimeGrid& grid, int every, const RunOptions& opt, MPI_Comm comm)
-      : st_(st), out_(outputs), w_(w), rp_(restart), left_(left), g_(grid), every_(every), opt_(opt), comm_(comm) {}
+              LeftEnd& left, const TimeGrid& grid, int every, const RunOptions& opt, const LoadRatio& load, MPI_Comm comm)
+      : st_(st), out_(outputs), w_(w), rp_(restart), left_(left), g_(grid), every_(every), opt_(opt), load_(load),
+        comm_(comm) {}
   LoopTotals run(long first_step, bool show_progress);
 
  private:
@@ -308,6 +309,7 @@ class RodTimeLoop {
   const TimeGrid& g_;
   int every_;
   const RunOptions& opt_;
+  LoadRatio load_;
   MPI_Comm comm_;
 };
 
@@ -322,16 +324,28 @@ void RodTimeLoop::fail_step(long i, double t0, const solver::StepFailure& e, Pro
   else os << "not finite";
   os << "); ";
   // A step far shorter than the time a bending wave needs to cross a cell: the residual's
-  // 1/dt terms round above the absolute residual tolerance, so a smaller dt cannot help.
+  // 1/dt terms round above the absolute residual tolerance, so a smaller dt cannot help. The
+  // step is time.dt, or the last one, shortened to end at time.end.
   const auto& props = st_.model().props;
   const double ds = st_.model().ds(), cell_time = ds * ds * std::sqrt(props.rhoA / props.bending_stiffness());
-  if (g_.dt < 1e-6 * cell_time)
-    os << "time.dt = " << g_.dt << " s is " << cell_time / g_.dt << " times shorter than a bending wave needs to "
-       << "cross a cell (mesh.ds^2 sqrt(rho A / (E I)) = " << cell_time << " s), where the rounding of the 1/dt "
-       << "terms keeps the residual above 'Residual Tolerance': try a larger time.dt (auto: mesh.ds / the fastest "
-       << "loads.*.speed) or a larger 'Residual Tolerance' in solver";
-  else
+  const double h = e.step();
+  const bool last = i == g_.steps && h < g_.dt * (1.0 - 1e-6);
+  if (h < 1e-6 * cell_time) {
+    os << (last ? "the last step, to time.end = " + scene::format_number(g_.t_end) + " s, is "
+                : "time.dt = " + scene::format_number(g_.dt) + " s is ")
+       << cell_time / h << " times shorter than a bending wave needs to cross a cell (mesh.ds^2 sqrt(rho A / (E I)) = "
+       << cell_time << " s), where the rounding of the 1/dt terms keeps the residual above 'Residual Tolerance': try "
+       << (!last ? "a larger time.dt (auto: mesh.ds / the fastest loads.*.speed)"
+           : g_.steps == 1 ? "a larger time.end" : "a time.end that is a whole number of time.dt steps")
+       << " or a larger 'Residual Tolerance' in solver";
+  } else {
     os << "try scheme.rho_inf < 1, a smaller time.dt, or a larger 'Max Subdivision Depth' in solver";
+  }
+  // A load the rod can hardly carry: say so, with the keys (the static start's criterion).
+  if (load_.ratio > 1e5)
+    os << "; the load ratio W L^2 / (E I) = " << load_.ratio << " is large (W = " << load_.W << " N from " << load_.what
+       << ", E I = " << load_.EI << " N m^2 from rod.youngs_modulus and rod.section): a smaller load or a stiffer rod "
+       << "may be needed";
   os << " (traverse run --restart " << opt_.output << " --set ... continues from t = " << t0 << " s)";
   rp_.store(i - 1, left_.position());  // the stepper kept the state before the failed step
   w_.fail(os.str());
@@ -514,7 +528,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     outputs.write(writer, 0.0, left.position());
     points.store(0, left.position());
   }
-  RodTimeLoop loop(*stepper, outputs, writer, points, left, grid, sc.output.every, opt, comm);
+  RodTimeLoop loop(*stepper, outputs, writer, points, left, grid, sc.output.every, opt, load_ratio(sc), comm);
   const LoopTotals tot = loop.run(first_step, rank == 0 && progress_wanted(opt.quiet, opt.progress));
   points.store(tot.last_step, left.position());  // the end (a no-op when the last output step stored it)
   writer.finish();

@@ -178,6 +178,7 @@ Plan plan_of(const Scene& sc) {
   Plan p;
   const app::MemoryLimit limit{kFuzzMaxMemory, "fuzzing"};
   try {
+    app::check_properties(sc);
     app::check_load_ratio(sc);
     if (sc.model == traverse::scene::Model::Beam) {
       app::check_memory(sc, app::beam_memory(sc, 1), limit);
