@@ -1,5 +1,6 @@
 #include "traverse/rod/rod_kernels.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "traverse/core/so3.hpp"
@@ -41,6 +42,75 @@ double weight_at(const PointLoadWeights& w, int node) {
   return s;
 }
 
+/// The inertia -M p'' of a moving mass in cell j over the step, added to the cell's momentum
+/// rows (0..2) and angular-momentum rows (3..5) of b (residual and the Jacobian blocks of
+/// nodes j-1, j). Momentum form, integrated over the cell's space-time box: the mass's
+/// momentum M p', p' = U + v d3 in fixed components (U = R^T u, d3 = R^T e3), is
+/// interpolated bilinearly from the box's corners (nodes j-1, j at levels i-1, i) to the
+/// points where the mass's path enters and leaves the box (mass_path_in_cell). The impulse
+/// M (p'(b) - p'(a)) is taken to body components with the frame interpolated at the
+/// segment's midpoint and enters divided by ds dt: the momentum rows as the cell's load, the
+/// angular-momentum rows as its couple about s_{j-1} + bs ds (the load acts at the segment's
+/// midpoint). Summed over the cells the impulses telescope to M (p'(t_i) - p'(t_{i-1})).
+void add_mass_momentum(LocalBlock& b, const RodModel& model, const StepTimes& step, int j, const MovingMass& M,
+                       const RodNode* const old[2], const Vec12 yn[2], const NewLevelNode nn[2]) {
+  const double ds = model.ds(), dt = step.dt;
+  const MassPathSegment seg = mass_path_in_cell(M.sigma(step.t_old), M.sigma(step.t_new()), j, model.num_cells, ds);
+  if (!seg.valid) return;
+  const double s0 = (j - 1) * ds;
+  // Corner c = 2 q + lev: node j-1+q, lev 0 = new level (unknowns), 1 = old level.
+  Vec3 U[4], D[4];
+  const Mat3* R[4];
+  for (int q = 0; q < 2; ++q) {
+    R[2 * q] = &nn[q].R;
+    R[2 * q + 1] = &old[q]->R;
+    U[2 * q] = nn[q].R.transpose() * yn[q].segment<3>(var::u);
+    U[2 * q + 1] = old[q]->R.transpose() * old[q]->y.segment<3>(var::u);
+    D[2 * q] = nn[q].R.transpose() * e3;
+    D[2 * q + 1] = old[q]->R.transpose() * e3;
+  }
+  // Bilinear weights of the corners at (s, tau), tau = (t - t_old) / dt.
+  auto corner_weights = [&](double s, double tau, double w[4]) {
+    const double xi = std::clamp((s - s0) / ds, 0.0, 1.0);
+    w[0] = (1.0 - xi) * tau;
+    w[1] = (1.0 - xi) * (1.0 - tau);
+    w[2] = xi * tau;
+    w[3] = xi * (1.0 - tau);
+  };
+  const double va = M.speed(step.t_old + seg.tau_a * dt), vb = M.speed(step.t_old + seg.tau_b * dt);
+  double wa[4], wb[4], wm[4];
+  corner_weights(seg.s_a, seg.tau_a, wa);
+  corner_weights(seg.s_b, seg.tau_b, wb);
+  corner_weights(0.5 * (seg.s_a + seg.s_b), 0.5 * (seg.tau_a + seg.tau_b), wm);
+  Vec3 dP = Vec3::Zero();  // p'(b) - p'(a), fixed components
+  Mat3 Rm = Mat3::Zero();  // frame at the segment's midpoint
+  for (int c = 0; c < 4; ++c) {
+    dP += (wb[c] - wa[c]) * U[c] + (wb[c] * vb - wa[c] * va) * D[c];
+    Rm += wm[c] * *R[c];
+  }
+  const Vec3 J = Rm * dP;  // impulse / M, body components
+  const double C = M.mass / (ds * dt);
+  const double arm = 0.5 * (seg.s_a + seg.s_b) - (s0 + model.alpha.bs * ds);
+  b.residual.head<3>() += C * J;
+  b.residual.segment<3>(3) += (C * arm) * e3.cross(J);
+  // Jacobian: the new-level corners (c = 0, 2) depend on the unknowns, through u and through
+  // R_new(omega_new): d(R^T x)/d omega_new = -R^T hat(x) G (x a body vector) and
+  // d(R y)/d omega_new = hat(R y) G (y a fixed vector).
+  const Mat3 he3 = hat(e3);
+  for (int q = 0; q < 2; ++q) {
+    const int c = 2 * q;
+    const Mat3& Rn = nn[q].R;
+    const Mat3& G = nn[q].G;
+    const Vec3 x = (wb[c] - wa[c]) * yn[q].segment<3>(var::u) + (wb[c] * vb - wa[c] * va) * e3;
+    const Mat3 dJ_du = (wb[c] - wa[c]) * (Rm * Rn.transpose());
+    const Mat3 dJ_dw = -(Rm * Rn.transpose()) * hat(x) * G + wm[c] * hat(Vec3(Rn * dP)) * G;
+    b.jac[q].block<3, 3>(0, var::u) += C * dJ_du;
+    b.jac[q].block<3, 3>(0, var::omega) += C * dJ_dw;
+    b.jac[q].block<3, 3>(3, var::u) += (C * arm) * he3 * dJ_du;
+    b.jac[q].block<3, 3>(3, var::omega) += (C * arm) * he3 * dJ_dw;
+  }
+}
+
 LocalBlock make_block(Eigen::Index row, int rows, int p, std::vector<Eigen::Index> cols) {
   LocalBlock b;
   b.row = row;
@@ -76,12 +146,10 @@ bool loads_touch_cell(const RodModel& model, const StepTimes& step, int j) {
   bool any = false;
   for (const PointForce& P : loads.point_forces)
     for (int lev = 0; lev < 2 && !any; ++lev) any = touches(point_load_weights(P.sigma(tl0[lev]), N, ds, a.bs));
-  for (const MovingMass& M : loads.masses)
-    for (int lev = 0; lev < 2 && !any; ++lev) {
-      const double sigma = M.sigma(tl0[lev]);
-      any = touches(point_load_weights(sigma, N, ds, a.bs)) ||
-            (M.inertia && touches(point_load_weights(sigma, N, ds, a.as)));
-    }
+  for (const MovingMass& M : loads.masses) {
+    for (int lev = 0; lev < 2 && !any; ++lev) any = touches(point_load_weights(M.sigma(tl0[lev]), N, ds, a.bs));
+    if (!any && M.inertia) any = mass_path_in_cell(M.sigma(step.t_old), M.sigma(step.t_new()), j, N, ds).valid;
+  }
   return any;
 }
 
@@ -178,10 +246,8 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
                               new_level_node(old_this, yn[1], dt, a)};
   const int node[2] = {j - 1, j};
   const double sw_b[2] = {a.bs, 1.0 - a.bs};  // spatial weights of F in this cell
-  const double sw_a[2] = {a.as, 1.0 - a.as};  // spatial weights of yt in this cell
   // level 0 = new (t_i, weight 1 - bt), level 1 = old (t_{i-1}, weight bt)
   const double tw_b[2] = {1.0 - a.bt, a.bt};
-  const double tw_a[2] = {1.0 - a.at, a.at};
   const double tl[2] = {step.t_new(), step.t_old};
 
   for (const PointForce& P : loads.point_forces) {
@@ -203,49 +269,25 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
 
   const bool gravity = loads.has_gravity();
   for (const MovingMass& M : loads.masses) {
-    if (!gravity && !M.inertia) continue;  // a mass without inertia exerts only its weight
-    PointLoadWeights Wa[2];
-    for (int lev = 0; lev < 2; ++lev) {
-      const double t = tl[lev];
-      const double sigma = M.sigma(t);
-      const PointLoadWeights W = point_load_weights(sigma, N, ds, a.bs);
-      Wa[lev] = M.inertia ? point_load_weights(sigma, N, ds, a.as) : PointLoadWeights{};
-      if (W.count == 0) continue;
-      const double v = M.inertia ? M.speed(t) : 0.0;
-      const double acc = M.inertia ? M.accel(t) : 0.0;
-      for (int q = 0; q < 2; ++q) {
-        const double w = weight_at(W, node[q]);
-        if (w == 0.0) continue;
-        const double c = tw_b[lev] * sw_b[q] * w / ds * M.mass;
-        const Vec12& y = lev == 0 ? yn[q] : old[q]->y;
-        const Mat3& R = lev == 0 ? nn[q].R : old[q]->R;
-        const Vec3 u = y.segment<3>(var::u), om = y.segment<3>(var::omega);
-        const Vec3 k = y.segment<3>(var::kappa);
-        const Vec3 Rg = gravity ? Vec3(R * loads.gravity) : Vec3::Zero();  // no gravity: no R g
-        Vec3 qv = Rg;
-        if (M.inertia) qv += -om.cross(u) - 2.0 * v * om.cross(e3) - v * v * k.cross(e3) - acc * e3;
-        b.residual.head<3>() -= c * qv;
-        if (lev == 0) {
-          if (gravity) b.jac[q].block<3, 3>(0, var::omega) -= c * hat(Rg) * nn[q].G;
-          if (M.inertia) {
-            b.jac[q].block<3, 3>(0, var::u) -= c * (-hat(om));
-            b.jac[q].block<3, 3>(0, var::omega) -= c * (hat(u) + 2.0 * v * hat(e3));
-            b.jac[q].block<3, 3>(0, var::kappa) -= c * (v * v * hat(e3));
-          }
+    // The weight M g: a moving point force (the same arithmetic for a mass with or without
+    // inertia). Without gravity there is none.
+    if (gravity) {
+      for (int lev = 0; lev < 2; ++lev) {
+        const PointLoadWeights W = point_load_weights(M.sigma(tl[lev]), N, ds, a.bs);
+        if (W.count == 0) continue;
+        for (int q = 0; q < 2; ++q) {
+          const double w = weight_at(W, node[q]);
+          if (w == 0.0) continue;
+          const double c = tw_b[lev] * sw_b[q] * w / ds * M.mass;
+          const Mat3& R = lev == 0 ? nn[q].R : old[q]->R;
+          const Vec3 Rg = R * loads.gravity;
+          b.residual.head<3>() -= c * Rg;
+          if (lev == 0) b.jac[q].block<3, 3>(0, var::omega) -= c * hat(Rg) * nn[q].G;
         }
       }
     }
-    if (!M.inertia) continue;
-    // Inertia of the mass: M wbar / ds times the scheme's time average of u_t, with
-    // wbar = (1 - at) w(t_i) + at w(t_{i-1}) the time-averaged nodal weight.
-    for (int q = 0; q < 2; ++q) {
-      const double wbar = tw_a[0] * weight_at(Wa[0], node[q]) + tw_a[1] * weight_at(Wa[1], node[q]);
-      if (wbar == 0.0) continue;
-      const double c = sw_a[q] * wbar / ds * M.mass;
-      const Vec3 ytbar = tw_a[0] * nn[q].yt.segment<3>(var::u) + tw_a[1] * old[q]->yt.segment<3>(var::u);
-      b.residual.head<3>() += c * ytbar;
-      b.jac[q].block<3, 3>(0, var::u) += c * tw_a[0] / (a.gt * dt) * Mat3::Identity();
-    }
+    // The inertia -M p'': momentum form over the cell's space-time box.
+    if (M.inertia) add_mass_momentum(b, model, step, j, M, old, yn, nn);
   }
   return b;
 }

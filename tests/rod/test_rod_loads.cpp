@@ -1,6 +1,7 @@
 // Point loads, moving masses, the jump of n and the centreline reconstruction.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -92,6 +93,105 @@ TEST(RodLoads, MassWithoutInertiaEqualsItsWeightAsAPointForce) {
   }
   std::printf("moving force vs point force residual difference %.2e\n", e);
   EXPECT_LT(e, 1e-12);
+}
+
+TEST(RodLoads, MassPathSegmentsTileThePathOnTheRod) {
+  // (sigma_old, sigma_new): inside a cell, node to node, across nodes both ways, at rest on a
+  // node and inside a cell, entering at 0, leaving at L, passing the whole rod.
+  const int N = 10;
+  const double ds = 0.1, L = 1.0;
+  const std::vector<std::pair<double, double>> paths = {{0.33, 0.37}, {0.3, 0.4},   {0.27, 0.55}, {0.55, 0.27},
+                                                        {0.4, 0.4},   {0.43, 0.43}, {-0.05, 0.12}, {0.93, 1.2},
+                                                        {-0.5, 1.5},  {1.0, 1.0},   {0.0, 0.0}};
+  double worst = 0.0;
+  for (const auto& [a, b] : paths) {
+    // tau at which the path is on the rod
+    double on0 = 0.0, on1 = 1.0;
+    if (a != b) {
+      const double t0 = (0.0 - a) / (b - a), t1 = (L - a) / (b - a);
+      on0 = std::max(0.0, std::min(t0, t1));
+      on1 = std::min(1.0, std::max(t0, t1));
+    }
+    double covered = 0.0, last_tau = -1.0, last_s = 0.0;
+    int cells = 0;
+    for (int k = 0; k < N; ++k) {
+      const int j = b >= a ? k + 1 : N - k;  // along the path
+      const MassPathSegment g = mass_path_in_cell(a, b, j, N, ds);
+      if (!g.valid) continue;
+      ++cells;
+      covered += g.tau_b - g.tau_a;
+      EXPECT_GE(g.s_a, (j - 1) * ds - 1e-15);
+      EXPECT_LE(g.s_b, j * ds + 1e-15);
+      EXPECT_GE(std::min(g.s_a, g.s_b), (j - 1) * ds - 1e-15);
+      EXPECT_LE(std::max(g.s_a, g.s_b), j * ds + 1e-15);
+      if (last_tau >= 0.0) {  // consecutive segments share their end point exactly
+        EXPECT_EQ(g.tau_a, last_tau);
+        EXPECT_EQ(g.s_a, last_s);
+      }
+      last_tau = g.tau_b;
+      last_s = g.s_b;
+    }
+    worst = std::max(worst, std::abs(covered - (on1 - on0)));
+    std::printf("path %.2f -> %.2f: %d cells, time on the rod %.15f of the step (expected %.15f)\n", a, b, cells, covered,
+                on1 - on0);
+    if (a == b) {
+      EXPECT_EQ(cells, 1);
+    }
+  }
+  EXPECT_LT(worst, 1e-15);
+  EXPECT_FALSE(mass_path_in_cell(-0.2, -0.1, 1, N, ds).valid);
+  EXPECT_FALSE(mass_path_in_cell(std::nan(""), 0.1, 1, N, ds).valid);
+  // At rest on a node: the cell on its right (cell N at L); ds = 1/8 so that nodes are exact.
+  EXPECT_TRUE(mass_path_in_cell(0.375, 0.375, 4, 8, 0.125).valid);
+  EXPECT_FALSE(mass_path_in_cell(0.375, 0.375, 3, 8, 0.125).valid);
+  EXPECT_TRUE(mass_path_in_cell(1.0, 1.0, 8, 8, 0.125).valid);
+}
+
+TEST(RodLoads, MassImpulsesTelescopeToTheChangeOfItsMomentum) {
+  // Frames all I (omega = 0 at both levels), random velocities: the momentum rows of all
+  // cells times ds dt add up to M (p'(t_i) - p'(t_{i-1})), p' = u + v e3 interpolated at the
+  // mass's positions, also when the path crosses nodes, several cells, or leaves the rod
+  // (then p' where it leaves, interpolated in time at node N).
+  test::Rng rng;
+  const StepTimes st{0.2, 0.01};
+  double worst = 0.0;
+  for (const AlphaParameters& al : {AlphaParameters{}, AlphaParameters::from_rho_inf(0.6, 0.8)}) {
+    for (const auto& [a, b] : std::vector<std::pair<double, double>>{{0.33, 0.37}, {0.3, 0.4}, {0.27, 0.55},
+                                                                      {0.55, 0.12}, {0.4, 0.4}, {0.85, 1.2}}) {
+      RodModel m = test::scene_model(10, al);
+      MovingMass M;
+      M.mass = 0.3;
+      const double v = (b - a) / st.dt, t0 = st.t_old;
+      M.sigma = [=](double t) { return a + v * (t - t0); };
+      M.speed = [=](double) { return v; };
+      M.accel = [](double) { return 0.0; };
+      m.loads.masses = {M};
+      std::vector<RodNode> old(11);
+      std::vector<VecX> x(11);
+      for (int k = 0; k <= 10; ++k) {
+        old[k].y.segment<3>(var::u) = rng.vec3(0.3);
+        x[k] = node_unknowns(m, old[k]);
+        x[k].segment<3>(var::u) = rng.vec3(0.3);
+      }
+      Vec3 total = Vec3::Zero();
+      for (int j = 1; j <= 10; ++j)
+        total += m.ds() * st.dt * load_block(m, st, j, old[j - 1], old[j], x[j - 1], x[j]).residual.head<3>();
+      auto p_at = [&](double s, double tau) {  // interpolated p' at (s, tau)
+        const int k = std::clamp(static_cast<int>(std::floor(s / m.ds())), 0, 9);
+        const double xi = s / m.ds() - k;
+        const Vec3 uo = (1 - xi) * old[k].y.segment<3>(var::u) + xi * old[k + 1].y.segment<3>(var::u);
+        const Vec3 un = (1 - xi) * x[k].segment<3>(var::u) + xi * x[k + 1].segment<3>(var::u);
+        return Vec3((1 - tau) * uo + tau * un + v * Vec3::UnitZ());
+      };
+      const double tau_end = b > 1.0 ? (1.0 - a) / (b - a) : 1.0;
+      const Vec3 expected = M.mass * (p_at(std::min(b, 1.0), tau_end) - p_at(a, 0.0));
+      const double e = (total - expected).norm() / expected.norm();
+      std::printf("path %.2f -> %.2f: sum of the momentum rows %.3e relative to M dp' = (%.4f, %.4f, %.4f)\n", a, b, e,
+                  expected(0), expected(1), expected(2));
+      worst = std::max(worst, e);
+    }
+  }
+  EXPECT_LT(worst, 1e-13);
 }
 
 TEST(RodLoads, AxialPointLoadBetweenNodesJumpsNByTheForce) {
