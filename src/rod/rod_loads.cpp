@@ -59,4 +59,12 @@ MassPathSegment mass_path_in_cell(double sigma_old, double sigma_new, int cell, 
   return seg;
 }
 
+bool line_mass_part(double sigma, int cell, int num_cells, double ds, double& l, double& r) {
+  const double L = num_cells * ds, tol = 1e-12 * L;
+  if (cell < 1 || cell > num_cells || !(sigma >= -tol && sigma <= L + tol)) return false;
+  l = std::max(sigma - ds, (cell - 1) * ds);
+  r = std::min(sigma + ds, cell * ds);
+  return r > l;
+}
+
 }  // namespace traverse::rod

@@ -22,10 +22,11 @@ struct PointForce {
 /// p'' = u_t + omega x u + 2 v (omega x e3) + v^2 (kappa x e3) + a e3, the material
 /// acceleration plus the convective terms 2 v d_s u + v^2 d_s d3 + a d3 of the spec in rod
 /// form (d_s U = R^T (u_s + kappa x u) = R^T (omega x e3) by the inextensibility equation).
-/// The kernels use the equivalent momentum form: M p'' is the time derivative of the mass's
-/// momentum M p', p' = R^T (u + v e3) = U + v d3 at sigma (fixed frame), and its impulse over
-/// each cell's space-time box enters that cell (docs/rod.md, "Moving mass"). speed must be
-/// the derivative of sigma; accel is not read by the kernels (the change of v carries it).
+/// The kernels use the momentum form: M p'' is the rate of the mass's momentum M p',
+/// p' = R^T (u + v e3) = U + v d3 (fixed frame), taken for a short line mass of the same total
+/// mass on [sigma - ds, sigma + ds], whose impulse over each cell's space-time box enters that
+/// cell (docs/rod.md, "Moving mass"). speed must be the derivative of sigma; accel is not
+/// read by the kernels (the change of v carries it).
 /// The weight M g is applied like a PointForce. With inertia = false only the weight acts
 /// (a moving force).
 struct MovingMass {
@@ -79,5 +80,12 @@ struct MassPathSegment {
   double s_a = 0.0, s_b = 0.0;  ///< [m]
 };
 MassPathSegment mass_path_in_cell(double sigma_old, double sigma_new, int cell, int num_cells, double ds);
+
+/// The part [l, r] of cell `cell` (nodes cell - 1, cell) covered by a moving mass's line
+/// mass at sigma: the kernels spread the mass's inertia uniformly over [sigma - ds,
+/// sigma + ds] (docs/rod.md, "Moving mass"). False if the cell gets none, or if the mass is
+/// off the rod (the same test as point_load_weights); the part beyond the rod's ends is
+/// not in any cell.
+bool line_mass_part(double sigma, int cell, int num_cells, double ds, double& l, double& r);
 
 }  // namespace traverse::rod
