@@ -1,5 +1,6 @@
 #include "traverse/rod/rod_kernels.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "traverse/core/so3.hpp"
@@ -41,6 +42,130 @@ double weight_at(const PointLoadWeights& w, int node) {
   return s;
 }
 
+/// The inertia -M p'' of a moving mass, the part that cell j's rows receive (momentum rows
+/// 0..2, angular-momentum rows 3..5; residual and the Jacobian blocks of nodes j-1, j).
+///
+/// Momentum form over the cell's space-time box (the box's rows are its equations integrated
+/// over [s_{j-1}, s_j] x [t_{i-1}, t_i], divided by ds dt). The mass's momentum per unit mass
+/// is p' = U + v d3 in fixed components (U = R^T u, d3 = R^T e3), taken bilinear in the box
+/// from its four corners. The mass is carried as a line mass of density M / (2 ds) on
+/// [sigma - ds, sigma + ds] moving with it (line_mass_part). While sigma runs along a segment
+/// a -> b of its path (mass_path_in_cell: sigma in cell j - 1, j or j + 1), the line mass's
+/// part [l, r] in cell j has momentum Pi = M / (2 ds) (r - l) p'((l + r) / 2) (exact for p'
+/// linear in s), and it exerts on the cell the impulse (Reynolds transport: the part's ends
+/// at sigma -+ ds move with the mass, the cell's ends are fixed)
+///
+///     I = Pi(b) - Pi(a) + M / (2 ds) v (t_b - t_a) [p'(s_j) - p'(s_{j-1})]
+///
+/// where a cell end counts only while it lies inside the line mass (right end: sigma in cell
+/// j or j + 1; left end: sigma in cell j - 1 or j), p' at the ends at the segment's
+/// mid-time. I / (ds dt), in body components with the frame at the part's centroid at
+/// mid-time, enters the momentum rows, with the couple about s_{j-1} + bs ds that puts it
+/// at that centroid.
+///
+/// Why a line mass: the box scheme has an undamped odd-even (checkerboard) mode, and a load
+/// excites it unless neighbouring cells share it the way the scheme's average shares a nodal
+/// force. A point mass's impulse sits in the one box it crosses; at dt = ds / v the mass
+/// crosses one box per step, all of the same parity, and pumps the mode coherently (a
+/// growing node-to-node sawtooth in n behind it). The line mass's shares of the cells are
+/// the hat weights of a point load at sigma (1/4, 1/2, 1/4 in cells k-1, k, k+1 when sigma
+/// is mid-cell k), whose alternating sum vanishes. They and the parts' centroids move
+/// continuously with sigma; each cell reads only its own corners (interpolation, no
+/// extrapolation) and only p', which is C^2 across the mass (the kinks of U and of v d3
+/// cancel in it), along the part's path and at its fixed ends; a constant p' exerts
+/// nothing; the parts' momenta add up to the line mass's integral of the interpolated p',
+/// so the impulses telescope; and the line mass differs from the point mass by O(ds^2). The
+/// part beyond the rod's ends is dropped (the rod's ends are fixed cell ends).
+void add_mass_momentum(LocalBlock& b, const RodModel& model, const StepTimes& step, int j, const MovingMass& M,
+                       const RodNode* const old[2], const Vec12 yn[2], const NewLevelNode nn[2]) {
+  const int N = model.num_cells;
+  const double ds = model.ds(), dt = step.dt;
+  const double sigma_old = M.sigma(step.t_old), sigma_new = M.sigma(step.t_new());
+  const double s0 = (j - 1) * ds, s1 = j * ds;  // the cell's ends
+  const double rho = M.mass / (2.0 * ds);        // the line mass's density
+  // Corner c = 2 q + lev: node j-1+q, lev 0 = new level (unknowns), 1 = old level.
+  Vec3 U[4], D[4];
+  const Mat3* R[4];
+  for (int q = 0; q < 2; ++q) {
+    R[2 * q] = &nn[q].R;
+    R[2 * q + 1] = &old[q]->R;
+    U[2 * q] = nn[q].R.transpose() * yn[q].segment<3>(var::u);
+    U[2 * q + 1] = old[q]->R.transpose() * old[q]->y.segment<3>(var::u);
+    D[2 * q] = nn[q].R.transpose() * e3;
+    D[2 * q + 1] = old[q]->R.transpose() * e3;
+  }
+  // Bilinear weights of the corners at (s, tau), tau = (t - t_old) / dt, s in the cell.
+  auto corner_weights = [&](double s, double tau, double w[4]) {
+    const double xi = std::clamp((s - s0) / ds, 0.0, 1.0);
+    w[0] = (1.0 - xi) * tau;
+    w[1] = (1.0 - xi) * (1.0 - tau);
+    w[2] = xi * tau;
+    w[3] = xi * (1.0 - tau);
+  };
+  const Mat3 he3 = hat(e3);
+  for (int cell = std::max(1, j - 1); cell <= std::min(N, j + 1); ++cell) {
+    const MassPathSegment seg = mass_path_in_cell(sigma_old, sigma_new, cell, N, ds);
+    if (!seg.valid) continue;
+    // The part [l, r] of the line mass in cell j at a point of the segment (sigma in `cell`).
+    double la = s0, ra = s0, lb = s0, rb = s0, lm = s0, rm = s0;
+    const bool in_a = line_mass_part(seg.s_a, j, N, ds, la, ra);
+    const bool in_b = line_mass_part(seg.s_b, j, N, ds, lb, rb);
+    const bool in_m = line_mass_part(0.5 * (seg.s_a + seg.s_b), j, N, ds, lm, rm);
+    if (!in_a && !in_b && !in_m) continue;
+    if (!in_a) la = ra = cell < j ? s0 : s1;  // an empty part at the cell's end facing sigma
+    if (!in_b) lb = rb = cell < j ? s0 : s1;
+    if (!in_m) lm = rm = cell < j ? s0 : s1;
+    const bool left_inside = cell <= j, right_inside = cell >= j;  // cell ends inside it
+    const double tau_m = 0.5 * (seg.tau_a + seg.tau_b), dtau = seg.tau_b - seg.tau_a;
+    const double va = M.speed(step.t_old + seg.tau_a * dt), vb = M.speed(step.t_old + seg.tau_b * dt);
+    const double vm = M.speed(step.t_old + tau_m * dt);
+    // I = sum_c aU[c] U[c] + aD[c] D[c]: `coef` times p' at (s, tau) with speed v, summed.
+    double aU[4] = {0.0, 0.0, 0.0, 0.0}, aD[4] = {0.0, 0.0, 0.0, 0.0};
+    auto add = [&](double coef, double s, double tau, double v) {
+      double w[4];
+      corner_weights(s, tau, w);
+      for (int c = 0; c < 4; ++c) {
+        aU[c] += coef * w[c];
+        aD[c] += coef * w[c] * v;
+      }
+    };
+    add(rho * (rb - lb), 0.5 * (lb + rb), seg.tau_b, vb);   // Pi(b)
+    add(-rho * (ra - la), 0.5 * (la + ra), seg.tau_a, va);  // -Pi(a)
+    const double flux = rho * vm * dtau * dt;                // momentum carried through the ends
+    if (right_inside) add(flux, s1, tau_m, vm);
+    if (left_inside) add(-flux, s0, tau_m, vm);
+    const double xm = 0.5 * (lm + rm);  // the part's centroid at mid-time
+    double wm[4];
+    corner_weights(xm, tau_m, wm);
+    Vec3 dP = Vec3::Zero();  // I, fixed components
+    Mat3 Rm = Mat3::Zero();  // frame at the centroid
+    for (int c = 0; c < 4; ++c) {
+      dP += aU[c] * U[c] + aD[c] * D[c];
+      Rm += wm[c] * *R[c];
+    }
+    const Vec3 J = Rm * dP;  // I in body components
+    const double C = 1.0 / (ds * dt);
+    const double arm = xm - (s0 + model.alpha.bs * ds);
+    b.residual.head<3>() += C * J;
+    b.residual.segment<3>(3) += (C * arm) * e3.cross(J);
+    // Jacobian: the new-level corners (c = 0, 2) depend on the unknowns, through u and through
+    // R_new(omega_new): d(R^T x)/d omega_new = -R^T hat(x) G (x a body vector) and
+    // d(R y)/d omega_new = hat(R y) G (y a fixed vector).
+    for (int q = 0; q < 2; ++q) {
+      const int c = 2 * q;
+      const Mat3& Rn = nn[q].R;
+      const Mat3& G = nn[q].G;
+      const Vec3 x = aU[c] * yn[q].segment<3>(var::u) + aD[c] * e3;
+      const Mat3 dJ_du = aU[c] * (Rm * Rn.transpose());
+      const Mat3 dJ_dw = -(Rm * Rn.transpose()) * hat(x) * G + wm[c] * hat(Vec3(Rn * dP)) * G;
+      b.jac[q].block<3, 3>(0, var::u) += C * dJ_du;
+      b.jac[q].block<3, 3>(0, var::omega) += C * dJ_dw;
+      b.jac[q].block<3, 3>(3, var::u) += (C * arm) * he3 * dJ_du;
+      b.jac[q].block<3, 3>(3, var::omega) += (C * arm) * he3 * dJ_dw;
+    }
+  }
+}
+
 LocalBlock make_block(Eigen::Index row, int rows, int p, std::vector<Eigen::Index> cols) {
   LocalBlock b;
   b.row = row;
@@ -76,12 +201,12 @@ bool loads_touch_cell(const RodModel& model, const StepTimes& step, int j) {
   bool any = false;
   for (const PointForce& P : loads.point_forces)
     for (int lev = 0; lev < 2 && !any; ++lev) any = touches(point_load_weights(P.sigma(tl0[lev]), N, ds, a.bs));
-  for (const MovingMass& M : loads.masses)
-    for (int lev = 0; lev < 2 && !any; ++lev) {
-      const double sigma = M.sigma(tl0[lev]);
-      any = touches(point_load_weights(sigma, N, ds, a.bs)) ||
-            (M.inertia && touches(point_load_weights(sigma, N, ds, a.as)));
-    }
+  for (const MovingMass& M : loads.masses) {
+    for (int lev = 0; lev < 2 && !any; ++lev) any = touches(point_load_weights(M.sigma(tl0[lev]), N, ds, a.bs));
+    // The inertia: the mass's path through cells j-1, j, j+1 (its line mass reaches cell j).
+    for (int c = std::max(1, j - 1); c <= std::min(N, j + 1) && !any && M.inertia; ++c)
+      any = mass_path_in_cell(M.sigma(step.t_old), M.sigma(step.t_new()), c, N, ds).valid;
+  }
   return any;
 }
 
@@ -178,10 +303,8 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
                               new_level_node(old_this, yn[1], dt, a)};
   const int node[2] = {j - 1, j};
   const double sw_b[2] = {a.bs, 1.0 - a.bs};  // spatial weights of F in this cell
-  const double sw_a[2] = {a.as, 1.0 - a.as};  // spatial weights of yt in this cell
   // level 0 = new (t_i, weight 1 - bt), level 1 = old (t_{i-1}, weight bt)
   const double tw_b[2] = {1.0 - a.bt, a.bt};
-  const double tw_a[2] = {1.0 - a.at, a.at};
   const double tl[2] = {step.t_new(), step.t_old};
 
   for (const PointForce& P : loads.point_forces) {
@@ -203,49 +326,25 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
 
   const bool gravity = loads.has_gravity();
   for (const MovingMass& M : loads.masses) {
-    if (!gravity && !M.inertia) continue;  // a mass without inertia exerts only its weight
-    PointLoadWeights Wa[2];
-    for (int lev = 0; lev < 2; ++lev) {
-      const double t = tl[lev];
-      const double sigma = M.sigma(t);
-      const PointLoadWeights W = point_load_weights(sigma, N, ds, a.bs);
-      Wa[lev] = M.inertia ? point_load_weights(sigma, N, ds, a.as) : PointLoadWeights{};
-      if (W.count == 0) continue;
-      const double v = M.inertia ? M.speed(t) : 0.0;
-      const double acc = M.inertia ? M.accel(t) : 0.0;
-      for (int q = 0; q < 2; ++q) {
-        const double w = weight_at(W, node[q]);
-        if (w == 0.0) continue;
-        const double c = tw_b[lev] * sw_b[q] * w / ds * M.mass;
-        const Vec12& y = lev == 0 ? yn[q] : old[q]->y;
-        const Mat3& R = lev == 0 ? nn[q].R : old[q]->R;
-        const Vec3 u = y.segment<3>(var::u), om = y.segment<3>(var::omega);
-        const Vec3 k = y.segment<3>(var::kappa);
-        const Vec3 Rg = gravity ? Vec3(R * loads.gravity) : Vec3::Zero();  // no gravity: no R g
-        Vec3 qv = Rg;
-        if (M.inertia) qv += -om.cross(u) - 2.0 * v * om.cross(e3) - v * v * k.cross(e3) - acc * e3;
-        b.residual.head<3>() -= c * qv;
-        if (lev == 0) {
-          if (gravity) b.jac[q].block<3, 3>(0, var::omega) -= c * hat(Rg) * nn[q].G;
-          if (M.inertia) {
-            b.jac[q].block<3, 3>(0, var::u) -= c * (-hat(om));
-            b.jac[q].block<3, 3>(0, var::omega) -= c * (hat(u) + 2.0 * v * hat(e3));
-            b.jac[q].block<3, 3>(0, var::kappa) -= c * (v * v * hat(e3));
-          }
+    // The weight M g: a moving point force (the same arithmetic for a mass with or without
+    // inertia). Without gravity there is none.
+    if (gravity) {
+      for (int lev = 0; lev < 2; ++lev) {
+        const PointLoadWeights W = point_load_weights(M.sigma(tl[lev]), N, ds, a.bs);
+        if (W.count == 0) continue;
+        for (int q = 0; q < 2; ++q) {
+          const double w = weight_at(W, node[q]);
+          if (w == 0.0) continue;
+          const double c = tw_b[lev] * sw_b[q] * w / ds * M.mass;
+          const Mat3& R = lev == 0 ? nn[q].R : old[q]->R;
+          const Vec3 Rg = R * loads.gravity;
+          b.residual.head<3>() -= c * Rg;
+          if (lev == 0) b.jac[q].block<3, 3>(0, var::omega) -= c * hat(Rg) * nn[q].G;
         }
       }
     }
-    if (!M.inertia) continue;
-    // Inertia of the mass: M wbar / ds times the scheme's time average of u_t, with
-    // wbar = (1 - at) w(t_i) + at w(t_{i-1}) the time-averaged nodal weight.
-    for (int q = 0; q < 2; ++q) {
-      const double wbar = tw_a[0] * weight_at(Wa[0], node[q]) + tw_a[1] * weight_at(Wa[1], node[q]);
-      if (wbar == 0.0) continue;
-      const double c = sw_a[q] * wbar / ds * M.mass;
-      const Vec3 ytbar = tw_a[0] * nn[q].yt.segment<3>(var::u) + tw_a[1] * old[q]->yt.segment<3>(var::u);
-      b.residual.head<3>() += c * ytbar;
-      b.jac[q].block<3, 3>(0, var::u) += c * tw_a[0] / (a.gt * dt) * Mat3::Identity();
-    }
+    // The inertia -M p'': momentum form over the cell's space-time box, for a short line mass.
+    if (M.inertia) add_mass_momentum(b, model, step, j, M, old, yn, nn);
   }
   return b;
 }

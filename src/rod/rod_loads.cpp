@@ -26,4 +26,45 @@ PointLoadWeights point_load_weights(double sigma, int num_cells, double ds, doub
   return w;
 }
 
+MassPathSegment mass_path_in_cell(double sigma_old, double sigma_new, int cell, int num_cells, double ds) {
+  MassPathSegment seg;
+  const int N = num_cells;
+  const double L = N * ds;
+  if (cell < 1 || cell > N || !std::isfinite(sigma_old) || !std::isfinite(sigma_new)) return seg;
+  const double lo = (cell - 1) * ds, hi = cell == N ? L : cell * ds;
+  if (sigma_old == sigma_new) {  // at rest during the step
+    const double s = sigma_old;
+    if (!(s >= 0.0 && s <= L)) return seg;
+    const int k = std::clamp(static_cast<int>(std::floor(s / ds)) + 1, 1, N);
+    if (k != cell) return seg;
+    seg.valid = true;
+    seg.tau_a = 0.0;
+    seg.tau_b = 1.0;
+    seg.s_a = seg.s_b = s;
+    return seg;
+  }
+  // tau at which the path passes the cell's ends (each node's crossing computed by the same
+  // expression for both of its cells, so neighbouring segments share their end point).
+  const double d = sigma_new - sigma_old;
+  const double s_lo = std::max(lo, 0.0), s_hi = std::min(hi, L);
+  const double t_lo = (s_lo - sigma_old) / d, t_hi = (s_hi - sigma_old) / d;
+  const bool forward = d > 0.0;  // then t_lo < t_hi
+  const double t_in = forward ? t_lo : t_hi, t_out = forward ? t_hi : t_lo;
+  seg.tau_a = std::max(0.0, t_in);
+  seg.tau_b = std::min(1.0, t_out);
+  if (!(seg.tau_b > seg.tau_a)) return seg;
+  seg.valid = true;
+  seg.s_a = seg.tau_a == t_in ? (forward ? s_lo : s_hi) : sigma_old;
+  seg.s_b = seg.tau_b == t_out ? (forward ? s_hi : s_lo) : sigma_new;
+  return seg;
+}
+
+bool line_mass_part(double sigma, int cell, int num_cells, double ds, double& l, double& r) {
+  const double L = num_cells * ds, tol = 1e-12 * L;
+  if (cell < 1 || cell > num_cells || !(sigma >= -tol && sigma <= L + tol)) return false;
+  l = std::max(sigma - ds, (cell - 1) * ds);
+  r = std::min(sigma + ds, cell * ds);
+  return r > l;
+}
+
 }  // namespace traverse::rod

@@ -78,6 +78,69 @@ TEST(RodKernels, CellAndLoadJacobiansMatchCentralDifferences) {
   }
 }
 
+/// Issue 20: the moving mass's inertia (momentum form over the cells' space-time boxes, for
+/// its line mass over [sigma - ds, sigma + ds]) on every kind of path through cell j during
+/// the step: inside the cell, node to node (dt = ds / v), across a node (forwards and
+/// backwards), at rest inside the cell and on its left node, across several cells in one
+/// step, entering at s = 0 and leaving at L. Exact Jacobians (with the weight, gravity on)
+/// against central differences; loads_touch_cell wherever the line mass is, and the load
+/// block exactly zero where loads_touch_cell says no load acts.
+TEST(RodKernels, MovingMassJacobiansOnEveryKindOfPath) {
+  test::Rng rng;
+  const StepTimes st{0.37, 0.01};
+  struct Path {
+    const char* name;
+    int j;
+    double a, b;  // sigma_old, sigma_new in cells, relative to node j-1
+  };
+  const std::vector<Path> paths = {{"inside", 5, 0.2, 0.7},        {"node to node", 5, 0.0, 1.0},
+                                   {"across a node", 5, -0.4, 0.5}, {"backwards", 5, 0.6, -0.3},
+                                   {"at rest", 5, 0.4, 0.4},        {"at rest on node j-1", 5, 0.0, 0.0},
+                                   {"three cells", 5, -1.5, 1.7},   {"entering", 1, -0.3, 0.4},
+                                   {"leaving", 10, 0.6, 1.4}};
+  for (const auto& pc : param_cases()) {
+    for (const Path& P : paths) {
+      RodModel m = test::scene_model(10, pc.alpha);
+      const double ds = m.ds();
+      m.loads.gravity = Vec3(0.0, -9.8, 0.0);
+      const double s0 = (P.j - 1 + P.a) * ds, v = (P.b - P.a) * ds / st.dt, t0 = st.t_old;
+      MovingMass M;
+      M.mass = 0.3;
+      M.sigma = [=](double t) { return s0 + v * (t - t0); };
+      M.speed = [=](double) { return v; };
+      M.accel = [](double) { return 0.0; };
+      m.loads.masses.push_back(M);
+      // Error relative to the largest load Jacobian entry over the cells (a cell the line mass
+      // only grazes has a block near zero).
+      double worst = 0.0, size = 0.0, scale = 0.0;
+      for (int j = std::max(1, P.j - 2); j <= std::min(10, P.j + 2); ++j) {
+        const RodNode o0 = rng.node(), o1 = rng.node();
+        const VecX x0 = rng.unknowns(m, o0), x1 = rng.unknowns(m, o1);
+        const LocalBlock l = load_block(m, st, j, o0, o1, x0, x1);
+        double lo = 0.0, hi = 0.0;
+        const bool reached = line_mass_part(M.sigma(st.t_old), j, 10, ds, lo, hi) ||
+                             line_mass_part(M.sigma(st.t_new()), j, 10, ds, lo, hi);
+        size = std::max(size, l.residual.segment<3>(3).cwiseAbs().maxCoeff());
+        EXPECT_TRUE(!reached || loads_touch_cell(m, st, j)) << P.name << " cell " << j;
+        if (!loads_touch_cell(m, st, j)) {
+          EXPECT_TRUE(l.residual.isZero(0.0) && l.jac[0].isZero(0.0) && l.jac[1].isZero(0.0)) << P.name << " cell " << j;
+        }
+        for (int q = 0; q < 2; ++q) {
+          auto fl = [&](const VecX& x) {
+            return load_block(m, st, j, o0, o1, q == 0 ? x : x0, q == 1 ? x : x1).residual;
+          };
+          const MatX num = central_jacobian(fl, q == 0 ? x0 : x1);
+          worst = std::max(worst, (l.jac[q] - num).cwiseAbs().maxCoeff());
+          scale = std::max(scale, num.cwiseAbs().maxCoeff());
+        }
+      }
+      worst /= scale;
+      std::printf("[%s] %s: load Jacobian rel err %.2e (couple rows up to %.2e)\n", pc.name, P.name, worst, size);
+      EXPECT_LT(worst, 1e-7) << pc.name << ", " << P.name;
+    }
+  }
+}
+
 TEST(RodKernels, EndConditionJacobiansMatchCentralDifferences) {
   test::Rng rng;
   const StepTimes st{0.2, 0.02};

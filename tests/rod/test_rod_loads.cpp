@@ -1,6 +1,7 @@
 // Point loads, moving masses, the jump of n and the centreline reconstruction.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -92,6 +93,174 @@ TEST(RodLoads, MassWithoutInertiaEqualsItsWeightAsAPointForce) {
   }
   std::printf("moving force vs point force residual difference %.2e\n", e);
   EXPECT_LT(e, 1e-12);
+}
+
+TEST(RodLoads, MassPathSegmentsTileThePathOnTheRod) {
+  // (sigma_old, sigma_new): inside a cell, node to node, across nodes both ways, at rest on a
+  // node and inside a cell, entering at 0, leaving at L, passing the whole rod.
+  const int N = 10;
+  const double ds = 0.1, L = 1.0;
+  const std::vector<std::pair<double, double>> paths = {{0.33, 0.37}, {0.3, 0.4},   {0.27, 0.55}, {0.55, 0.27},
+                                                        {0.4, 0.4},   {0.43, 0.43}, {-0.05, 0.12}, {0.93, 1.2},
+                                                        {-0.5, 1.5},  {1.0, 1.0},   {0.0, 0.0}};
+  double worst = 0.0;
+  for (const auto& [a, b] : paths) {
+    // tau at which the path is on the rod
+    double on0 = 0.0, on1 = 1.0;
+    if (a != b) {
+      const double t0 = (0.0 - a) / (b - a), t1 = (L - a) / (b - a);
+      on0 = std::max(0.0, std::min(t0, t1));
+      on1 = std::min(1.0, std::max(t0, t1));
+    }
+    double covered = 0.0, last_tau = -1.0, last_s = 0.0;
+    int cells = 0;
+    for (int k = 0; k < N; ++k) {
+      const int j = b >= a ? k + 1 : N - k;  // along the path
+      const MassPathSegment g = mass_path_in_cell(a, b, j, N, ds);
+      if (!g.valid) continue;
+      ++cells;
+      covered += g.tau_b - g.tau_a;
+      EXPECT_GE(g.s_a, (j - 1) * ds - 1e-15);
+      EXPECT_LE(g.s_b, j * ds + 1e-15);
+      EXPECT_GE(std::min(g.s_a, g.s_b), (j - 1) * ds - 1e-15);
+      EXPECT_LE(std::max(g.s_a, g.s_b), j * ds + 1e-15);
+      if (last_tau >= 0.0) {  // consecutive segments share their end point exactly
+        EXPECT_EQ(g.tau_a, last_tau);
+        EXPECT_EQ(g.s_a, last_s);
+      }
+      last_tau = g.tau_b;
+      last_s = g.s_b;
+    }
+    worst = std::max(worst, std::abs(covered - (on1 - on0)));
+    std::printf("path %.2f -> %.2f: %d cells, time on the rod %.15f of the step (expected %.15f)\n", a, b, cells, covered,
+                on1 - on0);
+    if (a == b) {
+      EXPECT_EQ(cells, 1);
+    }
+  }
+  EXPECT_LT(worst, 1e-15);
+  EXPECT_FALSE(mass_path_in_cell(-0.2, -0.1, 1, N, ds).valid);
+  EXPECT_FALSE(mass_path_in_cell(std::nan(""), 0.1, 1, N, ds).valid);
+  // At rest on a node: the cell on its right (cell N at L); ds = 1/8 so that nodes are exact.
+  EXPECT_TRUE(mass_path_in_cell(0.375, 0.375, 4, 8, 0.125).valid);
+  EXPECT_FALSE(mass_path_in_cell(0.375, 0.375, 3, 8, 0.125).valid);
+  EXPECT_TRUE(mass_path_in_cell(1.0, 1.0, 8, 8, 0.125).valid);
+}
+
+TEST(RodLoads, LineMassPartsTileItAndShareLikeAPointForce) {
+  // The parts of a moving mass's line mass [sigma - ds, sigma + ds] in the cells tile its
+  // on-rod part, and each cell's share of it is the share a point force at sigma gets
+  // through the scheme's average at bs = 1/2 (so the shares' alternating sum over the cells
+  // vanishes away from the ends): sigma on nodes, between them, at and near 0 and L.
+  const int N = 10;
+  const double ds = 0.1, L = 1.0;
+  double worst = 0.0, alternating = 0.0;
+  for (double sigma : {0.0, 1e-17, 0.05, 0.1, 0.2999999999, 0.3, 0.37, 0.55, 0.9, 0.95, 1.0 - 1e-16, 1.0}) {
+    const PointLoadWeights w = point_load_weights(sigma, N, ds, 0.5);
+    double covered = 0.0, alt = 0.0, last_r = std::max(sigma - ds, 0.0);
+    for (int j = 1; j <= N; ++j) {
+      double l = 0.0, r = 0.0;
+      const bool in = line_mass_part(sigma, j, N, ds, l, r);
+      double share = 0.0;  // a point force's share of cell j: (1 - bs) w_j + bs w_{j-1}
+      for (int k = 0; k < w.count; ++k)
+        if (w.node[k] == j || w.node[k] == j - 1) share += 0.5 * w.weight[k];
+      if (!in) {
+        EXPECT_EQ(share, 0.0) << sigma << " cell " << j;
+        continue;
+      }
+      EXPECT_NEAR(l, last_r, 1e-15) << sigma << " cell " << j;  // consecutive parts touch
+      last_r = r;
+      covered += r - l;
+      // Away from the ends the part is the point force's share of the mass; at the ends the
+      // line mass's part beyond the rod is missing, the point force's is folded in.
+      if (sigma >= ds && sigma <= L - ds) worst = std::max(worst, std::abs((r - l) / (2.0 * ds) - share));
+      alt += (j % 2 == 0 ? 1.0 : -1.0) * (r - l);
+    }
+    EXPECT_NEAR(covered, std::min(sigma + ds, L) - std::max(sigma - ds, 0.0), 1e-15) << sigma;
+    if (sigma >= ds && sigma <= L - ds) alternating = std::max(alternating, std::abs(alt) / (2.0 * ds));
+  }
+  std::printf("line mass vs point force shares: %.2e; alternating sum of the shares %.2e\n", worst, alternating);
+  EXPECT_LT(worst, 1e-14);
+  EXPECT_LT(alternating, 1e-14);
+  double l = 0.0, r = 0.0;
+  EXPECT_FALSE(line_mass_part(-0.01, 1, N, ds, l, r));  // off the rod
+  EXPECT_FALSE(line_mass_part(1.01, N, N, ds, l, r));
+  EXPECT_FALSE(line_mass_part(std::nan(""), 1, N, ds, l, r));
+  EXPECT_FALSE(line_mass_part(0.55, 4, N, ds, l, r));  // the line mass covers cells 5..7
+  EXPECT_TRUE(line_mass_part(0.55, 5, N, ds, l, r));
+  EXPECT_FALSE(line_mass_part(0.55, 0, N, ds, l, r));  // no such cell
+}
+
+TEST(RodLoads, MassImpulsesTelescopeToTheChangeOfItsMomentum) {
+  // Frames all I (omega = 0 at both levels) and velocities linear in s at each level, so that
+  // p' = u + v e3 is bilinear in (s, t) and the kernels' interpolation is exact: the momentum
+  // rows of all cells times ds dt add up to the change of the line mass's momentum on the rod,
+  // Pi = M / (2 ds) times the integral of p' over its part on the rod, plus the momentum it
+  // carries through the rod's ends while they lie inside it; where it is on the rod at both
+  // levels, to M (p'(sigma_i, t_i) - p'(sigma_{i-1}, t_{i-1})). Paths inside a cell, node to
+  // node, across nodes both ways, across several cells, at rest, and near and at both ends.
+  test::Rng rng;
+  const StepTimes st{0.2, 0.01};
+  double worst = 0.0, worst_dp = 0.0;
+  for (const AlphaParameters& al : {AlphaParameters{}, AlphaParameters::from_rho_inf(0.6, 0.8)}) {
+    for (const auto& [a, b] : std::vector<std::pair<double, double>>{{0.33, 0.37}, {0.3, 0.4}, {0.27, 0.55},
+                                                                      {0.55, 0.12}, {0.4, 0.4}, {0.03, 0.12},
+                                                                      {0.85, 1.0}, {0.0, 0.25}}) {
+      RodModel m = test::scene_model(10, al);
+      const double ds = m.ds(), dt = st.dt, L = 1.0, rho = 0.3 / (2.0 * ds);
+      MovingMass M;
+      M.mass = 0.3;
+      const double v = (b - a) / dt, t0 = st.t_old;
+      M.sigma = [=](double t) { return a + v * (t - t0); };
+      M.speed = [=](double) { return v; };
+      M.accel = [](double) { return 0.0; };
+      m.loads.masses = {M};
+      const Vec3 A0 = rng.vec3(0.3), B0 = rng.vec3(0.3), A1 = rng.vec3(0.3), B1 = rng.vec3(0.3);
+      auto p_at = [&](double s, double tau) {  // p' at (s, t_old + tau dt)
+        return Vec3((1 - tau) * (A0 + s * B0) + tau * (A1 + s * B1) + v * Vec3::UnitZ());
+      };
+      std::vector<RodNode> old(11);
+      std::vector<VecX> x(11);
+      for (int k = 0; k <= 10; ++k) {
+        old[k].y.segment<3>(var::u) = A0 + k * ds * B0;
+        x[k] = node_unknowns(m, old[k]);
+        x[k].segment<3>(var::u) = A1 + k * ds * B1;
+      }
+      Vec3 total = Vec3::Zero();
+      for (int j = 1; j <= 10; ++j)
+        total += ds * dt * load_block(m, st, j, old[j - 1], old[j], x[j - 1], x[j]).residual.head<3>();
+      auto Pi = [&](double sigma, double tau) {  // the line mass's momentum on the rod
+        const double l = std::max(sigma - ds, 0.0), r = std::min(sigma + ds, L);
+        return Vec3(rho * (r - l) * p_at(0.5 * (l + r), tau));
+      };
+      // Times (tau) during which the rod's ends lie inside the line mass.
+      auto inside = [&](double edge, double sign) {  // {tau0, tau1}: sign (sigma(tau) - edge) < ds
+        double lo = 0.0, hi = 1.0;
+        if (a == b) return std::abs(a - edge) < ds ? std::make_pair(lo, hi) : std::make_pair(0.0, 0.0);
+        const double tx = (edge + sign * ds - a) / (b - a);  // where sigma(tau) = edge + sign ds
+        if ((b - a) * sign > 0) hi = std::min(hi, tx); else lo = std::max(lo, tx);
+        return hi > lo ? std::make_pair(lo, hi) : std::make_pair(0.0, 0.0);
+      };
+      const auto e0 = inside(0.0, 1.0), eL = inside(L, -1.0);
+      Vec3 expected = Pi(b, 1.0) - Pi(a, 0.0);
+      expected -= rho * v * (e0.second - e0.first) * dt * p_at(0.0, 0.5 * (e0.first + e0.second));
+      expected += rho * v * (eL.second - eL.first) * dt * p_at(L, 0.5 * (eL.first + eL.second));
+      const double e = (total - expected).norm() / expected.norm();
+      worst = std::max(worst, e);
+      const bool whole = std::min(a, b) >= ds && std::max(a, b) <= L - ds;
+      double edp = 0.0;
+      if (whole) {
+        const Vec3 dp = M.mass * (p_at(b, 1.0) - p_at(a, 0.0));
+        edp = (total - dp).norm() / dp.norm();
+        worst_dp = std::max(worst_dp, edp);
+        std::printf("path %.2f -> %.2f: momentum rows vs the line mass's impulse %.2e, vs M dp' %.2e\n", a, b, e, edp);
+      } else {
+        std::printf("path %.2f -> %.2f: momentum rows vs the line mass's impulse %.2e (partly off the rod)\n", a, b, e);
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-13);
+  EXPECT_LT(worst_dp, 1e-13);
 }
 
 TEST(RodLoads, AxialPointLoadBetweenNodesJumpsNByTheForce) {

@@ -17,11 +17,18 @@ struct PointForce {
 };
 
 /// A point mass M [kg] moving along the rod with prescribed motion sigma(t) [m], speed
-/// v(t) [m/s], acceleration a(t) [m/s^2]. It exerts M (g - a_mass) on the rod, with (body
-/// components at sigma) a_mass = u_t + omega x u + 2 v (omega x e3) + v^2 (kappa x e3) + a e3:
-/// the material acceleration plus the convective terms 2 v d_s u + v^2 d_s d3 + a d3 of the
-/// spec in rod form, where d_s U = R^T (u_s + kappa x u) = R^T (omega x e3) by the
-/// inextensibility equation. With inertia = false only the weight M g acts (moving force).
+/// v(t) [m/s], acceleration a(t) [m/s^2]. It exerts M (g - p'') on the rod, p'' the
+/// acceleration of the mass: in body components at sigma
+/// p'' = u_t + omega x u + 2 v (omega x e3) + v^2 (kappa x e3) + a e3, the material
+/// acceleration plus the convective terms 2 v d_s u + v^2 d_s d3 + a d3 of the spec in rod
+/// form (d_s U = R^T (u_s + kappa x u) = R^T (omega x e3) by the inextensibility equation).
+/// The kernels use the momentum form: M p'' is the rate of the mass's momentum M p',
+/// p' = R^T (u + v e3) = U + v d3 (fixed frame), taken for a short line mass of the same total
+/// mass on [sigma - ds, sigma + ds], whose impulse over each cell's space-time box enters that
+/// cell (docs/rod.md, "Moving mass"). speed must be the derivative of sigma; accel is not
+/// read by the kernels (the change of v carries it).
+/// The weight M g is applied like a PointForce. With inertia = false only the weight acts
+/// (a moving force).
 struct MovingMass {
   double mass = 0.0;
   std::function<double(double)> sigma, speed, accel;
@@ -57,7 +64,28 @@ struct PointLoadWeights {
 /// E_j = 1 (interior), E_0 = beta, E_N = 1 - beta; with xi = (sigma - s_{k-1}) / ds in the
 /// cell (k-1, k): w_{k-1} = (1 - xi) / E_{k-1}, w_k = xi / E_k (linear interpolation
 /// corrected at the end nodes; a node with E = 0 takes no load and its neighbour takes all).
-/// beta is bs for forces and as for the mass's inertia.
+/// beta is bs (point forces and the weights of moving masses).
 PointLoadWeights point_load_weights(double sigma, int num_cells, double ds, double beta);
+
+/// The part of a moving mass's path during one time step that lies in cell `cell` (nodes
+/// cell - 1, cell): the path is sigma(tau) = sigma_old + tau (sigma_new - sigma_old),
+/// tau = (t - t_old) / dt in [0, 1], clipped to the rod [0, L], L = num_cells ds. The
+/// segment runs from (s_a, tau_a) to (s_b, tau_b), tau_a < tau_b, both points on the
+/// boundary of the space-time box of the cell and the step (or the path's ends). A mass at
+/// rest on a node belongs to the cell on its right (cell N at s = L), as for
+/// point_load_weights. Segments of all cells tile the on-rod path, sharing their end points.
+struct MassPathSegment {
+  bool valid = false;  ///< whether the path spends time in the cell
+  double tau_a = 0.0, tau_b = 0.0;
+  double s_a = 0.0, s_b = 0.0;  ///< [m]
+};
+MassPathSegment mass_path_in_cell(double sigma_old, double sigma_new, int cell, int num_cells, double ds);
+
+/// The part [l, r] of cell `cell` (nodes cell - 1, cell) covered by a moving mass's line
+/// mass at sigma: the kernels spread the mass's inertia uniformly over [sigma - ds,
+/// sigma + ds] (docs/rod.md, "Moving mass"). False if the cell gets none, or if the mass is
+/// off the rod (the same test as point_load_weights); the part beyond the rod's ends is
+/// not in any cell.
+bool line_mass_part(double sigma, int cell, int num_cells, double ds, double& l, double& r);
 
 }  // namespace traverse::rod
