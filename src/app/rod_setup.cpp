@@ -11,6 +11,8 @@
 #include "run_limits.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/rod/static_solver.hpp"
+#include "traverse/mesh/mesh.hpp"
+#include "traverse/solver/static_start.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 
 namespace traverse::app {
@@ -87,8 +89,10 @@ std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, c
   return msg;
 }
 
-// Equilibrium under gravity and the loads on the rod at t = 0 (Newton with load steps).
-InitialState static_equilibrium(const scene::Scene& sc, const rod::RodModel& model) {
+// Equilibrium under gravity and the loads on the rod at t = 0 (Newton with load steps), over
+// the ranks; this rank's nodes first .. first + count - 1 of the dynamic state at rest.
+InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, int first, int count, MPI_Comm comm) {
+  const rod::RodModel& model = setup.model;
   const double L = sc.rod.length;
   rod::StaticModel sm;
   sm.props = model.props;
@@ -101,14 +105,16 @@ InitialState static_equilibrium(const scene::Scene& sc, const rod::RodModel& mod
     const double s0 = l.sigma(0.0);
     if (std::isfinite(s0) && s0 >= 0.0 && s0 <= L) sm.point_forces.push_back({l.force, s0});
   }
-  auto nodes = rod::straight_static_state(sm);
-  const auto rep = rod::StaticSolver().solve_with_load_steps(sm, nodes);
-  if (!rep.converged) throw NumericsError(static_failure(sc, sm, rep));
+  const solver::StaticStart st =
+      solver::solve_static_start(sm, Teuchos::rcp(new Teuchos::MpiComm<int>(comm)), setup.solver);
+  if (!st.report.converged) throw NumericsError(static_failure(sc, sm, st.report));
   InitialState out;
-  out.state = rod::dynamic_state_from_static(sm, nodes);
+  out.state.ds = model.ds();
+  out.state.nodes = rod::dynamic_nodes_from_static(sm, st.nodes, st.first_node, first, count);
+  out.first_node = first;
   out.description = "static equilibrium under gravity" +
                     std::string(sm.point_forces.empty() ? "" : " and the loads on the rod at t = 0") + " (" +
-                    std::to_string(rep.load_steps) + " load steps, " + std::to_string(rep.iterations) +
+                    std::to_string(st.report.load_steps) + " load steps, " + std::to_string(st.report.iterations) +
                     " Newton iterations)";
   return out;
 }
@@ -139,10 +145,24 @@ RodSetup build_rod_model(const scene::Scene& sc) {
 
 InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
   using T = scene::InitialStateType;
+  // This rank's nodes and their ghosts, as the stepper's mesh partitions the rod.
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &ranks);
+  const int N = setup.model.num_cells;
+  const mesh::Partition part = mesh::partition_nodes(mesh::Mesh1D(setup.model.length, N + 1), ranks);
+  const int owned = part.first[static_cast<size_t>(rank)], owned_count = part.count[static_cast<size_t>(rank)];
+  const int first = std::max(0, owned - 1), count = std::min(N, owned + owned_count) - first + 1;
   switch (sc.initial_state.type) {
-    case T::rest:
-      return {rod::straight_rest_state(setup.model.num_cells, sc.rod.length), "straight, at rest, unloaded"};
-    case T::static_equilibrium: return static_equilibrium(sc, setup.model);
+    case T::rest: {
+      InitialState out;  // every node alike: straight along k, at rest
+      out.state.ds = setup.model.ds();
+      out.state.nodes.assign(static_cast<size_t>(count), rod::RodNode{});
+      out.first_node = first;
+      out.description = "straight, at rest, unloaded";
+      return out;
+    }
+    case T::static_equilibrium: return static_equilibrium(sc, setup, first, count, comm);
     case T::arch:
     case T::file: {
       InitialState out;
@@ -268,10 +288,15 @@ std::vector<Vec3> point_force_vectors(const scene::Scene& sc) {
   return v;
 }
 
+rod::PlanarCheck reference_state_planarity(const scene::Scene& sc, const rod::RodModel& model) {
+  rod::RodModel small = model;
+  small.num_cells = 2;
+  return rod::check_planar(small, rod::straight_rest_state(2, model.length), point_force_vectors(sc));
+}
+
 void precheck_planar(const scene::Scene& sc, const rod::RodModel& model) {
   if (sc.scheme.planar != scene::PlanarMode::on) return;
-  const rod::PlanarCheck c =
-      rod::check_planar(model, rod::straight_rest_state(model.num_cells, model.length), point_force_vectors(sc));
+  const rod::PlanarCheck c = reference_state_planarity(sc, model);
   if (!c.planar)
     scene::fail_at(sc, "scheme.planar",
                    "a planar scene for 'on' (rod, loads, gravity and end conditions symmetric about one plane; "
@@ -279,21 +304,59 @@ void precheck_planar(const scene::Scene& sc, const rod::RodModel& model) {
                    "a scene that is not planar: " + c.reason);
 }
 
-PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const rod::RodState& state, int stored,
-                       MPI_Comm comm) {
+namespace {
+
+// The global node j (held by the rank that owns it) on every rank.
+rod::RodNode node_everywhere(const solver::DistributedStepper& st, int j, MPI_Comm comm) {
+  constexpr int n = 45;  // y, R, yt, ys
+  double mine[n] = {}, all[n];
+  const int k = j - st.first_owned_node();
+  if (k >= 0 && k < st.num_owned_nodes()) {
+    const rod::RodNode& nd = st.owned_node(k);
+    std::copy(nd.y.data(), nd.y.data() + 12, mine);
+    std::copy(nd.R.data(), nd.R.data() + 9, mine + 12);
+    std::copy(nd.yt.data(), nd.yt.data() + 12, mine + 21);
+    std::copy(nd.ys.data(), nd.ys.data() + 12, mine + 33);
+  }
+  MPI_Allreduce(mine, all, n, MPI_DOUBLE, MPI_SUM, comm);
+  rod::RodNode nd;
+  std::copy(all, all + 12, nd.y.data());
+  std::copy(all + 12, all + 21, nd.R.data());
+  std::copy(all + 21, all + 33, nd.yt.data());
+  std::copy(all + 33, all + 45, nd.ys.data());
+  return nd;
+}
+
+// Whether the stepper's state is planar: each rank sums up its owned nodes, the summaries are
+// merged in rank (= node) order.
+rod::PlanarCheck state_planarity(const scene::Scene& sc, const rod::RodModel& model,
+                                 const solver::DistributedStepper& st, MPI_Comm comm) {
+  const rod::RodNode left = node_everywhere(st, 0, comm), right = node_everywhere(st, model.num_cells, comm);
+  rod::RodState piece;
+  piece.t = st.time();
+  for (int k = 0; k < st.num_owned_nodes(); ++k) piece.nodes.push_back(st.owned_node(k));
+  const rod::PlanarStateSummary mine = rod::summarize_planarity(piece, st.first_owned_node(), left.R);
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  std::vector<rod::PlanarStateSummary> all(static_cast<size_t>(ranks));
+  MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, comm);
+  std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first_node < b.first_node; });
+  rod::PlanarStateSummary merged = all.front();
+  for (size_t r = 1; r < all.size(); ++r) rod::merge(merged, all[r]);
+  return rod::check_planar(model, merged, left, right, st.time(), point_force_vectors(sc));
+}
+
+}  // namespace
+
+PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const solver::DistributedStepper& stepper,
+                       int stored, MPI_Comm comm) {
   PathChoice out;
   const scene::PlanarMode mode = sc.scheme.planar;
   if (mode == scene::PlanarMode::off) {
     out.detail = "scheme.planar: off";
     return out;
   }
-  rod::PlanarCheck c = rod::check_planar(model, state, point_force_vectors(sc));
-  int mine = c.planar ? 1 : 0, all = 0;
-  MPI_Allreduce(&mine, &all, 1, MPI_INT, MPI_MIN, comm);
-  if (mine && !all) {
-    c.planar = false;
-    c.reason = "another rank found the state not planar";
-  }
+  const rod::PlanarCheck c = state_planarity(sc, model, stepper, comm);  // the same on every rank
   if (mode == scene::PlanarMode::on) {
     if (!c.planar)
       scene::fail_at(sc, "scheme.planar",

@@ -15,6 +15,7 @@
 #include "traverse/rod/rod_state.hpp"
 #include "traverse/scene/scene.hpp"
 #include "traverse/solver/arch_formation.hpp"
+#include "traverse/solver/distributed_stepper.hpp"
 
 namespace traverse::app {
 
@@ -30,11 +31,15 @@ struct RodSetup {
 };
 RodSetup build_rod_model(const scene::Scene& sc);
 
-/// Stage 2: the initial state of a dynamic run (initial_state: static, rest, arch or file),
-/// replicated on every rank, and a sentence saying what it is. Throws NumericsError when the
-/// static solve or the arch formation fails, SceneError for a bad state file.
+/// Stage 2: the initial state of a dynamic run (initial_state: static, rest, arch or file)
+/// and a sentence saying what it is. The static equilibrium and the rest state are computed
+/// as pieces, each rank holding its nodes and their ghosts only (as DistributedStepper
+/// partitions the rod: first_ghosted_node, num_ghosted_nodes); the arch and a state file give
+/// all N + 1 nodes on every rank (first_node 0). Throws NumericsError when the static solve
+/// or the arch formation fails, SceneError for a bad state file.
 struct InitialState {
   rod::RodState state;
+  int first_node = 0;  ///< global index of state.nodes.front()
   std::string description;
 };
 InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);
@@ -80,17 +85,22 @@ struct PathChoice {
   std::string detail;            ///< how it was chosen, or why the scene is not planar
 };
 
+/// rod::check_planar of the scene's model (loads, gravity, end conditions, intrinsic
+/// curvature) in the straight reference state along k, on a 2-cell copy of the model
+/// (planarity does not depend on the mesh; nothing of the rod's size is allocated).
+rod::PlanarCheck reference_state_planarity(const scene::Scene& sc, const rod::RodModel& model);
+
 /// scheme.planar: on, checked before any initial state is computed: the model (loads,
 /// gravity, end conditions, intrinsic curvature) against the straight reference state along
 /// k. Throws SceneError located at scheme.planar when it cannot be planar.
 void precheck_planar(const scene::Scene& sc, const rod::RodModel& model);
 
-/// The path for a run starting from `state` (replicated): scheme.planar off -> 3D; on ->
-/// planar or SceneError at scheme.planar; auto -> planar when rod::check_planar says so.
-/// `stored` is the path of the run being restarted (-1 none or unknown, 0 3D, 1 planar): with
-/// auto a restart keeps it (UsageError-free: a stored planar path whose state is no longer
-/// planar throws SceneError). Collective: planar only if every rank finds it planar.
-PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const rod::RodState& state, int stored,
-                       MPI_Comm comm);
+/// The path for a run starting from the stepper's state: scheme.planar off -> 3D; on ->
+/// planar or SceneError at scheme.planar; auto -> planar when rod::check_planar says so (each
+/// rank sums up its own nodes: rod::summarize_planarity). `stored` is the path of the run
+/// being restarted (-1 none or unknown, 0 3D, 1 planar): with auto a restart keeps it (a
+/// stored planar path whose state is no longer planar throws SceneError). Collective.
+PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const solver::DistributedStepper& stepper,
+                       int stored, MPI_Comm comm);
 
 }  // namespace traverse::app

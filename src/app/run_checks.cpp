@@ -23,9 +23,7 @@ int comm_size(MPI_Comm comm) {
 bool expect_planar(const scene::Scene& sc, const rod::RodModel& model) {
   if (sc.scheme.planar == scene::PlanarMode::off) return false;
   if (sc.scheme.planar == scene::PlanarMode::on) return true;
-  rod::RodModel small = model;
-  small.num_cells = 2;
-  return rod::check_planar(small, rod::straight_rest_state(2, model.length), point_force_vectors(sc)).planar;
+  return reference_state_planarity(sc, model).planar;
 }
 
 std::string summary(const TimePlan* time, const MemoryPlan& memory, const MemoryLimit& limit) {

@@ -1,5 +1,8 @@
 #include "run_limits.hpp"
 
+#include "traverse/solver/linear_solver_choice.hpp"
+#include "traverse/solver/solver_parameters.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <climits>
@@ -34,16 +37,17 @@ std::string count(double v) {
 
 std::string ranks_text(int ranks) { return std::to_string(ranks) + (ranks == 1 ? " rank" : " ranks"); }
 
-// The mesh key the scene gives (ds or nodes; nodes when neither: the default 101).
-std::string mesh_key(const scene::Scene& sc) {
-  return sc.tree.params.sublist("mesh").isParameter("ds") ? "mesh.ds" : "mesh.nodes";
-}
+// Whether the scene sets the mesh by mesh.ds (else by mesh.nodes, or the default 101 nodes).
+bool mesh_by_ds(const scene::Scene& sc) { return sc.tree.params.sublist("mesh").isParameter("ds"); }
+
+// The mesh key the scene gives.
+std::string mesh_key(const scene::Scene& sc) { return mesh_by_ds(sc) ? "mesh.ds" : "mesh.nodes"; }
 
 std::string mesh_text(const scene::Scene& sc) {
   const std::string model = sc.model == scene::Model::Beam ? "beam" : "rod";
   return std::to_string(sc.mesh.nodes) + " nodes (" +
-         (mesh_key(sc) == "mesh.ds" ? "mesh.ds = " + fmt(sc.mesh.ds) + " m over " + model + ".length = " + fmt(sc.length()) + " m"
-                                    : "mesh.nodes") +
+         (mesh_by_ds(sc) ? "mesh.ds = " + fmt(sc.mesh.ds) + " m over " + model + ".length = " + fmt(sc.length()) + " m"
+                         : "mesh.nodes") +
          ")";
 }
 
@@ -96,9 +100,8 @@ std::vector<std::string> joined(std::vector<std::string> a, const std::vector<st
 // measured at 2 x 10^4 nodes on 1 and 2 ranks, Release build, Open MPI 4.1).
 constexpr double kProgramBytes = 64.0 * 1024 * 1024;  // MPI, Kokkos, Trilinos, the executable
 constexpr double kRodReplicated = 800.0;    // per node of the whole rod on every rank: states, gathers
-constexpr double kRodStaticStart = 7700.0;  // per node of the whole rod: the static initial state (SparseLU)
+constexpr double kRodStaticStart = 13000.0;  // per owned node: the static initial state (block LU, 12 unknowns)
 constexpr double kRodStatics = 70000.0;     // per owned node: continuation (LOCA, Anasazi), arch formation
-constexpr double kRodSystemShare = 0.46;    // the 3D system built before the path is chosen, of the 3D stepper
 
 // Stepper per owned node with the block-tridiagonal LU (auto), by unknowns per node.
 double rod_stepper_bytes(int unknowns) {
@@ -107,25 +110,21 @@ double rod_stepper_bytes(int unknowns) {
   return 54000.0;
 }
 
-// The linear solver of the time steps and its memory relative to auto.
+// The linear solver of the time steps and its memory relative to auto (the block-tridiagonal
+// LU): a direct KLU2 on one rank 1.07, a Krylov method with another preconditioner 1.4.
 double rod_solver_factor(const scene::Scene& sc, int ranks, std::string& name) {
-  const auto& s = sc.solver_parameters();
-  if (s.isSublist("Stratimikos") && s.sublist("Stratimikos").numParams() > 0) {
-    name = "Stratimikos pass-through (counted as GMRES)";
+  solver::LinearSolverChoice c;
+  try {
+    c = solver::LinearSolverChoice::resolve(solver::validated_solver_parameters(sc.solver_parameters()), ranks,
+                                            solver::LinearSolverChoice::Use::time_step);
+  } catch (const std::invalid_argument&) {
+    name = "a refused linear solver (counted as GMRES)";  // the run itself reports it (exit 2)
     return 1.4;
   }
-  name = s.isType<std::string>("Linear Solver") ? s.get<std::string>("Linear Solver") : "auto";
-  const std::string prec = s.isType<std::string>("Preconditioner") ? s.get<std::string>("Preconditioner") : "SCHWARZ";
-  if (name == "KLU2" && ranks == 1) return 1.07;
-  if (name == "KLU2") {
-    name = "KLU2 (rerouted to GMRES on " + std::to_string(ranks) + " ranks)";
-    return 1.4;
-  }
-  if (name == "GMRES" && prec != "BLOCK_TRIDIAGONAL") {
-    name = "GMRES + " + prec;
-    return 1.4;
-  }
-  return 1.0;
+  name = c.resolved;
+  if (c.block_tridiagonal_direct) return 1.0;
+  if (c.direct) return 1.07;
+  return c.resolved.find("block-tridiagonal LU") != std::string::npos ? 1.0 : 1.4;
 }
 
 int rod_unknowns_3d(const scene::Scene& sc) {
@@ -312,19 +311,20 @@ MemoryPlan rod_memory(const scene::Scene& sc, const RodPathGuess& path) {
   const int u3 = rod_unknowns_3d(sc), u = path.planar ? u3 / 2 : u3;
   std::string solver;
   const double factor = rod_solver_factor(sc, path.ranks, solver);
-  const double stepper = factor * rod_stepper_bytes(u), system = kRodSystemShare * factor * rod_stepper_bytes(u3);
+  const double stepper = factor * rod_stepper_bytes(u);
   const bool static_start = sc.initial_state.type == scene::InitialStateType::static_equilibrium;
   const bool arch = sc.initial_state.type == scene::InitialStateType::arch;
   const double stepping = stepper * n;
-  const double starting = static_start ? system * n + kRodStaticStart * N : arch ? kRodStatics * n : 0.0;
+  // The static start is solved and freed before the stepper is built: the larger one counts.
+  const double starting = static_start ? kRodStaticStart * n : arch ? kRodStatics * n : 0.0;
   m.bytes = kProgramBytes + std::max(stepping, starting) + replicated;
   const std::string stepping_text = count(n) + " nodes x " + kb(stepper) + " (time steps on the " +
                                     (path.planar ? "planar" : "3D") + " path, " + std::to_string(u) +
                                     " unknowns per node, linear solver " + solver + ")";
   std::string text;
   if (starting > stepping && static_start)
-    text = count(n) + " nodes x " + kb(system) + " (the 3D system) + " + count(N) + " nodes x " + kb(kRodStaticStart) +
-           " (the static initial state, solved on every rank; initial_state.type)";
+    text = count(n) + " nodes x " + kb(kRodStaticStart) +
+           " (the static initial state: the 3D static system and its block-tridiagonal LU; initial_state.type)";
   else if (starting > stepping)
     text = count(n) + " nodes x " + kb(kRodStatics) + " (the arch formation; initial_state.type)";
   else

@@ -1,6 +1,7 @@
 // A dynamic rod run in stages (docs/developer.md, "Module map"):
-//   model (rod_setup: build_rod_model) -> stepper and path -> initial state (rod_setup:
-//   initial_state) -> output plan (RodOutputs) -> time loop (RodTimeLoop) -> report.
+//   model (rod_setup: build_rod_model) -> initial state (rod_setup: initial_state, each rank
+//   its piece) -> stepper and path -> output plan (RodOutputs) -> time loop (RodTimeLoop) ->
+//   report.
 // Each stage is a function or a class of its own; run_rod only strings them together.
 #include <mpi.h>
 
@@ -18,6 +19,7 @@
 #include "progress.hpp"
 #include "rod_quantities.hpp"
 #include "rod_setup.hpp"
+#include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/output/restart.hpp"
 #include "run.hpp"
 #include "traverse/output/writer.hpp"
@@ -138,10 +140,10 @@ RodOutputs::RodOutputs(const scene::Scene& sc, const rod::RodModel& model, const
   // What the outputs read at an output step: the full state and the centreline only for a
   // position probe or the field r; otherwise just the nodes around the probes.
   std::vector<rod::PointOutput> points;
-  for (const auto& pr : sc.output.probes) points.push_back({pr.at, scene::name_of(pr.quantity)});
-  std::vector<std::string> fields;
-  for (const auto f : sc.output.fields) fields.push_back(scene::name_of(f));
-  needs_ = rod::output_needs(num_cells_, sc.mesh.ds, points, fields);
+  for (const auto& pr : sc.output.probes) points.push_back({pr.at, pr.quantity == scene::Quantity::position});
+  bool r_field = false;
+  for (const auto f : sc.output.fields) r_field = r_field || f == scene::Field::r;
+  needs_ = rod::output_needs(num_cells_, sc.mesh.ds, points, r_field);
   probe_values_.assign(sc.output.probes.size() + sc.loads.size(), std::vector<double>(1));
   for (size_t i = 0; i < sc.output.probes.size(); ++i) probe_values_[i].assign(3, 0.0);
   field_values_.resize(sc.output.fields.size());
@@ -436,13 +438,27 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
 }
 
 /// The stepper of a scene; a linear solver that cannot run on this many ranks is bad input.
+[[noreturn]] void linear_solver_refused(const scene::Scene& sc, int ranks, const std::invalid_argument& e) {
+  scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(ranks) + " rank(s)", e.what());
+}
+
+// What the stepper would refuse about its linear solver, found before anything is allocated.
+void check_linear_solver(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  try {
+    solver::LinearSolverChoice::resolve(setup.solver, ranks, solver::LinearSolverChoice::Use::time_step);
+  } catch (const std::invalid_argument& e) {
+    linear_solver_refused(sc, ranks, e);
+  }
+}
+
 std::unique_ptr<solver::DistributedStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
   auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
   try {
     return std::make_unique<solver::DistributedStepper>(setup.model, tcomm, setup.solver);
   } catch (const std::invalid_argument& e) {
-    scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(tcomm->getSize()) + " rank(s)",
-                   e.what());
+    linear_solver_refused(sc, tcomm->getSize(), e);
   }
 }
 
@@ -476,9 +492,11 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   // initial state is computed.
   const RodSetup setup = build_rod_model(sc);
   const TimeGrid grid = check_rod_run(sc, setup.model, opt.limits, comm).grid;
-  auto stepper = make_stepper(sc, setup, comm);
+  check_linear_solver(sc, setup, comm);
   if (!opt.restart) precheck_planar(sc, setup.model);
 
+  // The initial state before the stepper: the static solve's matrices are freed before the
+  // stepper allocates its own, so the peak memory is the larger of the two, not their sum.
   InitialState start;
   RestartSource restart;
   if (opt.restart) {
@@ -487,13 +505,15 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   } else {
     start = initial_state(sc, setup, comm);
   }
-  stepper->set_state(start.state);
+  auto stepper = make_stepper(sc, setup, comm);
+  stepper->set_state(start.state, start.first_node);
 
   // Path: the planar fast path or the 3D system (docs/solver.md); a restart keeps the path
   // of the run it continues (restart extra[4]: 1 planar, 0 3D).
   const auto& extra = restart.point.extra;
   const int stored_path = opt.restart && extra.size() >= 5 ? (extra[4] != 0.0 ? 1 : 0) : -1;
-  const PathChoice path = choose_path(sc, setup.model, start.state, stored_path, comm);
+  start.state = rod::RodState();  // the stepper holds its own copy
+  const PathChoice path = choose_path(sc, setup.model, *stepper, stored_path, comm);
   if (path.planar) stepper->set_planar(&path.symmetry);
   const std::string path_text = stepper->path_description() + "; " + path.detail;
 

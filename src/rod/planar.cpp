@@ -100,22 +100,17 @@ std::string split_end_rows(const EndCondition& c, const RodModel& model, const R
 }
 
 /// "" when the problem is symmetric about the plane normal to d_axis, else the reason.
-std::string check_axis(const RodModel& model, const RodState& state, const std::vector<Vec3>& forces, double tol,
-                       int axis, PlanarSymmetry& sym) {
-  if (state.nodes.size() != static_cast<size_t>(model.num_cells) + 1)
-    return "the state has " + std::to_string(state.nodes.size()) + " nodes, the model " +
-           std::to_string(model.num_cells + 1);
-  const std::array<bool, 12> even = even_mask(axis);
-  const Vec3 normal = state.nodes.front().R.row(axis).transpose().normalized();
+std::string check_axis(const RodModel& model, const PlanarStateSummary& st, const RodNode& left_end,
+                       const RodNode& right_end, double t, const std::vector<Vec3>& forces, double tol, int axis,
+                       PlanarSymmetry& sym) {
+  const size_t a = static_cast<size_t>(axis);
+  const Vec3 normal = left_end.R.row(axis).transpose().normalized();
   // The frames: d_axis is the same fixed vector at every node.
-  for (size_t j = 0; j < state.nodes.size(); ++j) {
-    const double dev = (state.nodes[j].R.row(axis).transpose() - normal).cwiseAbs().maxCoeff();
-    if (!(dev <= kFrameTolerance)) {
-      std::ostringstream os;
-      os << "the frame at node " << j << " is turned out of the plane normal to " << vec_text(normal) << " (|d"
-         << axis + 1 << " - normal| = " << dev << ")";
-      return os.str();
-    }
+  if (st.frame_node[a] >= 0) {
+    std::ostringstream os;
+    os << "the frame at node " << st.frame_node[a] << " is turned out of the plane normal to " << vec_text(normal)
+       << " (|d" << axis + 1 << " - normal| = " << st.frame_dev[a] << ")";
+    return os.str();
   }
   // Intrinsic curvature: only its component about the normal.
   const Vec3& k0 = model.props.kappa0;
@@ -124,20 +119,12 @@ std::string check_axis(const RodModel& model, const RodState& state, const std::
       return "the intrinsic curvature " + vec_text(k0) + " has a component out of the plane";
   // The state: out-of-plane components of y, yt, ys zero relative to each array's largest entry.
   const char* names[3] = {"y (u, omega, kappa, n)", "yt", "ys"};
-  for (int a = 0; a < 3; ++a) {
-    double odd = 0.0, all = 0.0;
-    size_t where = 0;
-    for (size_t j = 0; j < state.nodes.size(); ++j) {
-      const RodNode& nd = state.nodes[j];
-      const Vec12& v = a == 0 ? nd.y : a == 1 ? nd.yt : nd.ys;
-      const double before = odd;
-      parity_norms(v, even, odd, all);
-      if (odd > before) where = j;
-    }
+  for (size_t k = 0; k < 3; ++k) {
+    const double odd = st.odd[a][k], all = st.all[a][k];
     if (!(odd <= tol * all)) {
       std::ostringstream os;
-      os << "the state's " << names[a] << " has out-of-plane components (largest " << odd << " at node " << where
-         << ", relative " << odd / all << ")";
+      os << "the state's " << names[k] << " has out-of-plane components (largest " << odd << " at node "
+         << st.odd_node[a][k] << ", relative " << odd / all << ")";
       return os.str();
     }
   }
@@ -156,12 +143,10 @@ std::string check_axis(const RodModel& model, const RodState& state, const std::
   // End conditions.
   sym.normal = normal;
   sym.axis = axis;
-  if (std::string e = split_end_rows(model.left, model, state.nodes.front(), axis, normal, state.t, "left",
-                                     sym.left_rows);
+  if (std::string e = split_end_rows(model.left, model, left_end, axis, normal, t, "left", sym.left_rows);
       !e.empty())
     return e;
-  if (std::string e = split_end_rows(model.right, model, state.nodes.back(), axis, normal, state.t, "right",
-                                     sym.right_rows);
+  if (std::string e = split_end_rows(model.right, model, right_end, axis, normal, t, "right", sym.right_rows);
       !e.empty())
     return e;
   return "";
@@ -181,13 +166,67 @@ std::array<int, 6> in_plane_components(int axis) {
   return s;
 }
 
+PlanarStateSummary summarize_planarity(const RodState& piece, int first_node, const Mat3& R0) {
+  PlanarStateSummary out;
+  out.first_node = first_node;
+  for (size_t a = 0; a < 2; ++a) {
+    const std::array<bool, 12> even = even_mask(static_cast<int>(a));
+    const Vec3 normal = R0.row(static_cast<Eigen::Index>(a)).transpose().normalized();
+    for (size_t j = 0; j < piece.nodes.size(); ++j) {
+      const RodNode& nd = piece.nodes[j];
+      const long node = first_node + static_cast<long>(j);
+      const double dev = (nd.R.row(static_cast<Eigen::Index>(a)).transpose() - normal).cwiseAbs().maxCoeff();
+      if (!(dev <= kFrameTolerance) && out.frame_node[a] < 0) {
+        out.frame_node[a] = node;
+        out.frame_dev[a] = dev;
+      }
+      for (size_t k = 0; k < 3; ++k) {
+        const Vec12& v = k == 0 ? nd.y : k == 1 ? nd.yt : nd.ys;
+        const double before = out.odd[a][k];
+        parity_norms(v, even, out.odd[a][k], out.all[a][k]);
+        if (out.odd[a][k] > before) out.odd_node[a][k] = node;
+      }
+    }
+  }
+  return out;
+}
+
+void merge(PlanarStateSummary& into, const PlanarStateSummary& later) {
+  for (size_t a = 0; a < 2; ++a) {
+    if (into.frame_node[a] < 0 && later.frame_node[a] >= 0) {
+      into.frame_node[a] = later.frame_node[a];
+      into.frame_dev[a] = later.frame_dev[a];
+    }
+    for (size_t k = 0; k < 3; ++k) {
+      if (later.odd[a][k] > into.odd[a][k]) {
+        into.odd[a][k] = later.odd[a][k];
+        into.odd_node[a][k] = later.odd_node[a][k];
+      }
+      into.all[a][k] = std::max(into.all[a][k], later.all[a][k]);
+    }
+  }
+}
+
 PlanarCheck check_planar(const RodModel& model, const RodState& state, const std::vector<Vec3>& point_force_vectors,
+                         double tol) {
+  if (state.nodes.size() != static_cast<size_t>(model.num_cells) + 1) {
+    PlanarCheck out;
+    out.reason = "the state has " + std::to_string(state.nodes.size()) + " nodes, the model " +
+                 std::to_string(model.num_cells + 1);
+    return out;
+  }
+  return check_planar(model, summarize_planarity(state, 0, state.nodes.front().R), state.nodes.front(),
+                      state.nodes.back(), state.t, point_force_vectors, tol);
+}
+
+PlanarCheck check_planar(const RodModel& model, const PlanarStateSummary& summary, const RodNode& left_end,
+                         const RodNode& right_end, double t, const std::vector<Vec3>& point_force_vectors,
                          double tol) {
   PlanarCheck out;
   std::string reasons;
   for (int axis = 0; axis < 2; ++axis) {
     PlanarSymmetry sym;
-    const std::string why = check_axis(model, state, point_force_vectors, tol, axis, sym);
+    const std::string why = check_axis(model, summary, left_end, right_end, t, point_force_vectors, tol, axis, sym);
     if (why.empty()) {
       out.planar = true;
       out.symmetry = sym;

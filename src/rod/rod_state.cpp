@@ -82,11 +82,10 @@ NodeInterpolation locate_on_nodes(double s, double ds, int num_cells) {
   return {j, std::clamp(s / ds - j, 0.0, 1.0)};
 }
 
-OutputNeeds output_needs(int num_cells, double ds, const std::vector<PointOutput>& points,
-                         const std::vector<std::string>& fields) {
+OutputNeeds output_needs(int num_cells, double ds, const std::vector<PointOutput>& points, bool centreline_field) {
   OutputNeeds n;
-  for (const auto& p : points) n.centreline = n.centreline || p.quantity == "position";
-  for (const auto& f : fields) n.centreline = n.centreline || f == "r";
+  n.centreline = centreline_field;
+  for (const auto& p : points) n.centreline = n.centreline || p.position;
   if (n.centreline) return n;
   for (const auto& p : points) {
     const NodeInterpolation loc = locate_on_nodes(p.s, ds, num_cells);

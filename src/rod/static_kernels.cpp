@@ -220,12 +220,19 @@ LocalBlock static_right_block(const StaticModel& m, const StaticNode& node) {
 }
 
 std::vector<StaticNode> straight_static_state(const StaticModel& m, const Vec3& r0, const Mat3& R0) {
-  std::vector<StaticNode> nodes(static_cast<size_t>(m.num_cells + 1));
+  return straight_static_nodes(m, 0, m.num_cells + 1, r0, R0);
+}
+
+std::vector<StaticNode> straight_static_nodes(const StaticModel& m, int first, int count, const Vec3& r0,
+                                              const Mat3& R0) {
+  if (first < 0 || count < 0 || first + count > m.num_cells + 1)
+    throw std::invalid_argument("straight_static_nodes: nodes outside 0.." + std::to_string(m.num_cells));
+  std::vector<StaticNode> nodes(static_cast<size_t>(count));
   const Vec3 t = R0.transpose() * e3;
-  for (int j = 0; j <= m.num_cells; ++j) {
-    auto& nd = nodes[static_cast<size_t>(j)];
+  for (int k = 0; k < count; ++k) {
+    auto& nd = nodes[static_cast<size_t>(k)];
     nd.Rbar = R0;
-    nd.x.segment<3>(svar::r) = r0 + t * (j * m.ds());
+    nd.x.segment<3>(svar::r) = r0 + t * ((first + k) * m.ds());
   }
   return nodes;
 }
@@ -234,25 +241,38 @@ RodState dynamic_state_from_static(const StaticModel& m, const std::vector<Stati
   RodState s;
   s.t = 0.0;
   s.ds = m.ds();
-  const int N = m.num_cells;
-  s.nodes.resize(nodes.size());
-  for (size_t j = 0; j < nodes.size(); ++j) {
-    auto& d = s.nodes[j];
-    d.R = nodes[j].frame();
-    d.y.setZero();
-    d.y.segment<3>(var::kappa) = nodes[j].x.segment<3>(svar::kappa);
-    d.y.segment<3>(var::n) = nodes[j].x.segment<3>(svar::n);
-  }
-  for (int j = 0; j <= N; ++j) {
-    auto y = [&](int i) -> const Vec12& { return s.nodes[static_cast<size_t>(i)].y; };
-    Vec12 d;
-    if (N == 1) d = (y(1) - y(0)) / s.ds;
-    else if (j == 0) d = (-3.0 * y(0) + 4.0 * y(1) - y(2)) / (2.0 * s.ds);
-    else if (j == N) d = (3.0 * y(N) - 4.0 * y(N - 1) + y(N - 2)) / (2.0 * s.ds);
-    else d = (y(j + 1) - y(j - 1)) / (2.0 * s.ds);
-    s.nodes[static_cast<size_t>(j)].ys = d;
-  }
+  s.nodes = dynamic_nodes_from_static(m, nodes, 0, 0, static_cast<int>(nodes.size()));
   return s;
+}
+
+std::vector<RodNode> dynamic_nodes_from_static(const StaticModel& m, const std::vector<StaticNode>& nodes, int first,
+                                               int from, int count) {
+  const int N = m.num_cells, held = static_cast<int>(nodes.size());
+  // Node j needs j - 1 and j + 1 (j - 2 or j + 2 at the ends, N = 1 aside).
+  auto needs = [&](int j) { return std::pair<int, int>{std::max(0, j == N ? j - 2 : j - 1), std::min(N, j == 0 ? 2 : j + 1)}; };
+  if (count > 0 && (needs(from).first < first || std::min(N, needs(from + count - 1).second) >= first + held ||
+                    from < 0 || from + count > N + 1))
+    throw std::invalid_argument("dynamic_nodes_from_static: the static nodes held do not cover the neighbours needed");
+  const double ds = m.ds();
+  std::vector<Vec12> y(nodes.size());
+  for (size_t k = 0; k < nodes.size(); ++k) {
+    y[k].setZero();
+    y[k].segment<3>(var::kappa) = nodes[k].x.segment<3>(svar::kappa);
+    y[k].segment<3>(var::n) = nodes[k].x.segment<3>(svar::n);
+  }
+  auto Y = [&](int j) -> const Vec12& { return y[static_cast<size_t>(j - first)]; };
+  std::vector<RodNode> out(static_cast<size_t>(count));
+  for (int i = 0; i < count; ++i) {
+    const int j = from + i;
+    RodNode& d = out[static_cast<size_t>(i)];
+    d.R = nodes[static_cast<size_t>(j - first)].frame();
+    d.y = Y(j);
+    if (N == 1) d.ys = (Y(1) - Y(0)) / ds;
+    else if (j == 0) d.ys = (-3.0 * Y(0) + 4.0 * Y(1) - Y(2)) / (2.0 * ds);
+    else if (j == N) d.ys = (3.0 * Y(N) - 4.0 * Y(N - 1) + Y(N - 2)) / (2.0 * ds);
+    else d.ys = (Y(j + 1) - Y(j - 1)) / (2.0 * ds);
+  }
+  return out;
 }
 
 }  // namespace traverse::rod

@@ -27,7 +27,65 @@ void assemble(const StaticModel& m, const std::vector<StaticNode>& nodes, VecX& 
   scatter(static_right_block(m, nodes.back()), r, trip);
 }
 
+/// The whole rod in this process: Eigen's sparse LU, the pattern analysed once per solve.
+class SerialStaticSystem : public StaticNewtonSystem {
+ public:
+  SerialStaticSystem(const StaticSolver& s, std::vector<StaticNode>& nodes) : solver_(s), nodes_(nodes) {}
+  bool assemble(const StaticModel& m) override {
+    solver_.residual_and_jacobian(m, nodes_, r_, J_);
+    return r_.allFinite();
+  }
+  bool factorize(std::string& why) override {
+    if (!analysed_) {
+      lu_.analyzePattern(J_);
+      analysed_ = true;
+    }
+    lu_.factorize(J_);
+    if (lu_.info() == Eigen::Success) return true;
+    why = "singular static Jacobian";
+    return false;
+  }
+  double update(double length, double fscale) override {
+    const VecX dx = lu_.solve(-r_);
+    double step_max = 0.0;
+    for (size_t j = 0; j < nodes_.size(); ++j)
+      step_max = std::max(step_max, static_update_node(nodes_[j], dx.segment<12>(12 * static_cast<Eigen::Index>(j)), length, fscale));
+    return step_max;
+  }
+  double residual_max(const StaticModel& m) override {
+    const VecX rn = solver_.residual(m, nodes_);
+    return rn.size() ? rn.cwiseAbs().maxCoeff() : 0.0;
+  }
+  void rebase_all() override {
+    for (auto& n : nodes_) n.rebase();
+  }
+  void start() override {
+    start_ = nodes_;
+    analysed_ = false;
+  }
+  void restore() override { nodes_ = start_; }
+
+ private:
+  const StaticSolver& solver_;
+  std::vector<StaticNode>& nodes_;
+  std::vector<StaticNode> start_;
+  Eigen::SparseMatrix<double> J_;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
+  bool analysed_ = false;
+  VecX r_;
+};
+
 }  // namespace
+
+double static_update_node(StaticNode& node, const Vec12& d, double length, double fscale) {
+  node.x += d;
+  const double s = std::max({d.segment<3>(svar::r).cwiseAbs().maxCoeff() / length,
+                             d.segment<3>(svar::theta).cwiseAbs().maxCoeff(),
+                             d.segment<3>(svar::kappa).cwiseAbs().maxCoeff() * length,
+                             d.segment<3>(svar::n).cwiseAbs().maxCoeff() / fscale});
+  if (node.x.segment<3>(svar::theta).norm() > 1.0) node.rebase();  // keep increments small
+  return s;
+}
 
 StaticModel scaled_loads(const StaticModel& m, double factor) {
   StaticModel s = m;
@@ -38,6 +96,14 @@ StaticModel scaled_loads(const StaticModel& m, double factor) {
     e->end_force *= factor;
   }
   return s;
+}
+
+double static_force_scale(const StaticModel& m) {
+  const double EI = m.props.K.head<2>().maxCoeff();
+  double fscale = EI / (m.length * m.length) + m.props.rhoA * m.gravity.norm() * m.length;
+  for (const auto& p : m.point_forces) fscale = std::max(fscale, p.force.norm());
+  for (const StaticEnd* e : {&m.left, &m.right}) fscale = std::max({fscale, std::abs(e->axial_force), e->end_force.norm()});
+  return fscale;
 }
 
 VecX StaticSolver::residual(const StaticModel& m, const std::vector<StaticNode>& nodes) const {
@@ -56,56 +122,38 @@ void StaticSolver::residual_and_jacobian(const StaticModel& m, const std::vector
 }
 
 StaticReport StaticSolver::newton(const StaticModel& m, std::vector<StaticNode>& nodes) const {
+  SerialStaticSystem sys(*this, nodes);
+  return newton(m, sys);
+}
+
+StaticReport StaticSolver::solve_with_load_steps(const StaticModel& m, std::vector<StaticNode>& nodes) const {
+  SerialStaticSystem sys(*this, nodes);
+  return solve_with_load_steps(m, sys);
+}
+
+StaticReport StaticSolver::newton(const StaticModel& m, StaticNewtonSystem& sys) const {
   StaticReport rep;
-  const std::vector<StaticNode> start = nodes;
+  sys.start();
   // Scales: forces by the largest of the weight and the end and point forces, or EI/L^2.
-  const double EI = m.props.K.head<2>().maxCoeff();
-  double fscale = EI / (m.length * m.length) + m.props.rhoA * m.gravity.norm() * m.length;
-  for (const auto& p : m.point_forces) fscale = std::max(fscale, p.force.norm());
-  for (const StaticEnd* e : {&m.left, &m.right}) fscale = std::max({fscale, std::abs(e->axial_force), e->end_force.norm()});
-  Eigen::SparseMatrix<double> J;
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-  bool analysed = false;
-  VecX r;
+  const double fscale = static_force_scale(m);
   for (int it = 0; it < max_iterations; ++it) {
-    residual_and_jacobian(m, nodes, r, J);
-    if (!r.allFinite()) break;
-    if (!analysed) {
-      lu.analyzePattern(J);
-      analysed = true;
-    }
-    lu.factorize(J);
-    if (lu.info() != Eigen::Success) {
-      rep.message = "singular static Jacobian";
-      break;
-    }
-    const VecX dx = lu.solve(-r);
+    if (!sys.assemble(m)) break;
+    if (!sys.factorize(rep.message)) break;
     ++rep.iterations;
-    double step_max = 0.0;
-    for (size_t j = 0; j < nodes.size(); ++j) {
-      const auto d = dx.segment<12>(12 * static_cast<Eigen::Index>(j));
-      nodes[j].x += d;
-      step_max = std::max({step_max, d.segment<3>(svar::r).cwiseAbs().maxCoeff() / m.length,
-                           d.segment<3>(svar::theta).cwiseAbs().maxCoeff(),
-                           d.segment<3>(svar::kappa).cwiseAbs().maxCoeff() * m.length,
-                           d.segment<3>(svar::n).cwiseAbs().maxCoeff() / fscale});
-      if (nodes[j].x.segment<3>(svar::theta).norm() > 1.0) nodes[j].rebase();  // keep increments small
-    }
+    const double step_max = sys.update(m.length, fscale);
     if (!std::isfinite(step_max)) break;
     if (step_max <= rtol) {
-      const VecX rn = residual(m, nodes);
-      rep.residual_norm = rn.cwiseAbs().maxCoeff();
+      rep.residual_norm = sys.residual_max(m);
       if (rep.residual_norm <= ftol * fscale) {
         rep.converged = true;
         rep.load_scale = fscale;
-        for (auto& n : nodes) n.rebase();
+        sys.rebase_all();
         return rep;
       }
     }
   }
   // The residual where Newton stopped (not the one before its last update).
-  const VecX rn = residual(m, nodes);
-  rep.residual_norm = rn.size() ? rn.cwiseAbs().maxCoeff() : 0.0;
+  rep.residual_norm = sys.residual_max(m);
   rep.load_scale = fscale;
   if (rep.message.empty()) {
     char buf[200];
@@ -118,11 +166,11 @@ StaticReport StaticSolver::newton(const StaticModel& m, std::vector<StaticNode>&
       std::snprintf(buf, sizeof buf, "Newton did not converge in %d iterations", max_iterations);
     rep.message = buf;
   }
-  nodes = start;
+  sys.restore();
   return rep;
 }
 
-StaticReport StaticSolver::solve_with_load_steps(const StaticModel& m, std::vector<StaticNode>& nodes) const {
+StaticReport StaticSolver::solve_with_load_steps(const StaticModel& m, StaticNewtonSystem& sys) const {
   StaticReport total;
   double lambda = 0.0, step = 1.0, tried = 0.0;
   while (lambda < 1.0) {
@@ -136,11 +184,9 @@ StaticReport StaticSolver::solve_with_load_steps(const StaticModel& m, std::vect
     }
     const double next = std::min(1.0, lambda + step);
     tried = next - lambda;
-    std::vector<StaticNode> trial = nodes;
-    const StaticReport r = newton(scaled_loads(m, next), trial);
+    const StaticReport r = newton(scaled_loads(m, next), sys);  // a failed solve restores the state
     total.iterations += r.iterations;
     if (r.converged) {
-      nodes = trial;
       lambda = next;
       ++total.load_steps;
       total.residual_norm = r.residual_norm;

@@ -219,10 +219,9 @@ DistributedStepper::~DistributedStepper() = default;
 void DistributedStepper::set_planar(const rod::PlanarSymmetry* symmetry) {
   Impl& m = *impl_;
   if (!symmetry && !m.planar) return;
-  const rod::RodState state = gather_state();  // collective; the partition does not change
+  // The partition does not change with the path: each rank keeps its nodes and ghosts.
   m.planar = symmetry ? std::make_shared<const rod::PlanarReduction>(*m.model, *symmetry) : nullptr;
   m.build();
-  set_state(state);
   m.me->set_old_level(m.nodes, rod::StepTimes{m.t, 0.0});
   m.newton = std::make_unique<NewtonSolver>(m.me, m.newton_params());
 }
@@ -252,6 +251,21 @@ void DistributedStepper::set_state(const rod::RodState& full) {
   m.nodes.assign(full.nodes.begin() + g0, full.nodes.begin() + g0 + m.mesh->num_ghosted_nodes());
   m.t = full.t;
 }
+
+void DistributedStepper::set_state(const rod::RodState& piece, int first_node) {
+  Impl& m = *impl_;
+  const int g0 = m.mesh->first_ghosted_node(), count = m.mesh->num_ghosted_nodes();
+  if (first_node > g0 || first_node + static_cast<int>(piece.nodes.size()) < g0 + count)
+    throw std::invalid_argument("DistributedStepper::set_state: the piece holds nodes " + std::to_string(first_node) +
+                                ".." + std::to_string(first_node + static_cast<int>(piece.nodes.size()) - 1) +
+                                ", this rank needs " + std::to_string(g0) + ".." + std::to_string(g0 + count - 1));
+  const auto begin = piece.nodes.begin() + (g0 - first_node);
+  m.nodes.assign(begin, begin + count);
+  m.t = piece.t;
+}
+
+int DistributedStepper::first_ghosted_node() const { return impl_->mesh->first_ghosted_node(); }
+int DistributedStepper::num_ghosted_nodes() const { return impl_->mesh->num_ghosted_nodes(); }
 
 StepReport DistributedStepper::step(double dt) {
   Impl& m = *impl_;

@@ -5,6 +5,8 @@
 // switching, and the eigenvalue analysis (static_stability.cpp).
 #include <Thyra_LinearOpWithSolveFactoryBase.hpp>
 
+#include <functional>
+
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/solver/static_continuation.hpp"
 #include "traverse/solver/static_rod_model.hpp"
@@ -13,17 +15,45 @@ namespace traverse::solver {
 
 using Params = std::array<double, rod::num_static_parameters>;
 
+/// The statics linear solver (Stratimikos, preconditioner attached) with verdicts that are
+/// the same on every rank: a direct solver can fail on one rank's block only (a singular
+/// subdomain factorisation throws there), and all ranks must then take the same branch.
+class StaticLinearSolver {
+ public:
+  /// `solver`: keys of solver_parameters.hpp. On 2+ ranks without an explicit
+  /// "Preconditioner", GMRES + ILUT (see the .cpp file for why).
+  StaticLinearSolver(const Teuchos::ParameterList& solver, const Comm& comm);
+  /// The block-tridiagonal LU as a direct solver (exact across ranks, residual-checked, no
+  /// Krylov basis), factorised again only when jacobian_version() has changed.
+  StaticLinearSolver(std::function<long()> jacobian_version, const Comm& comm);
+  /// Factorisation or preconditioner set-up for W (kept for solve); false on every rank when
+  /// it fails on any.
+  bool set_up(const Teuchos::RCP<const Thyra::VectorSpaceBase<double>>& space, const StaticRodModel::Matrix& W) const;
+  /// y = W^-1 b with the last set-up; false on every rank when the solver reports failure (or
+  /// y is not finite) on any.
+  bool solve(const StaticRodModel::Vector& b, StaticRodModel::Vector& y) const;
+  const LinearSolverChoice& choice() const { return choice_; }
+  const Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>>& factory() const { return lows_; }
+
+ private:
+  bool everywhere(bool local) const;
+  Comm comm_;
+  LinearSolverChoice choice_;
+  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> lows_;
+  mutable Teuchos::RCP<const Thyra::VectorSpaceBase<double>> space_;  // of the last set-up
+  mutable Teuchos::RCP<Thyra::LinearOpWithSolveBase<double>> op_;
+};
+
 struct StaticContext {
   Comm comm;
   Teuchos::RCP<mesh::DistributedMesh> mesh;
   Teuchos::RCP<StaticRodModel> model;
-  Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> lows;  ///< preconditioner attached
-  LinearSolverChoice choice;
+  StaticLinearSolver linear;
 
   /// Frames of `state` become the model's references (state should be rebased).
   StaticContext(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state, const Comm& comm,
                 const Teuchos::ParameterList& solver);
-  /// Solves W y = b (Stratimikos); false on every rank when the solver reports failure on any.
+  /// Solves W y = b (set-up and solve); false on every rank when either fails on any.
   bool solve(const StaticRodModel::Matrix& W, const StaticRodModel::Vector& b, StaticRodModel::Vector& y) const;
 };
 

@@ -28,6 +28,7 @@
 
 #include "linear_solver_builder.hpp"
 #include "static_context.hpp"
+#include "traverse/solver/rod_step_model.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 
 namespace traverse::solver {
@@ -64,15 +65,7 @@ double max_position_difference(const std::vector<rod::StaticNode>& a, const std:
 }
 
 // ---------------------------------------------------------------------------------------------
-StaticContext::StaticContext(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state,
-                             const Comm& c, const Teuchos::ParameterList& solver)
-    : comm(c) {
-  const int N = problem.base.num_cells;
-  if (static_cast<int>(state.size()) != N + 1)
-    throw std::invalid_argument("statics: the state must have num_cells + 1 nodes");
-  mesh = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(problem.base.length, N + 1), comm, 12));
-  model = Teuchos::rcp(new StaticRodModel(problem, mesh));
-  model->set_state(state);
+StaticLinearSolver::StaticLinearSolver(const Teuchos::ParameterList& solver, const Comm& comm) : comm_(comm) {
   // On 2+ ranks the default GMRES + Schwarz/KLU2 fails for statics: a rank's overlapped block
   // is a sub-rod whose cut end acts as a free end, a mechanism when the other end is pinned or
   // free (singular subdomain matrix; the dynamic step has inertia there). The default here is
@@ -80,42 +73,53 @@ StaticContext::StaticContext(const rod::StaticProblem& problem, const std::vecto
   Teuchos::ParameterList given = solver;
   if (comm->getSize() > 1 && !given.isParameter("Preconditioner") && !given.isSublist("Stratimikos"))
     given.set("Preconditioner", std::string("ILUT"));
-  choice = LinearSolverChoice::resolve(validated_solver_parameters(given), comm->getSize());
-  LinearSolverObjects objs = build_linear_solver(choice);
+  choice_ = LinearSolverChoice::resolve(validated_solver_parameters(given), comm->getSize());
+  LinearSolverObjects objs = build_linear_solver(choice_);
   if (!objs.prec.is_null()) {
     auto l = Teuchos::rcp_const_cast<Thyra::LinearOpWithSolveFactoryBase<double>>(objs.lows);
     l->setPreconditionerFactory(objs.prec, "Ifpack2");
   }
-  lows = objs.lows;
-  model->set_W_factory(lows);
+  lows_ = objs.lows;
 }
 
-bool StaticContext::solve(const Matrix& W, const Vector& b, Vector& y) const {
-  // Every verdict is collective: a direct solver can fail on one rank's block only (a singular
-  // subdomain factorisation throws there), and all ranks must then take the same branch.
-  auto everywhere = [this](bool local) {
-    const int l = local ? 1 : 0;
-    int g = 0;
-    Teuchos::reduceAll<int, int>(*comm, Teuchos::REDUCE_MIN, l, Teuchos::outArg(g));
-    return g == 1;
-  };
+StaticLinearSolver::StaticLinearSolver(std::function<long()> jacobian_version, const Comm& comm) : comm_(comm) {
+  choice_ = LinearSolverChoice::resolve(validated_solver_parameters(Teuchos::ParameterList()), comm->getSize(),
+                                        LinearSolverChoice::Use::time_step);
+  lows_ = make_block_tridiagonal_solve_factory(std::move(jacobian_version), std::make_shared<DirectSolverStats>(),
+                                               choice_.linear_tolerance);
+}
+
+bool StaticLinearSolver::everywhere(bool local) const {
+  const int l = local ? 1 : 0;
+  int g = 0;
+  Teuchos::reduceAll<int, int>(*comm_, Teuchos::REDUCE_MIN, l, Teuchos::outArg(g));
+  return g == 1;
+}
+
+bool StaticLinearSolver::set_up(const Teuchos::RCP<const Thyra::VectorSpaceBase<double>>& space, const Matrix& W) const {
   const bool debug = std::getenv("TRAVERSE_STATICS_DEBUG") != nullptr;
-  auto space = model->get_x_space();
+  space_ = space;
   auto Wc = Teuchos::rcp_const_cast<Matrix>(Teuchos::rcpFromRef(W));
   auto op = Thyra::tpetraLinearOp<double, LO, GO, Node>(space, space, Wc);
-  auto bt = Thyra::createConstVector(Teuchos::rcpFromRef(b), space);
-  auto yt = Thyra::createVector(Teuchos::rcpFromRef(y), space);
-  Teuchos::RCP<Thyra::LinearOpWithSolveBase<double>> lowsop;
   bool ok = true;
+  op_ = Teuchos::null;
   try {
-    lowsop = Thyra::linearOpWithSolve<double>(*lows, op);  // factorisation / preconditioner set-up
+    op_ = Thyra::linearOpWithSolve<double>(*lows_, op);  // factorisation / preconditioner set-up
   } catch (const std::exception& e) {
     if (debug) std::cout << "solve set-up: " << e.what() << "\n";
     ok = false;
   }
-  if (!everywhere(ok)) return false;
+  return everywhere(ok);
+}
+
+bool StaticLinearSolver::solve(const Vector& b, Vector& y) const {
+  if (op_.is_null()) throw std::logic_error("StaticLinearSolver::solve: no successful set_up");
+  const bool debug = std::getenv("TRAVERSE_STATICS_DEBUG") != nullptr;
+  auto bt = Thyra::createConstVector(Teuchos::rcpFromRef(b), space_);
+  auto yt = Thyra::createVector(Teuchos::rcpFromRef(y), space_);
+  bool ok = true;
   try {
-    const Thyra::SolveStatus<double> st = Thyra::solve<double>(*lowsop, Thyra::NOTRANS, *bt, yt.ptr());
+    const Thyra::SolveStatus<double> st = Thyra::solve<double>(*op_, Thyra::NOTRANS, *bt, yt.ptr());
     if (debug) std::cout << "solve: " << st.message << " " << st.achievedTol << "\n";
     // Belos may flag "unconverged" on a loss-of-accuracy check with a tiny achieved tolerance.
     ok = st.solveStatus != Thyra::SOLVE_STATUS_UNCONVERGED ||
@@ -126,6 +130,22 @@ bool StaticContext::solve(const Matrix& W, const Vector& b, Vector& y) const {
   }
   if (!everywhere(ok)) return false;
   return std::isfinite(y.normInf());
+}
+
+StaticContext::StaticContext(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state,
+                             const Comm& c, const Teuchos::ParameterList& solver)
+    : comm(c), linear(solver, c) {
+  const int N = problem.base.num_cells;
+  if (static_cast<int>(state.size()) != N + 1)
+    throw std::invalid_argument("statics: the state must have num_cells + 1 nodes");
+  mesh = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(problem.base.length, N + 1), comm, 12));
+  model = Teuchos::rcp(new StaticRodModel(problem, mesh));
+  model->set_state(state);
+  model->set_W_factory(linear.factory());
+}
+
+bool StaticContext::solve(const Matrix& W, const Vector& b, Vector& y) const {
+  return linear.set_up(model->get_x_space(), W) && linear.solve(b, y);
 }
 
 StaticSolveReport bordered_newton(const StaticContext& ctx, Vector& x, Params& p, int iparam, const Vector* a,
@@ -151,7 +171,7 @@ StaticSolveReport bordered_newton(const StaticContext& ctx, Vector& x, Params& p
     model.fill_jacobian(x, p, *W);
     f.scale(-1.0);
     y1.putScalar(0.0);
-    if (!ctx.solve(*W, f, y1)) {
+    if (!ctx.linear.set_up(model.get_x_space(), *W) || !ctx.linear.solve(f, y1)) {
       rep.message = "linear solve failed";
       return rep;
     }
@@ -161,7 +181,7 @@ StaticSolveReport bordered_newton(const StaticContext& ctx, Vector& x, Params& p
       const size_t ip = static_cast<size_t>(iparam);
       model.fill_dfdp(x, p, static_cast<rod::StaticParameter>(iparam), fp);
       y2.putScalar(0.0);
-      if (!ctx.solve(*W, fp, y2)) {
+      if (!ctx.linear.solve(fp, y2)) {  // the same W: its set-up is reused
         rep.message = "linear solve failed";
         return rep;
       }

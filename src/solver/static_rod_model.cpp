@@ -3,6 +3,7 @@
 
 #include <Thyra_DefaultLinearOpSource.hpp>
 #include <Thyra_TpetraThyraWrappers.hpp>
+#include <Teuchos_CommHelpers.hpp>
 #include <algorithm>
 #include <stdexcept>
 
@@ -30,7 +31,7 @@ StaticRodModel::StaticRodModel(const rod::StaticProblem& problem, Teuchos::RCP<c
   x0_ = Teuchos::rcp(new Vector(mesh_->dof_map()));
   x0_thyra_ = Thyra::createVector(x0_, x_space_);
   p0_thyra_ = Thyra::createMember(p_space_);
-  Rbar_.assign(static_cast<size_t>(problem_.base.num_cells + 1), Mat3::Identity());
+  Rbar_.assign(static_cast<size_t>(mesh_->num_ghosted_nodes()), Mat3::Identity());
   set_problem(problem_);
 }
 
@@ -46,8 +47,24 @@ void StaticRodModel::set_problem(const rod::StaticProblem& problem) {
 void StaticRodModel::set_state(const std::vector<rod::StaticNode>& nodes) {
   if (static_cast<int>(nodes.size()) != problem_.base.num_cells + 1)
     throw std::invalid_argument("StaticRodModel::set_state: expected num_cells + 1 nodes");
-  for (size_t j = 0; j < nodes.size(); ++j) Rbar_[j] = nodes[j].Rbar;
+  const size_t g0 = static_cast<size_t>(mesh_->first_ghosted_node());
+  for (size_t k = 0; k < Rbar_.size(); ++k) Rbar_[k] = nodes[g0 + k].Rbar;
   scatter(nodes, *x0_);
+}
+
+void StaticRodModel::set_local_state(const std::vector<rod::StaticNode>& ghosted) {
+  if (ghosted.size() != Rbar_.size())
+    throw std::invalid_argument("StaticRodModel::set_local_state: expected the " + std::to_string(Rbar_.size()) +
+                                " ghosted nodes of this rank");
+  store_ghosted_nodes(ghosted, *x0_);
+}
+
+void StaticRodModel::store_ghosted_nodes(const std::vector<rod::StaticNode>& ghosted, Vector& x) {
+  for (size_t k = 0; k < Rbar_.size(); ++k) Rbar_[k] = ghosted[k].Rbar;
+  auto d = x.getDataNonConst();
+  const size_t skip = static_cast<size_t>(mesh_->first_owned_node() - mesh_->first_ghosted_node());
+  for (int k = 0; k < mesh_->num_owned_nodes(); ++k)
+    for (int c = 0; c < 12; ++c) d[static_cast<size_t>(12 * k + c)] = ghosted[skip + static_cast<size_t>(k)].x(c);
 }
 
 void StaticRodModel::scatter(const std::vector<rod::StaticNode>& nodes, Vector& x) const {
@@ -61,9 +78,19 @@ std::vector<rod::StaticNode> StaticRodModel::gather(const Vector& x) const {
   Vector full(full_map_);
   full.doImport(x, *full_import_, Tpetra::INSERT);
   auto d = full.getData();
-  std::vector<rod::StaticNode> out(Rbar_.size());
+  // The frames: each node's from its owner (one sum-reduction of 9 numbers per node).
+  const size_t nodes = static_cast<size_t>(problem_.base.num_cells + 1);
+  std::vector<double> mine(9 * nodes, 0.0), all(9 * nodes);
+  const int first = mesh_->first_owned_node(), skip = first - mesh_->first_ghosted_node();
+  for (int k = 0; k < mesh_->num_owned_nodes(); ++k) {
+    Eigen::Map<Mat3> frame(&mine[9 * static_cast<size_t>(first + k)]);
+    frame = Rbar_[static_cast<size_t>(skip + k)];
+  }
+  Teuchos::reduceAll<int, double>(*mesh_->dof_map()->getComm(), Teuchos::REDUCE_SUM, static_cast<int>(mine.size()),
+                                  mine.data(), all.data());
+  std::vector<rod::StaticNode> out(nodes);
   for (size_t j = 0; j < out.size(); ++j) {
-    out[j].Rbar = Rbar_[j];
+    out[j].Rbar = Eigen::Map<const Mat3>(&all[9 * j]);
     for (int c = 0; c < 12; ++c) out[j].x(c) = d[12 * j + static_cast<size_t>(c)];
   }
   return out;
@@ -71,42 +98,41 @@ std::vector<rod::StaticNode> StaticRodModel::gather(const Vector& x) const {
 
 std::vector<rod::StaticNode> StaticRodModel::ghosted_nodes(const Vector& x) const {
   auto data = ghosted(x).getData();
-  const int g0 = mesh_->first_ghosted_node();
   std::vector<rod::StaticNode> nd(static_cast<size_t>(mesh_->num_ghosted_nodes()));
   for (size_t k = 0; k < nd.size(); ++k) {
-    nd[k].Rbar = Rbar_[static_cast<size_t>(g0) + k];
+    nd[k].Rbar = Rbar_[k];
     for (int c = 0; c < 12; ++c) nd[k].x(c) = data[12 * k + static_cast<size_t>(c)];
   }
   return nd;
 }
 
-std::vector<rod::LocalBlock> StaticRodModel::blocks(const Vector& x, const rod::StaticModel& m, Kind kind) const {
+void StaticRodModel::fill(const Vector& x, const rod::StaticModel& m, Kind kind, Vector* f, Matrix* W) const {
+  // Each block goes into f and W as it is computed (none is kept: the static start of a long
+  // rod would otherwise hold every cell's blocks at once).
   const std::vector<rod::StaticNode> nd = ghosted_nodes(x);
   const int g0 = mesh_->first_ghosted_node();
   auto X = [&](int j) -> const rod::StaticNode& { return nd[static_cast<size_t>(j - g0)]; };
   const int N = m.num_cells;
   const int first = mesh_->first_owned_node(), last = first + mesh_->num_owned_nodes() - 1;
-  std::vector<rod::LocalBlock> out;
-  if (kind == Kind::residual_jacobian && first == 0) out.push_back(rod::static_left_block(m, X(0)));
-  for (int j = std::max(1, first); j <= std::min(N, last + 1); ++j)
-    out.push_back(kind == Kind::mass ? rod::static_mass_block(m, j, X(j - 1), X(j))
-                                     : rod::static_cell_block(m, j, X(j - 1), X(j)));
-  if (kind == Kind::residual_jacobian && last == N) out.push_back(rod::static_right_block(m, X(N)));
-  return out;
-}
-
-void StaticRodModel::fill(const std::vector<rod::LocalBlock>& bl, Vector* f, Matrix* W) const {
   Scatter scatter(*this, f, W);
-  for (const auto& b : bl) scatter.add(b);
+  if (kind == Kind::residual_jacobian && first == 0) scatter.add(rod::static_left_block(m, X(0)));
+  for (int j = std::max(1, first); j <= std::min(N, last + 1); ++j)
+    scatter.add(kind == Kind::mass ? rod::static_mass_block(m, j, X(j - 1), X(j))
+                                   : rod::static_cell_block(m, j, X(j - 1), X(j)));
+  if (kind == Kind::residual_jacobian && last == N) scatter.add(rod::static_right_block(m, X(N)));
   scatter.finish();
 }
 
+void StaticRodModel::fill_model(const Vector& x, const rod::StaticModel& m, Vector* f, Matrix* W) const {
+  fill(x, m, Kind::residual_jacobian, f, W);
+}
+
 void StaticRodModel::fill_jacobian(const Vector& x, const Params& p, Matrix& W) const {
-  fill(blocks(x, problem_.model(p), Kind::residual_jacobian), nullptr, &W);
+  fill(x, problem_.model(p), Kind::residual_jacobian, nullptr, &W);
 }
 
 void StaticRodModel::fill_residual(const Vector& x, const Params& p, Vector& f) const {
-  fill(blocks(x, problem_.model(p), Kind::residual_jacobian), &f, nullptr);
+  fill(x, problem_.model(p), Kind::residual_jacobian, &f, nullptr);
 }
 
 void StaticRodModel::fill_dfdp(const Vector& x, const Params& p, rod::StaticParameter ip, Vector& dfdp) const {
@@ -132,8 +158,7 @@ void StaticRodModel::fill_dfdp(const Vector& x, const Params& p, rod::StaticPara
 
 void StaticRodModel::fill_mass(const Vector& x, Matrix& M) const {
   const rod::StaticModel m = problem_.model();
-  std::vector<rod::LocalBlock> bl = blocks(x, m, Kind::mass);
-  fill(bl, nullptr, &M);
+  fill(x, m, Kind::mass, nullptr, &M);
 }
 
 Teuchos::RCP<const Thyra::VectorSpaceBase<double>> StaticRodModel::get_p_space(int l) const {
@@ -177,7 +202,7 @@ void StaticRodModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<doubl
   }
   Matrix* W = req.W;
   if (req.want_prec && !W) W = W_.get();
-  if (req.f || W) fill(blocks(*req.x, problem_.model(p), Kind::residual_jacobian), req.f.get(), W);
+  if (req.f || W) fill(*req.x, problem_.model(p), Kind::residual_jacobian, req.f.get(), W);
   if (req.want_prec) initialize_prec(out);
   // dF/dp by columns, one per parameter (LOCA::Thyra::Group with implement_dfdp asks for it).
   const Teuchos::RCP<Thyra::MultiVectorBase<double>> dfdp = out.get_DfDp(0).getMultiVector();

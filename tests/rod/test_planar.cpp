@@ -326,6 +326,38 @@ TEST(Planar, CheckPlanarVerdicts) {
 
 // The planar layout: q unknowns per node, rows [3, q per cell, 3] (+ 6 collocation rows when
 // ys is carried), so that row r belongs to node r / q; embed / restrict round trip.
+// The check of a state held in pieces (one per rank): each piece summed up on its own and the
+// summaries merged in node order give the verdict and the reason of the whole state.
+TEST(Planar, PiecewiseSummaryGivesTheWholeStatesVerdict) {
+  using E = EndCondition;
+  RodModel cable = test::scene_model(20);
+  cable.left = E::make_clamped();
+  cable.right = E::make_sliding(Vec3::UnitZ());
+  cable.loads.gravity = Vec3(0.0, -9.8, 0.0);
+  const Vec3 F(0.0, -2.0, 0.0);
+  cable.loads.point_forces.push_back({[F](double) { return F; }, [](double t) { return 3.6 * t; }});
+  RodState sag = state_from_curvature(20, 1.0, [](double s) { return Vec3(0.8 * (s - 0.5), 0.0, 0.0); });
+  for (auto& nd : sag.nodes) nd.y(var::n + 2) = 3.0;
+  RodState moving = sag, bent = state_from_curvature(20, 1.0, [](double s) { return Vec3(0.8, 0.3 * s, 0.0); });
+  moving.nodes[14].y(var::u) = 1e-3;  // out of the plane, in the second piece
+  for (const RodState* st : {&sag, &moving, &bent}) {
+    const PlanarCheck whole = check_planar(cable, *st, {F});
+    for (int cut : {1, 7, 14, 20}) {  // pieces 0..cut-1 and cut..20
+      RodState a, b;
+      a.t = b.t = st->t;
+      a.nodes.assign(st->nodes.begin(), st->nodes.begin() + cut);
+      b.nodes.assign(st->nodes.begin() + cut, st->nodes.end());
+      const Mat3 R0 = st->nodes.front().R;
+      PlanarStateSummary sum = summarize_planarity(a, 0, R0);
+      merge(sum, summarize_planarity(b, cut, R0));
+      const PlanarCheck k = check_planar(cable, sum, st->nodes.front(), st->nodes.back(), st->t, {F});
+      EXPECT_EQ(k.planar, whole.planar) << "cut " << cut;
+      EXPECT_EQ(k.reason, whole.reason) << "cut " << cut;
+    }
+  }
+  EXPECT_NE(check_planar(cable, moving, {F}).reason.find("at node 14"), std::string::npos);
+}
+
 TEST(Planar, ReductionLayout) {
   for (const auto& pc : param_cases()) {
     RodModel m = test::scene_model(5, pc.alpha);

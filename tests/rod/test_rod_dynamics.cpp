@@ -240,18 +240,18 @@ TEST(RodOutputs, OnlyPositionOutputsNeedTheCentrelineOtherProbesTheirTwoNodes) {
   const int N = 100;
   const double ds = 0.01;
   // Probes of body quantities only, no fields: two nodes per probe, no centreline.
-  OutputNeeds n = output_needs(N, ds, {{0.5, "u"}, {0.255, "n"}, {0.5, "d3"}, {1.0, "kappa"}}, {});
+  OutputNeeds n = output_needs(N, ds, {{0.5, false}, {0.255, false}, {0.5, false}, {1.0, false}}, false);
   EXPECT_FALSE(n.centreline);
   EXPECT_EQ(n.nodes, (std::vector<int>{25, 26, 50, 51, 99, 100}));
   // Fields other than r add nothing (each rank writes its own nodes).
-  n = output_needs(N, ds, {{0.0, "m"}}, {"u", "omega", "kappa", "n", "m", "R"});
+  n = output_needs(N, ds, {{0.0, false}}, false);
   EXPECT_FALSE(n.centreline);
   EXPECT_EQ(n.nodes, (std::vector<int>{0, 1}));
-  EXPECT_TRUE(output_needs(N, ds, {}, {"u", "R"}).nodes.empty());
-  EXPECT_FALSE(output_needs(N, ds, {}, {"u", "R"}).centreline);
+  EXPECT_TRUE(output_needs(N, ds, {}, false).nodes.empty());
+  EXPECT_FALSE(output_needs(N, ds, {}, false).centreline);
   // A position probe or the centreline field: the whole state.
-  EXPECT_TRUE(output_needs(N, ds, {{0.5, "u"}, {0.3, "position"}}, {}).centreline);
-  EXPECT_TRUE(output_needs(N, ds, {{0.5, "u"}}, {"r"}).centreline);
+  EXPECT_TRUE(output_needs(N, ds, {{0.5, false}, {0.3, true}}, false).centreline);
+  EXPECT_TRUE(output_needs(N, ds, {{0.5, false}}, true).centreline);
   // Where a probe reads: clamped to the rod, the last cell for s = L.
   const NodeInterpolation a = locate_on_nodes(0.255, ds, N), b = locate_on_nodes(1.2, ds, N);
   EXPECT_EQ(a.j, 25);

@@ -170,6 +170,36 @@ TEST(RodStatics, StaticStateIsConsistentWithTheDynamicCurvatureFrame) {
   }
 }
 
+// A rank's piece of the dynamic initial state (its nodes and ghosts, from the static nodes it
+// holds with their neighbours) is the same piece of the whole rod's, to the bit; a piece that
+// lacks a neighbour is refused.
+TEST(RodStatics, DynamicStatePiecesEqualTheWholeState) {
+  StaticModel m = scene_model(12);
+  m.gravity = Vec3(0, -9.8, 0);
+  auto nodes = straight_static_state(m);
+  ASSERT_TRUE(StaticSolver().solve_with_load_steps(m, nodes).converged);
+  const RodState whole = dynamic_state_from_static(m, nodes);
+  const int N = m.num_cells;
+  for (const auto& [from, count] : std::vector<std::pair<int, int>>{{0, 2}, {0, 5}, {4, 4}, {9, 4}, {11, 2}, {0, 13}}) {
+    const int end = from + count - 1;  // the neighbours needed: one each side, two at the rod's ends
+    const int first = end == N ? std::min(std::max(0, from - 1), N - 2) : std::max(0, from - 1);
+    const int last = from == 0 ? std::max(std::min(N, end + 1), 2) : std::min(N, end + 1);
+    const std::vector<StaticNode> held(nodes.begin() + first, nodes.begin() + last + 1);
+    const std::vector<RodNode> piece = dynamic_nodes_from_static(m, held, first, from, count);
+    ASSERT_EQ(piece.size(), static_cast<size_t>(count));
+    for (int i = 0; i < count; ++i) {
+      const RodNode& a = piece[static_cast<size_t>(i)];
+      const RodNode& b = whole.nodes[static_cast<size_t>(from + i)];
+      EXPECT_TRUE(a.y == b.y && a.ys == b.ys && a.R == b.R && a.yt == b.yt) << "node " << from + i;
+    }
+  }
+  const std::vector<StaticNode> interior(nodes.begin() + 4, nodes.begin() + 8);  // nodes 4..7
+  EXPECT_THROW(dynamic_nodes_from_static(m, interior, 4, 4, 3), std::invalid_argument);  // node 4 needs 3
+  EXPECT_NO_THROW(dynamic_nodes_from_static(m, interior, 4, 5, 2));
+  const std::vector<StaticNode> left(nodes.begin(), nodes.begin() + 2);  // nodes 0, 1: node 0 needs 2
+  EXPECT_THROW(dynamic_nodes_from_static(m, left, 0, 0, 1), std::invalid_argument);
+}
+
 // dF/dp of every continuation parameter, for each right-end type, against central
 // differences of the cell and right-end residuals (the residual is affine in each parameter
 // within a cell, so the differences are exact up to rounding). The load sits inside a cell

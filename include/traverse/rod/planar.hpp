@@ -64,6 +64,27 @@ std::array<int, 6> in_plane_components(int axis);
 PlanarCheck check_planar(const RodModel& model, const RodState& state,
                          const std::vector<Vec3>& point_force_vectors, double tol = 1e-12);
 
+/// What check_planar needs of the state's nodes, for each candidate normal axis a (d1, d2):
+/// the first node whose d_a differs from node 0's (-1: none) and by how much; for y, yt and
+/// ys the largest out-of-plane entry, the first node holding it and the largest entry. Plain
+/// numbers, so that the pieces of a distributed state can be summed up where they are and
+/// merged (in node order) wherever they are needed.
+struct PlanarStateSummary {
+  long first_node = 0;  ///< of the nodes summed up
+  std::array<long, 2> frame_node{{-1, -1}};
+  std::array<double, 2> frame_dev{};
+  std::array<std::array<double, 3>, 2> odd{}, all{};
+  std::array<std::array<long, 3>, 2> odd_node{};
+};
+/// The summary of the nodes first_node .. of `piece`, R0 the frame of the rod's node 0.
+PlanarStateSummary summarize_planarity(const RodState& piece, int first_node, const Mat3& R0);
+/// Adds the summary of the nodes after `into`'s to `into`.
+void merge(PlanarStateSummary& into, const PlanarStateSummary& later);
+/// check_planar from the merged summary of the whole state, its end nodes and its time.
+PlanarCheck check_planar(const RodModel& model, const PlanarStateSummary& summary, const RodNode& left_end,
+                         const RodNode& right_end, double t, const std::vector<Vec3>& point_force_vectors,
+                         double tol = 1e-12);
+
 /// The planar layout of a RodModel and the maps between it and the full one.
 ///
 /// Unknowns: node j owns [q j, q (j+1)), q = 6 (box scheme) or 12 (carried ys: the 6

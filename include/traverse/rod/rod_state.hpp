@@ -69,11 +69,11 @@ struct NodeInterpolation {
 };
 NodeInterpolation locate_on_nodes(double s, double ds, int num_cells);
 
-/// A point output of a rod run: `quantity` (position, u, omega, kappa, n, m, d1, d2, d3)
-/// interpolated at arclength s.
+/// A point output of a rod run at arclength s: the position r(s) (it needs the centreline)
+/// or a quantity of the nodes around s (u, omega, kappa, n, m, d1, d2, d3).
 struct PointOutput {
   double s = 0.0;
-  std::string quantity;
+  bool position = false;
 };
 
 /// What a rod run's outputs read from the state at an output step (issue #7: the centreline
@@ -86,8 +86,8 @@ struct OutputNeeds {
   /// the fields read only each rank's own nodes.
   std::vector<int> nodes;
 };
-OutputNeeds output_needs(int num_cells, double ds, const std::vector<PointOutput>& points,
-                         const std::vector<std::string>& fields);
+/// `centreline_field`: the fields include r.
+OutputNeeds output_needs(int num_cells, double ds, const std::vector<PointOutput>& points, bool centreline_field);
 
 /// Velocity of a node in fixed components, R^T u [m/s].
 inline Vec3 fixed_velocity(const RodNode& node) { return node.R.transpose() * node.y.segment<3>(var::u); }

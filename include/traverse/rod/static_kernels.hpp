@@ -92,8 +92,16 @@ LocalBlock static_right_block(const StaticModel& m, const StaticNode& node);
 std::vector<StaticNode> straight_static_state(const StaticModel& m, const Vec3& r0 = Vec3::Zero(),
                                               const Mat3& R0 = Mat3::Identity());
 
+/// Nodes first .. first + count - 1 of that state (one rank's piece).
+std::vector<StaticNode> straight_static_nodes(const StaticModel& m, int first, int count, const Vec3& r0 = Vec3::Zero(),
+                                              const Mat3& R0 = Mat3::Identity());
+
 /// The dynamic state at rest with the same frames, curvature and force (u = omega = 0,
 /// yt = 0; ys by centred differences, one-sided second order at the ends).
 RodState dynamic_state_from_static(const StaticModel& m, const std::vector<StaticNode>& nodes);
+/// The same for nodes from .. from + count - 1 of the rod, from static nodes first ..
+/// first + nodes.size() - 1 that hold their neighbours (two more at the rod's ends).
+std::vector<RodNode> dynamic_nodes_from_static(const StaticModel& m, const std::vector<StaticNode>& nodes, int first,
+                                               int from, int count);
 
 }  // namespace traverse::rod

@@ -1,8 +1,11 @@
 #pragma once
-// Serial Newton solver for the static form (rod/static_kernels.hpp): sparse LU on the whole
-// rod, with load stepping. Used for initial states (equilibrium under the scene's dead
-// loads) and as the reference the distributed continuation must reproduce.
+// Newton solver for the static form (rod/static_kernels.hpp) with load stepping, on any
+// StaticNewtonSystem: serially with a sparse LU on the whole rod (tests, benchmarks, the
+// reference the distributed solvers must reproduce), or over the ranks for the initial states
+// of dynamic runs (solver/static_start.hpp: the equilibrium under the scene's dead loads).
 #include <Eigen/SparseCore>
+
+#include <string>
 
 #include "traverse/rod/static_kernels.hpp"
 
@@ -23,6 +26,29 @@ struct StaticReport {
   std::string failed_reason;   ///< why it failed
 };
 
+/// The state and the linear algebra the static Newton works on: the whole rod in one
+/// process (StaticSolver, Eigen sparse LU) or one rank's piece of it (the distributed start,
+/// solver/static_start.hpp). Every call is collective where the state is distributed, and
+/// returns the same value on every rank.
+class StaticNewtonSystem {
+ public:
+  virtual ~StaticNewtonSystem() = default;
+  /// Residual and Jacobian at the current state of `m`; false when the residual is not finite.
+  virtual bool assemble(const StaticModel& m) = 0;
+  /// Factorises the assembled Jacobian; false (and `why`) when it is singular.
+  virtual bool factorize(std::string& why) = 0;
+  /// Adds the Newton update dx = -J^-1 r to the state and returns the largest scaled update,
+  /// max over nodes of |dr|/L, |dtheta|, |dkappa| L, |dn|/fscale (infinite when not finite);
+  /// folds theta into the frame of every node where |theta| > 1 (keeps increments small).
+  virtual double update(double length, double fscale) = 0;
+  /// max |r| at the current state (not finite when it is not).
+  virtual double residual_max(const StaticModel& m) = 0;
+  virtual void rebase_all() = 0;
+  /// A Newton solve begins: keeps the current state (restore() goes back to it).
+  virtual void start() = 0;
+  virtual void restore() = 0;
+};
+
 class StaticSolver {
  public:
   double rtol = 1e-12;     ///< converged when max|dx| <= rtol (scaled per unknown kind) ...
@@ -41,7 +67,19 @@ class StaticSolver {
   /// scaling gravity, point forces and end forces with lambda from 0 to 1: first in one step,
   /// halving the increment after a failure and doubling it after an easy success.
   StaticReport solve_with_load_steps(const StaticModel& m, std::vector<StaticNode>& nodes) const;
+
+  /// The same two on any StaticNewtonSystem (the state is the system's).
+  StaticReport newton(const StaticModel& m, StaticNewtonSystem& sys) const;
+  StaticReport solve_with_load_steps(const StaticModel& m, StaticNewtonSystem& sys) const;
 };
+
+/// One node's share of a Newton update: x += d, then theta folded into the frame when
+/// |theta| > 1; returns max(|dr|/L, |dtheta|, |dkappa| L, |dn|/fscale) of d.
+double static_update_node(StaticNode& node, const Vec12& d, double length, double fscale);
+
+/// The force scale of the convergence test: the largest of E I / L^2 + the rod's weight and
+/// the point and end forces [N].
+double static_force_scale(const StaticModel& m);
 
 /// The model with gravity, point forces and end forces multiplied by `factor`.
 StaticModel scaled_loads(const StaticModel& m, double factor);

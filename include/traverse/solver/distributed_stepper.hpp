@@ -72,6 +72,12 @@ class DistributedStepper {
 
   /// Every rank passes the same full state (N + 1 nodes); each keeps its nodes and ghosts.
   void set_state(const rod::RodState& full);
+  /// The same from this rank's piece of a state: nodes first_node .. first_node +
+  /// piece.nodes.size() - 1, which must cover first_ghosted_node() .. (+ num_ghosted_nodes()).
+  void set_state(const rod::RodState& piece, int first_node);
+  /// This rank's nodes and one ghost on each side where there is one (the same on both paths).
+  int first_ghosted_node() const;
+  int num_ghosted_nodes() const;
 
   /// Planar fast path (collective): with a symmetry (from rod::check_planar on the model and
   /// the current state) the steps solve the in-plane system only (6 unknowns per node, or 12

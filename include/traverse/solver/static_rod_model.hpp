@@ -3,8 +3,8 @@
 // evaluator over Tpetra with parameters: x = the static unknowns (r, theta, kappa, n) per node
 // on the mesh's dof map, p(0) = the five StaticParameter values (locally replicated), f = the
 // static residual with row r owned by the owner of node r / 12, W = its exact Jacobian in one
-// Tpetra::CrsMatrix on the mesh graph, refilled in place. The reference frames Rbar of all
-// nodes are held on every rank (they change only by rebase_frames between runs).
+// Tpetra::CrsMatrix on the mesh graph, refilled in place. Each rank holds the reference
+// frames Rbar of its nodes and their ghosts only.
 //
 // Solver-module header: it exposes Thyra and Tpetra types; users call static_continuation.hpp.
 #include <Thyra_LinearOpWithSolveFactoryBase.hpp>
@@ -31,6 +31,17 @@ class StaticRodModel : public BlockAssemblyModel {
   void set_problem(const rod::StaticProblem& problem);
   const rod::StaticProblem& problem() const { return problem_; }
   void set_state(const std::vector<rod::StaticNode>& nodes);
+  /// The same from this rank's ghosted nodes only (first_ghosted_node() first).
+  void set_local_state(const std::vector<rod::StaticNode>& ghosted);
+  /// This rank's ghosted nodes (frames Rbar, unknowns of x), first_ghosted_node() first.
+  std::vector<rod::StaticNode> ghosted_nodes(const Vector& x) const;
+  /// Writes `ghosted` (as ghosted_nodes returns them) back: all their frames become the
+  /// references and the owned ones' unknowns go into x. Every rank must change a ghost the
+  /// way its owner changes it (the owner's unknowns are imported on the next evaluation).
+  void store_ghosted_nodes(const std::vector<rod::StaticNode>& ghosted, Vector& x);
+  /// f and/or W (either may be null) of the static form of `m` (whose loads may differ from
+  /// the problem's) at x.
+  void fill_model(const Vector& x, const rod::StaticModel& m, Vector* f, Matrix* W) const;
 
   /// All N + 1 nodes (frames Rbar, unknowns x) from a distributed x, on every rank.
   std::vector<rod::StaticNode> gather(const Vector& x) const;
@@ -48,7 +59,6 @@ class StaticRodModel : public BlockAssemblyModel {
                  Vector& dfdp) const;
 
   Teuchos::RCP<Vector> nominal_x() const { return x0_; }
-  const std::vector<Mat3>& reference_frames() const { return Rbar_; }
 
   // Thyra::ModelEvaluator (the rest is BlockAssemblyModel's)
   Teuchos::RCP<const Thyra::VectorSpaceBase<double>> get_p_space(int l) const override;
@@ -61,14 +71,11 @@ class StaticRodModel : public BlockAssemblyModel {
   void evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>& in,
                      const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const override;
 
-  /// This rank's ghosted nodes (frames Rbar, unknowns of x), first_ghosted_node() first.
-  std::vector<rod::StaticNode> ghosted_nodes(const Vector& x) const;
   enum class Kind { residual_jacobian, mass };
-  std::vector<rod::LocalBlock> blocks(const Vector& x, const rod::StaticModel& m, Kind kind) const;
-  void fill(const std::vector<rod::LocalBlock>& bl, Vector* f, Matrix* W) const;
+  void fill(const Vector& x, const rod::StaticModel& m, Kind kind, Vector* f, Matrix* W) const;
 
   rod::StaticProblem problem_;
-  std::vector<Mat3> Rbar_;
+  std::vector<Mat3> Rbar_;  ///< of the ghosted nodes, first_ghosted_node() first
   Teuchos::RCP<const Thyra::VectorSpaceBase<double>> p_space_;
   Teuchos::RCP<const Teuchos::Array<std::string>> p_names_;
   Teuchos::RCP<const mesh::Map> full_map_;

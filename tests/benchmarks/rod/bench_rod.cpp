@@ -10,7 +10,8 @@
 //       block-tridiagonal LU (12x12 blocks) of the same size measured in the same run (the
 //       floor), their ratio, linear (Belos) iterations, and peak memory (getrusage maxrss,
 //       summed over ranks, taken before the floor allocates its own storage: the static
-//       initial state, the set-up and the steps) per node. One N per process so that maxrss
+//       initial state solved over the ranks, the set-up and the steps) per node, and the
+//       largest rank's peak [MiB]. One N per process so that maxrss
 //       belongs to that N. --mem: also print resident memory per phase (kB per node, rank 0)
 //       to stderr.
 //
@@ -47,7 +48,9 @@
 #include "block_tridiagonal_lu.hpp"
 #include "traverse/rod/planar.hpp"
 #include "traverse/rod/static_solver.hpp"
+#include "traverse/mesh/mesh.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
+#include "traverse/solver/static_start.hpp"
 
 using namespace traverse;
 using Clock = std::chrono::steady_clock;
@@ -121,14 +124,17 @@ struct Scene {
   rod::RodModel model;
   std::vector<Vec3> force_vectors;  ///< fixed-frame vector of each point force (planar check)
   rod::RodState initial;
+  int first_node = 0;  ///< global index of initial.nodes.front() (a piece: this rank's nodes and ghosts)
   double v = 0.0, dt = 0.0, t_end = 0.0;
   int steps = 0;
   int static_iterations = 0;
   double static_seconds = 0.0;
 };
 
-/// The hanging cable with F [N] at alpha v1, N cells, dt = ds / v.
-Scene hanging_cable(int N, double F) {
+/// The hanging cable with F [N] at alpha v1, N cells, dt = ds / v. `pieces`: the static
+/// initial state solved over the ranks (solver::solve_static_start, as `traverse run` does),
+/// each rank keeping its nodes and ghosts; otherwise the serial solve of the whole rod.
+Scene hanging_cable(int N, double F, bool pieces = false) {
   Scene s;
   rod::RodModel& m = s.model;
   m.props = rod::RodProperties::scene_rod();  // r = 5 mm, E = 250 MPa, nu = 0.25, rho = 1500
@@ -156,6 +162,23 @@ Scene hanging_cable(int N, double F) {
   sm.right.position = Vec3(0.0, 0.0, m.length);
   sm.gravity = m.loads.gravity;
   sm.point_forces.push_back({force, 0.0});  // the load sits on the left end at t = 0
+  if (pieces) {
+    const auto t0 = Clock::now();
+    const solver::StaticStart st = solver::solve_static_start(sm, comm());
+    s.static_seconds = seconds_since(t0);
+    if (!st.report.converged) throw std::runtime_error("bench_rod: static initial state failed: " + st.report.message);
+    mem_phase("static: solved over the ranks");
+    s.static_iterations = st.report.iterations;
+    const mesh::Partition part = mesh::partition_nodes(mesh::Mesh1D(m.length, N + 1), comm()->getSize());
+    const int owned = part.first[static_cast<size_t>(comm()->getRank())];
+    const int count = part.count[static_cast<size_t>(comm()->getRank())];
+    s.first_node = std::max(0, owned - 1);
+    s.initial.ds = m.ds();
+    s.initial.nodes = rod::dynamic_nodes_from_static(sm, st.nodes, st.first_node, s.first_node,
+                                                     std::min(N, owned + count) - s.first_node + 1);
+    mem_phase("static: dynamic initial state");
+    return s;
+  }
   auto nodes = rod::straight_static_state(sm);
   mem_phase("static: straight state");
   const auto t0 = Clock::now();
@@ -309,12 +332,12 @@ int cost(int argc, char** argv) {
   g_mem = std::find_if(argv, argv + argc, [](const char* a) { return std::strcmp(a, "--mem") == 0; }) != argv + argc;
   g_mem_nodes = nodes;
   mem_phase("start");
-  Scene sc = hanging_cable(N, F);
+  Scene sc = hanging_cable(N, F, true);
   const auto t0 = Clock::now();
   auto stepper = std::make_unique<solver::DistributedStepper>(sc.model, comm(), solver_params(solver));
   solver::DistributedStepper& st = *stepper;
   mem_phase("stepper constructed");
-  st.set_state(sc.initial);
+  st.set_state(sc.initial, sc.first_node);
   std::vector<rod::RodNode>().swap(sc.initial.nodes);  // the stepper holds its own copy
   const double setup = seconds_since(t0);
   mem_phase("state set");
@@ -353,8 +376,9 @@ int cost(int argc, char** argv) {
   // allocates its own block storage.
   struct rusage ru {};
   getrusage(RUSAGE_SELF, &ru);
-  double kb = static_cast<double>(ru.ru_maxrss), kb_sum = 0.0;
+  double kb = static_cast<double>(ru.ru_maxrss), kb_sum = 0.0, kb_max = 0.0;
   Teuchos::reduceAll(*comm(), Teuchos::REDUCE_SUM, 1, &kb, &kb_sum);
+  Teuchos::reduceAll(*comm(), Teuchos::REDUCE_MAX, 1, &kb, &kb_max);
   if (g_mem) {  // diagnostics: how much of the resident memory is free heap kept by malloc
     malloc_trim(0);
     mem_phase("after malloc_trim (diagnostic)");
@@ -381,23 +405,23 @@ int cost(int argc, char** argv) {
   const double assembly = (c1.assembly_seconds - c0.assembly_seconds) / std::max(1L, newton);
   const double lin_setup = (c1.linear_setup_seconds - c0.linear_setup_seconds) / std::max(1L, newton);
   if (root()) {
-    std::printf("%-28s %2d %9d %4d %10.3e %10.3e %6.2f %10.3e %7.2f %9.3e %9.3e %8.1f %8.2f %s\n", solver.c_str(),
-                comm()->getSize(), nodes, steps, per_step, per_newton, double(newton) / steps, floor,
+    std::printf("%-28s %2d %9d %4d %10.3e %10.3e %6.2f %10.3e %7.2f %9.3e %9.3e %8.1f %8.2f %9.1f %s\n",
+                solver.c_str(), comm()->getSize(), nodes, steps, per_step, per_newton, double(newton) / steps, floor,
                 per_newton / floor, assembly, lin_setup, newton ? double(linear) / newton : 0.0,
-                kb_sum / 1024.0 / nodes * 1024.0, resolved.c_str());
+                kb_sum / 1024.0 / nodes * 1024.0, kb_max / 1024.0, resolved.c_str());
     std::fflush(stdout);
   }
   append_csv(csv,
              "label,solver,ranks,nodes,steps,step_seconds,newton_seconds,newton_per_step,floor_seconds,ratio,"
              "assembly_seconds_per_newton,linear_setup_seconds_per_newton,linear_per_newton,maxrss_kb_total,"
-             "kb_per_node,setup_seconds,static_seconds,mean_step_seconds",
+             "kb_per_node,setup_seconds,static_seconds,mean_step_seconds,maxrss_kb_rank_max",
              label + "," + solver + "," + std::to_string(comm()->getSize()) + "," + std::to_string(nodes) + "," +
                  std::to_string(steps) + "," + std::to_string(per_step) + "," + std::to_string(per_newton) + "," +
                  std::to_string(double(newton) / steps) + "," + std::to_string(floor) + "," +
                  std::to_string(per_newton / floor) + "," + std::to_string(assembly) + "," +
                  std::to_string(lin_setup) + "," + std::to_string(newton ? double(linear) / newton : 0.0) + "," +
                  std::to_string(kb_sum) + "," + std::to_string(kb_sum / nodes) + "," + std::to_string(setup) + "," +
-                 std::to_string(sc.static_seconds) + "," + std::to_string(mean_step));
+                 std::to_string(sc.static_seconds) + "," + std::to_string(mean_step) + "," + std::to_string(kb_max));
   return 0;
 }
 
@@ -504,9 +528,9 @@ int main(int argc, char** argv) {
     if (mode == "cost") return cost(argc, argv);
     if (mode == "planar") return planar(argc, argv);
     if (mode == "cost-header") {
-      std::printf("%-28s %2s %9s %4s %10s %10s %6s %10s %7s %9s %9s %8s %8s %s\n", "solver", "rk", "nodes", "st",
+      std::printf("%-28s %2s %9s %4s %10s %10s %6s %10s %7s %9s %9s %8s %8s %9s %s\n", "solver", "rk", "nodes", "st",
                   "s/step", "s/Newton", "N/st", "floor [s]", "ratio", "asm/N", "linset/N", "lin/N", "kB/node",
-                  "resolved");
+                  "rank MiB", "resolved");
       return 0;
     }
   } catch (const std::exception& e) {

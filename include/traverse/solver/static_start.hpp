@@ -1,0 +1,33 @@
+#pragma once
+// The static initial state of a dynamic run, solved over the ranks: the rod's equilibrium
+// under the scene's dead loads at t = 0 (gravity, the point forces where they stand, the end
+// forces), by rod::StaticSolver's load steps and Newton iteration (same tolerances, same
+// rebasing of the frames) on the static model on Tpetra (StaticRodModel), each rank holding
+// only its nodes and their ghosts. The linear solver is the block-tridiagonal LU (direct,
+// exact across ranks) when the left end is clamped; otherwise, or when that fails, the
+// statics solver of solver_parameters.hpp (docs/solver.md, "Static initial state").
+#include <Teuchos_Comm.hpp>
+#include <Teuchos_ParameterList.hpp>
+#include <Teuchos_RCP.hpp>
+#include <string>
+#include <vector>
+
+#include "traverse/rod/static_solver.hpp"
+
+namespace traverse::solver {
+
+struct StaticStart {
+  rod::StaticReport report;            ///< of the load stepping that ended the solve
+  int first_node = 0;                  ///< global index of nodes.front()
+  /// Converged: this rank's nodes and up to `halo` more on each side, rebased (theta = 0).
+  std::vector<rod::StaticNode> nodes;
+  std::string linear_solver;           ///< what solved the Newton systems (the last one tried)
+  std::string first_failure;           ///< when the block LU was tried first and failed: why
+};
+
+/// Collective over `comm`. `solver`: the run's solver parameters (the statics defaults of
+/// StaticLinearSolver apply to them when the block LU is not used).
+StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
+                               const Teuchos::ParameterList& solver = Teuchos::ParameterList(), int halo = 2);
+
+}  // namespace traverse::solver
