@@ -281,26 +281,9 @@ double PlanarReduction::cell_block_into(LocalBlock& b, const RodModel& model, co
     throw std::invalid_argument("PlanarReduction::cell_block_into: node unknown block has the wrong size");
   const AlphaParameters& a = model.alpha;
   const double ds = model.ds(), dt = step.dt;
-  const Vec12 yp = new_prev.head<12>(), yc = new_this.head<12>();
-  const NewLevelNode& np = prev.nn;
-  const NewLevelNode& nc = cur.nn;
-
-  // Residual: every row, exactly as cell_block_into (the dropped rows are monitored).
-  VecX r(carried_ ? 24 : 12);
-  const Vec12 At = (1.0 - a.at) * ((1.0 - a.as) * nc.yt + a.as * np.yt) +
-                   a.at * ((1.0 - a.as) * old_this.yt + a.as * old_prev.yt);
-  Vec12 As;
-  if (carried_) {
-    As = (1.0 - a.bt) * ((1.0 - a.bs) * new_this.tail<12>() + a.bs * new_prev.tail<12>()) +
-         a.bt * ((1.0 - a.bs) * old_this.ys + a.bs * old_prev.ys);
-  } else {
-    As = (1.0 - a.bt) * (yc - yp) / ds + a.bt * (old_this.y - old_prev.y) / ds;
-  }
-  const Vec12 AF = (1.0 - a.bt) * ((1.0 - a.bs) * cur.F_new.F + a.bs * prev.F_new.F) +
-                   a.bt * ((1.0 - a.bs) * cur.F_old.F + a.bs * prev.F_old.F);
-  r.head<12>() = Mm_ * At + Kk_ * As + AF;
-  if (carried_)
-    r.tail<12>() = a.gs * new_this.tail<12>() + (1.0 - a.gs) * new_prev.tail<12>() - (yc - yp) / ds;
+  // Residual: every row, as cell_block_into forms it (the dropped rows are monitored).
+  VecX r;
+  cell_residual_into(r, model, Mm_, Kk_, old_prev, old_this, new_prev, new_this, prev, cur);
 
   // In-plane Jacobian entries only. The flux Jacobian's omega columns carry the frame's
   // sensitivity dF_dRrot G (new_level_flux_jacobian); of them only column a is in-plane.

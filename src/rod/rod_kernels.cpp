@@ -377,6 +377,29 @@ LocalBlock cell_block(const RodModel& model, const StepTimes& step, int j,
   return b;
 }
 
+void cell_residual_into(VecX& r, const RodModel& model, const Mat12& Mm, const Mat12& Kk, const RodNode& old_prev,
+                        const RodNode& old_this, const VecX& new_prev, const VecX& new_this, const NodeLevels& prev,
+                        const NodeLevels& cur) {
+  const AlphaParameters& a = model.alpha;
+  const bool carried = model.carries_ys();
+  const double ds = model.ds();
+  const Vec12 yp = new_prev.head<12>(), yc = new_this.head<12>();
+  const Vec12 At = (1.0 - a.at) * ((1.0 - a.as) * cur.nn.yt + a.as * prev.nn.yt) +
+                   a.at * ((1.0 - a.as) * old_this.yt + a.as * old_prev.yt);
+  Vec12 As;
+  if (carried) {
+    As = (1.0 - a.bt) * ((1.0 - a.bs) * new_this.tail<12>() + a.bs * new_prev.tail<12>()) +
+         a.bt * ((1.0 - a.bs) * old_this.ys + a.bs * old_prev.ys);
+  } else {
+    As = (1.0 - a.bt) * (yc - yp) / ds + a.bt * (old_this.y - old_prev.y) / ds;
+  }
+  const Vec12 AF = (1.0 - a.bt) * ((1.0 - a.bs) * cur.F_new.F + a.bs * prev.F_new.F) +
+                   a.bt * ((1.0 - a.bs) * cur.F_old.F + a.bs * prev.F_old.F);
+  r.resize(carried ? 24 : 12);
+  r.head<12>() = Mm * At + Kk * As + AF;
+  if (carried) r.tail<12>() = a.gs * new_this.tail<12>() + (1.0 - a.gs) * new_prev.tail<12>() - (yc - yp) / ds;
+}
+
 void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step, int j,
                      const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
                      const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur) {
@@ -391,26 +414,11 @@ void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step
   const Mat12 Mm = Mm_matrix(P), Kk = Kk_matrix(P);
 
   prepare_block(b, model.cell_row(j), model.cell_rows(), p, model.node_col(j - 1), model.node_col(j));
-  const Vec12 yp = new_prev.head<12>(), yc = new_this.head<12>();
   const NewLevelNode& np = prev.nn;
   const NewLevelNode& nc = cur.nn;
-  const NodeFlux& Fop = prev.F_old;
-  const NodeFlux& Foc = cur.F_old;
   const NodeFlux& Fnp = prev.F_new;
   const NodeFlux& Fnc = cur.F_new;
-
-  const Vec12 At = (1.0 - a.at) * ((1.0 - a.as) * nc.yt + a.as * np.yt) +
-                   a.at * ((1.0 - a.as) * old_this.yt + a.as * old_prev.yt);
-  Vec12 As;
-  if (carried) {
-    As = (1.0 - a.bt) * ((1.0 - a.bs) * new_this.tail<12>() + a.bs * new_prev.tail<12>()) +
-         a.bt * ((1.0 - a.bs) * old_this.ys + a.bs * old_prev.ys);
-  } else {
-    As = (1.0 - a.bt) * (yc - yp) / ds + a.bt * (old_this.y - old_prev.y) / ds;
-  }
-  const Vec12 AF = (1.0 - a.bt) * ((1.0 - a.bs) * Fnc.F + a.bs * Fnp.F) +
-                   a.bt * ((1.0 - a.bs) * Foc.F + a.bs * Fop.F);
-  b.residual.head<12>() = Mm * At + Kk * As + AF;
+  cell_residual_into(b.residual, model, Mm, Kk, old_prev, old_this, new_prev, new_this, prev, cur);
 
   const double ct = (1.0 - a.at) / (a.gt * dt);
   MatX& Jp = b.jac[0];
@@ -422,8 +430,6 @@ void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step
     Jc.block<12, 12>(0, 12) = (1.0 - a.bt) * (1.0 - a.bs) * Kk;
     Jp.block<12, 12>(0, 12) = (1.0 - a.bt) * a.bs * Kk;
     // Recursion gs ys(j) + (1 - gs) ys(j-1) - (y(j) - y(j-1)) / ds = 0 at the new level.
-    b.residual.tail<12>() = a.gs * new_this.tail<12>() + (1.0 - a.gs) * new_prev.tail<12>() -
-                            (yc - yp) / ds;
     Jc.block<12, 12>(12, 12) = a.gs * Mat12::Identity();
     Jp.block<12, 12>(12, 12) = (1.0 - a.gs) * Mat12::Identity();
     Jc.block<12, 12>(12, 0) = -Mat12::Identity() / ds;
