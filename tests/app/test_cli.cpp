@@ -246,3 +246,44 @@ TEST(Cli, RodGivesTheSameAnswersOnOneAndTwoRanksAndWithEachLinearSolver) {
   EXPECT_NE(refused.out.find("KLU2"), std::string::npos) << refused.out;
   EXPECT_FALSE(fs::exists(d / "refused.h5"));
 }
+
+// A beam scene with a coupled mass (docs/beam.md "Coupled mass"): the run ends at the event
+// (the bead leaves the strip at x = L) with exit 0, status complete, the event in /events and
+// end_reason; the probes hold the mass's state, contact forces and energies; --restart is refused.
+TEST(Cli, CoupledMassBeamRunEndsAtItsEvent) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "beam" / "coupled_bead.yaml";
+  const fs::path d = scratch("coupled");
+  const std::string out = (d / "bead.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("ended by the event left_beam_at_L"), std::string::npos) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.status(), "complete");
+  EXPECT_EQ(f.attribute("end_reason"), "left_beam_at_L");
+  const auto events = f.events();
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].load, "bead");
+  EXPECT_EQ(events[0].reason, "left_beam_at_L");
+  EXPECT_NEAR(events[0].position, 2.0, 1e-9);
+  const auto t = f.time();
+  EXPECT_DOUBLE_EQ(t.back(), events[0].time);
+  EXPECT_LT(events[0].time, 2.0);  // before time.end
+  const auto x = f.probe("bead_position"), pos = f.probe("bead_fixed_position"), w = f.probe("bead_deflection");
+  ASSERT_EQ(pos.components, 3u);
+  EXPECT_NEAR(x.values.back(), 2.0, 1e-9);
+  for (size_t k = 0; k < x.rows; ++k) {
+    EXPECT_EQ(pos.values[3 * k], x.values[k]);
+    EXPECT_EQ(pos.values[3 * k + 1], w.values[k]);
+  }
+  const auto balance = f.probe("energy_balance"), kinetic = f.probe("energy_mass_kinetic");
+  double drift = 0.0;
+  for (double b : balance.values) drift = std::max(drift, std::abs(b - balance.values.front()));
+  std::printf("  coupled bead: event at t = %.9f s; energy balance drift %.3e J of mass kinetic energy %.4f J\n",
+              events[0].time, drift, kinetic.values.front());
+  EXPECT_LT(drift, 1e-8 * kinetic.values.front());
+  const auto normal = f.probe("bead_normal_force");
+  for (double n : normal.values) EXPECT_GT(n, 0.0);  // the bead presses on the strip all the way
+  const auto again = run("run " + scene.string() + " --restart " + out + " -q");
+  EXPECT_EQ(again.code, 2) << again.out;
+  EXPECT_NE(again.out.find("cannot be restarted yet"), std::string::npos) << again.out;
+}

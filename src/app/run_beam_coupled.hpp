@@ -1,0 +1,19 @@
+#pragma once
+// The beam run with a coupled mass (run_beam hands it over when the scene has one).
+#include <mpi.h>
+
+#include "run.hpp"
+#include "traverse/beam/beam_problem.hpp"
+#include "traverse/scene/scene.hpp"
+
+namespace traverse::app {
+
+/// The scene's coupled_mass load, or nullptr.
+const scene::MovingLoadSpec* coupled_load(const scene::Scene& scene);
+
+/// Runs a beam scene whose (only) load is a coupled_mass, on the beam problem `problem` (its
+/// loads are ignored). Same contract as run_beam; --restart is refused (UsageError).
+void run_beam_coupled(const scene::Scene& scene, const beam::BeamProblem& problem, const RunOptions& options,
+                      MPI_Comm comm);
+
+}  // namespace traverse::app
