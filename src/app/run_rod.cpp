@@ -20,6 +20,8 @@
 #include "rod_setup.hpp"
 #include "traverse/output/restart.hpp"
 #include "run.hpp"
+#include "run_beam_coupled.hpp"
+#include "run_rod_coupled.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
 #include "traverse/version.hpp"
@@ -476,6 +478,10 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   // initial state is computed.
   const RodSetup setup = build_rod_model(sc);
   const TimeGrid grid = check_rod_run(sc, setup.model, opt.limits, comm).grid;
+  if (coupled_load(sc)) {
+    run_rod_coupled(sc, setup, grid, opt, comm);
+    return;
+  }
   auto stepper = make_stepper(sc, setup, comm);
   if (!opt.restart) precheck_planar(sc, setup.model);
 

@@ -678,9 +678,12 @@ void check_coupled_masses(Scene& sc) {
   for (const auto& l : sc.loads) {
     if (!l.coupled) continue;
     const std::string k = "loads." + l.name;
-    if (sc.model == Model::Rod)
-      fail_at(sc, k + ".type", "a load type of model rod (moving_mass, moving_force): coupled_mass is not yet "
-              "supported on the rod (issue 17: so far only model: beam)", "coupled_mass");
+    if (sc.model == Model::Rod && sc.continuation.enabled)
+      fail_at(sc, k + ".type", "a moving_mass or moving_force in a continuation scene (a coupled_mass moves by "
+              "itself: dynamics only)", "coupled_mass");
+    if (sc.model == Model::Rod && sc.scheme.planar == PlanarMode::on)
+      fail_at(sc, "scheme.planar", "auto or off with a coupled_mass (it runs on the serial 3D reference stepper; "
+              "the planar path is not yet supported)", "on");
     if (coupled)
       fail_at(sc, k + ".type", "at most one coupled_mass per scene (not yet supported: several)",
               "a second one besides '" + coupled->name + "'");
@@ -690,7 +693,7 @@ void check_coupled_masses(Scene& sc) {
               format_number(l.friction));
   }
   if (!coupled) return;
-  if (sc.beam.integrator != BeamIntegrator::rk4)
+  if (sc.model == Model::Beam && sc.beam.integrator != BeamIntegrator::rk4)
     fail_at(sc, "beam.integrator", "rk4 with a coupled_mass (newmark is not yet supported with one)",
             name_of(sc.beam.integrator));
   if (sc.loads.size() > 1)

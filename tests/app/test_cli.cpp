@@ -287,3 +287,47 @@ TEST(Cli, CoupledMassBeamRunEndsAtItsEvent) {
   EXPECT_EQ(again.code, 2) << again.out;
   EXPECT_NE(again.out.find("cannot be restarted yet"), std::string::npos) << again.out;
 }
+
+// A rod scene with a coupled mass (docs/rod.md "Coupled mass"): the serial reference stepper on
+// one rank; the run ends when the bead leaves the cable at s = L, with the event interpolated in
+// the last step; 2 ranks and --restart are refused with exit 2.
+TEST(Cli, CoupledMassRodRunEndsAtItsEvent) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "coupled_bead_cable.yaml";
+  const fs::path d = scratch("coupled_rod");
+  const std::string out = (d / "bead.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("ended by the event left_rod_at_L"), std::string::npos) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.status(), "complete");
+  EXPECT_EQ(f.attribute("end_reason"), "left_rod_at_L");
+  const auto events = f.events();
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].load, "bead");
+  EXPECT_EQ(events[0].position, 1.0);
+  const auto t = f.time();
+  const auto sigma = f.probe("bead_position");
+  EXPECT_GT(sigma.values.back(), 1.0);                        // the last step ends beyond the end
+  EXPECT_LT(sigma.values[sigma.rows - 2], 1.0);               // the one before on the rod
+  EXPECT_GT(events[0].time, t[t.size() - 2]);
+  EXPECT_LE(events[0].time, t.back());
+  const auto balance = f.probe("energy_balance"), kinetic = f.probe("energy_mass_kinetic");
+  double drift = 0.0;
+  for (double b : balance.values) drift = std::max(drift, std::abs(b - balance.values.front()));
+  const auto tang = f.probe("bead_tangential_force"), normal = f.probe("bead_normal_force");
+  ASSERT_EQ(normal.components, 3u);
+  double tmax = 0.0;
+  for (size_t k = 1; k < tang.rows; ++k) tmax = std::max(tmax, std::abs(tang.values[k]));
+  std::printf("  coupled bead on the cable: event at t = %.9f s; energy balance drift %.3e J (mass kinetic energy "
+              "%.4f J at t = 0); max |tangential contact force| %.2e N\n", events[0].time, drift, kinetic.values.front(),
+              tmax);
+  EXPECT_LT(drift, 1e-2 * kinetic.values.front());  // the line mass's O(ds^2) at 40 cells (docs/rod.md)
+  EXPECT_LT(tmax, 1e-10);
+  EXPECT_GT(normal.values[3 * 1 + 1], 0.0);  // the cable pushes the bead up
+  const auto two = run_with(mpirun(2), "run " + scene.string() + " -o " + (d / "two.h5").string() + " -q");
+  EXPECT_EQ(two.code, 2) << two.out;
+  EXPECT_NE(two.out.find("a run on 1 rank"), std::string::npos) << two.out;
+  const auto again = run("run " + scene.string() + " --restart " + out + " -q");
+  EXPECT_EQ(again.code, 2) << again.out;
+  EXPECT_NE(again.out.find("cannot be restarted yet"), std::string::npos) << again.out;
+}
