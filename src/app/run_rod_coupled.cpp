@@ -35,9 +35,6 @@ void check_coupled_rod(const scene::Scene& sc, const scene::MovingLoadSpec& load
   if (ranks != 1)
     scene::fail_at(sc, k + ".type", "a run on 1 rank: a coupled_mass on the rod uses the serial reference stepper "
                    "(the distributed path is not yet supported)", std::to_string(ranks) + " ranks");
-  if (load.contact != scene::Contact::bilateral)
-    scene::fail_at(sc, k + ".contact", "bilateral on the rod (unilateral contact is not yet supported there)",
-                   scene::name_of(load.contact));
   const auto& a = model.alpha;
   for (double w : {a.as, a.bs, a.gs, a.at, a.bt, a.gt})
     if (w != 0.5)
@@ -52,24 +49,11 @@ void check_coupled_rod(const scene::Scene& sc, const scene::MovingLoadSpec& load
                    "reference stepper)", std::to_string(sc.mesh.nodes) + " nodes");
 }
 
-/// The contact force of the rod on the mass over a step [N], fixed frame: the mass's momentum
-/// change minus gravity, drive and resistance (midpoint of the step, along the mean tangent).
+/// The contact of the last step (NaN before the first).
 struct StepContact {
   Vec3 normal = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
   double tangential = std::numeric_limits<double>::quiet_NaN();
 };
-StepContact step_contact(const rod::RodState& old_state, const rod::CoupledMassState& m_old, const rod::RodState& state,
-                         const rod::CoupledMassState& m, const rod::CoupledRodMass& mass, const Vec3& g, double dt) {
-  const auto ko = rod::point_kinematics(old_state, m_old.sigma), kn = rod::point_kinematics(state, m.sigma);
-  const Vec3 d3m = (ko.d3 + kn.d3).normalized();
-  const double vm = 0.5 * (m_old.speed + m.speed);
-  const Vec3 dp = (kn.U + m.speed * kn.d3) - (ko.U + m_old.speed * ko.d3);
-  const Vec3 C = mass.mass * dp / dt - mass.mass * g - (mass.drive - mass.resistance * vm) * d3m;
-  StepContact c;
-  c.tangential = C.dot(d3m);
-  c.normal = C - c.tangential * d3m;
-  return c;
-}
 
 class CoupledRodOutputs {
  public:
@@ -200,6 +184,8 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   const double L = sc.rod.length;
   std::vector<output::RunEvent> events;
   long newton = 0, coupling = 0, i = 1;
+  const bool unilateral = load.contact == scene::Contact::unilateral;
+  double up_prev = 0.0, up_time = 0.0;
   const auto wall = std::chrono::steady_clock::now();
   for (; i <= grid.steps && events.empty(); ++i) {
     const double h = grid.time(i) - state.t;
@@ -219,13 +205,22 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
     newton += rep.newton_iterations;
     coupling += rep.coupling_iterations;
     r = rod::advance_centreline_in_time(r, old, state);
+    const rod::CoupledContact c = rod::step_contact(old, m_old, state, m, mass, stepper.model().loads.gravity, h);
     if (m.sigma < 0.0 || m.sigma > L) {  // left the rod in this step: the time where sigma crosses the end
       const double edge = m.sigma < 0.0 ? 0.0 : L;
       const double te = old.t + h * (edge - m_old.sigma) / (m.sigma - m_old.sigma);
       events.push_back({te, edge, load.name, edge == 0.0 ? "left_rod_at_0" : "left_rod_at_L"});
+    } else if (unilateral && c.up < 0.0) {  // lift-off: the zero of C . d2 between the steps' midpoints
+      const double tm = old.t + 0.5 * h;
+      const double t0 = i > 1 ? up_time : tm, f = i > 1 && up_prev > 0.0 ? up_prev / (up_prev - c.up) : 1.0;
+      const double te = t0 + f * (tm - t0);
+      const double se = te <= old.t ? m_old.sigma : m_old.sigma + (te - old.t) / h * (m.sigma - m_old.sigma);
+      events.push_back({te, se, load.name, "lift_off"});
     }
+    up_prev = c.up;
+    up_time = old.t + 0.5 * h;
     if (i % sc.output.every == 0 || i == grid.steps || !events.empty())
-      outputs.write(writer, state, r, m, step_contact(old, m_old, state, m, mass, stepper.model().loads.gravity, h));
+      outputs.write(writer, state, r, m, StepContact{c.normal, c.tangential});
     progress.update(state.t, i);
     if (const int sig = i < grid.steps && events.empty() ? interrupt_requested(comm) : 0) {
       progress.done();
@@ -241,7 +236,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   if (!opt.quiet) {
     std::printf("done: %ld steps, %ld coupling iterations, %ld Newton iterations", i - 1, coupling, newton);
     if (!events.empty())
-      std::printf("; ended by the event %s at t = %.9g s (interpolated in the last step)", events[0].reason.c_str(),
+      std::printf("; ended by the event %s at t = %.9g s (interpolated)", events[0].reason.c_str(),
                   events[0].time);
     std::printf("; %zu output steps -> %s; time stepping %.3f s (wall, output included)\n", writer.steps_written(),
                 opt.output.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count());

@@ -141,6 +141,26 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   return rep;
 }
 
+CoupledContact step_contact(const RodState& old_state, const CoupledMassState& m_old, const RodState& new_state,
+                            const CoupledMassState& m_new, const CoupledRodMass& mass, const Vec3& gravity, double dt) {
+  const RodPointKinematics ko = point_kinematics(old_state, m_old.sigma), kn = point_kinematics(new_state, m_new.sigma);
+  const Vec3 d3m = (ko.d3 + kn.d3).normalized();
+  const double vm = 0.5 * (m_old.speed + m_new.speed);
+  const Vec3 dp = (kn.U + m_new.speed * kn.d3) - (ko.U + m_old.speed * ko.d3);
+  const Vec3 C = mass.mass * dp / dt - mass.mass * gravity - (mass.drive - mass.resistance * vm) * d3m;
+  auto d2_at = [](const RodState& s, double sigma) -> Vec3 {
+    const NodeInterpolation at = locate_on_nodes(sigma, s.ds, s.num_cells());
+    return (1.0 - at.xi) * s.nodes[static_cast<size_t>(at.j)].R.row(1).transpose() +
+           at.xi * s.nodes[static_cast<size_t>(at.j + 1)].R.row(1).transpose();
+  };
+  const Vec3 d2m = (d2_at(old_state, m_old.sigma) + d2_at(new_state, m_new.sigma)).normalized();
+  CoupledContact c;
+  c.tangential = C.dot(d3m);
+  c.normal = C - c.tangential * d3m;
+  c.up = C.dot(d2m);
+  return c;
+}
+
 CoupledRodEnergies coupled_energies(const RodModel& model, const RodState& state, const std::vector<Vec3>& r,
                                     const CoupledMassState& m, double mass) {
   CoupledRodEnergies e;

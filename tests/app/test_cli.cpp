@@ -331,3 +331,21 @@ TEST(Cli, CoupledMassRodRunEndsAtItsEvent) {
   EXPECT_EQ(again.code, 2) << again.out;
   EXPECT_NE(again.out.find("cannot be restarted yet"), std::string::npos) << again.out;
 }
+
+// Unilateral contact on the rod: inputs/rod/coupled_lift_off_arc.yaml at a coarse mesh and step
+// (20 cells, dt = 2e-3 s) ends with the event lift_off near the rigid-wire answer
+// R acos((v0^2/(g R) + 2 cos theta0) / 3) = 0.795613 m (docs/rod.md "Coupled mass").
+TEST(Cli, CoupledMassRodLiftOff) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "coupled_lift_off_arc.yaml";
+  const std::string out = (scratch("coupled_lift") / "arc.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out + " -q --set mesh.ds=0.05 --set time.dt=2e-3");
+  ASSERT_EQ(r.code, 0) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.status(), "complete");
+  EXPECT_EQ(f.attribute("end_reason"), "lift_off");
+  const auto events = f.events();
+  ASSERT_EQ(events.size(), 1u);
+  const double exact = std::acos((1.0 / 9.8 + 2.0 * std::cos(0.05)) / 3.0);
+  std::printf("  lift-off at t = %.6f s, sigma = %.6f m (rigid wire %.6f m)\n", events[0].time, events[0].position, exact);
+  EXPECT_NEAR(events[0].position, exact, 5e-3 * exact);
+}

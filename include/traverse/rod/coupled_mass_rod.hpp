@@ -77,6 +77,20 @@ class CoupledRodStepper {
 
 namespace traverse::rod {
 
+/// The contact force of the rod on the mass over one step [N], fixed frame:
+/// C = M (p'_new - p'_old) / dt - M g - (D - c v_mid) d3m (the mass's momentum balance at the
+/// step's midpoint), split along d3m = unit(d3_old + d3_new) into `tangential` (zero without
+/// friction, to round-off: the mass's own equation) and `normal`; `up` = C . d2m,
+/// d2m = unit(d2_old + d2_new) at sigma: a unilateral mass (on the +d2 side) lifts off where it
+/// would turn negative.
+struct CoupledContact {
+  Vec3 normal = Vec3::Zero();
+  double tangential = 0.0;
+  double up = 0.0;
+};
+CoupledContact step_contact(const RodState& old_state, const CoupledMassState& m_old, const RodState& new_state,
+                            const CoupledMassState& m_new, const CoupledRodMass& mass, const Vec3& gravity, double dt);
+
 /// Energies of rod + coupled mass [J] (physics spec section 4).
 struct CoupledRodEnergies {
   double rod = 0.0;           ///< kinetic + elastic, discrete_energy (cell averages)
