@@ -168,11 +168,13 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end);
   long written = 0;
   const auto wall_start = std::chrono::steady_clock::now();
-  sim.run([&](const beam::CoupledMassBeam& s) {
+  const std::string integrator = scene::name_of(sc.beam.integrator);
+  auto observe = [&](const beam::CoupledMassBeam& s) {
     if (!s.Y().allFinite() || !s.Ydot().allFinite() || !std::isfinite(s.position()) || !std::isfinite(s.speed())) {
       std::ostringstream os;
       os << "beam solver: the state of the beam and coupled mass '" << load.name << "' is not finite at t = " << s.time()
-         << " s (after " << s.steps_taken() << " steps of dt = " << p.dt << " s with rk4); reduce time.dt";
+         << " s (after " << s.steps_taken() << " steps of dt = " << p.dt << " s with " << integrator
+         << "); reduce time.dt";
       progress.done();
       writer.fail(os.str());
       throw NumericsError(os.str());
@@ -191,7 +193,15 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
       writer.fail(os.str());
       throw Interrupted(sig, opt.output, os.str(), os.str());
     }
-  });
+  };
+  try {
+    sim.run(observe);
+  } catch (const std::runtime_error& e) {  // the Newmark iteration (NumericsError, Interrupted pass)
+    if (dynamic_cast<const NumericsError*>(&e) || dynamic_cast<const Interrupted*>(&e)) throw;
+    progress.done();
+    writer.fail(e.what());
+    throw NumericsError(e.what());
+  }
   progress.done();
   std::vector<output::RunEvent> events;
   const bool event = sim.end_reason() != beam::CoupledEnd::EndTime;
@@ -199,8 +209,8 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   writer.write_events(events);
   writer.finish();
   if (rank == 0 && !opt.quiet) {
-    std::printf("beam scene '%s': %d modes, coupled mass '%s', %ld steps of dt = %.4g s (rk4) to t = %.9g s", sc.file.c_str(),
-                sc.beam.modes, load.name.c_str(), sim.steps_taken(), p.dt, sim.time());
+    std::printf("beam scene '%s': %d modes, coupled mass '%s', %ld steps of dt = %.4g s (%s) to t = %.9g s", sc.file.c_str(),
+                sc.beam.modes, load.name.c_str(), sim.steps_taken(), p.dt, integrator.c_str(), sim.time());
     if (event)
       std::printf(", ended by the event %s at x = %.9g m", beam::coupled_end_name(sim.end_reason()).c_str(),
                   sim.position());

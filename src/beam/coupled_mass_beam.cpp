@@ -27,9 +27,12 @@ const std::string& coupled_end_name(CoupledEnd e) {
 struct CoupledMassBeam::State {
   VecX Y, V;
   double x = 0.0, v = 0.0, drive = 0.0, loss = 0.0;
+  VecX A;          ///< Y'' (Newmark only)
+  double a = 0.0;  ///< x'' (Newmark only)
   void resize(Eigen::Index n) {
     Y.setZero(n);
     V.setZero(n);
+    A.setZero(n);
   }
   /// this = a + h b (no allocation: sizes are fixed).
   void set_axpy(const State& a, double h, const State& b) {
@@ -54,6 +57,9 @@ struct CoupledMassBeam::State {
 struct CoupledMassBeam::Work {
   mutable VecX phi, dphi, ddphi, r0, zY, uY;
   State k[4], stage, s0, s1, trial;
+  mutable double h_cache[2] = {0.0, 0.0};
+  mutable MatX B_inv[2];  ///< (Mb + h^2/4 Kb)^{-1} for two step lengths (Newmark)
+  mutable int next_slot = 0;
 };
 
 CoupledMassBeam::~CoupledMassBeam() = default;
@@ -68,7 +74,8 @@ CoupledMassBeam::CoupledMassBeam(BeamProblem problem, CoupledMass mass) : proble
     throw std::invalid_argument("CoupledMassBeam: too many time steps (traverse/core/time_grid.hpp)");
   if (p.output_every < 1) throw std::invalid_argument("CoupledMassBeam: output_every must be >= 1");
   if (!p.loads.empty()) throw std::invalid_argument("CoupledMassBeam: other moving loads are not supported");
-  if (p.integrator != Integrator::RK4) throw std::invalid_argument("CoupledMassBeam: only RK4 is implemented");
+  if (p.integrator != Integrator::RK4 && p.integrator != Integrator::Newmark)
+    throw std::invalid_argument("CoupledMassBeam: unknown integrator");
   if (!(mass_.mass > 0) || !std::isfinite(mass_.mass)) throw std::invalid_argument("CoupledMassBeam: mass must be > 0");
   if (!(mass_.start >= 0.0 && mass_.start <= p.length))
     throw std::invalid_argument("CoupledMassBeam: start must lie on the beam, in [0, L]");
@@ -88,6 +95,7 @@ CoupledMassBeam::CoupledMassBeam(BeamProblem problem, CoupledMass mass) : proble
   for (State* s : {&w_->k[0], &w_->k[1], &w_->k[2], &w_->k[3], &w_->stage, &w_->s0, &w_->s1, &w_->trial})
     s->resize(n);
   Y_.setZero(n);
+  A_.setZero(n);
   V_.setZero(n);
   reset();
 }
@@ -133,6 +141,70 @@ void CoupledMassBeam::rk4(const State& s0, double h, State& s1) const {
   s1.add(h / 6.0, k[3]);
 }
 
+const MatX& CoupledMassBeam::newmark_inverse(double h) const {
+  Work& w = *w_;
+  for (int k = 0; k < 2; ++k)
+    if (std::abs(w.h_cache[k] - h) <= 1e-12 * h) return w.B_inv[k];
+  const int k = w.next_slot;
+  w.next_slot = 1 - k;
+  const MatX B = mats_.Mb + (0.25 * h * h) * mats_.Kb;
+  w.B_inv[k] = B.ldlt().solve(MatX::Identity(B.rows(), B.cols()));
+  w.h_cache[k] = h;
+  return w.B_inv[k];
+}
+
+// Average-acceleration Newmark (the trapezoidal rule) on (Y, x) with all terms at the new level:
+// Kb Y and c x' implicit through the effective matrix blockdiag(Mb + q Kb, M + c h / 2) + M G G^T
+// (q = h^2/4), the modes at x and the convective terms by a fixed-point iteration on the new
+// accelerations until Y and x change by less than 1e-14 of their size.
+void CoupledMassBeam::newmark(const State& s0, double h, State& s1) const {
+  const Work& w = *w_;
+  const double q = 0.25 * h * h, M = mass_.mass, g = problem_.gravity, c = mass_.resistance;
+  const MatX& Binv = newmark_inverse(h);
+  const VecX Yp = s0.Y + h * s0.V + q * s0.A, Vp = s0.V + (0.5 * h) * s0.A;
+  const double xp = s0.x + h * s0.v + q * s0.a, vp = s0.v + 0.5 * h * s0.a, Mx = M + 0.5 * h * c;
+  s1.A = s0.A;
+  s1.a = s0.a;
+  for (int it = 0;; ++it) {
+    if (it == 100)
+      throw std::runtime_error("CoupledMassBeam: the Newmark iteration of the coupled mass did not converge at t = " +
+                               std::to_string(t_) + " s (reduce time.dt)");
+    s1.Y = Yp + q * s1.A;
+    s1.V = Vp + (0.5 * h) * s1.A;
+    s1.x = xp + q * s1.a;
+    s1.v = vp + 0.5 * h * s1.a;
+    modes_->evaluate(std::clamp(s1.x, 0.0, problem_.length), w.phi, w.dphi, w.ddphi);
+    const double slope = w.dphi.dot(s1.Y);
+    const double hc = 2.0 * s1.v * w.dphi.dot(s1.V) + s1.v * s1.v * w.ddphi.dot(s1.Y);
+    w.r0.noalias() = -mats_.Pb;
+    w.r0.noalias() -= mats_.Kb * Yp;
+    w.r0.noalias() -= (M * (g + hc)) * w.phi;
+    const double r1 = mass_.drive - c * vp - M * (g + hc) * slope;
+    w.zY.noalias() = Binv * w.r0;
+    w.uY.noalias() = Binv * w.phi;
+    const double zx = r1 / Mx, ux = slope / Mx;
+    const double beta = M * (w.phi.dot(w.zY) + slope * zx) / (1.0 + M * (w.phi.dot(w.uY) + slope * ux));
+    const double a_new = zx - beta * ux;
+    const double dY = q * (w.zY - beta * w.uY - s1.A).cwiseAbs().maxCoeff(), dx = q * std::abs(a_new - s1.a);
+    s1.A = w.zY - beta * w.uY;
+    s1.a = a_new;
+    if (dx <= 1e-14 * problem_.length && dY <= 1e-14 * std::max(s1.Y.cwiseAbs().maxCoeff(), 1e-300)) break;
+  }
+  s1.Y = Yp + q * s1.A;
+  s1.V = Vp + (0.5 * h) * s1.A;
+  s1.x = xp + q * s1.a;
+  s1.v = vp + 0.5 * h * s1.a;
+  s1.drive = s0.drive + 0.5 * h * mass_.drive * (s0.v + s1.v);
+  s1.loss = s0.loss + 0.5 * h * c * (s0.v * s0.v + s1.v * s1.v);
+}
+
+void CoupledMassBeam::step(const State& s0, double h, State& s1) const {
+  if (problem_.integrator == Integrator::Newmark)
+    newmark(s0, h, s1);
+  else
+    rk4(s0, h, s1);
+}
+
 // >= 0 while the event has not happened: x, L - x, the normal force / (M g).
 double CoupledMassBeam::event_value(CoupledEnd e, const State& s) const {
   switch (e) {
@@ -170,7 +242,7 @@ bool CoupledMassBeam::locate_event(const State& s0, double t0, double h, State& 
     for (int it = 0; it < 100 && b - a > 1e-14 * h; ++it) {
       const double c = ga > 0.0 ? (a * gb - b * ga) / (gb - ga) : a;
       if (c <= a || c >= b) break;
-      rk4(s0, c, w_->trial);
+      step(s0, c, w_->trial);
       const double gc = event_value(e, w_->trial);
       if (std::abs(gc) < 1e-15) {
         b = c;
@@ -194,7 +266,7 @@ bool CoupledMassBeam::locate_event(const State& s0, double t0, double h, State& 
     }
   }
   if (first == CoupledEnd::EndTime) return false;
-  if (tau_first < h) rk4(s0, tau_first, s1);
+  if (tau_first < h) step(s0, tau_first, s1);
   end_ = first;
   t_ = t0 + tau_first;
   return true;
@@ -207,6 +279,8 @@ void CoupledMassBeam::load_state(const State& s) {
   v_ = s.v;
   work_drive_ = s.drive;
   work_loss_ = s.loss;
+  A_ = s.A;
+  a_ = s.a;
 }
 
 void CoupledMassBeam::reset() {
@@ -229,6 +303,15 @@ void CoupledMassBeam::reset() {
     }
     default: throw std::invalid_argument("CoupledMassBeam: unknown initial state");
   }
+  State s, d;
+  s.Y = Y_;
+  s.V = V_;
+  s.x = x_;
+  s.v = v_;
+  d.resize(Y_.size());
+  derivative(s, d);
+  A_ = d.V;
+  a_ = d.v;
 }
 
 void CoupledMassBeam::run(const Observer& observer) {
@@ -244,8 +327,10 @@ void CoupledMassBeam::run(const Observer& observer) {
     w.s0.v = v_;
     w.s0.drive = work_drive_;
     w.s0.loss = work_loss_;
+    w.s0.A = A_;
+    w.s0.a = a_;
     const double t0 = t_, h = grid.time(k) - t0;
-    rk4(w.s0, h, w.s1);
+    step(w.s0, h, w.s1);
     ++steps_;
     const bool event = locate_event(w.s0, t0, h, w.s1);
     load_state(w.s1);

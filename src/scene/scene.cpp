@@ -693,9 +693,6 @@ void check_coupled_masses(Scene& sc) {
               format_number(l.friction));
   }
   if (!coupled) return;
-  if (sc.model == Model::Beam && sc.beam.integrator != BeamIntegrator::rk4)
-    fail_at(sc, "beam.integrator", "rk4 with a coupled_mass (newmark is not yet supported with one)",
-            name_of(sc.beam.integrator));
   if (sc.loads.size() > 1)
     fail_at(sc, "loads." + coupled->name + ".type",
             "a coupled_mass as the only load of its scene (not yet supported: together with other loads)",

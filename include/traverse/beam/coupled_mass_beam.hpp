@@ -52,13 +52,16 @@ struct CoupledEnergies {
 /// x'' = D/M - (c/M) x' - (g + w_tt + 2 x' w_xt + x'^2 w_xx) w_x plus its term x'' w_x^2
 /// (second order in the slope), which makes the pair conservative. The mass matrix is a
 /// rank-one update of blockdiag(Mb, M) (Sherman-Morrison on the precomputed Mb^{-1}).
-/// RK4 at fixed steps (the work of drive and resistance is integrated with the state); a step
+/// RK4 (the work of drive and resistance integrated with the state) or average-acceleration
+/// Newmark (Kb and c implicit, the modes at x and the convective terms by a fixed-point
+/// iteration; the works by the trapezoidal rule) at fixed steps; a step
 /// in which an event happens (the mass leaves at either end, unilateral lift-off) is
 /// shortened to end at the event (secant on the step length), and the run ends there.
 class CoupledMassBeam {
  public:
   /// Throws std::invalid_argument for a problem it cannot integrate (loads other than the
-  /// coupled mass, an integrator other than RK4, non-positive sizes, start off the beam).
+  /// coupled mass, non-positive sizes, start off the beam). run() throws std::runtime_error
+  /// when the Newmark iteration does not converge.
   CoupledMassBeam(BeamProblem beam, CoupledMass mass);
   ~CoupledMassBeam();
   CoupledMassBeam(const CoupledMassBeam&) = delete;
@@ -103,6 +106,9 @@ class CoupledMassBeam {
   struct State;
   void derivative(const State& s, State& d) const;
   void rk4(const State& s0, double h, State& s1) const;
+  void newmark(const State& s0, double h, State& s1) const;
+  void step(const State& s0, double h, State& s1) const;
+  const MatX& newmark_inverse(double h) const;
   double event_value(CoupledEnd e, const State& s) const;
   bool locate_event(const State& s0, double t0, double h, State& s1);
   void load_state(const State& s);
@@ -115,7 +121,8 @@ class CoupledMassBeam {
   std::unique_ptr<Work> w_;
   double t_ = 0.0;
   long steps_ = 0;
-  VecX Y_, V_;
+  VecX Y_, V_, A_;
+  double a_ = 0.0;
   double x_ = 0.0, v_ = 0.0, work_drive_ = 0.0, work_loss_ = 0.0;
   CoupledEnd end_ = CoupledEnd::EndTime;
 };
