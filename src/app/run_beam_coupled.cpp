@@ -12,6 +12,8 @@
 #include "run.hpp"
 #include "run_beam_coupled.hpp"
 #include "traverse/beam/coupled_mass_beam.hpp"
+#include "traverse/output/reader.hpp"
+#include "traverse/output/restart.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/version.hpp"
 
@@ -37,7 +39,10 @@ class CoupledOutputs {
                  const beam::ModeSet& modes, MPI_Comm comm);
   const output::NodeLayout& layout() const { return layout_; }
   void declare(output::Writer& w) const;
+  std::vector<std::string> probe_names() const;
+  std::vector<std::string> field_names() const;
   void evaluate(const beam::CoupledMassBeam& s);
+  const std::vector<std::vector<double>>& probes() const { return probes_; }
   void write(output::Writer& w, double t) const {
     std::vector<output::DoubleView> views(fields_.begin(), fields_.end());
     w.write_step(t, sigma_, probes_, views);
@@ -82,6 +87,27 @@ CoupledOutputs::CoupledOutputs(const scene::Scene& sc, const scene::MovingLoadSp
   fields_.emplace_back(3 * layout_.count);
   if (want_slope_) fields_.emplace_back(layout_.count);
   if (want_moment_) fields_.emplace_back(layout_.count);
+}
+
+const char* const kEnergyProbes[] = {"energy_beam_kinetic", "energy_beam_elastic", "energy_beam_gravity",
+                                      "energy_mass_kinetic", "energy_mass_gravity", "work_drive",
+                                      "work_dissipated", "energy_balance"};
+
+std::vector<std::string> CoupledOutputs::probe_names() const {
+  std::vector<std::string> names;
+  for (const auto& pr : sc_.output.probes) names.push_back(pr.name);
+  for (const char* q : {"_position", "_speed", "_deflection", "_fixed_position", "_fixed_velocity", "_normal_force",
+                        "_tangential_force"})
+    names.push_back(load_.name + q);
+  for (const char* e : kEnergyProbes) names.push_back(e);
+  return names;
+}
+
+std::vector<std::string> CoupledOutputs::field_names() const {
+  std::vector<std::string> names{"deflection", "position"};
+  if (want_slope_) names.push_back("slope");
+  if (want_moment_) names.push_back("bending_moment");
+  return names;
 }
 
 void CoupledOutputs::declare(output::Writer& w) const {
@@ -143,6 +169,51 @@ void CoupledOutputs::evaluate(const beam::CoupledMassBeam& s) {
     for (size_t j = 0; j < layout_.count; ++j) fields_[f][j] = EI_ * ddphi_[j].dot(s.Y());
 }
 
+/// --restart of a coupled beam run: the run is integrated again from t = 0 (as other beam runs,
+/// docs/reliability.md); the output steps the file holds are checked against the replay (same
+/// values to 1e-12), then rewritten.
+class CoupledReplay {
+ public:
+  CoupledReplay(const RunOptions& opt, const CoupledOutputs& out, MPI_Comm comm) : opt_(opt), names_(out.probe_names()) {
+    if (!opt.restart) return;
+    const std::string source = output::restart_source(opt.output);
+    output::check_restart_outputs(source, names_, out.field_names());
+    try {
+      output::Reader r(source);
+      kept_ = r.steps_written();
+      time_ = r.time();
+      for (const auto& n : names_) probes_.push_back(r.probe(n));
+    } catch (const output::OutputError& e) {
+      throw UsageError{"--restart: cannot read " + source + " (" + e.what() + ")"};
+    }
+    output::move_aside_for_restart(opt.output, comm);
+  }
+  std::size_t kept() const { return kept_; }
+  void check(std::size_t o, double t, const std::vector<std::vector<double>>& probes) const {
+    auto differs = [](double a, double b) {
+      return !(a == b || (std::isnan(a) && std::isnan(b)) || std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)));
+    };
+    std::string bad;
+    if (differs(time_[o], t)) bad = "time " + scene::format_number(time_[o]) + " vs " + scene::format_number(t);
+    for (size_t q = 0; bad.empty() && q < probes.size(); ++q)
+      for (size_t c = 0; bad.empty() && c < probes[q].size(); ++c)
+        if (differs(probes_[q].values[o * probes_[q].components + c], probes[q][c]))
+          bad = "probe " + names_[q] + " = " + scene::format_number(probes_[q].values[o * probes_[q].components + c]) +
+                " vs " + scene::format_number(probes[q][c]);
+    if (!bad.empty())
+      throw UsageError{"--restart " + opt_.output + ": re-integrating the beam and its coupled mass does not reproduce "
+                       "output step " + std::to_string(o) + " (" + bad + "); the scene or the program differ from the "
+                       "run being restarted"};
+  }
+
+ private:
+  const RunOptions& opt_;
+  std::vector<std::string> names_;
+  std::size_t kept_ = 0;
+  std::vector<double> time_;
+  std::vector<output::Series> probes_;
+};
+
 }  // namespace
 
 const scene::MovingLoadSpec* coupled_load(const scene::Scene& sc) {
@@ -153,17 +224,15 @@ const scene::MovingLoadSpec* coupled_load(const scene::Scene& sc) {
 
 void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, const RunOptions& opt, MPI_Comm comm) {
   const scene::MovingLoadSpec& load = *coupled_load(sc);
-  if (opt.restart)
-    throw UsageError{"--restart: a run with a coupled_mass (load '" + load.name + "' of " + sc.file +
-                     ") cannot be restarted yet (not implemented); run it again from the start"};
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   beam::BeamProblem p = problem;
   p.loads.clear();
   beam::CoupledMassBeam sim(p, coupled_mass(load));
   CoupledOutputs outputs(sc, load, p, sim.modes(), comm);
+  const CoupledReplay replay(opt, outputs, comm);
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "beam"};
-  output::Writer writer(comm, opt.output, opt.overwrite, info, outputs.layout(), 1);
+  output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
   outputs.declare(writer);
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end);
   long written = 0;
@@ -180,8 +249,11 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
       throw NumericsError(os.str());
     }
     outputs.evaluate(s);
+    const auto o = static_cast<std::size_t>(written);
+    if (o < replay.kept()) replay.check(o, s.time(), outputs.probes());
     outputs.write(writer, s.time());
     ++written;
+    if (opt.restart && static_cast<std::size_t>(written) == replay.kept()) output::remove_restart_source(opt.output, comm);
     progress.update(s.time(), s.steps_taken());
     if (s.time() >= p.t_end || s.end_reason() != beam::CoupledEnd::EndTime) return;
     if (const int sig = interrupt_requested(comm)) {
@@ -189,7 +261,8 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
       std::ostringstream os;
       os.precision(12);
       os << "interrupted at t = " << s.time() << " s (time step " << s.steps_taken() << ", " << signal_name(sig)
-         << "); " << writer.steps_written() << " output steps written; a run with a coupled_mass cannot be restarted yet";
+         << "); " << writer.steps_written() << " output steps written; continue with traverse run --restart "
+         << opt.output;
       writer.fail(os.str());
       throw Interrupted(sig, opt.output, os.str(), os.str());
     }
@@ -208,6 +281,7 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   if (event) events.push_back({sim.time(), sim.position(), load.name, beam::coupled_end_name(sim.end_reason())});
   writer.write_events(events);
   writer.finish();
+  if (opt.restart && static_cast<std::size_t>(written) < replay.kept()) output::remove_restart_source(opt.output, comm);
   if (rank == 0 && !opt.quiet) {
     std::printf("beam scene '%s': %d modes, coupled mass '%s', %ld steps of dt = %.4g s (%s) to t = %.9g s", sc.file.c_str(),
                 sc.beam.modes, load.name.c_str(), sim.steps_taken(), p.dt, integrator.c_str(), sim.time());

@@ -12,7 +12,8 @@ namespace traverse::app {
 const scene::MovingLoadSpec* coupled_load(const scene::Scene& scene);
 
 /// Runs a beam scene whose (only) load is a coupled_mass, on the beam problem `problem` (its
-/// loads are ignored). Same contract as run_beam; --restart is refused (UsageError).
+/// loads are ignored). Same contract as run_beam; --restart re-integrates from t = 0 and checks
+/// the output steps the file holds (UsageError when they differ).
 void run_beam_coupled(const scene::Scene& scene, const beam::BeamProblem& problem, const RunOptions& options,
                       MPI_Comm comm);
 
