@@ -169,52 +169,50 @@ void CoupledOutputs::evaluate(const beam::CoupledMassBeam& s) {
     for (size_t j = 0; j < layout_.count; ++j) fields_[f][j] = EI_ * ddphi_[j].dot(s.Y());
 }
 
-/// --restart of a coupled beam run: the run is integrated again from t = 0 (as other beam runs,
-/// docs/reliability.md); the output steps the file holds are checked against the replay (same
-/// values to 1e-12), then rewritten.
-class CoupledReplay {
- public:
-  CoupledReplay(const RunOptions& opt, const CoupledOutputs& out, MPI_Comm comm) : opt_(opt), names_(out.probe_names()) {
-    if (!opt.restart) return;
-    const std::string source = output::restart_source(opt.output);
-    output::check_restart_outputs(source, names_, out.field_names());
-    try {
-      output::Reader r(source);
-      kept_ = r.steps_written();
-      time_ = r.time();
-      for (const auto& n : names_) probes_.push_back(r.probe(n));
-    } catch (const output::OutputError& e) {
-      throw UsageError{"--restart: cannot read " + source + " (" + e.what() + ")"};
-    }
-    output::move_aside_for_restart(opt.output, comm);
-  }
-  std::size_t kept() const { return kept_; }
-  void check(std::size_t o, double t, const std::vector<std::vector<double>>& probes) const {
-    auto differs = [](double a, double b) {
-      return !(a == b || (std::isnan(a) && std::isnan(b)) || std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)));
-    };
-    std::string bad;
-    if (differs(time_[o], t)) bad = "time " + scene::format_number(time_[o]) + " vs " + scene::format_number(t);
-    for (size_t q = 0; bad.empty() && q < probes.size(); ++q)
-      for (size_t c = 0; bad.empty() && c < probes[q].size(); ++c)
-        if (differs(probes_[q].values[o * probes_[q].components + c], probes[q][c]))
-          bad = "probe " + names_[q] + " = " + scene::format_number(probes_[q].values[o * probes_[q].components + c]) +
-                " vs " + scene::format_number(probes[q][c]);
-    if (!bad.empty())
-      throw UsageError{"--restart " + opt_.output + ": re-integrating the beam and its coupled mass does not reproduce "
-                       "output step " + std::to_string(o) + " (" + bad + "); the scene or the program differ from the "
-                       "run being restarted"};
-  }
-
- private:
-  const RunOptions& opt_;
-  std::vector<std::string> names_;
-  std::size_t kept_ = 0;
-  std::vector<double> time_;
-  std::vector<output::Series> probes_;
-};
-
 }  // namespace
+
+
+CoupledReplay::CoupledReplay(const RunOptions& opt, const std::vector<std::string>& probe_names,
+                             const std::vector<std::string>& field_names, MPI_Comm comm)
+    : opt_(opt), names_(probe_names) {
+  if (!opt.restart) return;
+  const std::string source = output::restart_source(opt.output);
+  output::check_restart_outputs(source, names_, field_names);
+  try {
+    output::Reader r(source);
+    kept_ = r.steps_written();
+    time_ = r.time();
+    for (const auto& n : names_) probes_.push_back(r.probe(n));
+  } catch (const output::OutputError& e) {
+    throw UsageError{"--restart: cannot read " + source + " (" + e.what() + ")"};
+  }
+  output::move_aside_for_restart(opt.output, comm);
+}
+
+void CoupledReplay::check(std::size_t o, double t, const std::vector<std::vector<double>>& probes) const {
+  auto differs = [](double a, double b) {
+    return !(a == b || (std::isnan(a) && std::isnan(b)) || std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)));
+  };
+  std::string bad;
+  if (differs(time_[o], t)) bad = "time " + scene::format_number(time_[o]) + " vs " + scene::format_number(t);
+  for (size_t q = 0; bad.empty() && q < probes.size(); ++q)
+    for (size_t c = 0; bad.empty() && c < probes[q].size(); ++c)
+      if (differs(probes_[q].values[o * probes_[q].components + c], probes[q][c]))
+        bad = "probe " + names_[q] + " = " + scene::format_number(probes_[q].values[o * probes_[q].components + c]) +
+              " vs " + scene::format_number(probes[q][c]);
+  if (!bad.empty())
+    throw UsageError{"--restart " + opt_.output + ": re-integrating the structure and its coupled mass does not "
+                     "reproduce output step " + std::to_string(o) + " (" + bad + "); the scene or the program differ "
+                     "from the run being restarted"};
+}
+
+void CoupledReplay::written(std::size_t steps, MPI_Comm comm) const {
+  if (opt_.restart && steps == kept_) output::remove_restart_source(opt_.output, comm);
+}
+
+void CoupledReplay::finished(std::size_t steps, MPI_Comm comm) const {
+  if (opt_.restart && steps < kept_) output::remove_restart_source(opt_.output, comm);
+}
 
 const scene::MovingLoadSpec* coupled_load(const scene::Scene& sc) {
   for (const auto& l : sc.loads)
@@ -230,7 +228,7 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   p.loads.clear();
   beam::CoupledMassBeam sim(p, coupled_mass(load));
   CoupledOutputs outputs(sc, load, p, sim.modes(), comm);
-  const CoupledReplay replay(opt, outputs, comm);
+  const CoupledReplay replay(opt, outputs.probe_names(), outputs.field_names(), comm);
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "beam"};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
   outputs.declare(writer);
@@ -253,7 +251,7 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
     if (o < replay.kept()) replay.check(o, s.time(), outputs.probes());
     outputs.write(writer, s.time());
     ++written;
-    if (opt.restart && static_cast<std::size_t>(written) == replay.kept()) output::remove_restart_source(opt.output, comm);
+    replay.written(static_cast<std::size_t>(written), comm);
     progress.update(s.time(), s.steps_taken());
     if (s.time() >= p.t_end || s.end_reason() != beam::CoupledEnd::EndTime) return;
     if (const int sig = interrupt_requested(comm)) {
@@ -281,7 +279,7 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   if (event) events.push_back({sim.time(), sim.position(), load.name, beam::coupled_end_name(sim.end_reason())});
   writer.write_events(events);
   writer.finish();
-  if (opt.restart && static_cast<std::size_t>(written) < replay.kept()) output::remove_restart_source(opt.output, comm);
+  replay.finished(static_cast<std::size_t>(written), comm);
   if (rank == 0 && !opt.quiet) {
     std::printf("beam scene '%s': %d modes, coupled mass '%s', %ld steps of dt = %.4g s (%s) to t = %.9g s", sc.file.c_str(),
                 sc.beam.modes, load.name.c_str(), sim.steps_taken(), p.dt, integrator.c_str(), sim.time());

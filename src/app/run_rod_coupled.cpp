@@ -68,8 +68,11 @@ class CoupledRodOutputs {
     return l;
   }
   void declare(output::Writer& w) const;
+  std::vector<std::string> probe_names() const;
+  std::vector<std::string> field_names() const;
+  /// Evaluates the outputs at a state, checks them against a restart's file, writes them.
   void write(output::Writer& w, const rod::RodState& s, const std::vector<Vec3>& r, const rod::CoupledMassState& m,
-             const StepContact& c);
+             const StepContact& c, const CoupledReplay& replay, MPI_Comm comm);
 
  private:
   const scene::Scene& sc_;
@@ -77,6 +80,25 @@ class CoupledRodOutputs {
   const rod::RodModel& model_;
   std::vector<std::vector<double>> probes_, fields_;
 };
+
+const char* const kMassProbes[] = {"_position", "_speed", "_fixed_position", "_fixed_velocity", "_normal_force",
+                                    "_tangential_force"};
+const char* const kEnergyProbes[] = {"energy_rod", "energy_rod_gravity", "energy_mass_kinetic", "energy_mass_gravity",
+                                     "work_drive", "work_dissipated", "energy_balance"};
+
+std::vector<std::string> CoupledRodOutputs::probe_names() const {
+  std::vector<std::string> names;
+  for (const auto& pr : sc_.output.probes) names.push_back(pr.name);
+  for (const char* q : kMassProbes) names.push_back(load_.name + q);
+  for (const char* e : kEnergyProbes) names.push_back(e);
+  return names;
+}
+
+std::vector<std::string> CoupledRodOutputs::field_names() const {
+  std::vector<std::string> names;
+  for (const auto f : sc_.output.fields) names.push_back(scene::name_of(f));
+  return names;
+}
 
 void CoupledRodOutputs::declare(output::Writer& w) const {
   const std::vector<std::string> xyz{"x", "y", "z"}, d123{"1", "2", "3"};
@@ -112,7 +134,8 @@ void CoupledRodOutputs::declare(output::Writer& w) const {
 }
 
 void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const std::vector<Vec3>& r,
-                              const rod::CoupledMassState& m, const StepContact& c) {
+                              const rod::CoupledMassState& m, const StepContact& c, const CoupledReplay& replay,
+                              MPI_Comm comm) {
   probes_.clear();
   const int N = s.num_cells();
   auto view = [&](int j) { return node_view(s.nodes[static_cast<size_t>(j)], r[static_cast<size_t>(j)]); };
@@ -150,8 +173,11 @@ void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const s
       }
     }
   }
+  const std::size_t o = w.steps_written();
+  if (o < replay.kept()) replay.check(o, s.t, probes_);
   std::vector<output::DoubleView> views(fields_.begin(), fields_.end());
   w.write_step(s.t, {m.sigma}, probes_, views);
+  replay.written(w.steps_written(), comm);
 }
 
 }  // namespace
@@ -160,9 +186,6 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
                      MPI_Comm comm) {
   const scene::MovingLoadSpec& load = *coupled_load(sc);
   check_coupled_rod(sc, load, setup.model, comm);
-  if (opt.restart)
-    throw UsageError{"--restart: a run with a coupled_mass (load '" + load.name + "' of " + sc.file +
-                     ") cannot be restarted yet (not implemented); run it again from the start"};
   InitialState start = initial_state(sc, setup, comm);
   const rod::CoupledRodMass mass{load.mass, load.drive, load.resistance};
   rod::CoupledRodStepper stepper(setup.model, mass);
@@ -170,11 +193,12 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   rod::CoupledMassState m{load.start, load.initial_velocity()};
   std::vector<Vec3> r = rod::centreline_in_space(state);
   CoupledRodOutputs outputs(sc, load, stepper.model());
+  const CoupledReplay replay(opt, outputs.probe_names(), outputs.field_names(), comm);
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod", {}};
   info.attributes = {{"rod_path", "3D"}, {"rod_path_detail", "3D, serial reference stepper (coupled_mass)"}};
-  output::Writer writer(comm, opt.output, opt.overwrite, info, outputs.layout(), 1);
+  output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
   outputs.declare(writer);
-  outputs.write(writer, state, r, m, StepContact{});
+  outputs.write(writer, state, r, m, StepContact{}, replay, comm);
   if (!opt.quiet)
     std::printf("rod scene '%s': %d nodes, up to %ld steps of dt = %.6g s to t = %.6g s; initial state: %s; coupled mass "
                 "'%s' on the serial reference stepper (partitioned iteration), 3D path\n",
@@ -220,12 +244,12 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
     up_prev = c.up;
     up_time = old.t + 0.5 * h;
     if (i % sc.output.every == 0 || i == grid.steps || !events.empty())
-      outputs.write(writer, state, r, m, StepContact{c.normal, c.tangential});
+      outputs.write(writer, state, r, m, StepContact{c.normal, c.tangential}, replay, comm);
     progress.update(state.t, i);
     if (const int sig = i < grid.steps && events.empty() ? interrupt_requested(comm) : 0) {
       progress.done();
       const std::string msg = "interrupted at t = " + scene::format_number(state.t) + " s (" + signal_name(sig) +
-                              "); a run with a coupled_mass cannot be restarted yet";
+                              "); continue with traverse run --restart " + opt.output;
       writer.fail(msg);
       throw Interrupted(sig, opt.output, msg, msg);
     }
@@ -233,6 +257,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   progress.done();
   writer.write_events(events);
   writer.finish();
+  replay.finished(writer.steps_written(), comm);
   if (!opt.quiet) {
     std::printf("done: %ld steps, %ld coupling iterations, %ld Newton iterations", i - 1, coupling, newton);
     if (!events.empty())

@@ -8,8 +8,8 @@
 namespace traverse::app {
 
 /// Runs a rod scene whose (only) load is a coupled_mass on the serial reference stepper (one
-/// rank, box scheme, bilateral); what it does not support is refused with a SceneError naming
-/// the key, --restart with a UsageError. Same contract as run_rod otherwise.
+/// rank, box scheme); what it does not support is refused with a SceneError naming the key;
+/// --restart replays from t = 0 (CoupledReplay). Same contract as run_rod otherwise.
 void run_rod_coupled(const scene::Scene& scene, const RodSetup& setup, const TimeGrid& grid, const RunOptions& options,
                      MPI_Comm comm);
 
