@@ -461,6 +461,10 @@ void print_start(const scene::Scene& sc, const TimeGrid& g, const std::string& i
 
 void check_rod(const scene::Scene& sc) {
   const RodSetup setup = build_rod_model(sc);
+  if (coupled_load(sc)) {
+    check_coupled_rod(sc, setup.model, 1);  // the ranks are the run's: checked when it starts
+    return;
+  }
   precheck_planar(sc, setup.model);
 }
 

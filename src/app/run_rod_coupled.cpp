@@ -26,11 +26,10 @@ namespace {
 
 constexpr int kMaxCoupledNodes = 2001;  // the reference stepper factorises the whole rod
 
-/// What the serial coupled rod run does not do yet: exit 2 naming the key.
-void check_coupled_rod(const scene::Scene& sc, const scene::MovingLoadSpec& load, const rod::RodModel& model,
-                       MPI_Comm comm) {
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
+}  // namespace
+
+void check_coupled_rod(const scene::Scene& sc, const rod::RodModel& model, int ranks) {
+  const scene::MovingLoadSpec& load = *coupled_load(sc);
   const std::string k = "loads." + load.name;
   if (ranks != 1)
     scene::fail_at(sc, k + ".type", "a run on 1 rank: a coupled_mass on the rod uses the serial reference stepper "
@@ -48,6 +47,8 @@ void check_coupled_rod(const scene::Scene& sc, const scene::MovingLoadSpec& load
                    "at most " + std::to_string(kMaxCoupledNodes) + " nodes with a coupled_mass on the rod (the serial "
                    "reference stepper)", std::to_string(sc.mesh.nodes) + " nodes");
 }
+
+namespace {
 
 /// The contact of the last step (NaN before the first).
 struct StepContact {
@@ -185,7 +186,9 @@ void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const s
 void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGrid& grid, const RunOptions& opt,
                      MPI_Comm comm) {
   const scene::MovingLoadSpec& load = *coupled_load(sc);
-  check_coupled_rod(sc, load, setup.model, comm);
+  int ranks = 1;
+  MPI_Comm_size(comm, &ranks);
+  check_coupled_rod(sc, setup.model, ranks);
   InitialState start = initial_state(sc, setup, comm);
   const rod::CoupledRodMass mass{load.mass, load.drive, load.resistance};
   rod::CoupledRodStepper stepper(setup.model, mass);
