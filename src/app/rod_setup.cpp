@@ -33,6 +33,7 @@ rod::RodLoads rod_loads(const scene::Scene& sc) {
   rod::RodLoads loads;
   loads.gravity = Vec3(0.0, -sc.gravity, 0.0);
   for (const auto& l : sc.loads) {
+    if (l.coupled) continue;  // added by rod::CoupledRodStepper (run_rod_coupled.cpp)
     auto sigma = [l](double t) { return l.sigma(t); };
     if (l.inertia) {
       rod::MovingMass m;

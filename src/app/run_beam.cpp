@@ -8,6 +8,7 @@
 #include "interrupt.hpp"
 #include "progress.hpp"
 #include "run.hpp"
+#include "run_beam_coupled.hpp"
 #include "traverse/beam/beam_simulation.hpp"
 #include "traverse/output/reader.hpp"
 #include "traverse/output/restart.hpp"
@@ -308,6 +309,10 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   // is allocated; the time grid (dt, end) comes from the same plan.
   const TimeGrid grid = check_beam_run(sc, opt.limits, comm).grid;
   const beam::BeamProblem p = beam_problem(sc, grid);
+  if (coupled_load(sc)) {
+    run_beam_coupled(sc, p, opt, comm);
+    return;
+  }
   beam::BeamSimulation sim(p);
   BeamOutputs outputs(sc, p, sim.modes(), comm);
   const BeamReplay replay(opt, outputs.probe_names(), outputs.field_names(), comm);

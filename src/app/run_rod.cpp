@@ -22,6 +22,8 @@
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/output/restart.hpp"
 #include "run.hpp"
+#include "run_beam_coupled.hpp"
+#include "run_rod_coupled.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
 #include "traverse/version.hpp"
@@ -475,6 +477,10 @@ void print_start(const scene::Scene& sc, const TimeGrid& g, const std::string& i
 
 void check_rod(const scene::Scene& sc) {
   const RodSetup setup = build_rod_model(sc);
+  if (coupled_load(sc)) {
+    check_coupled_rod(sc, setup.model, 1);  // the ranks are the run's: checked when it starts
+    return;
+  }
   precheck_planar(sc, setup.model);
 }
 
@@ -493,6 +499,10 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   const RodSetup setup = build_rod_model(sc);
   const TimeGrid grid = check_rod_run(sc, setup.model, opt.limits, comm).grid;
   check_linear_solver(sc, setup, comm);
+  if (coupled_load(sc)) {
+    run_rod_coupled(sc, setup, grid, opt, comm);
+    return;
+  }
   if (!opt.restart) precheck_planar(sc, setup.model);
 
   // The initial state before the stepper: the static solve's matrices are freed before the

@@ -129,6 +129,25 @@ std::size_t Reader::node_count() const {
   return static_cast<std::size_t>(detail::dataset_dims(d.get(), "/mesh/s").at(0));
 }
 
+std::vector<RunEvent> Reader::events() const {
+  if (!impl_->has_link("/events")) return {};
+  Handle g = detail::group_handle(check_id(H5Gopen2(impl_->file.get(), "events", H5P_DEFAULT), "H5Gopen2",
+                                           impl_->path + ":/events"));
+  const auto n = static_cast<std::size_t>(detail::read_int_attribute(g.get(), "count"));
+  if (n == 0) return {};
+  const auto loads = detail::split(detail::read_string_attribute(g.get(), "loads"), ',');
+  const auto reasons = detail::split(detail::read_string_attribute(g.get(), "reasons"), ',');
+  Handle dt = impl_->open_dataset("/events/time"), dp = impl_->open_dataset("/events/position");
+  const auto time = impl_->read_block(dt.get(), {0}, {n}, "/events/time");
+  const auto position = impl_->read_block(dp.get(), {0}, {n}, "/events/position");
+  if (loads.size() != n || reasons.size() != n)
+    throw OutputError("output file " + impl_->path + ": /events holds " + std::to_string(n) + " events but " +
+                      std::to_string(loads.size()) + " load names and " + std::to_string(reasons.size()) + " reasons");
+  std::vector<RunEvent> out;
+  for (std::size_t i = 0; i < n; ++i) out.push_back({time[i], position[i], loads[i], reasons[i]});
+  return out;
+}
+
 std::vector<std::string> Reader::probe_names() const {
   if (!impl_->has_link("/probes")) return {};
   Handle g = detail::group_handle(

@@ -921,6 +921,38 @@ void Writer::write_restart(double time, const std::vector<RestartArray>& arrays)
   w.flush_file();
 }
 
+void Writer::write_events(const std::vector<RunEvent>& events) {
+  Impl& w = *impl_;
+  w.require_open("write_events");
+  const hid_t root = w.file.get();
+  const htri_t exists = H5Lexists(root, "events", H5P_DEFAULT);
+  check(exists, "H5Lexists", "/events");
+  if (exists > 0) check(H5Ldelete(root, "events", H5P_DEFAULT), "H5Ldelete", "/events");
+  Handle group = create_group(root, "events");
+  const hsize_t n = events.size();
+  std::vector<double> time, position;
+  std::vector<std::string> loads, reasons;
+  for (const auto& e : events) {
+    time.push_back(e.time);
+    position.push_back(e.position);
+    loads.push_back(e.load);
+    reasons.push_back(e.reason);
+  }
+  detail::write_int_attribute(group.get(), "count", static_cast<std::int64_t>(n));
+  detail::write_string_attribute(group.get(), "loads", detail::join(loads, ','));
+  detail::write_string_attribute(group.get(), "reasons", detail::join(reasons, ','));
+  if (n > 0) {
+    const std::pair<const char*, const std::vector<double>*> columns[] = {{"time", &time}, {"position", &position}};
+    for (const auto& [name, values] : columns) {
+      Handle d = create_fixed(group.get(), name, H5T_IEEE_F64LE, {n});
+      write_block(d.get(), w.dxpl.get(), H5T_NATIVE_DOUBLE, {0}, {n}, values->data(), w.rank == 0,
+                  std::string("/events/") + name);
+    }
+  }
+  detail::write_string_attribute(root, "end_reason", events.empty() ? "end_time" : events.front().reason);
+  w.flush_file();
+}
+
 void Writer::finish() {
   Impl& w = *impl_;
   w.require_open("finish");

@@ -18,7 +18,8 @@ namespace traverse::scene {
 TRAVERSE_ENUM_NAMES(Supports, "simply-supported", "clamped-free", "clamped-clamped", "clamped-pinned")
 TRAVERSE_ENUM_NAMES(BeamIntegrator, "rk4", "newmark")
 TRAVERSE_ENUM_NAMES(EndType, "clamped", "pinned", "sliding", "roller", "free", "prescribed")
-TRAVERSE_ENUM_NAMES(LoadType, "moving_mass", "moving_force")
+TRAVERSE_ENUM_NAMES(LoadType, "moving_mass", "moving_force", "coupled_mass")
+TRAVERSE_ENUM_NAMES(Contact, "bilateral", "unilateral")
 TRAVERSE_ENUM_NAMES(Entry, "left", "right")
 TRAVERSE_ENUM_NAMES(PlanarMode, "auto", "on", "off")
 TRAVERSE_ENUM_NAMES(InitialStateType, "static", "rest", "file", "arch")
@@ -131,6 +132,24 @@ std::shared_ptr<TypeRegistry> load_types() {
     for (const auto& p : motion_params()) t.params.push_back(p);
     r->add(t);
   }
+  r->add({"coupled_mass",
+          "A point mass that moves by itself along the deforming structure (two-way coupling): its position "
+          "is an unknown, driven by gravity along the local tangent, the structure's motion, an optional drive "
+          "and resistance; the run ends at the first event (the mass leaves the structure, lifts off)",
+          {real("mass", "Mass M", "kg").positive().required(),
+           real("start", "Initial position sigma0 along the structure (default 0)", "m").non_negative(),
+           real("speed", "Initial velocity along +s (negative: towards s = 0)", "m/s").def(0.0),
+           real("drive", "Constant drive force along the tangent d3 (a robot's traction; negative: towards s = 0)", "N")
+               .def(0.0),
+           real("resistance", "Viscous resistance c: a force -c sigma' d3 (air, not through the structure)", "N s/m")
+               .non_negative()
+               .def(0.0),
+           real("friction", "Coulomb friction coefficient mu between the mass and the structure", "").non_negative().def(0.0),
+           choice("contact", "bilateral: threaded on the structure (a bead); unilateral: resting on its upper (+d2, +w) "
+                             "side, it lifts off where the normal contact force would pull",
+                  enum_names<Contact>())
+               .def("bilateral")},
+          {}});
   return r;
 }
 
@@ -458,11 +477,33 @@ SectionSpec build_section(const ParameterList& s) {
   return out;
 }
 
+MovingLoadSpec build_coupled_mass(const std::string& name, const ParameterList& l, double g) {
+  MovingLoadSpec m;
+  m.name = name;
+  m.type = LoadType::coupled_mass;
+  m.coupled = true;
+  m.inertia = true;
+  m.mass = l.get<double>("mass");
+  m.force = Vec3(0.0, -m.mass * g, 0.0);
+  const double v0 = l.get<double>("speed");
+  m.entry = v0 < 0.0 ? Entry::right : Entry::left;
+  m.speed = std::abs(v0);
+  m.acceleration = 0.0;
+  m.start = l.isParameter("start") ? l.get<double>("start") : 0.0;
+  m.entry_time = 0.0;
+  m.drive = l.get<double>("drive");
+  m.resistance = l.get<double>("resistance");
+  m.friction = l.get<double>("friction");
+  m.contact = enum_of<Contact>(l.get<std::string>("contact"));
+  return m;
+}
+
 MovingLoadSpec build_load(const std::string& name, const ParameterList& l, double structure_mass, double length,
                           double g) {
   MovingLoadSpec m;
   m.name = name;
   m.type = enum_of<LoadType>(l.get<std::string>("type"));
+  if (m.type == LoadType::coupled_mass) return build_coupled_mass(name, l, g);
   m.inertia = m.type == LoadType::moving_mass;
   if (l.isParameter("mass")) m.mass = l.get<double>("mass");
   if (l.isParameter("mass_fraction")) {
@@ -630,6 +671,37 @@ void read_rod_scene(const ParameterList& p, Scene& sc) {
   if (p.isSublist("continuation")) read_continuation(p.sublist("continuation"), p.sublist("loads").numParams(), sc);
 }
 
+// coupled_mass: what is implemented so far (docs/beam.md, docs/rod.md "Coupled mass"); every
+// other combination is refused here rather than run wrongly.
+void check_coupled_masses(Scene& sc) {
+  const MovingLoadSpec* coupled = nullptr;
+  for (const auto& l : sc.loads) {
+    if (!l.coupled) continue;
+    const std::string k = "loads." + l.name;
+    if (sc.model == Model::Rod && sc.continuation.enabled)
+      fail_at(sc, k + ".type", "a moving_mass or moving_force in a continuation scene (a coupled_mass moves by "
+              "itself: dynamics only)", "coupled_mass");
+    if (sc.model == Model::Rod && sc.scheme.planar == PlanarMode::on)
+      fail_at(sc, "scheme.planar", "auto or off with a coupled_mass (it runs on the serial 3D reference stepper; "
+              "the planar path is not yet supported)", "on");
+    if (coupled)
+      fail_at(sc, k + ".type", "at most one coupled_mass per scene (not yet supported: several)",
+              "a second one besides '" + coupled->name + "'");
+    coupled = &l;
+    if (l.friction != 0.0)
+      fail_at(sc, k + ".friction", "0: Coulomb friction of a coupled_mass is not yet supported",
+              format_number(l.friction));
+  }
+  if (!coupled) return;
+  if (sc.loads.size() > 1)
+    fail_at(sc, "loads." + coupled->name + ".type",
+            "a coupled_mass as the only load of its scene (not yet supported: together with other loads)",
+            std::to_string(sc.loads.size()) + " loads");
+  if (sc.tree.params.sublist("time").isType<std::string>("end"))
+    fail_at(sc, "time.end", "a number with a coupled_mass: an upper bound, the run ends earlier at the first event "
+            "('auto' is not yet supported)", "auto");
+}
+
 // time: dt and end, with 'auto' resolved where the scene alone decides it.
 void read_time(const ParameterList& t, Scene& sc) {
   sc.time.dt_auto = t.isType<std::string>("dt");
@@ -701,6 +773,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
   const auto& loads = p.sublist("loads");
   for (auto it = loads.begin(); it != loads.end(); ++it)
     sc.loads.push_back(build_load(loads.name(it), loads.sublist(loads.name(it)), structure_mass, sc.length(), sc.gravity));
+  check_coupled_masses(sc);
   read_time(p.sublist("time"), sc);
   read_output(p.sublist("output"), file_name, sc.output);
   sc.text = describe(sc.tree, scene_schema(), false);

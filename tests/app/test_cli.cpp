@@ -246,3 +246,111 @@ TEST(Cli, RodGivesTheSameAnswersOnOneAndTwoRanksAndWithEachLinearSolver) {
   EXPECT_NE(refused.out.find("KLU2"), std::string::npos) << refused.out;
   EXPECT_FALSE(fs::exists(d / "refused.h5"));
 }
+
+// A beam scene with a coupled mass (docs/beam.md "Coupled mass"): the run ends at the event
+// (the bead leaves the strip at x = L) with exit 0, status complete, the event in /events and
+// end_reason; the probes hold the mass's state, contact forces and energies; --restart replays.
+TEST(Cli, CoupledMassBeamRunEndsAtItsEvent) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "beam" / "coupled_bead.yaml";
+  const fs::path d = scratch("coupled");
+  const std::string out = (d / "bead.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("ended by the event left_beam_at_L"), std::string::npos) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.status(), "complete");
+  EXPECT_EQ(f.attribute("end_reason"), "left_beam_at_L");
+  const auto events = f.events();
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].load, "bead");
+  EXPECT_EQ(events[0].reason, "left_beam_at_L");
+  EXPECT_NEAR(events[0].position, 2.0, 1e-9);
+  const auto t = f.time();
+  EXPECT_DOUBLE_EQ(t.back(), events[0].time);
+  EXPECT_LT(events[0].time, 2.0);  // before time.end
+  const auto x = f.probe("bead_position"), pos = f.probe("bead_fixed_position"), w = f.probe("bead_deflection");
+  ASSERT_EQ(pos.components, 3u);
+  EXPECT_NEAR(x.values.back(), 2.0, 1e-9);
+  for (size_t k = 0; k < x.rows; ++k) {
+    EXPECT_EQ(pos.values[3 * k], x.values[k]);
+    EXPECT_EQ(pos.values[3 * k + 1], w.values[k]);
+  }
+  const auto balance = f.probe("energy_balance"), kinetic = f.probe("energy_mass_kinetic");
+  double drift = 0.0;
+  for (double b : balance.values) drift = std::max(drift, std::abs(b - balance.values.front()));
+  std::printf("  coupled bead: event at t = %.9f s; energy balance drift %.3e J of mass kinetic energy %.4f J\n",
+              events[0].time, drift, kinetic.values.front());
+  EXPECT_LT(drift, 1e-8 * kinetic.values.front());
+  const auto normal = f.probe("bead_normal_force");
+  for (double n : normal.values) EXPECT_GT(n, 0.0);  // the bead presses on the strip all the way
+  // --restart re-integrates from t = 0 and checks the file's steps: the complete run is
+  // reproduced; with another mass it is refused (exit 2).
+  const auto again = run("run " + scene.string() + " --restart " + out + " -q");
+  EXPECT_EQ(again.code, 0) << again.out;
+  EXPECT_EQ(traverse::output::Reader(out).events().size(), 1u);
+  const auto other = run("run " + scene.string() + " --restart " + out + " -q --set loads.bead.mass=1.1");
+  EXPECT_EQ(other.code, 2) << other.out;
+  EXPECT_NE(other.out.find("does not reproduce output step 0"), std::string::npos) << other.out;
+}
+
+// A rod scene with a coupled mass (docs/rod.md "Coupled mass"): the serial reference stepper on
+// one rank; the run ends when the bead leaves the cable at s = L, with the event interpolated in
+// the last step; 2 ranks, and a --restart with another launch speed, are refused with exit 2.
+TEST(Cli, CoupledMassRodRunEndsAtItsEvent) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "coupled_bead_cable.yaml";
+  const fs::path d = scratch("coupled_rod");
+  const std::string out = (d / "bead.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out);
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("ended by the event left_rod_at_L"), std::string::npos) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.status(), "complete");
+  EXPECT_EQ(f.attribute("end_reason"), "left_rod_at_L");
+  const auto events = f.events();
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_EQ(events[0].load, "bead");
+  EXPECT_EQ(events[0].position, 1.0);
+  const auto t = f.time();
+  const auto sigma = f.probe("bead_position");
+  EXPECT_GT(sigma.values.back(), 1.0);                        // the last step ends beyond the end
+  EXPECT_LT(sigma.values[sigma.rows - 2], 1.0);               // the one before on the rod
+  EXPECT_GT(events[0].time, t[t.size() - 2]);
+  EXPECT_LE(events[0].time, t.back());
+  const auto balance = f.probe("energy_balance"), kinetic = f.probe("energy_mass_kinetic");
+  double drift = 0.0;
+  for (double b : balance.values) drift = std::max(drift, std::abs(b - balance.values.front()));
+  const auto tang = f.probe("bead_tangential_force"), normal = f.probe("bead_normal_force");
+  ASSERT_EQ(normal.components, 3u);
+  double tmax = 0.0;
+  for (size_t k = 1; k < tang.rows; ++k) tmax = std::max(tmax, std::abs(tang.values[k]));
+  std::printf("  coupled bead on the cable: event at t = %.9f s; energy balance drift %.3e J (mass kinetic energy "
+              "%.4f J at t = 0); max |tangential contact force| %.2e N\n", events[0].time, drift, kinetic.values.front(),
+              tmax);
+  EXPECT_LT(drift, 1e-2 * kinetic.values.front());  // the line mass's O(ds^2) at 40 cells (docs/rod.md)
+  EXPECT_LT(tmax, 1e-10);
+  EXPECT_GT(normal.values[3 * 1 + 1], 0.0);  // the cable pushes the bead up
+  const auto two = run_with(mpirun(2), "run " + scene.string() + " -o " + (d / "two.h5").string() + " -q");
+  EXPECT_EQ(two.code, 2) << two.out;
+  EXPECT_NE(two.out.find("a run on 1 rank"), std::string::npos) << two.out;
+  const auto again = run("run " + scene.string() + " --restart " + out + " -q --set loads.bead.speed=2.1");
+  EXPECT_EQ(again.code, 2) << again.out;
+  EXPECT_NE(again.out.find("does not reproduce output step 0"), std::string::npos) << again.out;
+}
+
+// Unilateral contact on the rod: inputs/rod/coupled_lift_off_arc.yaml at a coarse mesh and step
+// (20 cells, dt = 2e-3 s) ends with the event lift_off near the rigid-wire answer
+// R acos((v0^2/(g R) + 2 cos theta0) / 3) = 0.795613 m (docs/rod.md "Coupled mass").
+TEST(Cli, CoupledMassRodLiftOff) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "coupled_lift_off_arc.yaml";
+  const std::string out = (scratch("coupled_lift") / "arc.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out + " -q --set mesh.ds=0.05 --set time.dt=2e-3");
+  ASSERT_EQ(r.code, 0) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.status(), "complete");
+  EXPECT_EQ(f.attribute("end_reason"), "lift_off");
+  const auto events = f.events();
+  ASSERT_EQ(events.size(), 1u);
+  const double exact = std::acos((1.0 / 9.8 + 2.0 * std::cos(0.05)) / 3.0);
+  std::printf("  lift-off at t = %.6f s, sigma = %.6f m (rigid wire %.6f m)\n", events[0].time, events[0].position, exact);
+  EXPECT_NEAR(events[0].position, exact, 5e-3 * exact);
+}

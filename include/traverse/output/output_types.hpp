@@ -25,6 +25,14 @@ struct RunInfo {
   std::vector<std::pair<std::string, std::string>> attributes = {};
 };
 
+/// An event that ended (or marked) a run: a coupled mass leaving the structure, lifting off.
+struct RunEvent {
+  double time = 0.0;      ///< [s]
+  double position = 0.0;  ///< position of the load along the structure [m]
+  std::string load;       ///< the load's name
+  std::string reason;     ///< a word, e.g. left_beam_at_L, lift_off
+};
+
 /// Distribution of the structure's nodes over the ranks. Global node indices 0..N-1 follow
 /// the structure (node i and i+1 are neighbours along the arclength); every rank owns one
 /// contiguous range, the ranges do not overlap and together cover all nodes (a rank may own

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "traverse/output/output_error.hpp"
+#include "traverse/output/output_types.hpp"
 
 namespace traverse::output {
 
@@ -60,6 +61,9 @@ class Reader {
   /// count = SIZE_MAX means "to the last node". Throws if step >= steps_written.
   std::vector<double> field(const std::string& name, std::size_t step, std::size_t first = 0,
                             std::size_t count = static_cast<std::size_t>(-1)) const;
+
+  /// `/events` (Writer::write_events): empty when the file has none.
+  std::vector<RunEvent> events() const;
 
   /// True when `/restart` exists and its attribute `valid` is 1.
   bool has_restart() const;

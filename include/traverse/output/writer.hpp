@@ -78,6 +78,13 @@ class Writer {
   /// attribute `valid` is 0 while it is being written and 1 once the arrays are flushed.
   void write_restart(double time, const std::vector<RestartArray>& arrays);
 
+  /// Writes the events table `/events` (datasets `time` [s] and `position` [m], one entry per
+  /// event, attributes `count`, `loads` and `reasons`: the events' load names and reason words,
+  /// comma-separated) and the root attribute `end_reason` (the first event's reason, or
+  /// "end_time" when there is none). Replaces an earlier table. Replicated arguments (rank 0's
+  /// are written).
+  void write_events(const std::vector<RunEvent>& events);
+
   /// Flushes the kept steps, writes the sidecar, sets status "complete" and flushes. The file
   /// stays open until destruction.
   void finish();

@@ -20,7 +20,10 @@ enum class Model { Beam, Rod };
 enum class Supports { simply_supported, clamped_free, clamped_clamped, clamped_pinned };
 enum class BeamIntegrator { rk4, newmark };
 enum class EndType { clamped, pinned, sliding, roller, free, prescribed };
-enum class LoadType { moving_mass, moving_force };
+enum class LoadType { moving_mass, moving_force, coupled_mass };
+/// How a coupled mass is held on the structure: threaded on it (bilateral) or resting on its
+/// +d2 side (unilateral: it may lift off).
+enum class Contact { bilateral, unilateral };
 enum class Entry { left, right };
 enum class PlanarMode { automatic, on, off };
 enum class InitialStateType { static_equilibrium, rest, file, arch };
@@ -41,6 +44,7 @@ template <> const std::vector<std::string>& enum_names<BeamIntegrator>();
 template <> const std::vector<std::string>& enum_names<EndType>();
 template <> const std::vector<std::string>& enum_names<LoadType>();
 template <> const std::vector<std::string>& enum_names<Entry>();
+template <> const std::vector<std::string>& enum_names<Contact>();
 template <> const std::vector<std::string>& enum_names<PlanarMode>();
 template <> const std::vector<std::string>& enum_names<InitialStateType>();
 template <> const std::vector<std::string>& enum_names<ContinuationParameter>();
@@ -120,6 +124,18 @@ struct MovingLoadSpec {
   Entry entry = Entry::left;  ///< left: travels towards +s; right: towards -s
   double start = 0.0;      ///< position at entry_time [m]
   double entry_time = 0.0;    ///< [s]
+  // coupled_mass (type LoadType::coupled_mass): the mass moves by itself along the structure
+  // (physics spec section 4). Its initial velocity along +s is direction() * speed (entry
+  // left for a velocity >= 0, right for one < 0), acceleration 0 and entry_time 0: the
+  // motion functions above give the uncoupled, constant-speed path, used only for the
+  // up-front limits (dt auto, speed checks), never for the physics.
+  bool coupled = false;         ///< type coupled_mass
+  double drive = 0.0;           ///< constant force along the tangent d3 [N] (a robot's traction)
+  double resistance = 0.0;      ///< viscous resistance c >= 0: force -c sigma' d3 [N s/m]
+  double friction = 0.0;        ///< Coulomb friction coefficient mu >= 0
+  Contact contact = Contact::bilateral;
+  /// Initial velocity along +s [m/s] (coupled_mass).
+  double initial_velocity() const { return direction() * speed; }
   int direction() const { return entry == Entry::left ? +1 : -1; }
   /// Position [m] at time t >= entry_time (also beyond the ends).
   double position(double t) const;

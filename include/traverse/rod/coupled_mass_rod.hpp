@@ -1,0 +1,107 @@
+#pragma once
+// A mass that moves by itself along the rod (two-way coupling, physics spec section 4), on the
+// serial reference stepper: sigma and its speed are unknowns of each time step, found by a
+// partitioned iteration converged to the Newton tolerance (docs/rod.md "Coupled mass").
+#include <memory>
+
+#include "traverse/rod/reference_stepper.hpp"
+
+namespace traverse::rod {
+
+/// The coupled mass (SI). Frictionless, bilateral (a bead threaded on the rod).
+struct CoupledRodMass {
+  double mass = 0.0;        ///< M [kg]
+  double drive = 0.0;       ///< D [N] along d3 (a robot's traction)
+  double resistance = 0.0;  ///< c [N s/m]: the force -c sigma' d3 on the mass (air)
+};
+
+/// The mass's state at a time level.
+struct CoupledMassState {
+  double sigma = 0.0;       ///< position along the rod [m]
+  double speed = 0.0;       ///< sigma' [m/s]
+  double drive_work = 0.0;  ///< int D sigma' dt since the start [J]
+  double dissipated = 0.0;  ///< int c sigma'^2 dt since the start [J]
+};
+
+/// The rod's fields at sigma, interpolated linearly between the nodes of the cell holding it
+/// (the transpose of the hat weights that distribute the mass's force, docs/rod.md).
+struct RodPointKinematics {
+  Vec3 U = Vec3::Zero();   ///< material velocity R^T u [m/s], fixed frame
+  Vec3 d3 = Vec3::Zero();  ///< tangent R^T e3 (interpolated, not renormalised), fixed frame
+};
+RodPointKinematics point_kinematics(const RodState& state, double sigma);
+/// The mass's velocity p' = U + sigma' d3 at sigma [m/s], fixed frame.
+Vec3 mass_velocity(const RodState& state, const CoupledMassState& m);
+
+struct CoupledStepReport {
+  bool converged = false;
+  int coupling_iterations = 0;  ///< partitioned iterations (each one rod Newton solve)
+  int newton_iterations = 0;    ///< rod Newton iterations in all
+  double last_change = 0.0;     ///< max(|d sigma| / ds, |d speed| dt / ds) of the last iteration
+};
+
+/// Advances rod + mass by one step. The rod's model must not contain the coupled mass: the
+/// stepper adds it as a MovingMass (line-mass inertia and weight, rod_loads.hpp) whose path in
+/// the step runs linearly from (sigma_old, t_old) to (sigma_new, t_new) with the speed linear
+/// from v_old to v_new, plus the resistance's reaction -c v d3 as a point force. The mass's
+/// tangential equation, discretised by the midpoint rule in momentum form,
+///     M (p'_new - p'_old) . d3m = dt [M g . d3m + D - c (v_old + v_new) / 2],
+///     sigma_new = sigma_old + dt (v_old + v_new) / 2,     d3m = unit(d3_old + d3_new)
+/// (d3 and p' at sigma at each level) gives v_new given the rod's new level; the rod step is
+/// solved given (sigma_new, v_new). The iteration between the two (Newton of the rod warm-
+/// started from the previous iterate) stops when both change by less than tol * ds.
+class CoupledRodStepper {
+ public:
+  CoupledRodStepper(RodModel model, CoupledRodMass mass);
+  ~CoupledRodStepper();
+
+  /// One step of dt; on failure state and m are unchanged.
+  CoupledStepReport step(RodState& state, CoupledMassState& m, double dt);
+
+  const RodModel& model() const;
+  const CoupledRodMass& coupled_mass() const { return mass_; }
+  double tol = 1e-12;
+  int max_coupling_iterations = 60;
+
+ private:
+  struct Path;
+  std::shared_ptr<Path> path_;
+  CoupledRodMass mass_;
+  std::unique_ptr<ReferenceStepper> stepper_;
+  bool rod_newton(const StepTimes& st, const RodState& old_state, VecX& x, int& iterations) const;
+  double new_speed(const RodState& old_state, const RodState& new_state, const CoupledMassState& m, double sigma_new,
+                   double dt) const;
+};
+
+}  // namespace traverse::rod
+
+namespace traverse::rod {
+
+/// The contact force of the rod on the mass over one step [N], fixed frame:
+/// C = M (p'_new - p'_old) / dt - M g - (D - c v_mid) d3m (the mass's momentum balance at the
+/// step's midpoint), split along d3m = unit(d3_old + d3_new) into `tangential` (zero without
+/// friction, to round-off: the mass's own equation) and `normal`; `up` = C . d2m,
+/// d2m = unit(d2_old + d2_new) at sigma: a unilateral mass (on the +d2 side) lifts off where it
+/// would turn negative.
+struct CoupledContact {
+  Vec3 normal = Vec3::Zero();
+  double tangential = 0.0;
+  double up = 0.0;
+};
+CoupledContact step_contact(const RodState& old_state, const CoupledMassState& m_old, const RodState& new_state,
+                            const CoupledMassState& m_new, const CoupledRodMass& mass, const Vec3& gravity, double dt);
+
+/// Energies of rod + coupled mass [J] (physics spec section 4).
+struct CoupledRodEnergies {
+  double rod = 0.0;           ///< kinetic + elastic, discrete_energy (cell averages)
+  double rod_gravity = 0.0;   ///< sum over cells of ds rhoA (-g . r_cell_average)
+  double mass_kinetic = 0.0;  ///< 1/2 M |p'|^2
+  double mass_gravity = 0.0;  ///< -M g . r(sigma)
+  double drive_work = 0.0, dissipated = 0.0;
+  double mechanical() const { return rod + rod_gravity + mass_kinetic + mass_gravity; }
+};
+/// `r` is the centreline at the nodes (centreline_in_space or advanced in time).
+CoupledRodEnergies coupled_energies(const RodModel& model, const RodState& state, const std::vector<Vec3>& r,
+                                    const CoupledMassState& m, double mass);
+
+}  // namespace traverse::rod

@@ -1,0 +1,20 @@
+#pragma once
+// The rod run with a coupled mass (run_rod hands it over when the scene has one).
+#include <mpi.h>
+
+#include "rod_setup.hpp"
+#include "run.hpp"
+
+namespace traverse::app {
+
+/// What the serial coupled rod run does not support (SceneError naming the key): `ranks` ranks
+/// other than 1, rho_inf != 1, more than 2001 nodes. Also called by `traverse check`.
+void check_coupled_rod(const scene::Scene& scene, const rod::RodModel& model, int ranks);
+
+/// Runs a rod scene whose (only) load is a coupled_mass on the serial reference stepper (one
+/// rank, box scheme); what it does not support is refused with a SceneError naming the key;
+/// --restart replays from t = 0 (CoupledReplay). Same contract as run_rod otherwise.
+void run_rod_coupled(const scene::Scene& scene, const RodSetup& setup, const TimeGrid& grid, const RunOptions& options,
+                     MPI_Comm comm);
+
+}  // namespace traverse::app

@@ -1,0 +1,183 @@
+#include "traverse/rod/coupled_mass_rod.hpp"
+
+#include <Eigen/SparseLU>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace traverse::rod {
+
+RodPointKinematics point_kinematics(const RodState& state, double sigma) {
+  const NodeInterpolation at = locate_on_nodes(sigma, state.ds, state.num_cells());
+  const RodNode& a = state.nodes[static_cast<size_t>(at.j)];
+  const RodNode& b = state.nodes[static_cast<size_t>(std::min(at.j + 1, state.num_cells()))];
+  RodPointKinematics k;
+  k.U = (1.0 - at.xi) * fixed_velocity(a) + at.xi * fixed_velocity(b);
+  k.d3 = (1.0 - at.xi) * a.R.row(2).transpose() + at.xi * b.R.row(2).transpose();
+  return k;
+}
+
+Vec3 mass_velocity(const RodState& state, const CoupledMassState& m) {
+  const RodPointKinematics k = point_kinematics(state, m.sigma);
+  return k.U + m.speed * k.d3;
+}
+
+/// The mass's path during the step being solved (read by the MovingMass and the resistance's
+/// point force): linear in t from the old to the new level.
+struct CoupledRodStepper::Path {
+  double t_old = 0.0, t_new = 0.0, dt = 1.0;
+  double s_old = 0.0, s_new = 0.0, v_old = 0.0, v_new = 0.0;
+  Vec3 d3 = Vec3::UnitZ();  ///< tangent at sigma for the resistance (latest iterate)
+  double at(double t, double a, double b) const {
+    if (t == t_new) return b;
+    if (t == t_old) return a;
+    return a + (t - t_old) / dt * (b - a);
+  }
+};
+
+CoupledRodStepper::~CoupledRodStepper() = default;
+
+CoupledRodStepper::CoupledRodStepper(RodModel model, CoupledRodMass mass) : path_(std::make_shared<Path>()), mass_(mass) {
+  if (!(mass_.mass > 0.0)) throw std::invalid_argument("CoupledRodStepper: mass must be > 0");
+  if (!(mass_.resistance >= 0.0)) throw std::invalid_argument("CoupledRodStepper: resistance must be >= 0");
+  const std::shared_ptr<const Path> p = path_;
+  MovingMass mm;
+  mm.mass = mass_.mass;
+  mm.sigma = [p](double t) { return p->at(t, p->s_old, p->s_new); };
+  mm.speed = [p](double t) { return p->at(t, p->v_old, p->v_new); };
+  mm.accel = [p](double) { return (p->v_new - p->v_old) / p->dt; };
+  mm.inertia = true;
+  model.loads.masses.push_back(mm);
+  if (mass_.resistance > 0.0) {
+    const double c = mass_.resistance;
+    PointForce f;
+    f.sigma = mm.sigma;
+    f.force_fixed = [p, c](double t) -> Vec3 { return -c * p->at(t, p->v_old, p->v_new) * p->d3; };
+    model.loads.point_forces.push_back(f);
+  }
+  stepper_ = std::make_unique<ReferenceStepper>(std::move(model));
+}
+
+const RodModel& CoupledRodStepper::model() const { return stepper_->model(); }
+
+// Newton on the rod's step from x (warm start), the criteria of ReferenceStepper::step.
+bool CoupledRodStepper::rod_newton(const StepTimes& st, const RodState& old_state, VecX& x, int& iterations) const {
+  VecX r;
+  Eigen::SparseMatrix<double> J;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+  double previous = 0.0;
+  for (int it = 1; it <= stepper_->max_iterations; ++it) {
+    stepper_->residual_and_jacobian(st, old_state, x, r, J);
+    if (!r.allFinite()) return false;
+    lu.compute(J);
+    if (lu.info() != Eigen::Success) return false;
+    const VecX dx = lu.solve(-r);
+    if (!dx.allFinite()) return false;
+    x += dx;
+    ++iterations;
+    const double change = dx.cwiseAbs().maxCoeff(), scale = x.cwiseAbs().maxCoeff();
+    if (change <= stepper_->rtol * scale + stepper_->atol) return true;
+    if (it > 1 && change <= 1e-9 * scale + stepper_->atol && change > 0.1 * previous) return true;
+    previous = change;
+  }
+  return false;
+}
+
+// v_new from the midpoint rule of the mass's tangential momentum (header).
+double CoupledRodStepper::new_speed(const RodState& old_state, const RodState& new_state, const CoupledMassState& m,
+                                    double sigma_new, double dt) const {
+  const RodPointKinematics ko = point_kinematics(old_state, m.sigma), kn = point_kinematics(new_state, sigma_new);
+  const Vec3 d3m = (ko.d3 + kn.d3).normalized();
+  const double M = mass_.mass, hc = 0.5 * mass_.resistance * dt / M;
+  const Vec3 g = stepper_->model().loads.gravity;
+  const double rhs = m.speed * (ko.d3.dot(d3m) - hc) + (ko.U - kn.U).dot(d3m) + dt * (g.dot(d3m) + mass_.drive / M);
+  return rhs / (kn.d3.dot(d3m) + hc);
+}
+
+CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, double dt) {
+  const StepTimes st{state.t, dt};
+  Path& p = *path_;
+  p.t_old = st.t_old;
+  p.t_new = st.t_new();
+  p.dt = dt;
+  p.s_old = m.sigma;
+  p.v_old = m.speed;
+  p.v_new = m.speed;
+  p.s_new = m.sigma + dt * m.speed;
+  p.d3 = point_kinematics(state, m.sigma).d3.normalized();
+  const double ds = state.ds;
+  VecX x = stepper_->unknowns(state);
+  CoupledStepReport rep;
+  RodState trial;
+  for (int k = 1; k <= max_coupling_iterations; ++k) {
+    if (!rod_newton(st, state, x, rep.newton_iterations)) return rep;
+    trial = stepper_->state_from_unknowns(state, x, dt);
+    const double v = new_speed(state, trial, m, p.s_new, dt);
+    const double s = m.sigma + 0.5 * dt * (m.speed + v);
+    if (!std::isfinite(v)) return rep;
+    rep.coupling_iterations = k;
+    rep.last_change = std::max(std::abs(s - p.s_new), std::abs(v - p.v_new) * dt) / ds;
+    p.s_new = s;
+    p.v_new = v;
+    p.d3 = point_kinematics(trial, s).d3.normalized();
+    if (rep.last_change <= tol) {
+      rep.converged = true;
+      break;
+    }
+  }
+  if (!rep.converged) return rep;
+  // The drive is a force pair between mass and rod: its net power is D sigma'. The resistance
+  // acts on the mass alone: its power is c sigma' d3 . p' (p' = U + sigma' d3 includes the
+  // rod's material velocity along d3), here at the step's midpoint.
+  const double vm = 0.5 * (m.speed + p.v_new);
+  const RodPointKinematics ko = point_kinematics(state, m.sigma), kn = point_kinematics(trial, p.s_new);
+  const Vec3 d3m = (ko.d3 + kn.d3).normalized();
+  const Vec3 pm = 0.5 * (ko.U + m.speed * ko.d3 + kn.U + p.v_new * kn.d3);
+  m.drive_work += dt * mass_.drive * vm;
+  m.dissipated += dt * mass_.resistance * vm * d3m.dot(pm);
+  m.sigma = p.s_new;
+  m.speed = p.v_new;
+  state = trial;
+  return rep;
+}
+
+CoupledContact step_contact(const RodState& old_state, const CoupledMassState& m_old, const RodState& new_state,
+                            const CoupledMassState& m_new, const CoupledRodMass& mass, const Vec3& gravity, double dt) {
+  const RodPointKinematics ko = point_kinematics(old_state, m_old.sigma), kn = point_kinematics(new_state, m_new.sigma);
+  const Vec3 d3m = (ko.d3 + kn.d3).normalized();
+  const double vm = 0.5 * (m_old.speed + m_new.speed);
+  const Vec3 dp = (kn.U + m_new.speed * kn.d3) - (ko.U + m_old.speed * ko.d3);
+  const Vec3 C = mass.mass * dp / dt - mass.mass * gravity - (mass.drive - mass.resistance * vm) * d3m;
+  auto d2_at = [](const RodState& s, double sigma) -> Vec3 {
+    const NodeInterpolation at = locate_on_nodes(sigma, s.ds, s.num_cells());
+    return (1.0 - at.xi) * s.nodes[static_cast<size_t>(at.j)].R.row(1).transpose() +
+           at.xi * s.nodes[static_cast<size_t>(at.j + 1)].R.row(1).transpose();
+  };
+  const Vec3 d2m = (d2_at(old_state, m_old.sigma) + d2_at(new_state, m_new.sigma)).normalized();
+  CoupledContact c;
+  c.tangential = C.dot(d3m);
+  c.normal = C - c.tangential * d3m;
+  c.up = C.dot(d2m);
+  return c;
+}
+
+CoupledRodEnergies coupled_energies(const RodModel& model, const RodState& state, const std::vector<Vec3>& r,
+                                    const CoupledMassState& m, double mass) {
+  CoupledRodEnergies e;
+  e.rod = discrete_energy(state, model.props);
+  const Vec3 g = model.loads.gravity;
+  const double ds = state.ds;
+  for (int j = 1; j <= state.num_cells(); ++j)
+    e.rod_gravity -= ds * model.props.rhoA * g.dot(0.5 * (r[static_cast<size_t>(j - 1)] + r[static_cast<size_t>(j)]));
+  const Vec3 pdot = mass_velocity(state, m);
+  e.mass_kinetic = 0.5 * mass * pdot.squaredNorm();
+  const NodeInterpolation at = locate_on_nodes(m.sigma, ds, state.num_cells());
+  const Vec3 rp = (1.0 - at.xi) * r[static_cast<size_t>(at.j)] +
+                  at.xi * r[static_cast<size_t>(std::min(at.j + 1, state.num_cells()))];
+  e.mass_gravity = -mass * g.dot(rp);
+  e.drive_work = m.drive_work;
+  e.dissipated = m.dissipated;
+  return e;
+}
+
+}  // namespace traverse::rod

@@ -1,0 +1,310 @@
+// The beam's coupled mass (docs/beam.md "Coupled mass"): prescribed-motion limit, energy
+// conservation and balance, order in dt, events (leaving at either end, lift-off).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <algorithm>
+#include <cstdio>
+#include <vector>
+
+#include "traverse/beam/coupled_mass_beam.hpp"
+
+using namespace traverse;
+using namespace traverse::beam;
+
+namespace {
+
+BeamProblem make_beam(Support support, double L, double EI, double rhoA, int modes, double dt, double t_end) {
+  BeamProblem p;
+  p.length = L;
+  p.EI = EI;
+  p.rhoA = rhoA;
+  p.support = support;
+  p.n_modes = modes;
+  p.gravity = 9.8;
+  p.self_weight = true;
+  p.initial_state = InitialState::Static;
+  p.t_start = 0.0;
+  p.t_end = t_end;
+  p.dt = dt;
+  p.integrator = Integrator::RK4;
+  return p;
+}
+
+struct Trace {
+  std::vector<double> t, x, E, balance, normal;
+  double x_end = 0.0, t_end = 0.0;
+  CoupledEnd reason = CoupledEnd::EndTime;
+};
+
+Trace trace(const BeamProblem& p, const CoupledMass& m) {
+  CoupledMassBeam sim(p, m);
+  Trace r;
+  sim.run([&](const CoupledMassBeam& s) {
+    const CoupledEnergies e = s.energies();
+    r.t.push_back(s.time());
+    r.x.push_back(s.position());
+    r.E.push_back(e.mechanical());
+    r.balance.push_back(e.mechanical() - e.drive_work + e.dissipated);
+    r.normal.push_back(s.normal_force());
+  });
+  r.x_end = sim.position();
+  r.t_end = sim.time();
+  r.reason = sim.end_reason();
+  return r;
+}
+
+double max_drift(const std::vector<double>& v) {
+  double d = 0.0;
+  for (double e : v) d = std::max(d, std::abs(e - v.front()));
+  return d;
+}
+
+}  // namespace
+
+// Without gravity the beam stays straight and the mass moves exactly as x0 + v0 t + D t^2/(2M).
+TEST(CoupledMassBeam, DriveWithoutGravityIsExactQuadratic) {
+  BeamProblem p = make_beam(Support::SimplySupported, 1.0, 10.0, 1.0, 6, 1e-3, 0.2);
+  p.gravity = 0.0;
+  CoupledMass m{0.1, 0.1, 0.5, 2.0, 0.0, false};
+  CoupledMassBeam sim(p, m);
+  double err = 0.0, wmax = 0.0;
+  sim.run([&](const CoupledMassBeam& s) {
+    const double t = s.time();
+    err = std::max(err, std::abs(s.position() - (0.1 + 0.5 * t + 2.0 * t * t / 0.2)));
+    wmax = std::max(wmax, std::abs(s.mass_deflection()));
+  });
+  std::printf("g = 0: max |x - x_exact| = %.3e m, max |w| = %.3e m\n", err, wmax);
+  EXPECT_LT(err, 1e-13);
+  EXPECT_EQ(wmax, 0.0);
+}
+
+// Prescribed-motion limit: a driven mass on a stiff horizontal beam under gravity follows
+// x0 + v0 t + D t^2/(2M); the deviation is the beam's slope and falls like 1/EI; the time
+// discretisation error (self-differences at halved dt) falls like dt^4 (RK4).
+TEST(CoupledMassBeam, PrescribedMotionLimit) {
+  const double M = 0.1, x0 = 0.1, v0 = 0.5, D = 2.0, T = 0.25;
+  std::vector<double> dev;
+  for (double EI : {1e3, 1e4, 1e5}) {
+    const BeamProblem p = make_beam(Support::SimplySupported, 1.0, EI, 1.0, 5, 2e-5, T);
+    const Trace r = trace(p, CoupledMass{M, x0, v0, D, 0.0, false});
+    double d = 0.0;
+    for (size_t i = 0; i < r.t.size(); ++i)
+      d = std::max(d, std::abs(r.x[i] - (x0 + v0 * r.t[i] + D * r.t[i] * r.t[i] / (2 * M))));
+    std::printf("EI = %.0e: max |x - (x0 + v0 t + D t^2/2M)| = %.4e m (x(T) = %.6f m)\n", EI, d, r.x_end);
+    dev.push_back(d);
+    EXPECT_EQ(r.reason, CoupledEnd::EndTime);
+  }
+  for (size_t i = 1; i < dev.size(); ++i) {
+    std::printf("deviation ratio EI x10: %.3f (expect ~10)\n", dev[i - 1] / dev[i]);
+    EXPECT_NEAR(dev[i - 1] / dev[i], 10.0, 2.0);
+  }
+  EXPECT_LT(dev.back() / 0.85, 1e-5);
+  // The time discretisation error is negligible against the limit's deviation: x(T) at EI = 1e3
+  // for dt = 2e-4 and 1e-4 (the order in dt is measured on a flexible beam, OrderInDt).
+  std::vector<double> xT;
+  for (double dt : {2e-4, 1e-4}) {
+    const BeamProblem p = make_beam(Support::SimplySupported, 1.0, 1e3, 1.0, 5, dt, T);
+    xT.push_back(trace(p, CoupledMass{M, x0, v0, D, 0.0, false}).x_end);
+  }
+  std::printf("x(T) at dt = 2e-4 minus dt = 1e-4: %.3e m\n", xT[0] - xT[1]);
+  EXPECT_LT(std::abs(xT[0] - xT[1]), 1e-6 * dev.front());
+}
+
+// Order in dt of the mass's motion on a flexible beam (mass ratio 0.25, the beam deflects ~4 %
+// of its length): max over t in [0, 0.5 s] (every 1 ms) of the self-differences at halved steps of
+// the position x(t) and of the deflection under the mass.
+TEST(CoupledMassBeam, OrderInDt) {
+  const CoupledMass m{0.5, 0.05, 3.0, 0.0, 0.0, false};
+  std::vector<std::vector<double>> x, w;
+  int every = 1;
+  for (double dt : {1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5}) {
+    BeamProblem p = make_beam(Support::SimplySupported, 2.0, 100.0, 1.0, 8, dt, 0.5);
+    p.output_every = every;
+    every *= 2;
+    CoupledMassBeam sim(p, m);
+    x.emplace_back();
+    w.emplace_back();
+    sim.run([&](const CoupledMassBeam& s) {
+      x.back().push_back(s.position());
+      w.back().push_back(s.mass_deflection());
+    });
+  }
+  std::vector<double> ex, ew;
+  for (size_t i = 1; i < x.size(); ++i) {
+    ASSERT_EQ(x[i].size(), x[0].size());
+    double a = 0.0, b = 0.0;
+    for (size_t k = 0; k < x[0].size(); ++k) {
+      a = std::max(a, std::abs(x[i][k] - x[i - 1][k]));
+      b = std::max(b, std::abs(w[i][k] - w[i - 1][k]));
+    }
+    ex.push_back(a);
+    ew.push_back(b);
+  }
+  for (size_t i = 0; i < ex.size(); ++i)
+    std::printf("pair %zu: max |dx| = %.3e m, max |dw| = %.3e m%s\n", i, ex[i], ew[i], i ? "" : " (dt = 1e-3 vs 5e-4)");
+  for (size_t i = 1; i < ex.size(); ++i) {
+    const double ox = std::log2(ex[i - 1] / ex[i]), ow = std::log2(ew[i - 1] / ew[i]);
+    std::printf("orders: x %.3f, w under the mass %.3f\n", ox, ow);
+    if (i >= 2) {  // dt = 1e-3 is near the RK4 limit of mode 8 (omega_8 dt = 1.6)
+      EXPECT_NEAR(ox, 4.0, 0.35);
+      EXPECT_NEAR(ow, 4.0, 0.35);
+    }
+  }
+}
+
+// Frictionless, undriven: beam + mass energy is conserved; the drift of RK4 is O(dt^4). The mass
+// crosses a flexible simply supported beam (mass ratio 0.25) and leaves it at x = L.
+TEST(CoupledMassBeam, EnergyConservedToOrderFour) {
+  const CoupledMass m{0.5, 0.05, 3.0, 0.0, 0.0, false};
+  std::vector<double> drift;
+  double scale = 0.5 * m.mass * m.velocity * m.velocity;
+  for (double dt : {5e-4, 2.5e-4, 1.25e-4}) {
+    const BeamProblem p = make_beam(Support::SimplySupported, 2.0, 100.0, 1.0, 8, dt, 2.0);
+    const Trace r = trace(p, m);
+    drift.push_back(max_drift(r.E) / scale);
+    std::printf("dt = %.2e: max |E - E0| / (M v0^2 / 2) = %.4e; end %s at t = %.6f s, x = %.12f m\n", dt,
+                drift.back(), coupled_end_name(r.reason).c_str(), r.t_end, r.x_end);
+    EXPECT_EQ(r.reason, CoupledEnd::LeftRight);
+    EXPECT_NEAR(r.x_end, 2.0, 1e-10);
+  }
+  const double o1 = std::log2(drift[0] / drift[1]), o2 = std::log2(drift[1] / drift[2]);
+  std::printf("energy drift orders %.3f %.3f\n", o1, o2);
+  EXPECT_GT(o1, 3.5);
+  EXPECT_GT(o2, 3.5);
+  EXPECT_LT(drift.back(), 1e-6);
+}
+
+// With a drive and a viscous resistance, E(t) - E(0) = W_drive - W_loss closes to O(dt^4).
+TEST(CoupledMassBeam, EnergyBalanceWithDriveAndResistance) {
+  const CoupledMass m{0.5, 0.05, 1.0, 1.5, 0.4, false};
+  std::vector<double> err;
+  double loss = 0.0, gain = 0.0;
+  for (double dt : {5e-4, 2.5e-4, 1.25e-4}) {
+    BeamProblem p = make_beam(Support::SimplySupported, 2.0, 100.0, 1.0, 8, dt, 1.2);
+    CoupledMassBeam sim(p, m);
+    double e = 0.0, E0 = 0.0;
+    bool first = true;
+    sim.run([&](const CoupledMassBeam& s) {
+      const CoupledEnergies en = s.energies();
+      if (first) E0 = en.mechanical();
+      first = false;
+      e = std::max(e, std::abs(en.mechanical() - E0 - en.drive_work + en.dissipated));
+      loss = en.dissipated;
+      gain = en.drive_work;
+    });
+    err.push_back(e);
+    std::printf("dt = %.2e: max |E - E0 - W_drive + W_loss| = %.4e J (W_drive = %.5f J, W_loss = %.5f J, end %s)\n",
+                dt, e, gain, loss, coupled_end_name(sim.end_reason()).c_str());
+  }
+  EXPECT_GT(loss, 0.05);
+  // The mass ends at x = L: the drive's work is D (L - x0) (an answer independent of the ODE).
+  EXPECT_NEAR(gain, m.drive * (2.0 - m.start), 1e-9);
+  EXPECT_LT(err.back(), 1e-6 * gain);
+  const double o1 = std::log2(err[0] / err[1]), o2 = std::log2(err[1] / err[2]);
+  std::printf("balance orders %.3f %.3f\n", o1, o2);
+  EXPECT_GT(o1, 3.5);
+  EXPECT_GT(o2, 3.5);
+}
+
+// A mass launched towards x = 0 leaves there: the run ends at the event with x = 0.
+TEST(CoupledMassBeam, LeavesAtTheLeftEnd) {
+  const BeamProblem p = make_beam(Support::ClampedClamped, 1.0, 50.0, 1.0, 6, 5e-4, 3.0);
+  const Trace r = trace(p, CoupledMass{0.2, 0.6, -2.0, 0.0, 0.0, false});
+  std::printf("left at t = %.8f s, x = %.3e m (%s), %zu outputs\n", r.t_end, r.x_end, coupled_end_name(r.reason).c_str(),
+              r.t.size());
+  EXPECT_EQ(r.reason, CoupledEnd::LeftLeft);
+  EXPECT_NEAR(r.x_end, 0.0, 1e-10);
+  EXPECT_GT(r.t_end, 0.25);
+  EXPECT_LT(r.t_end, 0.35);
+}
+
+// Unilateral contact: on a cantilever sagging under its weight (w_xx < 0, tip slope 0.055) a fast
+// mass (12 m/s) running to the root lifts off where M (g + d2w/dt2) reaches zero. The bilateral run is the same motion up
+// to there: its normal force changes sign at the unilateral run's event time.
+TEST(CoupledMassBeam, UnilateralLiftOff) {
+  const BeamProblem p = make_beam(Support::ClampedFree, 1.0, 30.0, 1.0, 6, 2e-4, 1.0);
+  CoupledMass m{0.05, 0.9, -12.0, 0.0, 0.0, true};
+  const Trace u = trace(p, m);
+  m.unilateral = false;
+  const Trace b = trace(p, m);
+  double t_cross = std::nan("");
+  for (size_t i = 1; i < b.t.size() && std::isnan(t_cross); ++i)
+    if (b.normal[i - 1] > 0.0 && b.normal[i] <= 0.0)
+      t_cross = b.t[i - 1] + (b.t[i] - b.t[i - 1]) * b.normal[i - 1] / (b.normal[i - 1] - b.normal[i]);
+  std::printf("unilateral: %s at t = %.8f s, x = %.6f m, N = %.3e N; bilateral N changes sign at t = %.8f s "
+              "(linear interpolation), ends %s\n",
+              coupled_end_name(u.reason).c_str(), u.t_end, u.x_end, u.normal.back(), t_cross,
+              coupled_end_name(b.reason).c_str());
+  EXPECT_EQ(u.reason, CoupledEnd::LiftOff);
+  EXPECT_LT(std::abs(u.normal.back()), 1e-9 * m.mass * 9.8);
+  EXPECT_GT(u.x_end, 0.0);
+  EXPECT_LT(u.x_end, 0.9);
+  EXPECT_NEAR(t_cross, u.t_end, 2e-4);  // within one step (the interpolation's error)
+  EXPECT_NE(b.reason, CoupledEnd::LiftOff);
+}
+
+// Newmark (average acceleration) on the coupled system (8 modes, the highest of period 4 ms):
+// second order in dt for the mass's
+// position and the deflection under it, energy drift at second order, and the same prescribed-
+// motion deviation as RK4 (an answer of the model, not of the integrator).
+TEST(CoupledMassBeam, NewmarkOrderTwoAndEnergy) {
+  const CoupledMass m{0.5, 0.05, 3.0, 0.0, 0.0, false};
+  std::vector<std::vector<double>> x, w;
+  std::vector<double> drift;
+  int every = 1;
+  for (double dt : {1e-3, 5e-4, 2.5e-4, 1.25e-4, 6.25e-5, 3.125e-5}) {
+    BeamProblem p = make_beam(Support::SimplySupported, 2.0, 100.0, 1.0, 8, dt, 0.5);
+    p.integrator = Integrator::Newmark;
+    p.output_every = every;
+    every *= 2;
+    CoupledMassBeam sim(p, m);
+    x.emplace_back();
+    w.emplace_back();
+    double E0 = 0.0, d = 0.0;
+    bool first = true;
+    sim.run([&](const CoupledMassBeam& s) {
+      x.back().push_back(s.position());
+      w.back().push_back(s.mass_deflection());
+      const double E = s.energies().mechanical();
+      if (first) E0 = E;
+      first = false;
+      d = std::max(d, std::abs(E - E0));
+    });
+    drift.push_back(d / (0.5 * m.mass * m.velocity * m.velocity));
+  }
+  std::vector<double> ex, ew;
+  for (size_t i = 1; i < x.size(); ++i) {
+    ASSERT_EQ(x[i].size(), x[0].size());
+    double a = 0.0, b = 0.0;
+    for (size_t k = 0; k < x[0].size(); ++k) {
+      a = std::max(a, std::abs(x[i][k] - x[i - 1][k]));
+      b = std::max(b, std::abs(w[i][k] - w[i - 1][k]));
+    }
+    ex.push_back(a);
+    ew.push_back(b);
+  }
+  for (size_t i = 0; i < ex.size(); ++i)
+    std::printf("newmark pair %zu: max |dx| = %.3e m, max |dw| = %.3e m; energy drift %.3e, %.3e of M v0^2/2\n", i,
+                ex[i], ew[i], drift[i], drift[i + 1]);
+  for (size_t i = 1; i < ex.size(); ++i) {
+    const double ox = std::log2(ex[i - 1] / ex[i]), ow = std::log2(ew[i - 1] / ew[i]);
+    const double oe = std::log2(drift[i] / drift[i + 1]);
+    std::printf("newmark orders: x %.3f, w under the mass %.3f, energy drift %.3f\n", ox, ow, oe);
+    EXPECT_GT(std::min({ox, ow, oe}), 1.4);
+    if (i + 1 == ex.size()) {  // once mode 8 (period 4 ms) is resolved
+      EXPECT_NEAR(ox, 2.0, 0.2);
+      EXPECT_NEAR(ow, 2.0, 0.2);
+      EXPECT_NEAR(oe, 2.0, 0.2);
+    }
+  }
+  // Prescribed-motion limit with Newmark (EI = 1e4 of PrescribedMotionLimit, dt 10 times RK4's).
+  BeamProblem p = make_beam(Support::SimplySupported, 1.0, 1e4, 1.0, 5, 2e-4, 0.25);
+  p.integrator = Integrator::Newmark;
+  const Trace tr = trace(p, CoupledMass{0.1, 0.1, 0.5, 2.0, 0.0, false});
+  double d = 0.0;
+  for (size_t i = 0; i < tr.t.size(); ++i)
+    d = std::max(d, std::abs(tr.x[i] - (0.1 + 0.5 * tr.t[i] + 2.0 * tr.t[i] * tr.t[i] / 0.2)));
+  std::printf("newmark, EI = 1e4, dt = 2e-4: max |x - (x0 + v0 t + D t^2/2M)| = %.4e m (RK4: 8.7586e-06 m)\n", d);
+  EXPECT_NEAR(d, 8.7586e-6, 0.05 * 8.7586e-6);
+}
