@@ -10,6 +10,7 @@
 #include "mpi_session.hpp"
 #include "restart.hpp"
 #include "run.hpp"
+#include "sweep.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/output/sidecar.hpp"
 #include "traverse/scene/scene.hpp"
@@ -28,7 +29,8 @@ bool needs_mpi(app::CommandLine::Command command, const app::Launch& launch) {
     case Command::Version: return false;
     case Command::Check:
     case Command::Xdmf: return launch.by_launcher;
-    case Command::Run: return true;
+    case Command::Run:
+    case Command::Sweep: return true;
     default: throw std::logic_error("traverse: command not handled");
   }
 }
@@ -87,22 +89,12 @@ int execute(const app::CommandLine& cl, int rank, MPI_Comm comm) {
       opt.progress = cl.progress;
       opt.invocation = cl.invocation;
       opt.limits = cl.limits;
-      switch (sc.model) {
-        case scene::Model::Beam:
-          app::run_beam(sc, opt, comm);
-          break;
-        case scene::Model::Rod:
-          if (sc.continuation.enabled) {
-            app::run_statics(sc, opt, comm);
-          } else {
-            app::run_rod(sc, opt, comm);
-          }
-          break;
-        default:
-          throw std::logic_error("traverse run: model not handled");
-      }
+      app::run_scene(sc, opt, comm);
       return app::kSuccess;
     }
+    case Command::Sweep:
+      app::install_interrupt_handlers();
+      return app::run_sweep(cl, comm);
     default:
       throw std::logic_error("traverse: command not handled");
   }

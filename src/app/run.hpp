@@ -61,6 +61,9 @@ void run_statics(const scene::Scene& scene, const RunOptions& options, MPI_Comm 
 /// Runs a rod scene (same contract as run_beam).
 void run_rod(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);
 
+/// Runs `scene` with the runner of its model (run_beam, run_statics or run_rod).
+void run_scene(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);
+
 /// Ends what rod runs started for the whole process (Kokkos, started by the first rod run
 /// and kept for the next ones, e.g. the cases of a sweep); call before MPI_Finalize.
 void finish_solver_runtime();
