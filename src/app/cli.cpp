@@ -13,7 +13,7 @@ Usage:
                [--restart-interval S] [--max-memory SIZE] [--max-steps N]
   traverse run --restart OUT.h5 [SCENE.yaml] [--set KEY.PATH=VALUE ...] [-q] [--progress]
   traverse check SCENE.yaml [--set KEY.PATH=VALUE ...] [--types] [--max-memory SIZE] [--max-steps N]
-  traverse sweep SCENE.yaml -o DIR --vary KEY=v1,v2,... [--vary KEY=a:b:step ...] [--set ...]
+  traverse sweep SCENE.yaml -o DIR --vary KEY=v1,v2,... [--with KEY=...] [--vary KEY=a:b:step ...] [--set ...]
                [--summary PROBE[.x|.y|.z]:REDUCTION] [--overwrite] [-q] [--max-memory SIZE] [--max-steps N]
   traverse xdmf OUT.h5 [-o OUT.xmf]
   traverse --help | --version
@@ -39,6 +39,8 @@ Options:
                       VALUE in YAML syntax, e.g. --set output.fields=[deflection])
   --vary KEY=VALUES   sweep: the values of one key, comma-separated YAML values and ranges
                       a:b:step (a, a + step, ... up to b), e.g. --vary loads.F.speed=1:3:0.5
+  --with KEY=VALUES   sweep: a key varied together with the --vary before it (as many values:
+                      the i-th value of each in the same case), e.g. an end time for each speed
   --summary P:R       sweep: the index's scalar of each case, reduction R (min, max, absmax,
                       mean, final) of probe P over the output steps (P.x, P.y, P.z: one
                       component), e.g. --summary midspan.y:min
@@ -159,6 +161,9 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       cl.vary.push_back(parse_vary(value(a)));
     } else if (sweep && a.rfind("--vary=", 0) == 0) {
       cl.vary.push_back(parse_vary(a.substr(7)));
+    } else if (sweep && a == "--with") {
+      cl.vary.push_back(parse_vary(value(a), a));
+      cl.vary.back().with_previous = true;
     } else if (sweep && a == "--summary") {
       cl.summary = parse_summary(value(a));
     } else if (run && !sweep && a == "--restart") {

@@ -83,10 +83,11 @@ std::string case_name(std::size_t k, std::size_t n) {
 std::vector<SweepCase> plan_sweep(const CommandLine& cl) {
   const scene::Scene base = scene::load_scene(cl.scene, cl.overrides);
   for (const auto& v : cl.vary) {
+    const std::string option = v.with_previous ? "--with " : "--vary ";
     if (v.key == "output.file")
-      throw UsageError{"--vary output.file: expected a scene key; the sweep names the output files (-o DIR)"};
+      throw UsageError{option + "output.file: expected a scene key; the sweep names the output files (-o DIR)"};
     const std::string problem = scene::key_problem(base.tree, scene::scene_schema(), v.key);
-    if (!problem.empty()) throw UsageError{"--vary " + v.key + ": " + problem + " (scene " + cl.scene + ")"};
+    if (!problem.empty()) throw UsageError{option + v.key + ": " + problem + " (scene " + cl.scene + ")"};
   }
   check_summary(base, cl.summary);
   const auto assignments = sweep_cases(cl.vary, kMaxCases);

@@ -56,7 +56,7 @@ std::string shortest(double v) {
 }
 
 // A range a:b:step (exactly three numbers), appended to `values`; false if `item` is not one.
-bool expand_range(const std::string& key, const std::string& item, std::vector<std::string>& values) {
+bool expand_range(const std::string& option, const std::string& key, const std::string& item, std::vector<std::string>& values) {
   std::vector<std::string> parts(1);
   for (char c : item) {
     if (c == ':') parts.emplace_back();
@@ -64,7 +64,7 @@ bool expand_range(const std::string& key, const std::string& item, std::vector<s
   }
   if (parts.size() == 1) return false;
   double a = 0, b = 0, step = 0;
-  const std::string what = "--vary " + key + ": expected a value or a range a:b:step of three numbers";
+  const std::string what = option + " " + key + ": expected a value or a range a:b:step of three numbers";
   if (parts.size() != 3 || !parse_number(parts[0], a) || !parse_number(parts[1], b) || !parse_number(parts[2], step))
     throw UsageError{what + ", found '" + item + "'"};
   if (step == 0.0 || (b - a) * step < 0.0)
@@ -89,42 +89,54 @@ bool expand_range(const std::string& key, const std::string& item, std::vector<s
 
 }  // namespace
 
-VaryOption parse_vary(const std::string& text) {
+VaryOption parse_vary(const std::string& text, const std::string& option) {
   const auto eq = text.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw UsageError{"--vary " + text + ": expected KEY.PATH=v1,v2,... or KEY.PATH=a:b:step, found no '='"};
+    throw UsageError{option + " " + text + ": expected KEY.PATH=v1,v2,... or KEY.PATH=a:b:step, found no '='"};
   VaryOption o;
   o.key = text.substr(0, eq);
   if (o.key.front() == '.' || o.key.back() == '.' || o.key.find("..") != std::string::npos)
-    throw UsageError{"--vary " + o.key + ": expected KEY.PATH with non-empty parts, found '" + o.key + "'"};
+    throw UsageError{option + " " + o.key + ": expected KEY.PATH with non-empty parts, found '" + o.key + "'"};
   const std::string spec = text.substr(eq + 1);
   for (const auto& item : split_items(spec)) {
     if (item.empty())
-      throw UsageError{"--vary " + o.key + ": expected a comma-separated list of values or ranges a:b:step, found an "
+      throw UsageError{option + " " + o.key + ": expected a comma-separated list of values or ranges a:b:step, found an "
                        "empty item in '" + spec + "'"};
     const bool braced = item.find_first_of("[{'\"") != std::string::npos;
-    if (braced || !expand_range(o.key, item, o.values)) o.values.push_back(item);
+    if (braced || !expand_range(option, o.key, item, o.values)) o.values.push_back(item);
   }
   return o;
 }
 
 std::vector<std::vector<std::string>> sweep_cases(const std::vector<VaryOption>& options, std::size_t max_cases) {
   if (options.empty()) throw UsageError{"'sweep': expected at least one --vary KEY=v1,v2,..., found none"};
+  if (options.front().with_previous)
+    throw UsageError{"--with " + options.front().key + ": expected a --vary before it to vary with, found none"};
   std::set<std::string> keys;
+  std::vector<std::vector<const VaryOption*>> groups;  // a --vary and the --with options after it
   double count = 1.0;
   for (const auto& o : options) {
     if (!keys.insert(o.key).second) throw UsageError{"--vary " + o.key + ": expected each key once, found it again"};
+    if (o.with_previous) {
+      const VaryOption& lead = *groups.back().front();
+      if (o.values.size() != lead.values.size())
+        throw UsageError{"--with " + o.key + ": expected " + std::to_string(lead.values.size()) + " values, as many as --vary " +
+                         lead.key + ", found " + std::to_string(o.values.size())};
+      groups.back().push_back(&o);
+      continue;
+    }
+    groups.push_back({&o});
     count *= static_cast<double>(o.values.size());
   }
   if (count > static_cast<double>(max_cases))
     throw UsageError{"--vary: expected at most " + std::to_string(max_cases) + " cases in all, found " + shortest(count)};
   std::vector<std::vector<std::string>> cases(1);
-  for (const auto& o : options) {
+  for (const auto& g : groups) {
     std::vector<std::vector<std::string>> next;
     for (const auto& c : cases)
-      for (const auto& v : o.values) {
+      for (std::size_t v = 0; v < g.front()->values.size(); ++v) {
         next.push_back(c);
-        next.back().push_back(o.key + "=" + v);
+        for (const VaryOption* o : g) next.back().push_back(o->key + "=" + o->values[v]);
       }
     cases.swap(next);
   }

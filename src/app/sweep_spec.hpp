@@ -6,21 +6,24 @@
 
 namespace traverse::app {
 
-/// One --vary KEY=SPEC: the key path and the values (YAML text, as --set takes them).
+/// One --vary KEY=SPEC (or --with KEY=SPEC): the key path and the values (YAML text, as
+/// --set takes them).
 struct VaryOption {
   std::string key;
   std::vector<std::string> values;
+  bool with_previous = false;  ///< --with: varies together with the option before it (same count)
 };
 
 /// Parses "KEY=v1,v2,..." where each item is a YAML value or a range a:b:step (values
 /// a + k step, k = 0, 1, ..., up to b within 1e-9 steps; printed with the decimals of a, b
 /// and step when all three are plain decimals, else shortest round-trip). Commas inside
-/// [...], {...} or quotes do not separate items. Throws UsageError naming the option.
-VaryOption parse_vary(const std::string& text);
+/// [...], {...} or quotes do not separate items. Throws UsageError naming `option`.
+VaryOption parse_vary(const std::string& text, const std::string& option = "--vary");
 
 /// The --set assignments ("key=value") of every case: the cartesian product of `options`,
-/// the first option outermost (the last one varies fastest). Throws UsageError when the
-/// product has more than `max_cases` cases.
+/// the first option outermost (the last one varies fastest); a --with option takes the
+/// value of the same index as the option it joins. Throws UsageError when the product has
+/// more than `max_cases` cases, a key comes twice or a --with has another number of values.
 std::vector<std::vector<std::string>> sweep_cases(const std::vector<VaryOption>& options, std::size_t max_cases);
 
 /// --summary PROBE[.COMPONENT]:REDUCTION, e.g. midspan.y:min.

@@ -82,6 +82,16 @@ TEST(SweepSpec, RangesListsAndProduct) {
   EXPECT_EQ(cases[1], (std::vector<std::string>{"a=1", "b=y"}));  // the last option varies fastest
   EXPECT_EQ(cases[3], (std::vector<std::string>{"a=2", "b=x"}));
   EXPECT_THROW(traverse::app::sweep_cases({parse_vary("a=1,2"), parse_vary("a=3")}, 100), UsageError);
+  // --with: varied together with the option before it.
+  auto with = parse_vary("c=10,20", "--with");
+  with.with_previous = true;
+  const auto joined = traverse::app::sweep_cases({parse_vary("a=1,2"), with, parse_vary("b=x,y,z")}, 100);
+  ASSERT_EQ(joined.size(), 6u);
+  EXPECT_EQ(joined[4], (std::vector<std::string>{"a=2", "c=20", "b=y"}));
+  auto short_with = parse_vary("c=10", "--with");
+  short_with.with_previous = true;
+  EXPECT_THROW(traverse::app::sweep_cases({parse_vary("a=1,2"), short_with}, 100), UsageError);
+  EXPECT_THROW(traverse::app::sweep_cases({short_with}, 100), UsageError);
   EXPECT_THROW(traverse::app::sweep_cases({parse_vary("a=1:100:1"), parse_vary("b=1:100:1")}, 1000), UsageError);
   for (const char* bad : {"a.b", "=1", "a.b=", "a.b=1,,2", "a..b=1", "a.b=1:2", "a.b=1:2:0", "a.b=2:1:1", "a.b=1:x:1",
                           "a.b=0:1e9:1e-3"}) {
