@@ -1,7 +1,12 @@
 #include "mpi_session.hpp"
 
+#include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <system_error>
 #include <vector>
@@ -15,6 +20,38 @@ const char* first_set(std::initializer_list<const char*> names) {
   for (const char* n : names)
     if (const char* v = std::getenv(n)) return v;
   return nullptr;
+}
+
+constexpr const char* kSessionPrefix = "traverse-mpi-";
+
+// Removes the session directories (under `base`) of processes that no longer exist (killed
+// before they could remove their own); each holds its owner's pid in the file `owner`.
+void remove_stale_sessions(const std::filesystem::path& base) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (fs::directory_iterator it(base, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->path().filename().string().rfind(kSessionPrefix, 0) != 0) continue;
+    std::ifstream owner(it->path() / "owner");
+    long pid = 0;
+    if (!(owner >> pid) || pid <= 0) continue;  // not (yet) owned: leave it alone
+    if (kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) {
+      std::error_code ignored;
+      fs::remove_all(it->path(), ignored);
+    }
+  }
+}
+
+// A fresh session directory of this process under TMPDIR (or /tmp); empty if none can be made.
+std::string make_session_dir() {
+  const char* tmp = std::getenv("TMPDIR");
+  const std::string base = tmp && *tmp ? tmp : "/tmp";
+  remove_stale_sessions(base);
+  std::string pattern = base + "/" + kSessionPrefix + "XXXXXX";
+  std::vector<char> buf(pattern.begin(), pattern.end());
+  buf.push_back('\0');
+  if (!mkdtemp(buf.data())) return "";
+  std::ofstream(std::string(buf.data()) + "/owner") << getpid() << "\n";
+  return buf.data();
 }
 
 }  // namespace
@@ -39,12 +76,8 @@ void MpiSession::start(int* argc, char*** argv, const Launch& launch) {
     // No daemon (it would only serve MPI_Comm_spawn, never used). Isolated singletons all
     // get the same job id, so each needs a session directory of its own (removed in finish).
     if (!std::getenv("OMPI_MCA_ess_singleton_isolated") && !std::getenv("OMPI_MCA_orte_tmpdir_base")) {
-      const char* tmp = std::getenv("TMPDIR");
-      std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/traverse-mpi-XXXXXX";
-      std::vector<char> buf(pattern.begin(), pattern.end());
-      buf.push_back('\0');
-      if (mkdtemp(buf.data())) {
-        session_dir_ = buf.data();
+      session_dir_ = make_session_dir();
+      if (!session_dir_.empty()) {
         setenv("OMPI_MCA_orte_tmpdir_base", session_dir_.c_str(), 1);
         setenv("OMPI_MCA_ess_singleton_isolated", "1", 1);
       }

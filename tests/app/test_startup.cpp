@@ -3,7 +3,11 @@
 // cannot start at all; under mpiexec every rank takes part and one rank reports.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "process.hpp"
@@ -30,8 +34,9 @@ TEST(Startup, CommandsWithoutSolverWorkWhereMpiCannotStart) {
   fs::remove_all(out.parent_path());
   fs::create_directories(out.parent_path());
   // The control: in this environment a run, which needs MPI, cannot start.
-  const auto run = traverse::testing::run_command(kBrokenMpi + kExe + " run " + kScene.string() + " -o " + out.string() +
-                                                  " --set mesh.ds=0.1 -q");
+  // (Its session directory, left behind by the failed MPI_Init, goes to the scratch folder.)
+  const auto run = traverse::testing::run_command("TMPDIR=" + out.parent_path().string() + " " + kBrokenMpi + kExe +
+                                                  " run " + kScene.string() + " -o " + out.string() + " --set mesh.ds=0.1 -q");
   std::printf("run with a broken MPI setting: exit %d\n", run.code);
   if (run.code == 0) GTEST_SKIP() << "this MPI ignores OMPI_MCA_pml; the environment does not break MPI_Init";
 
@@ -63,4 +68,33 @@ TEST(Startup, UnderMpiexecOneRankReports) {
   const auto bad = traverse::testing::run_command(mpiexec + kExe + " check " + kScene.string() + " --set mesh.ds=-1");
   EXPECT_EQ(bad.code, 2) << bad.out;
   EXPECT_EQ(count(bad.out, "traverse: bad scene:"), 1u) << bad.out;
+}
+
+TEST(Startup, SingleProcessRunRemovesItsSessionAndStaleOnes) {
+  // A run outside a launcher makes its own Open MPI session directory under TMPDIR and
+  // removes it at the end; it also removes the ones of processes that no longer exist
+  // (killed runs), and leaves a live process's alone.
+  const fs::path tmp = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / "startup-tmp";
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  const pid_t dead = fork();
+  if (dead == 0) _exit(0);
+  ASSERT_GT(dead, 0);
+  waitpid(dead, nullptr, 0);
+  const fs::path stale = tmp / "traverse-mpi-stale0", live = tmp / "traverse-mpi-live00";
+  for (const auto& [dir, pid] : {std::pair{stale, long(dead)}, std::pair{live, long(getpid())}}) {
+    fs::create_directories(dir / "ompi.host.0");
+    std::ofstream(dir / "owner") << pid << "\n";
+  }
+  const fs::path out = tmp / "run.h5";
+  const auto run = traverse::testing::run_command("TMPDIR=" + tmp.string() + " " + kExe + " run " + kScene.string() +
+                                                  " -o " + out.string() + " --set mesh.ds=0.1 -q");
+  ASSERT_EQ(run.code, 0) << run.out;
+  std::vector<std::string> left;
+  for (const auto& e : fs::directory_iterator(tmp))
+    if (e.path().filename().string().rfind("traverse-mpi-", 0) == 0) left.push_back(e.path().filename().string());
+  std::printf("session directories left: %zu\n", left.size());
+  EXPECT_FALSE(fs::exists(stale)) << "the directory of a process that is gone stays";
+  EXPECT_TRUE(fs::exists(live)) << "the directory of a live process was removed";
+  EXPECT_EQ(left, std::vector<std::string>{"traverse-mpi-live00"}) << "the run left its own session directory";
 }
