@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "interrupt.hpp"
+#include "memory_limit.hpp"
 #include "mpi_session.hpp"
 #include "run.hpp"
 #include "traverse/output/output_error.hpp"
@@ -140,9 +141,9 @@ std::string case_text(std::size_t k, const SweepCase& c) {
   return t;
 }
 
-// Runs one case on MPI_COMM_SELF; every outcome becomes the record (an interrupted case
-// also sets `interrupted`).
-CaseRecord run_case(const CommandLine& cl, std::size_t k, const SweepCase& c, int& interrupted) {
+// Runs one case on MPI_COMM_SELF with `limits` (sweep_limits); every outcome becomes the
+// record (an interrupted case also sets `interrupted`).
+CaseRecord run_case(const CommandLine& cl, const RunLimits& limits, std::size_t k, const SweepCase& c, int& interrupted) {
   CaseRecord r;
   const auto t0 = std::chrono::steady_clock::now();
   auto fail = [&](int code, const std::string& status, const std::string& message) {
@@ -164,7 +165,7 @@ CaseRecord run_case(const CommandLine& cl, std::size_t k, const SweepCase& c, in
     opt.quiet = true;
     opt.invocation = cl.invocation + " [" + case_text(k, c) + "]";
     opt.restart_interval = sc.output.restart_interval;
-    opt.limits = cl.limits;
+    opt.limits = limits;
     run_scene(sc, opt, MPI_COMM_SELF);
     fail(kSuccess, "complete", "");
     if (cl.summary.given()) r.summary = case_summary(c.output, cl.summary);
@@ -257,12 +258,26 @@ void write_index(const CommandLine& cl, const std::vector<std::string>& rows) {
   fs::rename(tmp, path);
 }
 
+// The limits of every case: the memory limit shared by the sweep's ranks on each host (a case
+// runs on MPI_COMM_SELF, which alone would see the whole host), unless --max-memory says.
+RunLimits sweep_limits(const RunLimits& given, MPI_Comm comm) {
+  RunLimits l = given;
+  if (l.max_memory > 0.0) return l;
+  const MemoryLimit m = memory_limit(given, comm);
+  if (m.bytes > 0.0) {
+    l.max_memory = m.bytes;
+    l.memory_source = m.source + ", for each of the sweep's ranks";
+  }
+  return l;
+}
+
 }  // namespace
 
 int run_sweep(const CommandLine& cl, MPI_Comm comm) {
   const std::vector<SweepCase> cases = plan_sweep(cl);
   prepare_directory(cl, cases, comm);
   const int size = comm_size(comm), rank = comm_rank(comm);
+  const RunLimits limits = sweep_limits(cl.limits, comm);
   if (rank == 0 && !cl.quiet)
     std::printf("sweep of %s: %zu cases on %d rank(s) -> %s\n", cl.scene.c_str(), cases.size(), size, cl.output.c_str());
   std::vector<std::pair<std::size_t, std::string>> mine;
@@ -270,7 +285,7 @@ int run_sweep(const CommandLine& cl, MPI_Comm comm) {
   int interrupted = 0;
   for (std::size_t k = static_cast<std::size_t>(rank); k < cases.size(); k += static_cast<std::size_t>(size)) {
     CaseRecord r;
-    if (!interrupted && !local_interrupt_signal()) r = run_case(cl, k, cases[k], interrupted);
+    if (!interrupted && !local_interrupt_signal()) r = run_case(cl, limits, k, cases[k], interrupted);
     codes[k] = r.code;
     if (!cl.quiet)
       std::printf("%s -> %s%s (%.3f s)\n", case_text(k, cases[k]).c_str(), r.status.c_str(),
