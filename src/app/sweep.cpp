@@ -15,6 +15,7 @@
 #include "memory_limit.hpp"
 #include "mpi_session.hpp"
 #include "run.hpp"
+#include "run_limits.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/output/reader.hpp"
 #include "traverse/output/restart.hpp"
@@ -139,6 +140,43 @@ std::string case_text(std::size_t k, const SweepCase& c) {
   std::string t = "case " + std::to_string(k) + ":";
   for (const auto& a : c.assignments) t += " " + a;
   return t;
+}
+
+// A rough cost of a case, for spreading the cases over the ranks: time steps x (nodes for a
+// rod, modes plus the nodes written per step for a beam); 1 for a continuation; 0 for a case
+// whose scene is bad input (it ends at once).
+double case_cost(const CommandLine& cl, const SweepCase& c) {
+  try {
+    std::vector<std::string> overrides = cl.overrides;
+    overrides.insert(overrides.end(), c.assignments.begin(), c.assignments.end());
+    const scene::Scene sc = scene::load_scene(cl.scene, overrides);
+    if (sc.model == scene::Model::Rod && sc.continuation.enabled) return 1.0;
+    const bool beam = sc.model == scene::Model::Beam;
+    const double steps = (beam ? beam_time_plan(sc) : rod_time_plan(sc)).steps;
+    const double per_step = beam ? sc.beam.modes + double(sc.mesh.nodes) / std::max(1, sc.output.every) : sc.mesh.nodes;
+    const double cost = steps * per_step;
+    return std::isfinite(cost) && cost > 0.0 ? cost : 0.0;
+  } catch (const std::exception&) {
+    return 0.0;
+  }
+}
+
+// The rank of each case: the most costly first, each to the rank with the least cost so far
+// (ties: the lower rank, then the lower case number); the same on every rank.
+std::vector<int> assign_ranks(const CommandLine& cl, const std::vector<SweepCase>& cases, int ranks) {
+  std::vector<double> cost(cases.size());
+  for (std::size_t k = 0; k < cases.size(); ++k) cost[k] = case_cost(cl, cases[k]);
+  std::vector<std::size_t> order(cases.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
+  std::vector<double> load(static_cast<std::size_t>(ranks), 0.0);
+  std::vector<int> rank_of(cases.size(), 0);
+  for (std::size_t k : order) {
+    const auto least = std::min_element(load.begin(), load.end());
+    rank_of[k] = static_cast<int>(least - load.begin());
+    *least += std::max(cost[k], 1e-300);
+  }
+  return rank_of;
 }
 
 // Runs one case on MPI_COMM_SELF with `limits` (sweep_limits); every outcome becomes the
@@ -283,7 +321,9 @@ int run_sweep(const CommandLine& cl, MPI_Comm comm) {
   std::vector<std::pair<std::size_t, std::string>> mine;
   std::vector<int> codes(cases.size(), 0);  // this rank's cases; gathered below
   int interrupted = 0;
-  for (std::size_t k = static_cast<std::size_t>(rank); k < cases.size(); k += static_cast<std::size_t>(size)) {
+  const std::vector<int> rank_of = size > 1 ? assign_ranks(cl, cases, size) : std::vector<int>(cases.size(), 0);
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    if (rank_of[k] != rank) continue;
     CaseRecord r;
     if (!interrupted && !local_interrupt_signal()) r = run_case(cl, limits, k, cases[k], interrupted);
     codes[k] = r.code;
