@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """Cantilever launch-barrel sweep of the scenes spec: runs inputs/beam/cantilever.yaml for
-mass fractions p in {5, 10, 20, 40} % and speeds v in {10, 50, 100, 200} m/s (with --set,
-no file copies), then draws
+mass fractions p in {5, 10, 20, 40} % and speeds v in {10, 50, 100, 200} m/s (in
+one `traverse sweep`, its cases spread over --ranks; no file copies), then draws
   cantilever_tip_by_speed.png  (a) one panel per v, a curve per mass fraction
   cantilever_tip_by_mass.png   (b) one panel per mass fraction, a curve per v
   cantilever_mass.png          deflection under the mass, one panel per v
 all against the beam coordinate x(t) = v t.
 
-Usage: cantilever_sweep.py --traverse BUILD/traverse [--out DIR] [--plot-only] [--modes N]
+Usage: cantilever_sweep.py --traverse BUILD/traverse [--out DIR] [--plot-only] [--modes N] [--ranks K]
 """
 import argparse
 import os
@@ -28,18 +28,29 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 SCENE = os.path.join(HERE, "..", "inputs", "beam", "cantilever.yaml")
 
 
+def sweep_dir(out):
+    return os.path.join(out, "sweep")
+
+
 def run_name(out, p, v):
-    return os.path.join(out, f"cantilever_p{round(100 * p):02d}_v{round(v):03d}.h5")
+    """The case file of mass fraction p and speed v, from the sweep's index."""
+    for row in traverse_io.sweep_index(sweep_dir(out)):
+        if float(row["loads.mass.mass_fraction"]) == p and float(row["loads.mass.speed"]) == v:
+            if row["status"] != "complete":
+                raise traverse_io.IncompleteOutputError(f"case p = {p}, v = {v}: {row['status']} {row['message']}")
+            return os.path.join(sweep_dir(out), row["output"])
+    raise KeyError(f"{sweep_dir(out)}: no case p = {p}, v = {v} in the sweep's index")
 
 
-def run_all(exe, out, modes):
+def run_all(exe, out, modes, ranks):
+    """The 4 x 4 cases in one `traverse sweep` (spread over `ranks` MPI ranks)."""
     os.makedirs(out, exist_ok=True)
-    for p in FRACTIONS:
-        for v in SPEEDS:
-            cmd = [exe, "run", SCENE, "-o", run_name(out, p, v), "--overwrite", "-q",
-                   "--set", f"loads.mass.mass_fraction={p}", "--set", f"loads.mass.speed={v}",
-                   "--set", f"beam.modes={modes}", "--set", f"title=cantilever p={p} v={v}"]
-            subprocess.run(cmd, check=True)
+    cmd = (["mpirun", "--allow-run-as-root", "--oversubscribe", "-n", str(ranks)] if ranks > 1 else []) + [
+        exe, "sweep", SCENE, "-o", sweep_dir(out), "--overwrite", "-q",
+        "--vary", "loads.mass.mass_fraction=" + ",".join(repr(p) for p in FRACTIONS),
+        "--vary", "loads.mass.speed=" + ",".join(repr(v) for v in SPEEDS),
+        "--set", f"beam.modes={modes}", "--summary", "tip:min"]
+    subprocess.run(cmd, check=True)
 
 
 def curve(run):
@@ -73,12 +84,13 @@ def main(argv=None):
     ap.add_argument("--traverse", help="path of the traverse executable")
     ap.add_argument("--out", default="out/cantilever")
     ap.add_argument("--modes", type=int, default=3)
+    ap.add_argument("--ranks", type=int, default=1, help="MPI ranks to spread the cases over")
     ap.add_argument("--plot-only", action="store_true")
     a = ap.parse_args(argv)
     if not a.plot_only:
         if not a.traverse:
             ap.error("--traverse is required unless --plot-only")
-        run_all(a.traverse, a.out, a.modes)
+        run_all(a.traverse, a.out, a.modes, a.ranks)
     pct = lambda p: f"M = {round(100 * p)} %"  # noqa: E731
     spd = lambda v: f"v = {v:g} m/s"  # noqa: E731
     panels(a.out, SPEEDS, FRACTIONS, spd, pct, lambda v, p: (p, v), "cantilever_tip_by_speed.png", "tip")

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Hanging-cable figures of the scenes spec. Runs inputs/rod/hanging_cable_F{2,20}_a*.yaml
-(alpha in {0.125, 0.25, 0.5, 1.0}) and a resonance sweep over alpha (0.1..2, with --set),
+(alpha in {0.125, 0.25, 0.5, 1.0}) and a resonance sweep over alpha (0.1..2: one `traverse sweep`
+per load, its cases spread over the --ranks),
 then draws
   hanging_cable_midspan.png   midspan height y(L/2) against sigma, a curve per alpha, a panel per load
   hanging_cable_shapes.png    cable shapes at a few sigma (alpha = 0.5), a panel per load
@@ -43,9 +44,26 @@ def out_name(out, F, a, tag="run"):
     return os.path.join(out, f"cable_{tag}_F{F}_a{a}.h5")
 
 
+def sweep_dir(out, F):
+    return os.path.join(out, f"cable_sweep_F{F}")
+
+
+def launcher(ranks):
+    return ["mpirun", "--allow-run-as-root", "--oversubscribe", "-n", str(ranks)] if ranks > 1 else []
+
+
 def run(exe, args, ranks):
-    cmd = ([ "mpirun", "--allow-run-as-root", "--oversubscribe", "-n", str(ranks)] if ranks > 1 else []) + [exe, "run"] + args + ["--overwrite", "-q"]
-    subprocess.run(cmd, check=True)
+    subprocess.run(launcher(ranks) + [exe, "run"] + args + ["--overwrite", "-q"], check=True)
+
+
+def run_sweep(exe, out, F, ranks):
+    """The resonance sweep of one load in one `traverse sweep` (cases spread over the ranks):
+    each speed alpha v1 with its end time (the crossing plus two periods of the first mode)."""
+    speeds = ",".join(repr(a * V1) for a in SWEEP)
+    ends = ",".join(repr(1.0 / (a * V1) + 2 * T1) for a in SWEEP)
+    subprocess.run(launcher(ranks) + [exe, "sweep", scene(F, 0.5), "-o", sweep_dir(out, F), "--vary",
+                                      f"loads.F.speed={speeds}", "--with", f"time.end={ends}", "--set",
+                                      "output.fields=[]", "--overwrite", "-q"], check=True)
 
 
 def run_all(exe, out, ranks):
@@ -53,9 +71,7 @@ def run_all(exe, out, ranks):
     for F in LOADS:
         for a in ALPHAS:
             run(exe, [scene(F, a), "-o", out_name(out, F, a)], ranks)
-        for a in SWEEP:
-            run(exe, [scene(F, 0.5), "-o", out_name(out, F, a, "sweep"), "--set", f"loads.F.speed={a * V1}",
-                      "--set", f"time.end={1.0 / (a * V1) + 2 * T1}", "--set", "output.fields=[]"], ranks)
+        run_sweep(exe, out, F, ranks)
 
 
 def midspan_y(r):
@@ -106,8 +122,8 @@ def main(argv=None):
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(12, 4.5))
     for F in LOADS:
         during, after = [], []
-        for al in SWEEP:
-            r = traverse_io.load(out_name(a.out, F, al, "sweep"))
+        for path in traverse_io.sweep_outputs(sweep_dir(a.out, F)):  # case k: alpha = SWEEP[k]
+            r = traverse_io.load(path)
             y, on = midspan_y(r), traverse_io.first_load_sigma(r) <= 1.0
             during.append(np.max(y[0] - y[on]))
             after.append(np.max(np.abs(y[~on] - y[0])))

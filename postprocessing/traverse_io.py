@@ -12,16 +12,21 @@
 
     out = traverse_io.load("crashed.h5", allow_incomplete=True)   # running / failed runs
 
+    cases = traverse_io.sweep_index("sweep_dir")  # rows of a `traverse sweep` index (dicts)
+    paths = traverse_io.sweep_outputs("sweep_dir")  # its case files in case order, all complete
+
 Command line: ``python3 traverse_io.py FILE [--check]`` prints a summary (``--check``: exit
 status 2 unless the run's status is "complete").
 """
 
+import csv
+import os
 import sys
 
 import h5py
 import numpy as np
 
-__all__ = ["load", "TraverseOutput", "IncompleteOutputError", "summary"]
+__all__ = ["load", "TraverseOutput", "IncompleteOutputError", "summary", "sweep_index", "sweep_outputs"]
 
 SUPPORTED_FORMAT = 1
 
@@ -156,6 +161,24 @@ def load(path, allow_incomplete=False):
             f"{out.path}: run status is {out.status!r} ({out.steps_written} steps written), "
             "not 'complete'; pass allow_incomplete=True to read the written steps anyway")
     return out
+
+
+def sweep_index(directory):
+    """The rows of DIRECTORY/index.csv written by `traverse sweep` (docs/sweeps.md), in case
+    order: dicts from the column names (case, each varied key, output, status, exit_code,
+    wall_s, the --summary column, message) to their text."""
+    with open(os.path.join(directory, "index.csv"), newline="") as f:
+        return sorted(csv.DictReader(f), key=lambda row: int(row["case"]))
+
+
+def sweep_outputs(directory):
+    """The output file of every case of a sweep, in case order; raises IncompleteOutputError
+    naming the cases that did not complete."""
+    rows = sweep_index(directory)
+    bad = [f"case {r['case']}: {r['status']} {r['message']}".strip() for r in rows if r["status"] != "complete"]
+    if bad:
+        raise IncompleteOutputError(f"{directory}: not every case completed: " + "; ".join(bad))
+    return [os.path.join(directory, r["output"]) for r in rows]
 
 
 def _exit_with(message, status=2):

@@ -13,14 +13,23 @@ Usage:
                [--restart-interval S] [--max-memory SIZE] [--max-steps N]
   traverse run --restart OUT.h5 [SCENE.yaml] [--set KEY.PATH=VALUE ...] [-q] [--progress]
   traverse check SCENE.yaml [--set KEY.PATH=VALUE ...] [--types] [--max-memory SIZE] [--max-steps N]
+  traverse sweep SCENE.yaml -o DIR --vary KEY=v1,v2,... [--with KEY=...] [--vary KEY=a:b:step ...] [--set ...]
+               [--summary PROBE[.x|.y|.z]:REDUCTION] [--overwrite] [-q] [--max-memory SIZE] [--max-steps N]
   traverse xdmf OUT.h5 [-o OUT.xmf]
   traverse --help | --version
   mpirun -n K traverse run SCENE.yaml ...      (K MPI ranks)
+  mpirun -n K traverse sweep SCENE.yaml ...    (the cases spread over K ranks, one rank each)
 
 Commands:
   run      validate the scene, run it, write the HDF5 output (and its .xmf sidecar)
   check    validate only and print the complete scene, every default filled in and
            documented (--types: also list every end-condition, load, probe and section type)
+  sweep    run the scene once per case of the cartesian product of the --vary options,
+           in one process (or spread over the MPI ranks): DIR/case_NNNN.h5 per case and
+           DIR/index.csv (case, each varied value, output, status, exit code, wall time,
+           the --summary value); a failed case is recorded and the others go on; the exit
+           code is 0 when every case completed, else that of the first failed case
+           (docs/sweeps.md)
   xdmf     (re)write the XDMF sidecar of an output file (any run's, a killed one's too) from
            the file alone, for ParaView and meshio (docs/output.md)
 
@@ -28,7 +37,14 @@ Options:
   -o, --output FILE   output file (default: the scene's output.file)
   --set KEY=VALUE     override any scene key, e.g. --set loads.mass.speed=100 (repeatable;
                       VALUE in YAML syntax, e.g. --set output.fields=[deflection])
-  --overwrite         replace an existing output file
+  --vary KEY=VALUES   sweep: the values of one key, comma-separated YAML values and ranges
+                      a:b:step (a, a + step, ... up to b), e.g. --vary loads.F.speed=1:3:0.5
+  --with KEY=VALUES   sweep: a key varied together with the --vary before it (as many values:
+                      the i-th value of each in the same case), e.g. an end time for each speed
+  --summary P:R       sweep: the index's scalar of each case, reduction R (min, max, absmax,
+                      mean, final) of probe P over the output steps (P.x, P.y, P.z: one
+                      component), e.g. --summary midspan.y:min
+  --overwrite         replace an existing output file (sweep: the index and case files)
   -q, --quiet         no progress, no summary
   --progress          report progress on stderr even when it is not a terminal
   --restart FILE      continue the run whose output is FILE (killed, interrupted or failed)
@@ -57,10 +73,50 @@ Exit codes: 0 success; 2 bad input (scene, overrides, command line, output path)
 )";
 }
 
+namespace {
+
+// The options of `xdmf` (a Help command for --help).
+void parse_xdmf(int argc, const char* const* argv, CommandLine& cl) {
+  for (int i = 2; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--help" || a == "-h") {
+      cl.command = CommandLine::Command::Help;
+      return;
+    } else if ((a == "-o" || a == "--output") && i + 1 < argc && argv[i + 1][0] != '\0') {
+      cl.output = argv[++i];
+    } else if (!a.empty() && a[0] == '-') {
+      throw UsageError{"'xdmf': unknown option or missing value '" + a + "' (see traverse --help)"};
+    } else if (cl.scene.empty()) {
+      cl.scene = a;
+    } else {
+      throw UsageError{"'xdmf': expected one output file, found a second one '" + a + "'"};
+    }
+  }
+  if (cl.scene.empty()) throw UsageError{"'xdmf': expected an output file (OUT.h5), found none"};
+}
+
+// What a complete command line needs beyond its options.
+CommandLine& checked(CommandLine& cl, const std::string& cmd) {
+  if (!cl.restart.empty()) {
+    if (cl.overwrite) throw UsageError{"--overwrite: not allowed with --restart (the restart continues " + cl.restart + ")"};
+    if (!cl.output.empty() && cl.output != cl.restart)
+      throw UsageError{"-o " + cl.output + ": not allowed with --restart (the restart appends to " + cl.restart + ")"};
+    return cl;
+  }
+  if (cl.scene.empty()) throw UsageError{"'" + cmd + "': expected a scene file, found none"};
+  if (cl.command == CommandLine::Command::Sweep) {
+    if (cl.output.empty()) throw UsageError{"'sweep': expected -o DIR, the directory of the case files and the index, found none"};
+    if (cl.vary.empty()) throw UsageError{"'sweep': expected at least one --vary KEY=v1,v2,..., found none"};
+  }
+  return cl;
+}
+
+}  // namespace
+
 CommandLine parse_command_line(int argc, const char* const* argv) {
   CommandLine cl;
   for (int i = 0; i < argc; ++i) cl.invocation += (i ? " " : "") + std::string(argv[i]);
-  if (argc < 2) throw UsageError{"expected a command (run, check, xdmf, --help or --version), found nothing"};
+  if (argc < 2) throw UsageError{"expected a command (run, check, sweep, xdmf, --help or --version), found nothing"};
   const std::string cmd = argv[1];
   if (cmd == "--help" || cmd == "-h" || cmd == "help") {
     cl.command = CommandLine::Command::Help;
@@ -74,29 +130,17 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     cl.command = CommandLine::Command::Run;
   } else if (cmd == "check") {
     cl.command = CommandLine::Command::Check;
+  } else if (cmd == "sweep") {
+    cl.command = CommandLine::Command::Sweep;
   } else if (cmd == "xdmf") {
     cl.command = CommandLine::Command::Xdmf;
-    for (int i = 2; i < argc; ++i) {
-      const std::string a = argv[i];
-      if (a == "--help" || a == "-h") {
-        cl.command = CommandLine::Command::Help;
-        return cl;
-      } else if ((a == "-o" || a == "--output") && i + 1 < argc && argv[i + 1][0] != '\0') {
-        cl.output = argv[++i];
-      } else if (!a.empty() && a[0] == '-') {
-        throw UsageError{"'xdmf': unknown option or missing value '" + a + "' (see traverse --help)"};
-      } else if (cl.scene.empty()) {
-        cl.scene = a;
-      } else {
-        throw UsageError{"'xdmf': expected one output file, found a second one '" + a + "'"};
-      }
-    }
-    if (cl.scene.empty()) throw UsageError{"'xdmf': expected an output file (OUT.h5), found none"};
+    parse_xdmf(argc, argv, cl);
     return cl;
   } else {
-    throw UsageError{"expected a command (run, check, xdmf, --help or --version), found '" + cmd + "'"};
+    throw UsageError{"expected a command (run, check, sweep, xdmf, --help or --version), found '" + cmd + "'"};
   }
-  const bool run = cl.command == CommandLine::Command::Run;
+  const bool sweep = cl.command == CommandLine::Command::Sweep;
+  const bool run = cl.command == CommandLine::Command::Run || sweep;
   for (int i = 2; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&](const std::string& opt) -> std::string {
@@ -113,10 +157,19 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     } else if (run && (a == "-o" || a == "--output")) {
       cl.output = value(a);
       if (cl.output.empty()) throw UsageError{a + ": expected a file name, found an empty string"};
-    } else if (run && a == "--restart") {
+    } else if (sweep && a == "--vary") {
+      cl.vary.push_back(parse_vary(value(a)));
+    } else if (sweep && a.rfind("--vary=", 0) == 0) {
+      cl.vary.push_back(parse_vary(a.substr(7)));
+    } else if (sweep && a == "--with") {
+      cl.vary.push_back(parse_vary(value(a), a));
+      cl.vary.back().with_previous = true;
+    } else if (sweep && a == "--summary") {
+      cl.summary = parse_summary(value(a));
+    } else if (run && !sweep && a == "--restart") {
       cl.restart = value(a);
       if (cl.restart.empty()) throw UsageError{a + ": expected the output file to continue, found an empty string"};
-    } else if (run && a == "--restart-interval") {
+    } else if (run && !sweep && a == "--restart-interval") {
       const std::string v = value(a);
       char* end = nullptr;
       const double x = std::strtod(v.c_str(), &end);
@@ -141,7 +194,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       cl.overwrite = true;
     } else if (run && (a == "-q" || a == "--quiet")) {
       cl.quiet = true;
-    } else if (run && a == "--progress") {
+    } else if (run && !sweep && a == "--progress") {
       cl.progress = true;
     } else if (!run && a == "--types") {
       cl.types = true;
@@ -153,14 +206,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       throw UsageError{"'" + cmd + "': expected one scene file, found a second one '" + a + "'"};
     }
   }
-  if (!cl.restart.empty()) {
-    if (cl.overwrite) throw UsageError{"--overwrite: not allowed with --restart (the restart continues " + cl.restart + ")"};
-    if (!cl.output.empty() && cl.output != cl.restart)
-      throw UsageError{"-o " + cl.output + ": not allowed with --restart (the restart appends to " + cl.restart + ")"};
-    return cl;
-  }
-  if (cl.scene.empty()) throw UsageError{"'" + cmd + "': expected a scene file, found none"};
-  return cl;
+  return checked(cl, cmd);
 }
 
 }  // namespace traverse::app

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "run_limits.hpp"
+#include "sweep_spec.hpp"
 
 namespace traverse::app {
 
@@ -16,10 +17,10 @@ enum ExitCode : int {
 };
 
 struct CommandLine {
-  enum class Command { Help, Version, Run, Check, Xdmf };
+  enum class Command { Help, Version, Run, Check, Xdmf, Sweep };
   Command command = Command::Help;
   std::string scene;                   ///< scene file (xdmf: the output file)
-  std::string output;                  ///< -o (empty: the scene's output.file)
+  std::string output;                  ///< -o (empty: the scene's output.file; sweep: the output directory)
   std::string restart;                 ///< --restart FILE: continue the run of FILE (run only)
   double restart_interval = -1.0;      ///< --restart-interval S: wall seconds between restart points (-1: the scene's)
   std::vector<std::string> overrides;  ///< --set KEY.PATH=VALUE, in order
@@ -27,6 +28,8 @@ struct CommandLine {
   bool quiet = false;
   bool progress = false;               ///< --progress: report progress even when not a terminal
   bool types = false;                  ///< check --types: also document every registered type
+  std::vector<VaryOption> vary;        ///< sweep --vary KEY=v1,v2,..., in order
+  SummarySpec summary;                 ///< sweep --summary PROBE[.c]:REDUCTION
   RunLimits limits;                    ///< --max-memory, --max-steps (run and check)
   std::string invocation;              ///< the whole command line, for the output file
 };

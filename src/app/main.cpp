@@ -7,8 +7,10 @@
 
 #include "cli.hpp"
 #include "interrupt.hpp"
+#include "mpi_session.hpp"
 #include "restart.hpp"
 #include "run.hpp"
+#include "sweep.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/output/sidecar.hpp"
 #include "traverse/scene/scene.hpp"
@@ -18,7 +20,23 @@ using namespace traverse;
 
 namespace {
 
-int execute(const app::CommandLine& cl, int rank) {
+// Whether `command` needs MPI: the ones that run something always; check and xdmf only under
+// an MPI launcher (where every rank takes part); --help and --version never.
+bool needs_mpi(app::CommandLine::Command command, const app::Launch& launch) {
+  using Command = app::CommandLine::Command;
+  switch (command) {
+    case Command::Help:
+    case Command::Version: return false;
+    case Command::Check:
+    case Command::Xdmf: return launch.by_launcher;
+    case Command::Run:
+    case Command::Sweep: return true;
+    default: throw std::logic_error("traverse: command not handled");
+  }
+}
+
+// `comm`: MPI_COMM_WORLD, or MPI_COMM_NULL when the command runs without MPI (needs_mpi).
+int execute(const app::CommandLine& cl, int rank, MPI_Comm comm) {
   using Command = app::CommandLine::Command;
   switch (cl.command) {
     case Command::Help:
@@ -30,7 +48,7 @@ int execute(const app::CommandLine& cl, int rank) {
     case Command::Check: {
       const scene::Scene sc = scene::load_scene(cl.scene, cl.overrides);
       if (sc.model == scene::Model::Rod) app::check_rod(sc);
-      const std::string plan = app::check_run(sc, cl.limits, MPI_COMM_WORLD);
+      const std::string plan = app::check_run(sc, cl.limits, comm);
       if (rank == 0) {
         std::cout << "# " << cl.scene << ": valid (" << plan << "). The complete scene, every default filled in:\n"
                   << scene::describe_scene(sc);
@@ -51,7 +69,7 @@ int execute(const app::CommandLine& cl, int rank) {
         }
       }
       int failed = error.empty() ? 0 : 1;
-      MPI_Bcast(&failed, 1, MPI_INT, 0, MPI_COMM_WORLD);
+      if (comm != MPI_COMM_NULL) MPI_Bcast(&failed, 1, MPI_INT, 0, comm);
       if (failed) throw app::UsageError{"xdmf " + cl.scene + ": " + (rank == 0 ? error : std::string("failed"))};
       return app::kSuccess;
     }
@@ -71,22 +89,12 @@ int execute(const app::CommandLine& cl, int rank) {
       opt.progress = cl.progress;
       opt.invocation = cl.invocation;
       opt.limits = cl.limits;
-      switch (sc.model) {
-        case scene::Model::Beam:
-          app::run_beam(sc, opt, MPI_COMM_WORLD);
-          break;
-        case scene::Model::Rod:
-          if (sc.continuation.enabled) {
-            app::run_statics(sc, opt, MPI_COMM_WORLD);
-          } else {
-            app::run_rod(sc, opt, MPI_COMM_WORLD);
-          }
-          break;
-        default:
-          throw std::logic_error("traverse run: model not handled");
-      }
+      app::run_scene(sc, opt, comm);
       return app::kSuccess;
     }
+    case Command::Sweep:
+      app::install_interrupt_handlers();
+      return app::run_sweep(cl, comm);
     default:
       throw std::logic_error("traverse: command not handled");
   }
@@ -95,15 +103,22 @@ int execute(const app::CommandLine& cl, int rank) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  int rank = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  // MPI only for the commands that need it (needs_mpi); until it starts, the rank is the
+  // launcher's (0 outside one), so that one rank reports.
+  const app::Launch launch = app::launch_from_environment();
+  app::MpiSession mpi;
+  int rank = launch.rank;
   int code = app::kSuccess;
   auto report = [&](const std::string& kind, const std::string& msg) {
     if (rank == 0) std::cerr << "traverse: " << kind << msg << "\n";
   };
   try {
-    code = execute(app::parse_command_line(argc, argv), rank);
+    const app::CommandLine cl = app::parse_command_line(argc, argv);
+    if (needs_mpi(cl.command, launch)) {
+      mpi.start(&argc, &argv, launch);
+      rank = mpi.rank();
+    }
+    code = execute(cl, rank, mpi.comm());
   } catch (const app::UsageError& e) {
     report("", e.message + "\n(see traverse --help)");
     code = app::kBadInput;
@@ -118,7 +133,7 @@ int main(int argc, char** argv) {
     code = app::kBadInput;
   } catch (const app::Interrupted& e) {
     // Every rank stopped at the same step; the writer is closed: set the final status.
-    output::set_file_status(e.output(), e.status(), MPI_COMM_WORLD);
+    output::set_file_status(e.output(), e.status(), mpi.comm());
     report("", e.what());
     code = 128 + e.signal();
   } catch (const app::NumericsError& e) {
@@ -128,6 +143,7 @@ int main(int argc, char** argv) {
     report("error: ", e.what());
     code = app::kOtherError;
   }
-  MPI_Finalize();
+  app::finish_solver_runtime();
+  mpi.finish();
   return code;
 }

@@ -117,7 +117,10 @@ MemoryLimit this_rank(int ranks_on_host) {
 }  // namespace
 
 MemoryLimit memory_limit(const RunLimits& limits, MPI_Comm comm) {
-  if (limits.max_memory > 0.0) return {limits.max_memory, "--max-memory " + format_bytes(limits.max_memory)};
+  if (limits.max_memory > 0.0)
+    return {limits.max_memory,
+            limits.memory_source.empty() ? "--max-memory " + format_bytes(limits.max_memory) : limits.memory_source};
+  if (comm == MPI_COMM_NULL) return this_rank(1);  // this process alone, MPI not started
   MPI_Comm host;
   MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &host);
   int on_host = 1;

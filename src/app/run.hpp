@@ -43,6 +43,7 @@ CheckedRun check_beam_run(const scene::Scene& scene, const RunLimits& limits, MP
 /// A rod run, dynamic or a continuation (then without a time grid); `model` from build_rod_model.
 CheckedRun check_rod_run(const scene::Scene& scene, const rod::RodModel& model, const RunLimits& limits, MPI_Comm comm);
 /// The checks of the scene's kind of run, for `traverse check`: the summary line.
+/// `comm` may be MPI_COMM_NULL (this process alone, MPI not started).
 std::string check_run(const scene::Scene& scene, const RunLimits& limits, MPI_Comm comm);
 
 /// Runs a beam scene; throws scene::SceneError for input that only shows as bad once the
@@ -59,5 +60,12 @@ void run_statics(const scene::Scene& scene, const RunOptions& options, MPI_Comm 
 
 /// Runs a rod scene (same contract as run_beam).
 void run_rod(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);
+
+/// Runs `scene` with the runner of its model (run_beam, run_statics or run_rod).
+void run_scene(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);
+
+/// Ends what rod runs started for the whole process (Kokkos, started by the first rod run
+/// and kept for the next ones, e.g. the cases of a sweep); call before MPI_Finalize.
+void finish_solver_runtime();
 
 }  // namespace traverse::app

@@ -3,18 +3,13 @@
 #include <mpi.h>
 
 #include "memory_limit.hpp"
+#include "mpi_session.hpp"
 #include "rod_setup.hpp"
 #include "run.hpp"
 
 namespace traverse::app {
 
 namespace {
-
-int comm_size(MPI_Comm comm) {
-  int n = 1;
-  MPI_Comm_size(comm, &n);
-  return n;
-}
 
 // Whether the planar path is expected: scheme.planar on, or auto and the scene planar (the
 // rod, its loads, gravity and ends checked on a 2-cell copy of the model in the straight

@@ -28,6 +28,7 @@ constexpr double kMaxLoadRatio = 4503599627370496.0;
 struct RunLimits {
   double max_memory = 0.0;            ///< --max-memory [bytes per rank]; 0: what the machine allows
   long max_steps = kDefaultMaxSteps;  ///< --max-steps
+  std::string memory_source;          ///< where max_memory comes from when not --max-memory (sweep cases)
 };
 
 /// The time grid of a dynamic run and the keys that decide it.

@@ -26,6 +26,7 @@
 #include "run_rod_coupled.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
+#include "traverse/solver/runtime.hpp"
 #include "traverse/version.hpp"
 
 namespace traverse::app {
@@ -484,10 +485,14 @@ void check_rod(const scene::Scene& sc) {
   precheck_planar(sc, setup.model);
 }
 
+void finish_solver_runtime() { solver::finish_runtime(); }
+
 void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  // Kokkos and Tpetra live for this run only (beam runs never start them).
+  // Kokkos lives from the first rod run of the process to its end (finish_solver_runtime),
+  // Tpetra for this run only (beam runs, check and the other commands never start them).
+  solver::start_runtime();
   int no_argc = 0;
   char** no_argv = nullptr;
   Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);

@@ -13,6 +13,7 @@
 #include "rod_setup.hpp"
 #include "run.hpp"
 #include "traverse/output/continuation_writer.hpp"
+#include "traverse/solver/runtime.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 #include "traverse/solver/static_continuation.hpp"
@@ -186,6 +187,7 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   check_rod_run(sc, build_rod_model(sc).model, opt.limits, comm);  // memory, load ratio (run_limits.hpp)
+  solver::start_runtime();  // Kokkos until finish_solver_runtime (run.hpp), Tpetra for this run
   int no_argc = 0;
   char** no_argv = nullptr;
   Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);

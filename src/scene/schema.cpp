@@ -492,6 +492,82 @@ std::string apply_override(YAML::Node root, const std::string& assignment) {
 
 }  // namespace
 
+namespace {
+
+std::vector<std::string> key_names(const std::vector<Param>& keys, bool with_type) {
+  std::vector<std::string> names;
+  if (with_type) names.push_back("type");
+  for (const auto& k : keys) names.push_back(k.name);
+  return names;
+}
+
+const Teuchos::ParameterList* sublist_of(const Teuchos::ParameterList* list, const std::string& name) {
+  return list && list->isSublist(name) ? &list->sublist(name) : nullptr;
+}
+
+// The keys of a typed entry `list` (its `type` chosen in the scene), or nullptr.
+const TypeInfo* type_of(const Teuchos::ParameterList* list, const TypeRegistry& reg) {
+  if (!list || !list->isType<std::string>("type")) return nullptr;
+  return reg.find(list->get<std::string>("type"));
+}
+
+}  // namespace
+
+std::string key_problem(const ValidatedTree& tree, const Param& root, const std::string& key) {
+  std::vector<std::string> parts(1);
+  for (char c : key) {
+    if (c == '.') parts.emplace_back();
+    else parts.back() += c;
+  }
+  for (const auto& p : parts)
+    if (p.empty()) return "expected KEY.PATH with non-empty parts, found '" + key + "'";
+  const std::vector<Param>* keys = &root.children;
+  const Teuchos::ParameterList* list = &tree.params;
+  bool typed = false;  // the level is a typed entry: its `type` key is declared too
+  std::string path;
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const std::string& part = parts[i];
+    const bool last = i + 1 == parts.size();
+    const std::vector<std::string> known = key_names(*keys, typed);
+    if (typed && part == "type") return last ? "" : "expected a key path, found '" + key + "' ('type' holds a word)";
+    const Param* p = nullptr;
+    for (const auto& k : *keys)
+      if (k.name == part) p = &k;
+    if (!p)
+      return "expected a key of " + (path.empty() ? std::string("the scene") : "'" + path + "'") + ", one of {" +
+             list_words(known) + "}, found '" + part + "'" + suggestion(part, known);
+    path = join_path(path, part);
+    if (last) return "";
+    list = sublist_of(list, part);
+    switch (p->kind) {
+      case ValueKind::Section: keys = &p->children; typed = false; break;
+      case ValueKind::PassThrough: return "";  // handed to Trilinos unchanged: any key
+      case ValueKind::Typed:
+      case ValueKind::Collection: {
+        if (p->kind == ValueKind::Collection) {
+          const std::string& name = parts[++i];
+          std::vector<std::string> names;
+          if (list)
+            for (auto it = list->begin(); it != list->end(); ++it) names.push_back(list->name(it));
+          if (!sublist_of(list, name))
+            return "expected one of the names of '" + path + "' in the scene {" + list_words(names) + "}, found '" +
+                   name + "'" + suggestion(name, names);
+          path = join_path(path, name);
+          if (i + 1 == parts.size()) return "";
+          list = sublist_of(list, name);
+        }
+        const TypeInfo* info = type_of(list, *p->registry);
+        if (!info) return "expected a key of '" + path + "' with its type set in the scene, found '" + key + "'";
+        keys = &info->params;
+        typed = true;
+        break;
+      }
+      default: return "expected '" + path + "' to be a section of keys, found a value (" + p->expected_text() + ")";
+    }
+  }
+  return "";
+}
+
 [[noreturn]] void CheckContext::fail(const std::string& key, const std::string& expected, const std::string& found) const {
   const std::string p = key.empty() ? path_ : join_path(path_, key);
   throw SceneError(location(file_, marks_ ? *marks_ : Marks{}, p) + ": " + p + ": expected " + expected + ", found " + found);

@@ -150,6 +150,12 @@ struct ValidatedTree {
 ValidatedTree validate_yaml(const std::string& yaml_text, const std::string& file_name,
                             const std::vector<std::string>& overrides, const Param& root);
 
+/// Empty if `key` ("a.b.c", as --set takes it) is a key the schema declares at that place
+/// of the validated scene `tree` (typed entries resolved by their type in the tree, names
+/// of collections taken from the tree, anything below a pass-through section); otherwise
+/// "expected ..., found ..." saying what is known there.
+std::string key_problem(const ValidatedTree& tree, const Param& root, const std::string& key);
+
 /// The complete validated scene as YAML, every default filled in, each key followed by a
 /// comment with its meaning, units, range and default; optional keys left unset appear as
 /// comments. With `with_types`, each registry's other types are listed too.

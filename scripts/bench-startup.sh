@@ -1,0 +1,60 @@
+#!/bin/bash
+# Start-up and sweep figures of issue 16 (docs/benchmarks.md, "Start-up and sweeps"): the
+# median wall and CPU time (user + system, children included) of
+#   traverse --version, traverse check inputs/default.yaml, a 26-node cable run (ds = 0.04)
+# for each executable given (e.g. the build of main and this one), then the F = 2 N resonance
+# sweep (20 speeds, postprocessing/hanging_cable.py's) on 1 and 2 ranks with the last one.
+# Usage: bash scripts/bench-startup.sh [-n RUNS] [--no-sweep] EXE [EXE ...]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+runs=9
+sweep=1
+exes=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    -n) runs="$2"; shift 2 ;;
+    --no-sweep) sweep=0; shift ;;
+    *) exes+=("$1"); shift ;;
+  esac
+done
+[ ${#exes[@]} -gt 0 ] || { echo "usage: bash scripts/bench-startup.sh [-n RUNS] [--no-sweep] EXE [EXE ...]" >&2; exit 2; }
+py=/usr/bin/python3
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+# median wall and CPU of RUNS runs of the command
+measure() {
+  for _ in $(seq "$runs"); do /usr/bin/time -f "%e %U %S" -o "$work/t" "$@" >/dev/null 2>&1 || true; tail -1 "$work/t"; done |
+    $py -c 'import sys, statistics as s
+r = [l.split() for l in sys.stdin if l.strip()]
+print("%.3f %.3f" % (s.median(float(x[0]) for x in r), s.median(float(x[1]) + float(x[2]) for x in r)))'
+}
+
+echo "| executable | command | wall [s] | CPU [s] |"
+echo "|---|---|---|---|"
+for exe in "${exes[@]}"; do
+  for cmd in "--version" "check inputs/default.yaml" \
+             "run inputs/default.yaml --set mesh.ds=0.04 -o $work/cable.h5 --overwrite -q"; do
+    # shellcheck disable=SC2086
+    read -r wall cpu < <(measure "$exe" $cmd)
+    echo "| $exe | traverse ${cmd%% -o *} | $wall | $cpu |"
+  done
+done
+
+[ "$sweep" = 1 ] || exit 0
+exe="${exes[-1]}"
+speeds=$($py -c 'V1 = 7.268366068467048; print(",".join(repr(round(0.1 * k, 2) * V1) for k in range(1, 21)))')
+ends=$($py -c 'V1 = 7.268366068467048; T1 = 2 / V1
+print(",".join(repr(1 / (round(0.1 * k, 2) * V1) + 2 * T1) for k in range(1, 21)))')
+args=(sweep inputs/rod/hanging_cable_F2_a0.5.yaml --vary "loads.F.speed=$speeds" --with "time.end=$ends"
+      --set "output.fields=[]" --overwrite -q)
+for ranks in 1 2; do
+  launch=()
+  # --bind-to none: Open MPI binds 2 ranks to one core each by default, which on a machine
+  # shared with other work pins a rank to a busy core; one process alone is never bound.
+  [ "$ranks" = 1 ] || launch=(mpirun --allow-run-as-root --oversubscribe --bind-to none -n "$ranks")
+  read -r wall cpu < <(runs=3 measure "${launch[@]}" "$exe" "${args[@]}" -o "$work/sweep$ranks")
+  echo "resonance sweep (F = 2 N, 20 speeds) on $ranks rank(s): wall $wall s, CPU $cpu s"
+  eval "wall$ranks=$wall"
+done
+$py -c "print('resonance sweep: 2 ranks %.2fx faster than 1 (wall)' % ($wall1 / $wall2))"

@@ -1,0 +1,117 @@
+#include "mpi_session.hpp"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <system_error>
+#include <vector>
+
+namespace traverse::app {
+
+namespace {
+
+// The first of `names` set in the environment, or nullptr.
+const char* first_set(std::initializer_list<const char*> names) {
+  for (const char* n : names)
+    if (const char* v = std::getenv(n)) return v;
+  return nullptr;
+}
+
+constexpr const char* kSessionPrefix = "traverse-mpi-";
+
+// Removes the session directories (under `base`) of processes that no longer exist (killed
+// before they could remove their own); each holds its owner's pid in the file `owner`.
+void remove_stale_sessions(const std::filesystem::path& base) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  for (fs::directory_iterator it(base, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->path().filename().string().rfind(kSessionPrefix, 0) != 0) continue;
+    std::ifstream owner(it->path() / "owner");
+    long pid = 0;
+    if (!(owner >> pid) || pid <= 0) continue;  // not (yet) owned: leave it alone
+    if (kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) {
+      std::error_code ignored;
+      fs::remove_all(it->path(), ignored);
+    }
+  }
+}
+
+// A fresh session directory of this process under TMPDIR (or /tmp); empty if none can be made.
+std::string make_session_dir() {
+  const char* tmp = std::getenv("TMPDIR");
+  const std::string base = tmp && *tmp ? tmp : "/tmp";
+  remove_stale_sessions(base);
+  std::string pattern = base + "/" + kSessionPrefix + "XXXXXX";
+  std::vector<char> buf(pattern.begin(), pattern.end());
+  buf.push_back('\0');
+  if (!mkdtemp(buf.data())) return "";
+  std::ofstream(std::string(buf.data()) + "/owner") << getpid() << "\n";
+  return buf.data();
+}
+
+}  // namespace
+
+Launch launch_from_environment() {
+  Launch l;
+  // Open MPI's mpirun, PMIx launchers, MPICH/Hydra (PMI), Slurm's srun.
+  const char* rank = first_set({"OMPI_COMM_WORLD_RANK", "PMIX_RANK", "PMI_RANK", "SLURM_PROCID"});
+  const char* other = first_set({"OMPI_COMM_WORLD_SIZE", "PMI_SIZE", "PMI_FD", "PMIX_NAMESPACE", "HYDI_CONTROL_FD"});
+  l.by_launcher = rank || other;
+  if (rank) l.rank = std::atoi(rank);
+  return l;
+}
+
+void MpiSession::start(int* argc, char*** argv, const Launch& launch) {
+  if (started_) return;
+  if (!launch.by_launcher) {
+    // One process, alone: only the self transport (its only peer is itself; no UCX or
+    // network probing). 0: a setting already made in the environment wins.
+    setenv("OMPI_MCA_pml", "ob1", 0);
+    setenv("OMPI_MCA_btl", "self", 0);
+    // No daemon (it would only serve MPI_Comm_spawn, never used). Isolated singletons all
+    // get the same job id, so each needs a session directory of its own (removed in finish).
+    if (!std::getenv("OMPI_MCA_ess_singleton_isolated") && !std::getenv("OMPI_MCA_orte_tmpdir_base")) {
+      session_dir_ = make_session_dir();
+      if (!session_dir_.empty()) {
+        setenv("OMPI_MCA_orte_tmpdir_base", session_dir_.c_str(), 1);
+        setenv("OMPI_MCA_ess_singleton_isolated", "1", 1);
+      }
+    }
+  }
+  MPI_Init(argc, argv);
+  started_ = true;
+}
+
+int MpiSession::rank() const { return comm_rank(comm()); }
+
+void MpiSession::finish() {
+  if (!started_) return;
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized) MPI_Finalize();
+  started_ = false;
+  if (!session_dir_.empty()) {
+    std::error_code ignored;
+    std::filesystem::remove_all(session_dir_, ignored);
+    session_dir_.clear();
+  }
+}
+
+int comm_size(MPI_Comm comm) {
+  int n = 1;
+  if (comm != MPI_COMM_NULL) MPI_Comm_size(comm, &n);
+  return n;
+}
+
+int comm_rank(MPI_Comm comm) {
+  int r = 0;
+  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &r);
+  return r;
+}
+
+}  // namespace traverse::app

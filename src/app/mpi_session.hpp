@@ -1,0 +1,49 @@
+#pragma once
+// MPI for the commands that need it, started as cheaply as is correct (docs/developer.md,
+// "Start-up"): --help, --version and, outside an MPI launcher, check and xdmf never start
+// MPI; a run outside a launcher starts MPI as an isolated singleton (no daemon, no network
+// transports); under mpirun/mpiexec/srun, MPI starts as the launcher configured it.
+#include <mpi.h>
+
+#include <string>
+
+namespace traverse::app {
+
+/// What the environment says about how this process was started.
+struct Launch {
+  bool by_launcher = false;  ///< started by mpirun, mpiexec, srun (a process-manager variable is set)
+  int rank = 0;              ///< this process's rank in the launch (0 outside a launcher)
+};
+
+/// Reads the variables Open MPI, MPICH/Hydra, PMIx and Slurm set for the processes they start.
+Launch launch_from_environment();
+
+/// MPI for the lifetime of the object, when started; MPI_Finalize at the end (or finish()).
+class MpiSession {
+ public:
+  MpiSession() = default;
+  MpiSession(const MpiSession&) = delete;
+  MpiSession& operator=(const MpiSession&) = delete;
+  ~MpiSession() { finish(); }
+
+  /// Starts MPI. Outside a launcher (`launch.by_launcher` false) the Open MPI settings of a
+  /// single process are set first, unless the environment sets them already: pml ob1 and
+  /// btl self (no UCX or network probing), ess_singleton_isolated (no orted daemon) with a
+  /// session directory of its own (a fresh TMPDIR/traverse-mpi-XXXXXX, removed by finish).
+  void start(int* argc, char*** argv, const Launch& launch);
+  bool started() const { return started_; }
+  /// MPI_COMM_WORLD once started; MPI_COMM_NULL (this process alone, no MPI) before.
+  MPI_Comm comm() const { return started_ ? MPI_COMM_WORLD : MPI_COMM_NULL; }
+  int rank() const;
+  void finish();
+
+ private:
+  bool started_ = false;
+  std::string session_dir_;  ///< this process's own Open MPI session directory, if made here
+};
+
+/// Size and rank of `comm`, with MPI_COMM_NULL meaning this process alone (MPI not started).
+int comm_size(MPI_Comm comm);
+int comm_rank(MPI_Comm comm);
+
+}  // namespace traverse::app

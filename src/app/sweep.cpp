@@ -1,0 +1,354 @@
+// traverse sweep: plan (everything checked up front), run the cases of this rank, gather
+// their records on rank 0, write the index.
+#include "sweep.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "interrupt.hpp"
+#include "memory_limit.hpp"
+#include "mpi_session.hpp"
+#include "run.hpp"
+#include "run_limits.hpp"
+#include "traverse/output/output_error.hpp"
+#include "traverse/output/reader.hpp"
+#include "traverse/output/restart.hpp"
+#include "traverse/scene/scene.hpp"
+
+namespace traverse::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr std::size_t kMaxCases = 100000;
+
+struct SweepCase {
+  std::vector<std::string> assignments;  ///< "key=value" of each --vary, in option order
+  std::string output;                    ///< DIR/case_NNNN.h5
+};
+
+struct CaseRecord {
+  int code = -1;                 ///< exit code of the case as a run (0 complete); -1 not run
+  std::string status = "not run";
+  std::string message;
+  double wall = 0.0;             ///< seconds
+  double summary = std::nan("");
+};
+
+// The probes of a (dynamic) run of `sc` with their component counts.
+std::vector<std::pair<std::string, int>> probes_of(const scene::Scene& sc) {
+  std::vector<std::pair<std::string, int>> out;
+  const bool beam = sc.model == scene::Model::Beam;
+  for (const auto& p : sc.output.probes) out.emplace_back(p.name, beam ? 1 : 3);
+  for (const auto& l : sc.loads) {
+    out.emplace_back(l.name + "_position", 1);
+    if (beam) out.emplace_back(l.name + "_deflection", 1);
+  }
+  return out;
+}
+
+void check_summary(const scene::Scene& sc, const SummarySpec& s) {
+  if (!s.given()) return;
+  if (sc.model == scene::Model::Rod && sc.continuation.enabled)
+    throw UsageError{"--summary " + s.text + ": expected a scene with time stepping; " + sc.file +
+                     " is a continuation (statics) scene"};
+  const auto probes = probes_of(sc);
+  std::string names;
+  for (const auto& [name, components] : probes) {
+    names += (names.empty() ? "" : ", ") + name;
+    if (name != s.probe) continue;
+    if (components > 1 && s.component < 0)
+      throw UsageError{"--summary " + s.text + ": expected a component of probe '" + name + "' (" + name + ".x, " + name +
+                       ".y or " + name + ".z), found none"};
+    if (components == 1 && s.component > 0)
+      throw UsageError{"--summary " + s.text + ": expected probe '" + name + "' without a component (it has one), found ." +
+                       std::string(1, char('x' + s.component))};
+    return;
+  }
+  throw UsageError{"--summary " + s.text + ": expected a probe of " + sc.file + " {" + names + "}, found '" + s.probe + "'"};
+}
+
+std::string case_name(std::size_t k, std::size_t n) {
+  std::string digits = std::to_string(k);
+  const std::size_t width = std::max<std::size_t>(4, std::to_string(n - 1).size());
+  return "case_" + std::string(width - std::min(width, digits.size()), '0') + digits + ".h5";
+}
+
+// Every check of the sweep before any case runs; the cases with their output paths.
+std::vector<SweepCase> plan_sweep(const CommandLine& cl) {
+  const scene::Scene base = scene::load_scene(cl.scene, cl.overrides);
+  for (const auto& v : cl.vary) {
+    const std::string option = v.with_previous ? "--with " : "--vary ";
+    if (v.key == "output.file")
+      throw UsageError{option + "output.file: expected a scene key; the sweep names the output files (-o DIR)"};
+    const std::string problem = scene::key_problem(base.tree, scene::scene_schema(), v.key);
+    if (!problem.empty()) throw UsageError{option + v.key + ": " + problem + " (scene " + cl.scene + ")"};
+  }
+  check_summary(base, cl.summary);
+  const auto assignments = sweep_cases(cl.vary, kMaxCases);
+  std::vector<SweepCase> cases;
+  for (std::size_t k = 0; k < assignments.size(); ++k)
+    cases.push_back({assignments[k], (fs::path(cl.output) / case_name(k, assignments.size())).string()});
+  return cases;
+}
+
+fs::path index_path(const CommandLine& cl) { return fs::path(cl.output) / "index.csv"; }
+
+// Rank 0 makes the directory and refuses to replace files without --overwrite; every rank
+// learns the outcome (an OutputError, exit 2, on every rank).
+void prepare_directory(const CommandLine& cl, const std::vector<SweepCase>& cases, MPI_Comm comm) {
+  std::string error;
+  if (comm_rank(comm) == 0) {
+    std::error_code ec;
+    fs::create_directories(cl.output, ec);
+    if (ec || !fs::is_directory(cl.output)) {
+      error = "-o " + cl.output + ": expected a directory for the sweep's files, cannot make it (" + ec.message() + ")";
+    } else if (!cl.overwrite) {
+      std::vector<std::string> paths{index_path(cl).string()};
+      for (const auto& c : cases) paths.push_back(c.output);
+      for (const auto& p : paths)
+        if (fs::exists(p)) {
+          error = p + ": exists (use --overwrite to replace the index and the case files)";
+          break;
+        }
+    }
+  }
+  int length = static_cast<int>(error.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
+  error.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
+  if (!error.empty()) throw output::OutputError(error);
+}
+
+double case_summary(const std::string& path, const SummarySpec& s) {
+  const output::Reader r(path);
+  const output::Series series = r.probe(s.probe);
+  const std::size_t c = static_cast<std::size_t>(std::max(0, s.component));
+  std::vector<double> values;
+  for (std::size_t row = 0; row < series.rows; ++row) values.push_back(series.values[row * series.components + c]);
+  return reduce(values, s.reduction);
+}
+
+std::string case_text(std::size_t k, const SweepCase& c) {
+  std::string t = "case " + std::to_string(k) + ":";
+  for (const auto& a : c.assignments) t += " " + a;
+  return t;
+}
+
+// A rough cost of a case, for spreading the cases over the ranks: time steps x (nodes for a
+// rod, modes plus the nodes written per step for a beam); 1 for a continuation; 0 for a case
+// whose scene is bad input (it ends at once).
+double case_cost(const CommandLine& cl, const SweepCase& c) {
+  try {
+    std::vector<std::string> overrides = cl.overrides;
+    overrides.insert(overrides.end(), c.assignments.begin(), c.assignments.end());
+    const scene::Scene sc = scene::load_scene(cl.scene, overrides);
+    if (sc.model == scene::Model::Rod && sc.continuation.enabled) return 1.0;
+    const bool beam = sc.model == scene::Model::Beam;
+    const double steps = (beam ? beam_time_plan(sc) : rod_time_plan(sc)).steps;
+    const double per_step = beam ? sc.beam.modes + double(sc.mesh.nodes) / std::max(1, sc.output.every) : sc.mesh.nodes;
+    const double cost = steps * per_step;
+    return std::isfinite(cost) && cost > 0.0 ? cost : 0.0;
+  } catch (const std::exception&) {
+    return 0.0;
+  }
+}
+
+// The rank of each case: the most costly first, each to the rank with the least cost so far
+// (ties: the lower rank, then the lower case number); the same on every rank.
+std::vector<int> assign_ranks(const CommandLine& cl, const std::vector<SweepCase>& cases, int ranks) {
+  std::vector<double> cost(cases.size());
+  for (std::size_t k = 0; k < cases.size(); ++k) cost[k] = case_cost(cl, cases[k]);
+  std::vector<std::size_t> order(cases.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
+  std::vector<double> load(static_cast<std::size_t>(ranks), 0.0);
+  std::vector<int> rank_of(cases.size(), 0);
+  for (std::size_t k : order) {
+    const auto least = std::min_element(load.begin(), load.end());
+    rank_of[k] = static_cast<int>(least - load.begin());
+    *least += std::max(cost[k], 1e-300);
+  }
+  return rank_of;
+}
+
+// Runs one case on MPI_COMM_SELF with `limits` (sweep_limits); every outcome becomes the
+// record (an interrupted case also sets `interrupted`).
+CaseRecord run_case(const CommandLine& cl, const RunLimits& limits, std::size_t k, const SweepCase& c, int& interrupted) {
+  CaseRecord r;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto fail = [&](int code, const std::string& status, const std::string& message) {
+    r.code = code;
+    r.status = status;
+    r.message = message;
+  };
+  try {
+    // A file of an earlier sweep (there is one only with --overwrite) must not pass for this case's.
+    std::error_code ignored;
+    fs::remove(c.output, ignored);
+    fs::remove(fs::path(c.output).replace_extension(".xmf"), ignored);
+    std::vector<std::string> overrides = cl.overrides;
+    overrides.insert(overrides.end(), c.assignments.begin(), c.assignments.end());
+    const scene::Scene sc = scene::load_scene(cl.scene, overrides);
+    RunOptions opt;
+    opt.output = c.output;
+    opt.overwrite = true;  // checked up front (prepare_directory)
+    opt.quiet = true;
+    opt.invocation = cl.invocation + " [" + case_text(k, c) + "]";
+    opt.restart_interval = sc.output.restart_interval;
+    opt.limits = limits;
+    run_scene(sc, opt, MPI_COMM_SELF);
+    fail(kSuccess, "complete", "");
+    if (cl.summary.given()) r.summary = case_summary(c.output, cl.summary);
+  } catch (const UsageError& e) {
+    fail(kBadInput, "bad input", e.message);
+  } catch (const scene::SceneError& e) {
+    fail(kBadInput, "bad input", e.what());
+  } catch (const output::OutputError& e) {
+    fail(kBadInput, "bad output path", e.what());
+  } catch (const Interrupted& e) {
+    output::set_file_status(e.output(), e.status(), MPI_COMM_SELF);
+    fail(128 + e.signal(), "interrupted", e.what());
+    interrupted = e.signal();
+  } catch (const NumericsError& e) {
+    fail(kNumericsFailed, "numerics failed", e.what());
+  } catch (const std::exception& e) {
+    fail(kOtherError, "error", e.what());
+  }
+  r.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch == '\n' ? ' ' : ch);
+  return q + "\"";
+}
+
+std::string number_text(double v) {
+  if (std::isnan(v)) return "";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::string wall_text(double seconds) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4f", seconds);
+  return buf;
+}
+
+// One index row (without the newline).
+std::string index_row(std::size_t k, const SweepCase& c, const CaseRecord& r, bool summary) {
+  std::string row = std::to_string(k);
+  for (const auto& a : c.assignments) row += "," + csv_field(a.substr(a.find('=') + 1));
+  const bool file = r.code >= 0 && r.code != kBadInput && fs::exists(c.output);  // none for bad input, not run
+  row += "," + csv_field(file ? fs::path(c.output).filename().string() : "") + "," + csv_field(r.status) + "," +
+         std::to_string(r.code) + "," + wall_text(r.wall);
+  if (summary) row += "," + number_text(r.summary);
+  return row + "," + csv_field(r.message);
+}
+
+// Gathers the rows of every rank on rank 0 (rows in case order there; empty elsewhere).
+std::vector<std::string> gather_rows(const std::vector<std::pair<std::size_t, std::string>>& mine, std::size_t n,
+                                     MPI_Comm comm) {
+  std::string packed;
+  for (const auto& [k, row] : mine) packed += std::to_string(k) + "\t" + row + "\n";
+  const int size = comm_size(comm), rank = comm_rank(comm);
+  int length = static_cast<int>(packed.size());
+  std::vector<int> lengths(static_cast<std::size_t>(size)), offsets(static_cast<std::size_t>(size));
+  MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, comm);
+  int total = 0;
+  for (int i = 0; i < size; ++i) offsets[static_cast<std::size_t>(i)] = total, total += lengths[static_cast<std::size_t>(i)];
+  std::string all(rank == 0 ? static_cast<std::size_t>(total) : 0u, ' ');
+  MPI_Gatherv(packed.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0, comm);
+  std::vector<std::string> rows(rank == 0 ? n : 0);
+  std::istringstream in(all);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto tab = line.find('\t');
+    rows[std::stoul(line.substr(0, tab))] = line.substr(tab + 1);
+  }
+  return rows;
+}
+
+// Writes the index through a temporary file, so that a reader never sees half of one.
+void write_index(const CommandLine& cl, const std::vector<std::string>& rows) {
+  const fs::path path = index_path(cl), tmp = path.string() + ".part";
+  {
+    std::ofstream out(tmp);
+    out << "case";
+    for (const auto& v : cl.vary) out << "," << csv_field(v.key);
+    out << ",output,status,exit_code,wall_s";
+    if (cl.summary.given()) out << "," << csv_field(cl.summary.text);
+    out << ",message\n";
+    for (const auto& r : rows) out << r << "\n";
+    if (!out) throw output::OutputError(tmp.string() + ": cannot write the sweep index");
+  }
+  fs::rename(tmp, path);
+}
+
+// The limits of every case: the memory limit shared by the sweep's ranks on each host (a case
+// runs on MPI_COMM_SELF, which alone would see the whole host), unless --max-memory says.
+RunLimits sweep_limits(const RunLimits& given, MPI_Comm comm) {
+  RunLimits l = given;
+  if (l.max_memory > 0.0) return l;
+  const MemoryLimit m = memory_limit(given, comm);
+  if (m.bytes > 0.0) {
+    l.max_memory = m.bytes;
+    l.memory_source = m.source + ", for each of the sweep's ranks";
+  }
+  return l;
+}
+
+}  // namespace
+
+int run_sweep(const CommandLine& cl, MPI_Comm comm) {
+  const std::vector<SweepCase> cases = plan_sweep(cl);
+  prepare_directory(cl, cases, comm);
+  const int size = comm_size(comm), rank = comm_rank(comm);
+  const RunLimits limits = sweep_limits(cl.limits, comm);
+  if (rank == 0 && !cl.quiet)
+    std::printf("sweep of %s: %zu cases on %d rank(s) -> %s\n", cl.scene.c_str(), cases.size(), size, cl.output.c_str());
+  std::vector<std::pair<std::size_t, std::string>> mine;
+  std::vector<int> codes(cases.size(), 0);  // this rank's cases; gathered below
+  int interrupted = 0;
+  const std::vector<int> rank_of = size > 1 ? assign_ranks(cl, cases, size) : std::vector<int>(cases.size(), 0);
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    if (rank_of[k] != rank) continue;
+    CaseRecord r;
+    if (!interrupted && !local_interrupt_signal()) r = run_case(cl, limits, k, cases[k], interrupted);
+    codes[k] = r.code;
+    if (!cl.quiet)
+      std::printf("%s -> %s%s (%.3f s)\n", case_text(k, cases[k]).c_str(), r.status.c_str(),
+                  r.code == 0 && cl.summary.given() ? (", " + cl.summary.text + " = " + number_text(r.summary)).c_str() : "",
+                  r.wall);
+    std::fflush(stdout);
+    mine.emplace_back(k, index_row(k, cases[k], r, cl.summary.given()));
+  }
+  const std::vector<std::string> rows = gather_rows(mine, cases.size(), comm);
+  std::vector<int> all(cases.size(), 0);
+  MPI_Allreduce(codes.data(), all.data(), static_cast<int>(codes.size()), MPI_INT, MPI_SUM, comm);
+  std::size_t complete = 0;
+  int code = kSuccess;
+  for (int c : all) {
+    if (c == 0) ++complete;
+    else if (code == kSuccess) code = c < 0 ? kOtherError : c;
+  }
+  if (rank == 0) {
+    write_index(cl, rows);
+    if (!cl.quiet || complete != cases.size())
+      std::printf("sweep done: %zu of %zu cases complete -> %s\n", complete, cases.size(), index_path(cl).string().c_str());
+  }
+  return code;
+}
+
+}  // namespace traverse::app
