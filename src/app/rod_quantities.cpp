@@ -77,4 +77,15 @@ Quantity field_quantity(Field f) {
   }
 }
 
+void declare_rod_probes(output::Writer& w, const std::vector<scene::OutputProbeSpec>& probes) {
+  const std::vector<std::string> xyz{"x", "y", "z"}, d123{"1", "2", "3"};
+  for (const auto& pr : probes) {
+    const bool fixed = pr.frame == scene::Frame::fixed;
+    w.add_probe({pr.name, 3, quantity_unit(pr.quantity),
+                 scene::name_of(pr.quantity) + " at s = " + scene::format_number(pr.at) + " m, " +
+                     (fixed ? "fixed-frame components (i, j, k)" : "body components (d1, d2, d3)"),
+                 fixed ? xyz : d123});
+  }
+}
+
 }  // namespace traverse::app

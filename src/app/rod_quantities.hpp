@@ -8,6 +8,7 @@
 #include "traverse/core/types.hpp"
 #include "traverse/rod/rod_properties.hpp"
 #include "traverse/rod/rod_state.hpp"
+#include "traverse/output/writer.hpp"
 #include "traverse/rod/static_kernels.hpp"
 #include "traverse/scene/scene.hpp"
 
@@ -38,6 +39,9 @@ Vec3 quantity_at(scene::Quantity q, double s, double ds, int num_cells, const ro
   return (1.0 - loc.xi) * quantity_value(q, node(loc.j), props, frame) +
          loc.xi * quantity_value(q, node(loc.j + 1), props, frame);
 }
+
+/// Declares the scene's rod probes (3 components each, body or fixed frame) in `w`.
+void declare_rod_probes(output::Writer& w, const std::vector<scene::OutputProbeSpec>& probes);
 
 /// A field of a rod run: how it is declared in the output file.
 struct RodFieldInfo {

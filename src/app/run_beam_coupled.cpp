@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "beam_fields.hpp"
 #include "interrupt.hpp"
 #include "progress.hpp"
 #include "run.hpp"
@@ -37,57 +38,27 @@ class CoupledOutputs {
  public:
   CoupledOutputs(const scene::Scene& sc, const scene::MovingLoadSpec& load, const beam::BeamProblem& p,
                  const beam::ModeSet& modes, MPI_Comm comm);
-  const output::NodeLayout& layout() const { return layout_; }
+  const output::NodeLayout& layout() const { return fields_.layout(); }
   void declare(output::Writer& w) const;
   std::vector<std::string> probe_names() const;
   std::vector<std::string> field_names() const;
   void evaluate(const beam::CoupledMassBeam& s);
   const std::vector<std::vector<double>>& probes() const { return probes_; }
   void write(output::Writer& w, double t) const {
-    std::vector<output::DoubleView> views(fields_.begin(), fields_.end());
-    w.write_step(t, sigma_, probes_, views);
+    w.write_step(t, sigma_, probes_, fields_.views());
   }
 
  private:
   const scene::Scene& sc_;
   const scene::MovingLoadSpec& load_;
-  double EI_;
-  output::NodeLayout layout_;
-  bool want_slope_ = false, want_moment_ = false;
-  std::vector<VecX> phi_, dphi_, ddphi_;
-  std::vector<std::vector<double>> probes_, fields_;
+  BeamFields fields_;
+  std::vector<std::vector<double>> probes_;
   std::vector<double> sigma_{0.0};
 };
 
 CoupledOutputs::CoupledOutputs(const scene::Scene& sc, const scene::MovingLoadSpec& load, const beam::BeamProblem& p,
                                const beam::ModeSet& modes, MPI_Comm comm)
-    : sc_(sc), load_(load), EI_(p.EI) {
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &ranks);
-  const size_t n_nodes = static_cast<size_t>(sc.mesh.nodes);
-  layout_.global_count = n_nodes;
-  layout_.first = n_nodes * static_cast<size_t>(rank) / static_cast<size_t>(ranks);
-  layout_.count = n_nodes * static_cast<size_t>(rank + 1) / static_cast<size_t>(ranks) - layout_.first;
-  for (size_t k = 0; k < layout_.count; ++k) layout_.s.push_back(p.quadrature_nodes[layout_.first + k]);
-  for (const auto f : sc.output.fields) {
-    switch (f) {
-      case scene::Field::deflection: break;
-      case scene::Field::slope: want_slope_ = true; break;
-      case scene::Field::bending_moment: want_moment_ = true; break;
-      default: throw std::logic_error("run_beam_coupled: a rod field in a beam scene");
-    }
-  }
-  const Eigen::Index n = modes.size();
-  phi_.assign(layout_.count, VecX(n));
-  dphi_.assign(layout_.count, VecX(n));
-  ddphi_.assign(layout_.count, VecX(n));
-  for (size_t j = 0; j < layout_.count; ++j) modes.evaluate(layout_.s[j], phi_[j], dphi_[j], ddphi_[j]);
-  fields_.emplace_back(layout_.count);
-  fields_.emplace_back(3 * layout_.count);
-  if (want_slope_) fields_.emplace_back(layout_.count);
-  if (want_moment_) fields_.emplace_back(layout_.count);
-}
+    : sc_(sc), load_(load), fields_(sc, p, modes, comm) {}
 
 const char* const kEnergyProbes[] = {"energy_beam_kinetic", "energy_beam_elastic", "energy_beam_gravity",
                                       "energy_mass_kinetic", "energy_mass_gravity", "work_drive",
@@ -103,12 +74,7 @@ std::vector<std::string> CoupledOutputs::probe_names() const {
   return names;
 }
 
-std::vector<std::string> CoupledOutputs::field_names() const {
-  std::vector<std::string> names{"deflection", "position"};
-  if (want_slope_) names.push_back("slope");
-  if (want_moment_) names.push_back("bending_moment");
-  return names;
-}
+std::vector<std::string> CoupledOutputs::field_names() const { return fields_.names(); }
 
 void CoupledOutputs::declare(output::Writer& w) const {
   for (const auto& pr : sc_.output.probes)
@@ -133,10 +99,7 @@ void CoupledOutputs::declare(output::Writer& w) const {
       {"work_dissipated", "work dissipated by the resistance since the start, int c x'^2 dt"},
       {"energy_balance", "mechanical energy - work_drive + work_dissipated (constant up to the time discretisation)"}};
   for (const auto& [name, what] : energies) w.add_probe({name, 1, "J", what, {}});
-  w.add_field({"deflection", 1, "m", "transverse deflection w (positive up, +j)", {"w"}, false, false});
-  w.add_field({"position", 3, "m", "deformed position (x, w, 0): the beam along x, w along y", {"x", "y", "z"}, true});
-  if (want_slope_) w.add_field({"slope", 1, "1", "slope dw/dx", {"w_x"}, false});
-  if (want_moment_) w.add_field({"bending_moment", 1, "N m", "bending moment E I d2w/dx2", {"M"}, false});
+  fields_.declare(w);
 }
 
 void CoupledOutputs::evaluate(const beam::CoupledMassBeam& s) {
@@ -155,64 +118,12 @@ void CoupledOutputs::evaluate(const beam::CoupledMassBeam& s) {
                        e.dissipated, e.mechanical() - e.drive_work + e.dissipated})
     probes_.push_back({value});
   sigma_[0] = x;
-  for (size_t j = 0; j < layout_.count; ++j) {
-    fields_[0][j] = phi_[j].dot(s.Y());
-    fields_[1][3 * j] = layout_.s[j];
-    fields_[1][3 * j + 1] = fields_[0][j];
-    fields_[1][3 * j + 2] = 0.0;
-  }
-  size_t f = 2;
-  if (want_slope_)
-    for (size_t j = 0; j < layout_.count; ++j) fields_[f][j] = dphi_[j].dot(s.Y());
-  if (want_slope_) ++f;
-  if (want_moment_)
-    for (size_t j = 0; j < layout_.count; ++j) fields_[f][j] = EI_ * ddphi_[j].dot(s.Y());
+  fields_.evaluate(s.Y());
 }
 
 }  // namespace
 
 
-CoupledReplay::CoupledReplay(const RunOptions& opt, const std::vector<std::string>& probe_names,
-                             const std::vector<std::string>& field_names, MPI_Comm comm)
-    : opt_(opt), names_(probe_names) {
-  if (!opt.restart) return;
-  const std::string source = output::restart_source(opt.output);
-  output::check_restart_outputs(source, names_, field_names);
-  try {
-    output::Reader r(source);
-    kept_ = r.steps_written();
-    time_ = r.time();
-    for (const auto& n : names_) probes_.push_back(r.probe(n));
-  } catch (const output::OutputError& e) {
-    throw UsageError{"--restart: cannot read " + source + " (" + e.what() + ")"};
-  }
-  output::move_aside_for_restart(opt.output, comm);
-}
-
-void CoupledReplay::check(std::size_t o, double t, const std::vector<std::vector<double>>& probes) const {
-  auto differs = [](double a, double b) {
-    return !(a == b || (std::isnan(a) && std::isnan(b)) || std::abs(a - b) <= 1e-12 * std::max(std::abs(a), std::abs(b)));
-  };
-  std::string bad;
-  if (differs(time_[o], t)) bad = "time " + scene::format_number(time_[o]) + " vs " + scene::format_number(t);
-  for (size_t q = 0; bad.empty() && q < probes.size(); ++q)
-    for (size_t c = 0; bad.empty() && c < probes[q].size(); ++c)
-      if (differs(probes_[q].values[o * probes_[q].components + c], probes[q][c]))
-        bad = "probe " + names_[q] + " = " + scene::format_number(probes_[q].values[o * probes_[q].components + c]) +
-              " vs " + scene::format_number(probes[q][c]);
-  if (!bad.empty())
-    throw UsageError{"--restart " + opt_.output + ": re-integrating the structure and its coupled mass does not "
-                     "reproduce output step " + std::to_string(o) + " (" + bad + "); the scene or the program differ "
-                     "from the run being restarted"};
-}
-
-void CoupledReplay::written(std::size_t steps, MPI_Comm comm) const {
-  if (opt_.restart && steps == kept_) output::remove_restart_source(opt_.output, comm);
-}
-
-void CoupledReplay::finished(std::size_t steps, MPI_Comm comm) const {
-  if (opt_.restart && steps < kept_) output::remove_restart_source(opt_.output, comm);
-}
 
 const scene::MovingLoadSpec* coupled_load(const scene::Scene& sc) {
   for (const auto& l : sc.loads)
@@ -228,7 +139,7 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   p.loads.clear();
   beam::CoupledMassBeam sim(p, coupled_mass(load));
   CoupledOutputs outputs(sc, load, p, sim.modes(), comm);
-  const CoupledReplay replay(opt, outputs.probe_names(), outputs.field_names(), comm);
+  const CoupledReplay replay(opt, outputs.probe_names(), outputs.field_names(), "the beam and its coupled mass", comm);
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "beam"};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
   outputs.declare(writer);

@@ -176,14 +176,7 @@ output::NodeLayout RodOutputs::layout() const {
 }
 
 void RodOutputs::declare(output::Writer& w) const {
-  const std::vector<std::string> xyz{"x", "y", "z"}, d123{"1", "2", "3"};
-  for (const auto& pr : sc_.output.probes) {
-    const bool fixed = pr.frame == scene::Frame::fixed;
-    w.add_probe({pr.name, 3, quantity_unit(pr.quantity),
-                 scene::name_of(pr.quantity) + " at s = " + scene::format_number(pr.at) + " m, " +
-                     (fixed ? "fixed-frame components (i, j, k)" : "body components (d1, d2, d3)"),
-                 fixed ? xyz : d123});
-  }
+  declare_rod_probes(w, sc_.output.probes);
   for (const auto& l : sc_.loads)
     w.add_probe({l.name + "_position", 1, "m", "arclength sigma(t) of load '" + l.name + "'", {}});
   for (const auto f : sc_.output.fields) {

@@ -102,14 +102,8 @@ std::vector<std::string> CoupledRodOutputs::field_names() const {
 }
 
 void CoupledRodOutputs::declare(output::Writer& w) const {
-  const std::vector<std::string> xyz{"x", "y", "z"}, d123{"1", "2", "3"};
-  for (const auto& pr : sc_.output.probes) {
-    const bool fixed = pr.frame == scene::Frame::fixed;
-    w.add_probe({pr.name, 3, quantity_unit(pr.quantity),
-                 scene::name_of(pr.quantity) + " at s = " + scene::format_number(pr.at) + " m, " +
-                     (fixed ? "fixed-frame components (i, j, k)" : "body components (d1, d2, d3)"),
-                 fixed ? xyz : d123});
-  }
+  declare_rod_probes(w, sc_.output.probes);
+  const std::vector<std::string> xyz{"x", "y", "z"};
   const std::string n = load_.name, q = "coupled mass '" + n + "'";
   w.add_probe({n + "_position", 1, "m", "arclength sigma(t) of " + q, {}});
   w.add_probe({n + "_speed", 1, "m/s", "speed sigma'(t) of " + q + " along the rod (signed)", {}});
@@ -196,7 +190,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   rod::CoupledMassState m{load.start, load.initial_velocity()};
   std::vector<Vec3> r = rod::centreline_in_space(state);
   CoupledRodOutputs outputs(sc, load, stepper.model());
-  const CoupledReplay replay(opt, outputs.probe_names(), outputs.field_names(), comm);
+  const CoupledReplay replay(opt, outputs.probe_names(), outputs.field_names(), "the rod and its coupled mass", comm);
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod", {}};
   info.attributes = {{"rod_path", "3D"}, {"rod_path_detail", "3D, serial reference stepper (coupled_mass)"}};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);

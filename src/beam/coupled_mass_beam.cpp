@@ -343,7 +343,7 @@ void CoupledMassBeam::run(const Observer& observer) {
   }
 }
 
-double CoupledMassBeam::acceleration() const {
+CoupledMassBeam::State CoupledMassBeam::current_derivative() const {
   State s;
   s.Y = Y_;
   s.V = V_;
@@ -352,18 +352,13 @@ double CoupledMassBeam::acceleration() const {
   State d;
   d.resize(Y_.size());
   derivative(s, d);
-  return d.v;
+  return d;
 }
 
+double CoupledMassBeam::acceleration() const { return current_derivative().v; }
+
 double CoupledMassBeam::vertical_acceleration() const {
-  State s;
-  s.Y = Y_;
-  s.V = V_;
-  s.x = x_;
-  s.v = v_;
-  State d;
-  d.resize(Y_.size());
-  derivative(s, d);
+  const State d = current_derivative();
   const Work& w = *w_;
   return w.phi.dot(d.V) + 2.0 * v_ * w.dphi.dot(V_) + v_ * v_ * w.ddphi.dot(Y_) + d.v * w.dphi.dot(Y_);
 }

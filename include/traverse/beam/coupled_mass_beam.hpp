@@ -105,6 +105,8 @@ class CoupledMassBeam {
   struct Work;
   struct State;
   void derivative(const State& s, State& d) const;
+  /// derivative() at the current state (its work arrays then hold the modes at x).
+  State current_derivative() const;
   void rk4(const State& s0, double h, State& s1) const;
   void newmark(const State& s0, double h, State& s1) const;
   void step(const State& s0, double h, State& s1) const;
