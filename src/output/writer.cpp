@@ -176,7 +176,34 @@ struct Writer::Impl {
   double flush_seconds = 1.0, xdmf_seconds = 5.0, xdmf_wait = 5.0;
   Clock::time_point last_flush = Clock::now(), last_xdmf = Clock::now();
 
-  void flush_file() { check(H5Fflush(file.get(), H5F_SCOPE_LOCAL), "H5Fflush", path); }
+  void flush_file() {
+    check(H5Fflush(file.get(), H5F_SCOPE_LOCAL), "H5Fflush", path);
+    set_file_size(true);
+  }
+  // A kill -9 inside H5Fflush may land after HDF5 has written the superblock with its new end
+  // of allocation (EOA) but before the blocks at the end of the file: the file would then be
+  // shorter than its superblock says, which HDF5 refuses to open ("truncated file"). So after
+  // each flush the file is made longer than any EOA the next flush can record (a hole: no
+  // disk space; HDF5 opens a file longer than its EOA), and cut back to the EOA before it is
+  // closed. The EOA: a flush that changed it sets the file's size to it (the MPI-IO driver's
+  // truncate); one that did not leaves the padded size, and the EOA is the one padded from.
+  // Call right after a flush, collectively. `padded` false: exactly the EOA.
+  MPI_Offset eoa_known = -1, padded_size = -1;
+  void set_file_size(bool padded) {
+    void* handle = nullptr;
+    if (H5Fget_vfd_handle(file.get(), H5P_DEFAULT, &handle) < 0 || !handle) return;
+    MPI_File fh = *static_cast<MPI_File*>(handle);
+    MPI_Offset size = 0;
+    if (rank == 0 && MPI_File_get_size(fh, &size) != MPI_SUCCESS) size = -1;
+    MPI_Bcast(&size, 1, MPI_OFFSET, 0, comm);
+    if (size < 0) return;
+    const MPI_Offset eoa = size == padded_size && eoa_known >= 0 ? eoa_known : size;
+    const MPI_Offset grown = eoa_known >= 0 && eoa > eoa_known ? eoa - eoa_known : 0;
+    const MPI_Offset target = padded ? eoa + std::max<MPI_Offset>(MPI_Offset(64) << 20, 4 * grown) : eoa;
+    if (target != size) MPI_File_set_size(fh, target);
+    eoa_known = eoa;
+    padded_size = target;
+  }
   void set_status(const std::string& status) {
     detail::write_string_attribute(file.get(), "status", status);
     flush_file();
@@ -394,6 +421,7 @@ void Writer::Impl::close_all() noexcept {
   for (auto& f : fields) f.dataset.reset();
   for (auto& g : view_groups) g.reset();
   dxpl.reset();
+  if (file.valid() && H5Fflush(file.get(), H5F_SCOPE_LOCAL) >= 0) set_file_size(false);
   file.reset();
   if (comm != MPI_COMM_NULL) MPI_Comm_free(&comm);
   state = State::closed;

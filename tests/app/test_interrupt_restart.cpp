@@ -4,6 +4,7 @@
 // `traverse run --restart` finishes the run and the whole file must equal the uninterrupted
 // one to 1e-12. docs/reliability.md describes the design.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cstdlib>
 #include <iostream>
@@ -131,6 +132,29 @@ TEST(InterruptRestart, RodSigintThenRestart) {
 
 TEST(InterruptRestart, RodSigkillThenRestart) {
   stop_and_restart("rod-sigkill", 1, kCable, kRodArgs, 3, 40, Stop::sigkill);
+}
+
+// What makes a kill -9 inside a flush harmless (docs/reliability.md): while the run goes on,
+// the file is longer than anything its superblock can record (a hole of at least 64 MiB past
+// the end of allocation, no disk space), and cut back to its true size when it is closed.
+TEST(InterruptRestart, RunningOutputIsPaddedPastItsAllocationAndClosedToSize) {
+  const fs::path d = scratch("padding");
+  const std::string out = (d / "run.h5").string();
+  const Child c = spawn(command(1, "run " + kCable + " -o " + out +
+                                       " --set mesh.ds=0.02 --set time.dt=2.75e-5 --set output.every=100 -q"),
+                        (d / "run.log").string());
+  ASSERT_TRUE(wait_for_steps(c, out, 3)) << read_text((d / "run.log").string());
+  struct stat running {};
+  ASSERT_EQ(stat(out.c_str(), &running), 0);
+  ASSERT_EQ(wait_exit(c), 0) << read_text((d / "run.log").string());
+  struct stat closed {};
+  ASSERT_EQ(stat(out.c_str(), &closed), 0);
+  std::cout << "  running: " << running.st_size << " bytes (" << 512 * running.st_blocks << " on disk); closed: "
+            << closed.st_size << " bytes\n";
+  EXPECT_GE(running.st_size, 64 << 20);
+  EXPECT_LT(512 * static_cast<long long>(running.st_blocks), 16 << 20);
+  EXPECT_LT(closed.st_size, 16 << 20);
+  EXPECT_EQ(Reader(out).status(), "complete");
 }
 
 TEST(InterruptRestart, RodTwoRanksSigintToOneRankThenRestart) {
