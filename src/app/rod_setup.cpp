@@ -92,7 +92,7 @@ std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, c
 
 // Equilibrium under gravity and the loads on the rod at t = 0 (Newton with load steps), over
 // the ranks; this rank's nodes first .. first + count - 1 of the dynamic state at rest.
-InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, int first, int count, MPI_Comm comm) {
+InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
   const rod::RodModel& model = setup.model;
   const double L = sc.rod.length;
   rod::StaticModel sm;
@@ -110,9 +110,7 @@ InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, i
       solver::solve_static_start(sm, Teuchos::rcp(new Teuchos::MpiComm<int>(comm)), setup.solver);
   if (!st.report.converged) throw NumericsError(static_failure(sc, sm, st.report));
   InitialState out;
-  out.state.ds = model.ds();
-  out.state.nodes = rod::dynamic_nodes_from_static(sm, st.nodes, st.first_node, first, count);
-  out.first_node = first;
+  out.state = solver::dynamic_state_piece(sm, st, out.first_node);
   out.description = "static equilibrium under gravity" +
                     std::string(sm.point_forces.empty() ? "" : " and the loads on the rod at t = 0") + " (" +
                     std::to_string(st.report.load_steps) + " load steps, " + std::to_string(st.report.iterations) +
@@ -146,16 +144,16 @@ RodSetup build_rod_model(const scene::Scene& sc) {
 
 InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
   using T = scene::InitialStateType;
-  // This rank's nodes and their ghosts, as the stepper's mesh partitions the rod.
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &ranks);
-  const int N = setup.model.num_cells;
-  const mesh::Partition part = mesh::partition_nodes(mesh::Mesh1D(setup.model.length, N + 1), ranks);
-  const int owned = part.first[static_cast<size_t>(rank)], owned_count = part.count[static_cast<size_t>(rank)];
-  const int first = std::max(0, owned - 1), count = std::min(N, owned + owned_count) - first + 1;
   switch (sc.initial_state.type) {
     case T::rest: {
+      // This rank's nodes and their ghosts, as the stepper's mesh partitions the rod.
+      int rank = 0, ranks = 1;
+      MPI_Comm_rank(comm, &rank);
+      MPI_Comm_size(comm, &ranks);
+      const int N = setup.model.num_cells;
+      const mesh::Partition part = mesh::partition_nodes(mesh::Mesh1D(setup.model.length, N + 1), ranks);
+      const int owned = part.first[static_cast<size_t>(rank)], owned_count = part.count[static_cast<size_t>(rank)];
+      const int first = std::max(0, owned - 1), count = std::min(N, owned + owned_count) - first + 1;
       InitialState out;  // every node alike: straight along k, at rest
       out.state.ds = setup.model.ds();
       out.state.nodes.assign(static_cast<size_t>(count), rod::RodNode{});
@@ -163,7 +161,7 @@ InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Co
       out.description = "straight, at rest, unloaded";
       return out;
     }
-    case T::static_equilibrium: return static_equilibrium(sc, setup, first, count, comm);
+    case T::static_equilibrium: return static_equilibrium(sc, setup, comm);
     case T::arch:
     case T::file: {
       InitialState out;

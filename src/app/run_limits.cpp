@@ -122,9 +122,13 @@ double rod_solver_factor(const scene::Scene& sc, int ranks, std::string& name) {
     return 1.4;
   }
   name = c.resolved;
-  if (c.block_tridiagonal_direct) return 1.0;
-  if (c.direct) return 1.07;
-  return c.resolved.find("block-tridiagonal LU") != std::string::npos ? 1.0 : 1.4;
+  const auto& given = sc.solver_parameters();
+  if (given.isSublist("Stratimikos") && given.sublist("Stratimikos").numParams() > 0) {
+    name += " (a Stratimikos list: counted as GMRES)";
+    return 1.4;
+  }
+  if (c.block_tridiagonal) return 1.0;
+  return c.direct ? 1.07 : 1.4;
 }
 
 int rod_unknowns_3d(const scene::Scene& sc) {

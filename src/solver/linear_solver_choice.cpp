@@ -120,10 +120,11 @@ LinearSolverChoice LinearSolverChoice::resolve(const Teuchos::ParameterList& giv
   }
   c.resolved = c.requested;
   c.linear_tolerance = p.get<double>("Linear Tolerance");
-  if ((ranks == 1 || solver_is_auto) && pass.numParams() == 0 && c.stratimikos.isSublist("Preconditioner Types") &&
-      c.stratimikos.sublist("Preconditioner Types").isSublist("Ifpack2") &&
-      c.stratimikos.sublist("Preconditioner Types").sublist("Ifpack2").get<std::string>("Prec Type", "") ==
-          "BLOCK_TRIDIAGONAL") {
+  c.block_tridiagonal = pass.numParams() == 0 && c.stratimikos.isSublist("Preconditioner Types") &&
+                        c.stratimikos.sublist("Preconditioner Types").isSublist("Ifpack2") &&
+                        c.stratimikos.sublist("Preconditioner Types").sublist("Ifpack2").get<std::string>(
+                            "Prec Type", "") == "BLOCK_TRIDIAGONAL";
+  if ((ranks == 1 || solver_is_auto) && c.block_tridiagonal) {
     c.block_tridiagonal_direct = true;
     c.resolved = ranks == 1 ? "block-tridiagonal LU (direct, residual-checked)"
                             : "block-tridiagonal LU (direct, exact across " + std::to_string(ranks) +

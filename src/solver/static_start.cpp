@@ -5,6 +5,7 @@
 #include <Teuchos_CommHelpers.hpp>
 #include <Tpetra_MultiVector.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -78,6 +79,7 @@ class DistributedStaticSystem : public rod::StaticNewtonSystem {
   /// This rank's nodes and up to `halo` more each side (the first returned).
   std::vector<rod::StaticNode> nodes_with_halo(int halo, int& first) const;
   const LinearSolverChoice& choice() const { return linear_.choice(); }
+  const mesh::DistributedMesh& mesh() const { return *mesh_; }
 
  private:
   static double local_max_abs(const Vector& v) {
@@ -144,11 +146,22 @@ StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<con
     out.report = rod::StaticSolver().solve_with_load_steps(m, sys);
     if (out.report.converged) {
       out.nodes = sys.nodes_with_halo(halo, out.first_node);
+      out.first_owned_node = sys.mesh().first_owned_node();
+      out.num_owned_nodes = sys.mesh().num_owned_nodes();
       return out;
     }
     if (attempt == 0) out.first_failure = out.linear_solver + ": " + out.report.message;
   }
   return out;
+}
+
+rod::RodState dynamic_state_piece(const rod::StaticModel& m, const StaticStart& start, int& first_node) {
+  first_node = std::max(0, start.first_owned_node - 1);
+  const int count = std::min(m.num_cells, start.first_owned_node + start.num_owned_nodes) - first_node + 1;
+  rod::RodState piece;
+  piece.ds = m.ds();
+  piece.nodes = rod::dynamic_nodes_from_static(m, start.nodes, start.first_node, first_node, count);
+  return piece;
 }
 
 }  // namespace traverse::solver

@@ -5,6 +5,8 @@
 // clamped-clamped modes, RK4 at a small step, static initial state under its own weight.
 #include <gtest/gtest.h>
 
+#include "hanging_cable.hpp"
+
 #include <cmath>
 
 #include "traverse/beam/beam_simulation.hpp"
@@ -26,29 +28,12 @@ Histories run(double F, double g, double alpha, int cells, int modes) {
   const double v1 = std::pow(4.7300 / L, 2) * std::sqrt(EI / rhoA) * L / M_PI;
   const double v = alpha * v1, ds = L / cells, dt = ds / v;
 
-  rod::StaticModel sm;
-  sm.props = props;
-  sm.num_cells = cells;
-  sm.length = L;
-  sm.left.type = rod::EndCondition::Type::clamped;
-  sm.right.type = rod::EndCondition::Type::sliding;
-  sm.right.axis = Vec3::UnitZ();
-  sm.right.position = Vec3(0, 0, L);
-  sm.gravity = Vec3(0, -g, 0);
-  sm.point_forces.push_back({Vec3(0, -F, 0), 0.0});
-  auto nodes = rod::straight_static_state(sm);
-  EXPECT_TRUE(rod::StaticSolver().solve_with_load_steps(sm, nodes).converged);
-
-  rod::RodModel m;
-  m.props = props;
-  m.num_cells = cells;
-  m.length = L;
-  m.left = rod::EndCondition::make_clamped();
-  m.right = rod::EndCondition::make_sliding(Vec3::UnitZ());
-  m.loads.gravity = sm.gravity;
+  bool converged = false;
+  rod::RodState state = traverse::testing::static_start(traverse::testing::hanging_cable_statics(props, cells, L, g, F, 0.0), converged);
+  EXPECT_TRUE(converged);
+  rod::RodModel m = traverse::testing::hanging_cable_model(props, cells, L, g);
   m.loads.point_forces.push_back({[F](double) { return Vec3(0, -F, 0); }, [v](double t) { return v * t; }});
   rod::ReferenceStepper stepper(m);
-  rod::RodState state = rod::dynamic_state_from_static(sm, nodes);
 
   beam::BeamProblem p;
   p.length = L;

@@ -10,6 +10,8 @@
 // remains.
 #include <gtest/gtest.h>
 
+#include "hanging_cable.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <vector>
@@ -29,27 +31,11 @@ struct Compare {
 Compare compare(double g, int cells) {
   const rod::RodProperties props = rod::RodProperties::scene_rod();
   const double L = 1.0, M = 0.01, s0 = 0.1, v0 = 3.0, ds = L / cells, dt = ds / v0, T = 0.25;
-  rod::StaticModel sm;
-  sm.props = props;
-  sm.num_cells = cells;
-  sm.length = L;
-  sm.left.type = rod::EndCondition::Type::clamped;
-  sm.right.type = rod::EndCondition::Type::sliding;
-  sm.right.axis = Vec3::UnitZ();
-  sm.right.position = Vec3(0, 0, L);
-  sm.gravity = Vec3(0, -g, 0);
-  sm.point_forces.push_back({Vec3(0, -M * g, 0), s0});
-  auto nodes = rod::straight_static_state(sm);
-  EXPECT_TRUE(rod::StaticSolver().solve_with_load_steps(sm, nodes).converged);
-  rod::RodModel m;
-  m.props = props;
-  m.num_cells = cells;
-  m.length = L;
-  m.left = rod::EndCondition::make_clamped();
-  m.right = rod::EndCondition::make_sliding(Vec3::UnitZ());
-  m.loads.gravity = sm.gravity;
-  rod::CoupledRodStepper stepper(m, {M, 0.0, 0.0});
-  rod::RodState state = rod::dynamic_state_from_static(sm, nodes);
+  bool converged = false;
+  rod::RodState state =
+      traverse::testing::static_start(traverse::testing::hanging_cable_statics(props, cells, L, g, M * g, s0), converged);
+  EXPECT_TRUE(converged);
+  rod::CoupledRodStepper stepper(traverse::testing::hanging_cable_model(props, cells, L, g), {M, 0.0, 0.0});
   std::vector<Vec3> r = rod::centreline_in_space(state);
   // The beam's x is the axial (k) position, the rod's sigma the material arclength: they differ
   // at O(w_x^2), the order of the mass's departure from uniform motion. The rod's mass starts

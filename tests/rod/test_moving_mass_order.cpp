@@ -13,6 +13,8 @@
 // is 7.8e-4 of the peak at the end of the crossing (80 modes: 3e-6, against 160 modes).
 #include <gtest/gtest.h>
 
+#include "hanging_cable.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -43,35 +45,13 @@ struct Scene {
 /// inertia, or its weight only as a moving force).
 std::vector<double> rod_history(const Scene& sc, int cells, double dt, int steps, bool inertia = true) {
   const double v = sc.speed(), M = sc.mass();
-  rod::StaticModel sm;
-  sm.props = sc.props;
-  sm.num_cells = cells;
-  sm.length = sc.L;
-  sm.left.type = rod::EndCondition::Type::clamped;
-  sm.right.type = rod::EndCondition::Type::sliding;
-  sm.right.axis = Vec3::UnitZ();
-  sm.right.position = Vec3(0, 0, sc.L);
-  sm.gravity = Vec3(0, -sc.g, 0);
-  sm.point_forces.push_back({Vec3(0, -M * sc.g, 0), 0.0});  // the mass's weight at s = 0
-  auto nodes = rod::straight_static_state(sm);
-  EXPECT_TRUE(rod::StaticSolver().solve_with_load_steps(sm, nodes).converged);
-
-  rod::RodModel m;
-  m.props = sc.props;
-  m.num_cells = cells;
-  m.length = sc.L;
-  m.left = rod::EndCondition::make_clamped();
-  m.right = rod::EndCondition::make_sliding(Vec3::UnitZ());
-  m.loads.gravity = sm.gravity;
-  rod::MovingMass mm;
-  mm.mass = M;
-  mm.sigma = [v](double t) { return v * t; };
-  mm.speed = [v](double) { return v; };
-  mm.accel = [](double) { return 0.0; };
-  mm.inertia = inertia;
-  m.loads.masses.push_back(mm);
+  bool converged = false;  // the mass's weight at s = 0 in the static start
+  rod::RodState state =
+      traverse::testing::static_start(traverse::testing::hanging_cable_statics(sc.props, cells, sc.L, sc.g, M * sc.g, 0.0), converged);
+  EXPECT_TRUE(converged);
+  rod::RodModel m = traverse::testing::hanging_cable_model(sc.props, cells, sc.L, sc.g);
+  m.loads.masses.push_back(traverse::testing::uniform_mass(M, v, inertia));
   rod::ReferenceStepper stepper(m);
-  rod::RodState state = rod::dynamic_state_from_static(sm, nodes);
   const size_t mid = static_cast<size_t>(cells / 2);
   const double y0 = rod::centreline_in_space(state)[mid].y();
   std::vector<double> h{0.0};

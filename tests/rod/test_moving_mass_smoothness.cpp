@@ -18,6 +18,8 @@
 // nodes within steps), bounded here at a quarter of its weight.
 #include <gtest/gtest.h>
 
+#include "hanging_cable.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -39,36 +41,13 @@ struct Content {
 /// rod, for a mass (inertia) or a force of its weight, at dt = f ds / v.
 Content odd_even_behind(bool inertia, int cells, double f) {
   const double L = 1.0, g = 9.8, M = 0.05, v = 3.0, ds = L / cells, dt = f * ds / v;
-  rod::StaticModel sm;
-  sm.props = rod::RodProperties::scene_rod();
-  sm.num_cells = cells;
-  sm.length = L;
-  sm.left.type = rod::EndCondition::Type::clamped;
-  sm.right.type = rod::EndCondition::Type::sliding;
-  sm.right.axis = Vec3::UnitZ();
-  sm.right.position = Vec3(0, 0, L);
-  sm.gravity = Vec3(0, -g, 0);
-  sm.point_forces.push_back({Vec3(0, -M * g, 0), 0.0});  // the load's weight at s = 0
-  auto nodes = rod::straight_static_state(sm);
-  Content c;
-  c.converged = rod::StaticSolver().solve_with_load_steps(sm, nodes).converged;
-
-  rod::RodModel m;
-  m.props = sm.props;
-  m.num_cells = cells;
-  m.length = L;
-  m.left = rod::EndCondition::make_clamped();
-  m.right = rod::EndCondition::make_sliding(Vec3::UnitZ());
-  m.loads.gravity = sm.gravity;
-  rod::MovingMass mm;
-  mm.mass = M;
-  mm.sigma = [v](double t) { return v * t; };
-  mm.speed = [v](double) { return v; };
-  mm.accel = [](double) { return 0.0; };
-  mm.inertia = inertia;
-  m.loads.masses.push_back(mm);
+  const rod::RodProperties props = rod::RodProperties::scene_rod();
+  Content c;  // the load's weight at s = 0 in the static start
+  rod::RodState state =
+      traverse::testing::static_start(traverse::testing::hanging_cable_statics(props, cells, L, g, M * g, 0.0), c.converged);
+  rod::RodModel m = traverse::testing::hanging_cable_model(props, cells, L, g);
+  m.loads.masses.push_back(traverse::testing::uniform_mass(M, v, inertia));
   rod::ReferenceStepper stepper(m);
-  rod::RodState state = rod::dynamic_state_from_static(sm, nodes);
   const int window = 8;
   for (int i = 1; v * i * dt <= 0.9 * L; ++i) {
     if (!stepper.step(state, dt).converged) {

@@ -271,20 +271,32 @@ TEST(Planar, EndRowsSplitThreePlusThree) {
 
 // The scenes' verdicts at model level: the hanging cable is planar, the deep arch with its
 // lateral trigger is not, and so on for each ingredient that can break the symmetry.
-TEST(Planar, CheckPlanarVerdicts) {
+// The hanging cable of 20 cells with a 2 N force F moving along it.
+RodModel planar_cable(const Vec3& F) {
   using E = EndCondition;
   RodModel cable = test::scene_model(20);
   cable.left = E::make_clamped();
   cable.right = E::make_sliding(Vec3::UnitZ());
   cable.loads.gravity = Vec3(0.0, -9.8, 0.0);
-  const Vec3 F(0.0, -2.0, 0.0);
   cable.loads.point_forces.push_back({[F](double) { return F; }, [](double t) { return 3.6 * t; }});
-  // A sagging state: curvature about d1, some in-plane velocity and force.
+  return cable;
+}
+
+// A sagging state of that cable: curvature about d1, some in-plane velocity and force.
+RodState sagging_state() {
   RodState sag = state_from_curvature(20, 1.0, [](double s) { return Vec3(0.8 * (s - 0.5), 0.0, 0.0); });
   for (auto& nd : sag.nodes) {
     nd.y(var::u + 1) = 0.01;
     nd.y(var::n + 2) = 3.0;
   }
+  return sag;
+}
+
+TEST(Planar, CheckPlanarVerdicts) {
+  using E = EndCondition;
+  const Vec3 F(0.0, -2.0, 0.0);
+  const RodModel cable = planar_cable(F);
+  const RodState sag = sagging_state();
   PlanarCheck c = check_planar(cable, sag, {F});
   ASSERT_TRUE(c.planar) << c.reason;
   EXPECT_EQ(c.symmetry.axis, 0);
@@ -324,23 +336,15 @@ TEST(Planar, CheckPlanarVerdicts) {
   verdict("force vectors not given", check_planar(cable, sag, {}), "were not given");
 }
 
-// The planar layout: q unknowns per node, rows [3, q per cell, 3] (+ 6 collocation rows when
-// ys is carried), so that row r belongs to node r / q; embed / restrict round trip.
 // The check of a state held in pieces (one per rank): each piece summed up on its own and the
 // summaries merged in node order give the verdict and the reason of the whole state.
 TEST(Planar, PiecewiseSummaryGivesTheWholeStatesVerdict) {
-  using E = EndCondition;
-  RodModel cable = test::scene_model(20);
-  cable.left = E::make_clamped();
-  cable.right = E::make_sliding(Vec3::UnitZ());
-  cable.loads.gravity = Vec3(0.0, -9.8, 0.0);
   const Vec3 F(0.0, -2.0, 0.0);
-  cable.loads.point_forces.push_back({[F](double) { return F; }, [](double t) { return 3.6 * t; }});
-  RodState sag = state_from_curvature(20, 1.0, [](double s) { return Vec3(0.8 * (s - 0.5), 0.0, 0.0); });
-  for (auto& nd : sag.nodes) nd.y(var::n + 2) = 3.0;
+  const RodModel cable = planar_cable(F);
+  const RodState sag = sagging_state();  // whole, and in two pieces below
   RodState moving = sag, bent = state_from_curvature(20, 1.0, [](double s) { return Vec3(0.8, 0.3 * s, 0.0); });
   moving.nodes[14].y(var::u) = 1e-3;  // out of the plane, in the second piece
-  for (const RodState* st : {&sag, &moving, &bent}) {
+  for (const RodState* st : std::initializer_list<const RodState*>{&sag, &moving, &bent}) {
     const PlanarCheck whole = check_planar(cable, *st, {F});
     for (int cut : {1, 7, 14, 20}) {  // pieces 0..cut-1 and cut..20
       RodState a, b;
@@ -358,6 +362,8 @@ TEST(Planar, PiecewiseSummaryGivesTheWholeStatesVerdict) {
   EXPECT_NE(check_planar(cable, moving, {F}).reason.find("at node 14"), std::string::npos);
 }
 
+// The planar layout: q unknowns per node, rows [3, q per cell, 3] (+ 6 collocation rows when
+// ys is carried), so that row r belongs to node r / q; embed / restrict round trip.
 TEST(Planar, ReductionLayout) {
   for (const auto& pc : param_cases()) {
     RodModel m = test::scene_model(5, pc.alpha);

@@ -63,15 +63,30 @@ void expect_halo(const StaticStart& st, int N) {
   EXPECT_EQ(last == N, r == P - 1) << "rank " << r << " of " << P;
 }
 
+// The same model solved serially (rod::StaticSolver on the whole rod) and over the ranks.
+struct Solved {
+  rod::StaticReport serial;
+  StaticStart start;
+  Agreement agreement;
+};
+Solved solve_both(const rod::StaticModel& m) {
+  Solved out;
+  auto serial = rod::straight_static_state(m);
+  out.serial = rod::StaticSolver().solve_with_load_steps(m, serial);
+  out.start = solve_static_start(m, test::comm());
+  if (out.serial.converged && out.start.report.converged) out.agreement = against_serial(out.start, serial);
+  return out;
+}
+
 TEST(StaticStart, ClampedCableEqualsTheSerialSolveWithTheBlockLU) {
   const int N = 60;
   const rod::StaticModel m = cable(N, rod::EndCondition::Type::clamped);
-  auto serial = rod::straight_static_state(m);
-  const rod::StaticReport ser = rod::StaticSolver().solve_with_load_steps(m, serial);
-  ASSERT_TRUE(ser.converged) << ser.message;
-  const StaticStart st = solve_static_start(m, test::comm());
-  ASSERT_TRUE(st.report.converged) << st.report.message;
-  const Agreement a = against_serial(st, serial);
+  const Solved both = solve_both(m);
+  ASSERT_TRUE(both.serial.converged) << both.serial.message;
+  ASSERT_TRUE(both.start.report.converged) << both.start.report.message;
+  const rod::StaticReport& ser = both.serial;
+  const StaticStart& st = both.start;
+  const Agreement& a = both.agreement;
   say("  clamped cable, %d rank(s), %s: %d load steps, %d Newton iterations (serial %d, %d); max |dr| %.2e m, "
       "|dkappa| %.2e 1/m, |dn| %.2e N, |dR| %.2e\n",
       test::ranks(), st.linear_solver.c_str(), st.report.load_steps, st.report.iterations, ser.load_steps,
@@ -93,12 +108,12 @@ TEST(StaticStart, ClampedCableEqualsTheSerialSolveWithTheBlockLU) {
 TEST(StaticStart, PinnedLeftEndUsesTheStaticsSolver) {
   const int N = 40;
   const rod::StaticModel m = cable(N, rod::EndCondition::Type::pinned);
-  auto serial = rod::straight_static_state(m);
-  const rod::StaticReport ser = rod::StaticSolver().solve_with_load_steps(m, serial);
-  ASSERT_TRUE(ser.converged) << ser.message;
-  const StaticStart st = solve_static_start(m, test::comm());
-  ASSERT_TRUE(st.report.converged) << st.report.message;
-  const Agreement a = against_serial(st, serial);
+  const Solved both = solve_both(m);
+  ASSERT_TRUE(both.serial.converged) << both.serial.message;
+  ASSERT_TRUE(both.start.report.converged) << both.start.report.message;
+  const rod::StaticReport& ser = both.serial;
+  const StaticStart& st = both.start;
+  const Agreement& a = both.agreement;
   say("  pinned-sliding cable, %d rank(s), %s: %d Newton iterations (serial %d); max |dr| %.2e m\n", test::ranks(),
       st.linear_solver.c_str(), st.report.iterations, ser.iterations, a.r);
   EXPECT_EQ(st.linear_solver.find("block-tridiagonal LU"), std::string::npos) << st.linear_solver;

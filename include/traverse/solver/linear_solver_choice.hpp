@@ -17,6 +17,8 @@ struct LinearSolverChoice {
   /// residual-checked, exact across ranks) instead of through Belos: 'auto' for the time
   /// step on any number of ranks, and GMRES + BLOCK_TRIDIAGONAL on one rank.
   bool block_tridiagonal_direct = false;
+  /// The block-tridiagonal LU solves (block_tridiagonal_direct) or preconditions GMRES.
+  bool block_tridiagonal = false;
   double linear_tolerance = 1e-12;  ///< 'Linear Tolerance' (relative residual of each solve)
   Teuchos::ParameterList stratimikos;  ///< the list handed to Stratimikos
 

@@ -19,6 +19,7 @@ namespace traverse::solver {
 struct StaticStart {
   rod::StaticReport report;            ///< of the load stepping that ended the solve
   int first_node = 0;                  ///< global index of nodes.front()
+  int first_owned_node = 0, num_owned_nodes = 0;  ///< this rank's nodes (the mesh's partition)
   /// Converged: this rank's nodes and up to `halo` more on each side, rebased (theta = 0).
   std::vector<rod::StaticNode> nodes;
   std::string linear_solver;           ///< what solved the Newton systems (the last one tried)
@@ -29,5 +30,9 @@ struct StaticStart {
 /// StaticLinearSolver apply to them when the block LU is not used).
 StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
                                const Teuchos::ParameterList& solver = Teuchos::ParameterList(), int halo = 2);
+
+/// This rank's piece of the dynamic state at rest from a converged start: its nodes and one
+/// ghost each side, as DistributedStepper partitions the rod (first_node: the first's index).
+rod::RodState dynamic_state_piece(const rod::StaticModel& m, const StaticStart& start, int& first_node);
 
 }  // namespace traverse::solver

@@ -48,7 +48,6 @@
 #include "block_tridiagonal_lu.hpp"
 #include "traverse/rod/planar.hpp"
 #include "traverse/rod/static_solver.hpp"
-#include "traverse/mesh/mesh.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
 #include "traverse/solver/static_start.hpp"
 
@@ -169,13 +168,7 @@ Scene hanging_cable(int N, double F, bool pieces = false) {
     if (!st.report.converged) throw std::runtime_error("bench_rod: static initial state failed: " + st.report.message);
     mem_phase("static: solved over the ranks");
     s.static_iterations = st.report.iterations;
-    const mesh::Partition part = mesh::partition_nodes(mesh::Mesh1D(m.length, N + 1), comm()->getSize());
-    const int owned = part.first[static_cast<size_t>(comm()->getRank())];
-    const int count = part.count[static_cast<size_t>(comm()->getRank())];
-    s.first_node = std::max(0, owned - 1);
-    s.initial.ds = m.ds();
-    s.initial.nodes = rod::dynamic_nodes_from_static(sm, st.nodes, st.first_node, s.first_node,
-                                                     std::min(N, owned + count) - s.first_node + 1);
+    s.initial = solver::dynamic_state_piece(sm, st, s.first_node);
     mem_phase("static: dynamic initial state");
     return s;
   }
