@@ -17,7 +17,7 @@ Progress::Progress(bool enabled, std::string what, std::string units, double sta
   recent_.push_back({begin_, start, 0});
 }
 
-void Progress::update(double current, long steps) {
+void Progress::update(double current, long steps, const char* detail) {
   if (!enabled_) return;
   const auto now = std::chrono::steady_clock::now();
   if (now - last_ < std::chrono::seconds(1)) return;
@@ -31,8 +31,9 @@ void Progress::update(double current, long steps) {
   recent_.push_back({now, current, steps});
   const double frac = total_ > start_ ? (current - start_) / (total_ - start_) : 1.0;
   const double left = rate > 0.0 ? (total_ - current) / rate : 0.0;
-  std::fprintf(stderr, "%s  %s = %.6g %s of %.6g (%3.0f%%), %.0f steps/s, about %.0f s left%s", tty_ ? "\r" : "",
-               what_.c_str(), current, units_.c_str(), total_, 100.0 * frac, step_rate, left, tty_ ? "   " : "\n");
+  std::fprintf(stderr, "%s  %s = %.6g %s of %.6g (%3.0f%%), %.0f steps/s%s%s, about %.0f s left%s", tty_ ? "\r" : "",
+               what_.c_str(), current, units_.c_str(), total_, 100.0 * frac, step_rate, detail ? ", " : "",
+               detail ? detail : "", left, tty_ ? "   " : "\n");
   std::fflush(stderr);
   printed_ = true;
 }

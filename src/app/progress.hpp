@@ -13,8 +13,9 @@ class Progress {
  public:
   /// `what` names the progress variable (e.g. "t"), `units` its units, `total` its end value.
   Progress(bool enabled, std::string what, std::string units, double start, double total);
-  /// Reports `current` after `steps` steps if a second has passed since the last report.
-  void update(double current, long steps);
+  /// Reports `current` after `steps` steps if a second has passed since the last report;
+  /// `detail` (e.g. the step size) is shown after the rate.
+  void update(double current, long steps, const char* detail = nullptr);
   /// Ends the progress line.
   void done();
 

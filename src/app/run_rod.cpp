@@ -17,6 +17,7 @@
 
 #include "interrupt.hpp"
 #include "progress.hpp"
+#include "rod_adaptive.hpp"
 #include "rod_quantities.hpp"
 #include "rod_setup.hpp"
 #include "traverse/solver/linear_solver_choice.hpp"
@@ -88,6 +89,7 @@ class LeftEnd {
   LeftEnd(const solver::DistributedStepper& st, bool moves, const Vec3& r0, MPI_Comm comm)
       : st_(st), moves_(moves), r0_(r0), comm_(comm) {}
   const Vec3& position() const { return r0_; }
+  void set_position(const Vec3& r) { r0_ = r; }
   /// Call before a step of length h, then after_step(h).
   void before_step() { v_old_ = moves_ ? velocity() : Vec3::Zero(); }
   void after_step(double h) {
@@ -240,21 +242,35 @@ void RodOutputs::write(output::Writer& w, double t, const Vec3& r0) {
   w.write_step(t, sigma_, probe_values_, views);
 }
 
+/// Values per node of a rod run's restart point: the node, and with time.adaptive the
+/// controller's two earlier levels.
+std::size_t restart_components(const scene::Scene& sc) {
+  return kPackedNode + (sc.time.adaptive.enabled ? RodAdaptiveControl::kPerNode : 0);
+}
+
 /// Restart points of a rod run (docs/reliability.md): the state, the time, the step index
-/// and extra = (left-end position, dt, path).
+/// (adaptive: the accepted steps) and extra = (left-end position, dt, path, and with
+/// time.adaptive the controller's scalars).
 class RodRestartPoints {
  public:
   RodRestartPoints(const solver::DistributedStepper& st, output::Writer& w, double dt, bool planar, double interval,
-                   MPI_Comm comm)
-      : st_(st), w_(w), dt_(dt), planar_(planar), interval_(interval), comm_(comm),
-        slots_(comm, kPackedNode, static_cast<std::size_t>(st.first_owned_node())),
-        packed_(kPackedNode * static_cast<std::size_t>(st.num_owned_nodes())), last_(std::chrono::steady_clock::now()) {}
+                   const RodAdaptiveControl* adaptive, MPI_Comm comm)
+      : st_(st), w_(w), dt_(dt), planar_(planar), interval_(interval), adaptive_(adaptive), comm_(comm),
+        components_(kPackedNode + (adaptive ? RodAdaptiveControl::kPerNode : 0)),
+        slots_(comm, components_, static_cast<std::size_t>(st.first_owned_node())),
+        packed_(components_ * static_cast<std::size_t>(st.num_owned_nodes())), last_(std::chrono::steady_clock::now()) {}
   /// Stores the point of time step i (once per step).
   void store(long i, const Vec3& r0) {
     if (i == stored_at_) return;
-    for (int k = 0; k < st_.num_owned_nodes(); ++k)
-      pack_node(st_.owned_node(k), &packed_[kPackedNode * static_cast<std::size_t>(k)]);
-    slots_.write(w_, st_.time(), i, {r0.x(), r0.y(), r0.z(), dt_, planar_ ? 1.0 : 0.0}, packed_);
+    for (int k = 0; k < st_.num_owned_nodes(); ++k) {
+      double* o = &packed_[components_ * static_cast<std::size_t>(k)];
+      pack_node(st_.owned_node(k), o);
+      if (adaptive_) adaptive_->pack_node(k, o + kPackedNode);
+    }
+    std::vector<double> extra = {r0.x(), r0.y(), r0.z(), dt_, planar_ ? 1.0 : 0.0};
+    if (adaptive_)
+      for (const double v : adaptive_->pack_scalars()) extra.push_back(v);
+    slots_.write(w_, st_.time(), i, extra, packed_);
     stored_at_ = i;
     last_ = std::chrono::steady_clock::now();
   }
@@ -272,7 +288,9 @@ class RodRestartPoints {
   double dt_;
   bool planar_;
   double interval_;
+  const RodAdaptiveControl* adaptive_;
   MPI_Comm comm_;
+  std::size_t components_;
   output::RestartSlots slots_;
   std::vector<double> packed_;
   long stored_at_ = -1;
@@ -409,6 +427,192 @@ LoopTotals RodTimeLoop::run(long first_step, bool show_progress) {
   return tot;
 }
 
+/// The adaptive time loop (time.adaptive, docs/adaptive.md): each step's length comes from
+/// the error estimate; the steps land on the output times of the fixed-dt grid (every
+/// output.every steps of time.dt, and time.end), so outputs compare point for point with a
+/// fixed-dt run. The first step of a run, without the three levels the extrapolation estimate
+/// needs, is checked by step doubling.
+class RodAdaptiveLoop {
+ public:
+  RodAdaptiveLoop(solver::DistributedStepper& st, RodAdaptiveControl& ctl, RodOutputs& outputs, output::Writer& w,
+                  RodRestartPoints& restart, LeftEnd& left, const TimeGrid& grid, int every, const RunOptions& opt,
+                  MPI_Comm comm)
+      : st_(st), ctl_(ctl), out_(outputs), w_(w), rp_(restart), left_(left), g_(grid), every_(every), opt_(opt),
+        comm_(comm) {}
+  LoopTotals run(bool show_progress);
+
+ private:
+  double output_time(long k) const { return g_.time(std::min(k * static_cast<long>(every_), g_.steps)); }
+  bool try_step(double h, solver::StepReport& rep, Progress& progress);
+  bool extrapolated_step(double h, Progress& progress);
+  bool doubled_step(double h, Progress& progress);
+  /// A failed or rejected step of length h: the next try, or the end of the run at dt_min.
+  void retry_smaller(double h, double next, const std::string& why, Progress& progress);
+  [[noreturn]] void fail(const std::string& why, Progress& progress);
+  solver::DistributedStepper& st_;
+  RodAdaptiveControl& ctl_;
+  RodOutputs& out_;
+  output::Writer& w_;
+  RodRestartPoints& rp_;
+  LeftEnd& left_;
+  const TimeGrid& g_;
+  int every_;
+  const RunOptions& opt_;
+  MPI_Comm comm_;
+  LoopTotals tot_;
+};
+
+void RodAdaptiveLoop::fail(const std::string& why, Progress& progress) {
+  progress.done();
+  std::ostringstream os;
+  os.precision(12);
+  os << "adaptive time stepping (time.adaptive) at t = " << st_.time() << " s: " << why
+     << "; try a larger time.adaptive.tolerance or dt_min, or scheme.rho_inf < 1 (traverse run --restart "
+     << opt_.output << " --set ... continues from t = " << st_.time() << " s)";
+  rp_.store(ctl_.totals().accepted, left_.position());  // the state before the failed step
+  w_.fail(os.str());
+  throw NumericsError(os.str());
+}
+
+void RodAdaptiveLoop::retry_smaller(double h, double next, const std::string& why, Progress& progress) {
+  const double dt_min = ctl_.controller().parameters().dt_min;
+  if (h <= dt_min * (1.0 + 1e-12)) {
+    std::ostringstream os;
+    os << why << " at the smallest step, time.adaptive.dt_min = " << dt_min << " s";
+    fail(os.str(), progress);
+  }
+  ctl_.next_dt = std::min(next, h);
+}
+
+bool RodAdaptiveLoop::try_step(double h, solver::StepReport& rep, Progress& progress) {
+  bool ok = false;
+  try {
+    ok = st_.try_step(h, rep);
+  } catch (const solver::PlanarityLost& e) {
+    progress.done();
+    const std::string msg = std::string(e.what()) + "; traverse run --restart " + opt_.output +
+                            " --set scheme.planar=off continues on the 3D path";
+    rp_.store(ctl_.totals().accepted, left_.position());
+    w_.fail(msg);
+    throw NumericsError(msg);
+  }
+  tot_.newton += rep.newton_iterations;
+  ++tot_.solves;
+  if (!ok) {
+    ++ctl_.totals().failed;
+    std::ostringstream os;
+    os << "the Newton solve of a step of dt = " << h << " s did not converge (" << st_.last_newton_report().status << ")";
+    retry_smaller(h, ctl_.controller().after_failure(h), os.str(), progress);
+  }
+  return ok;
+}
+
+bool RodAdaptiveLoop::extrapolated_step(double h, Progress& progress) {
+  left_.before_step();
+  solver::StepReport rep;
+  if (!try_step(h, rep, progress)) return false;
+  std::vector<rod::NodeLevel> y = ctl_.owned_parts();
+  const double err = ctl_.extrapolation_error(y, h);
+  const StepDecision d = ctl_.controller().decide(h, err, rep.newton_iterations);
+  if (!d.accept) {
+    st_.undo_step();
+    ++ctl_.totals().rejected;
+    std::ostringstream os;
+    os << "the error estimate is " << err << " times the tolerance";
+    retry_smaller(h, d.next_dt, os.str(), progress);
+    return false;
+  }
+  left_.after_step(h);
+  ctl_.accept(std::move(y), h);
+  ctl_.totals().record_accepted(h);
+  ctl_.next_dt = d.next_dt;
+  return true;
+}
+
+bool RodAdaptiveLoop::doubled_step(double h, Progress& progress) {
+  const rod::RodState saved = st_.ghosted_piece();
+  const Vec3 r_saved = left_.position();
+  auto restore = [&] {
+    st_.set_state(saved, st_.first_ghosted_node());
+    left_.set_position(r_saved);
+  };
+  solver::StepReport rep;
+  if (!try_step(h, rep, progress)) return false;
+  const std::vector<rod::NodeLevel> full = ctl_.owned_parts();
+  st_.undo_step();
+  std::vector<rod::NodeLevel> mid, half;
+  int newton = rep.newton_iterations;
+  for (int part = 0; part < 2; ++part) {
+    left_.before_step();
+    solver::StepReport r;
+    if (!try_step(0.5 * h, r, progress)) {
+      restore();
+      return false;
+    }
+    left_.after_step(0.5 * h);
+    newton = std::max(newton, r.newton_iterations);
+    (part == 0 ? mid : half) = ctl_.owned_parts();
+  }
+  const double err = ctl_.doubling_error(full, mid, half, h);
+  const StepDecision d = ctl_.controller().decide(h, err, newton);
+  if (!d.accept) {
+    restore();
+    ++ctl_.totals().rejected;
+    std::ostringstream os;
+    os << "the error estimate of the first step (step doubling) is " << err << " times the tolerance";
+    retry_smaller(h, d.next_dt, os.str(), progress);
+    return false;
+  }
+  ctl_.accept(std::move(mid), 0.5 * h);
+  ctl_.accept(std::move(half), 0.5 * h);
+  ctl_.totals().record_accepted(0.5 * h);
+  ctl_.totals().record_accepted(0.5 * h);
+  ctl_.next_dt = d.next_dt;
+  return true;
+}
+
+LoopTotals RodAdaptiveLoop::run(bool show_progress) {
+  Progress progress(show_progress, "t", "s", st_.time(), g_.t_end);
+  const auto start = std::chrono::steady_clock::now();
+  const long outputs = (g_.steps + every_ - 1) / every_;
+  long k = 1;  // the next output time: the first one after the current time
+  while (k <= outputs && output_time(k) <= st_.time() * (1.0 + 1e-14)) ++k;
+  while (k <= outputs) {
+    const double target = output_time(k), remaining = target - st_.time();
+    // Land on the output time; a step that would leave less than itself is split in two.
+    const double proposed = ctl_.next_dt;
+    double h = proposed;
+    if (h >= remaining * (1.0 - 1e-12)) h = remaining;
+    else if (h > 0.5 * remaining) h = 0.5 * remaining;
+    const bool accepted = ctl_.has_history() ? extrapolated_step(h, progress) : doubled_step(h, progress);
+    if (!accepted) continue;
+    if (h < proposed) ctl_.next_dt = std::max(ctl_.next_dt, proposed);  // shortened only to land
+    tot_.last_step = ctl_.totals().accepted;
+    if (std::abs(target - st_.time()) <= 1e-9 * h) {
+      out_.write(w_, st_.time(), left_.position());
+      if (rp_.due()) rp_.store(tot_.last_step, left_.position());
+      ++k;
+    }
+    char detail[96];
+    std::snprintf(detail, sizeof detail, "dt = %.3g s, %ld rejected", ctl_.next_dt,
+                  ctl_.totals().rejected + ctl_.totals().failed);
+    progress.update(st_.time(), tot_.last_step, detail);
+    if (const int sig = k <= outputs ? interrupt_requested(comm_) : 0) {
+      progress.done();
+      std::ostringstream os;
+      os.precision(12);
+      os << "interrupted at t = " << st_.time() << " s (adaptive step " << tot_.last_step << ", " << signal_name(sig)
+         << "); " << w_.steps_written() << " output steps written; continue with traverse run --restart " << opt_.output;
+      rp_.store(tot_.last_step, left_.position());
+      w_.fail(os.str());
+      throw Interrupted(sig, opt_.output, os.str(), os.str());
+    }
+  }
+  progress.done();
+  tot_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return tot_;
+}
+
 /// A restart's source file, restart point and state (opt.restart only).
 struct RestartSource {
   std::string file;
@@ -418,7 +622,8 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
   RestartSource src;
   const int N = sc.mesh.nodes - 1;
   src.file = output::restart_source(opt.output);
-  src.point = output::read_restart_point(src.file, static_cast<std::size_t>(N + 1), kPackedNode);
+  const std::size_t comps = restart_components(sc);
+  src.point = output::read_restart_point(src.file, static_cast<std::size_t>(N + 1), comps);
   const auto& x = src.point.extra;
   if (x.size() < 4 || x[3] != g.dt)
     throw UsageError{"--restart " + opt.output + ": time.dt = " + scene::format_number(g.dt) +
@@ -429,8 +634,28 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
   state.ds = sc.rod.length / N;
   state.nodes.resize(static_cast<std::size_t>(N + 1));
   for (int j = 0; j <= N; ++j)
-    state.nodes[static_cast<std::size_t>(j)] = unpack_node(&src.point.state[kPackedNode * static_cast<std::size_t>(j)]);
+    state.nodes[static_cast<std::size_t>(j)] = unpack_node(&src.point.state[comps * static_cast<std::size_t>(j)]);
   return src;
+}
+
+/// The adaptive controller of a run: from the restart point when restarting, else started
+/// at the current (initial) level.
+std::unique_ptr<RodAdaptiveControl> make_adaptive(const scene::Scene& sc, const rod::RodModel& model,
+                                                  const solver::DistributedStepper& st, const RestartSource& restart,
+                                                  const TimeGrid& g, MPI_Comm comm) {
+  auto ctl = std::make_unique<RodAdaptiveControl>(sc.time.adaptive, g.dt, model.alpha, st, comm);
+  if (restart.file.empty()) {
+    ctl->start(ctl->owned_parts());
+    return ctl;
+  }
+  const auto& x = restart.point.extra;
+  const std::size_t comps = restart_components(sc), first = static_cast<std::size_t>(st.first_owned_node());
+  std::vector<double> per_node(RodAdaptiveControl::kPerNode * static_cast<std::size_t>(st.num_owned_nodes()));
+  for (std::size_t k = 0; k < static_cast<std::size_t>(st.num_owned_nodes()); ++k)
+    for (std::size_t i = 0; i < RodAdaptiveControl::kPerNode; ++i)
+      per_node[RodAdaptiveControl::kPerNode * k + i] = restart.point.state[comps * (first + k) + kPackedNode + i];
+  ctl->restore(ctl->owned_parts(), per_node, std::vector<double>(x.begin() + std::min<std::size_t>(5, x.size()), x.end()));
+  return ctl;
 }
 
 /// The stepper of a scene; a linear solver that cannot run on this many ranks is bad input.
@@ -460,9 +685,14 @@ std::unique_ptr<solver::DistributedStepper> make_stepper(const scene::Scene& sc,
 
 void print_start(const scene::Scene& sc, const TimeGrid& g, const std::string& initial,
                  const solver::DistributedStepper& st, const std::string& path_text) {
-  std::printf("rod scene '%s': %d nodes, %ld steps of dt = %.6g s to t = %.6g s; initial state: %s; linear solver: %s%s; "
-              "path: %s\n",
-              sc.file.c_str(), sc.mesh.nodes, g.steps, g.dt, g.t_end, initial.c_str(), st.resolved_linear_solver().c_str(),
+  char steps[160];
+  if (sc.time.adaptive.enabled)
+    std::snprintf(steps, sizeof steps, "adaptive steps (tolerance %.3g, first dt = %.6g s, outputs every %.6g s)",
+                  sc.time.adaptive.tolerance, g.dt, g.dt * sc.output.every);
+  else
+    std::snprintf(steps, sizeof steps, "%ld steps of dt = %.6g s", g.steps, g.dt);
+  std::printf("rod scene '%s': %d nodes, %s to t = %.6g s; initial state: %s; linear solver: %s%s; path: %s\n",
+              sc.file.c_str(), sc.mesh.nodes, steps, g.t_end, initial.c_str(), st.resolved_linear_solver().c_str(),
               st.linear_solver_rerouted() ? " (rerouted: Amesos2 gives wrong answers on 2+ ranks here)" : "",
               path_text.c_str());
 }
@@ -538,9 +768,11 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
 
   const Vec3 r0 = opt.restart ? Vec3(extra[0], extra[1], extra[2]) : Vec3(Vec3::Zero());
   LeftEnd left(*stepper, setup.model.left.end_moves(), r0, comm);
-  RodRestartPoints points(*stepper, writer, grid.dt, path.planar, opt.restart_interval, comm);
+  std::unique_ptr<RodAdaptiveControl> adaptive;
+  if (sc.time.adaptive.enabled) adaptive = make_adaptive(sc, setup.model, *stepper, restart, grid, comm);
+  RodRestartPoints points(*stepper, writer, grid.dt, path.planar, opt.restart_interval, adaptive.get(), comm);
   if (rank == 0 && !opt.quiet) print_start(sc, grid, start.description, *stepper, path_text);
-  if (rank == 0) warn_under_resolved_loads(sc, grid);
+  if (rank == 0 && !adaptive) warn_under_resolved_loads(sc, grid);
   long first_step = 1;
   if (opt.restart) {
     output::copy_output_steps(restart.file, writer, restart.point.steps_written, outputs.probe_names(), outputs.field_names(),
@@ -556,8 +788,15 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     outputs.write(writer, 0.0, left.position());
     points.store(0, left.position());
   }
-  RodTimeLoop loop(*stepper, outputs, writer, points, left, grid, sc.output.every, opt, load_ratio(sc), comm);
-  const LoopTotals tot = loop.run(first_step, rank == 0 && progress_wanted(opt.quiet, opt.progress));
+  const bool progress = rank == 0 && progress_wanted(opt.quiet, opt.progress);
+  LoopTotals tot;
+  if (adaptive) {
+    RodAdaptiveLoop loop(*stepper, *adaptive, outputs, writer, points, left, grid, sc.output.every, opt, comm);
+    tot = loop.run(progress);
+  } else {
+    RodTimeLoop loop(*stepper, outputs, writer, points, left, grid, sc.output.every, opt, load_ratio(sc), comm);
+    tot = loop.run(first_step, progress);
+  }
   points.store(tot.last_step, left.position());  // the end (a no-op when the last output step stored it)
   writer.finish();
   if (rank == 0 && !opt.quiet)
@@ -565,6 +804,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
                 "time stepping %.3f s (wall, output included)\n",
                 tot.newton, tot.solves, tot.solves ? double(tot.newton) / double(tot.solves) : 0.0,
                 path.planar ? "planar" : "3D", writer.steps_written(), opt.output.c_str(), tot.seconds);
+  if (rank == 0 && !opt.quiet && adaptive) std::printf("adaptive: %s\n", adaptive->totals().summary().c_str());
 }
 
 }  // namespace traverse::app

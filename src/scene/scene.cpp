@@ -228,6 +228,41 @@ std::shared_ptr<TypeRegistry> continuation_probe_types() {
   return cprobes;
 }
 
+// time.adaptive (docs/adaptive.md).
+Param adaptive_section() {
+  Param a = section("adaptive", "Step sizes chosen by a local error estimate instead of a fixed dt (docs/adaptive.md): "
+                                "time.dt is the first step; the output times stay those of the fixed-dt run "
+                                "(every output.every steps of time.dt), where the steps land");
+  a.only_if_given();
+  a.add(real("tolerance", "Relative tolerance on each step's local error (rod: in the quantities 'on'; beam: in "
+                          "the modal state): the largest over the structure, relative to the largest value of the "
+                          "quantity in the run so far (position, orientation: the displacement and rotation since "
+                          "the start)", "").positive().below(1.0).required());
+  a.add(word_list("on", "Rod: the quantities whose local error is controlled: position and orientation of the "
+                        "nodes (displacement-type: a fast mode counts by how far it moves the rod), u, omega, kappa "
+                        "(the state; the grid's bending waves then force short steps)",
+                  {"position", "orientation", "u", "omega", "kappa"}).def("[position, orientation]"));
+  a.add(real("absolute_position", "Rod: absolute tolerance on the position", "m").non_negative().def(0.0));
+  a.add(real("absolute_orientation", "Rod: absolute tolerance on the orientation", "rad").non_negative().def(0.0));
+  a.add(real("absolute_u", "Rod: absolute tolerance on the velocity u", "m/s").non_negative().def(0.0));
+  a.add(real("absolute_omega", "Rod: absolute tolerance on the spin omega", "rad/s").non_negative().def(0.0));
+  a.add(real("absolute_kappa", "Rod: absolute tolerance on the curvature kappa", "1/m").non_negative().def(0.0));
+  a.add(real("dt_min", "Smallest step: a step that would have to be shorter ends the run (exit 3); "
+                       "default 1e-6 time.dt", "s").positive());
+  a.add(real("dt_max", "Largest step (default: no bound but the output interval)", "s").positive());
+  a.add(real("growth", "Largest factor from one step to the next", "").above(1.0).at_most(10.0).def(2.0));
+  a.add(real("shrink", "Smallest factor from a rejected step to its retry", "").positive().below(1.0).def(0.2));
+  a.add(real("safety", "Factor on the step the error estimate calls optimal", "").positive().at_most(1.0).def(0.9));
+  a.add(integer("newton_target", "Rod: after a step that needed more Newton iterations than this, the next step "
+                                 "does not grow").at_least(1).def(6.0));
+  a.check([](const ParameterList& s, const CheckContext& ctx) {
+    if (s.isParameter("dt_min") && s.isParameter("dt_max") && s.get<double>("dt_min") > s.get<double>("dt_max"))
+      ctx.fail("dt_min", "at most dt_max = " + format_number(s.get<double>("dt_max")) + " s",
+               format_number(s.get<double>("dt_min")) + " s");
+  });
+  return a;
+}
+
 const std::vector<std::string> kBeamFields = {"deflection", "slope", "bending_moment"};
 const std::vector<std::string> kRodFields = {"u", "omega", "kappa", "n", "m", "r", "R"};
 
@@ -358,6 +393,7 @@ Param build_schema() {
                       "load needs to cross one mesh cell; rod: ds / v of the fastest load (the load sits on a "
                       "node at every step)", "s").positive().allow_auto().def("auto"));
   time.add(real("end", "End time; auto: when the last load leaves the structure", "s").positive().allow_auto().def("auto"));
+  time.add(adaptive_section());
   root.add(time);
 
   root.add(pass_through("solver", "Rod solver parameters (Newton, linear solver, NOX and Stratimikos sublists), "
@@ -702,6 +738,35 @@ void check_coupled_masses(Scene& sc) {
             "('auto' is not yet supported)", "auto");
 }
 
+// time.adaptive, when given.
+void read_adaptive(const ParameterList& t, Scene& sc) {
+  if (!t.isSublist("adaptive")) return;
+  const ParameterList& a = t.sublist("adaptive");
+  AdaptiveSpec& s = sc.time.adaptive;
+  s.enabled = true;
+  s.tolerance = a.get<double>("tolerance");
+  static const char* const kGroups[5] = {"position", "orientation", "u", "omega", "kappa"};
+  const auto on = a.get<Teuchos::Array<std::string>>("on");
+  for (int g = 0; g < 5; ++g) {
+    s.controlled[g] = std::find(on.begin(), on.end(), kGroups[g]) != on.end();
+    s.absolute[g] = a.get<double>(std::string("absolute_") + kGroups[g]);
+  }
+  if (on.empty()) fail_at(sc, "time.adaptive.on", "at least one quantity", "[]");
+  for (int g = 2; g < 5; ++g)  // the state groups have no scale floor: a start from rest needs an absolute tolerance
+    if (s.controlled[g] && s.absolute[g] == 0.0)
+      fail_at(sc, std::string("time.adaptive.absolute_") + kGroups[g],
+              std::string("a value > 0 when time.adaptive.on includes ") + kGroups[g] +
+                  " (its relative scale is zero at a start from rest)", "0");
+  s.dt_min = a.isParameter("dt_min") ? a.get<double>("dt_min") : 0.0;
+  s.dt_max = a.isParameter("dt_max") ? a.get<double>("dt_max") : 0.0;
+  s.growth = a.get<double>("growth");
+  s.shrink = a.get<double>("shrink");
+  s.safety = a.get<double>("safety");
+  s.newton_target = a.get<int>("newton_target");
+  if (sc.continuation.enabled)
+    fail_at(sc, "time.adaptive", "no adaptive time stepping in a continuation run (it has no time steps)", "a section");
+}
+
 // time: dt and end, with 'auto' resolved where the scene alone decides it.
 void read_time(const ParameterList& t, Scene& sc) {
   sc.time.dt_auto = t.isType<std::string>("dt");
@@ -715,6 +780,7 @@ void read_time(const ParameterList& t, Scene& sc) {
         fail_at(sc, "time.end", "a number: with 'auto' every load must leave the structure, but load '" + l.name +
                 "' stops before it does", "auto");
   }
+  read_adaptive(t, sc);
   if (sc.model == Model::Rod && sc.time.dt_auto && !sc.continuation.enabled) {
     double v = 0.0;
     for (const auto& l : sc.loads) v = std::max(v, l.speed);

@@ -69,6 +69,8 @@ struct DistributedStepper::Impl {
   bool reusing_klu2 = false;
   std::shared_ptr<const rod::PlanarReduction> planar;  ///< null on the 3D path
   double planar_tolerance = 1e-8;  ///< largest dropped residual accepted at a converged iterate
+  double undo_time = 0.0;  ///< try_step: the time before the last successful step
+  bool undo_ready = false;
 
   /// Mesh, model evaluator, linear solver and Newton solver for p unknowns per node (the
   /// model's, or the planar reduction's).
@@ -221,6 +223,7 @@ void DistributedStepper::set_planar(const rod::PlanarSymmetry* symmetry) {
   if (!symmetry && !m.planar) return;
   // The partition does not change with the path: each rank keeps its nodes and ghosts.
   m.planar = symmetry ? std::make_shared<const rod::PlanarReduction>(*m.model, *symmetry) : nullptr;
+  m.undo_ready = false;
   m.build();
   m.me->set_old_level(m.nodes, rod::StepTimes{m.t, 0.0});
   m.newton = std::make_unique<NewtonSolver>(m.me, m.newton_params());
@@ -250,6 +253,7 @@ void DistributedStepper::set_state(const rod::RodState& full) {
   const int g0 = m.mesh->first_ghosted_node();
   m.nodes.assign(full.nodes.begin() + g0, full.nodes.begin() + g0 + m.mesh->num_ghosted_nodes());
   m.t = full.t;
+  m.undo_ready = false;
 }
 
 void DistributedStepper::set_state(const rod::RodState& piece, int first_node) {
@@ -262,6 +266,7 @@ void DistributedStepper::set_state(const rod::RodState& piece, int first_node) {
   const auto begin = piece.nodes.begin() + (g0 - first_node);
   m.nodes.assign(begin, begin + count);
   m.t = piece.t;
+  m.undo_ready = false;
 }
 
 int DistributedStepper::first_ghosted_node() const { return impl_->mesh->first_ghosted_node(); }
@@ -272,6 +277,7 @@ StepReport DistributedStepper::step(double dt) {
   if (!(dt > 0.0)) throw std::invalid_argument("DistributedStepper::step: dt must be > 0, found " + std::to_string(dt));
   std::vector<rod::RodNode> saved;  // the nodes at t0, copied only if the step is subdivided
   const double t0 = m.t;
+  m.undo_ready = false;
   StepReport sr;
   try {
     m.advance(t0, dt, 0, sr, t0, dt, &saved);
@@ -282,6 +288,39 @@ StepReport DistributedStepper::step(double dt) {
   }
   m.t = t0 + dt;  // exactly, whatever the subdivision did
   return sr;
+}
+
+bool DistributedStepper::try_step(double dt, StepReport& report) {
+  Impl& m = *impl_;
+  if (!(dt > 0.0)) throw std::invalid_argument("DistributedStepper::try_step: dt must be > 0, found " + std::to_string(dt));
+  const double t0 = m.t;
+  const bool ok = m.attempt(t0, dt, report);  // on failure (or a throw) the nodes are as they were
+  if (ok) {
+    ++report.substeps;
+    report.last = m.last;
+    m.undo_time = t0;
+    m.undo_ready = true;
+  } else {
+    ++report.failed_attempts;
+    m.t = t0;
+  }
+  return ok;
+}
+
+void DistributedStepper::undo_step() {
+  Impl& m = *impl_;
+  if (!m.undo_ready) throw std::logic_error("DistributedStepper::undo_step: no step to undo");
+  m.nodes = m.me->old_ghosted_nodes();  // the model holds the step's old level
+  m.t = m.undo_time;
+  m.undo_ready = false;
+}
+
+rod::RodState DistributedStepper::ghosted_piece() const {
+  rod::RodState s;
+  s.t = impl_->t;
+  s.ds = impl_->model->ds();
+  s.nodes = impl_->nodes;
+  return s;
 }
 
 double DistributedStepper::time() const { return impl_->t; }

@@ -3,6 +3,7 @@
 // `traverse check`) and the typed structs the rest of the code is built from.
 #include <cstddef>
 #include <stdexcept>
+#include <array>
 #include <string>
 #include <vector>
 
@@ -152,11 +153,26 @@ struct MeshSpec {
   double ds = 0.0;  ///< uniform spacing [m]
 };
 
+/// Step sizes chosen by a local error estimate (time.adaptive; docs/adaptive.md).
+struct AdaptiveSpec {
+  bool enabled = false;
+  double tolerance = 0.0;  ///< relative tolerance on the local error
+  /// Rod: the controlled quantities and their absolute tolerances, in the order position [m],
+  /// orientation [rad], u [m/s], omega [rad/s], kappa [1/m] (rod::ErrorGroup).
+  std::array<bool, 5> controlled{true, true, false, false, false};
+  std::array<double, 5> absolute{0.0, 0.0, 0.0, 0.0, 0.0};
+  double dt_min = 0.0;  ///< [s] (resolved: 1e-6 time.dt when not given)
+  double dt_max = 0.0;  ///< [s] 0: no bound but the output interval
+  double growth = 2.0, shrink = 0.2, safety = 0.9;
+  int newton_target = 6;
+};
+
 struct TimeSpec {
   bool dt_auto = true;
-  double dt = 0.0;   ///< [s] (resolved by the runner when dt_auto)
+  double dt = 0.0;   ///< [s] (resolved by the runner when dt_auto); adaptive: the first step
   bool end_auto = true;
   double end = 0.0;  ///< [s] (resolved by the runner when end_auto)
+  AdaptiveSpec adaptive;
 };
 
 /// Generalised-alpha parameters of the rod scheme.

@@ -95,6 +95,14 @@ class DistributedStepper {
   std::string path_description() const;
   /// Advance by dt [s] (collective). Throws StepFailure (state unchanged) when it fails.
   StepReport step(double dt);
+  /// Adaptive stepping (collective): one Newton solve of length dt, never subdivided. True when
+  /// it converged (the state is at t + dt; undo_step() returns to t), false when it did not
+  /// (the state is unchanged). Throws PlanarityLost as step() does.
+  bool try_step(double dt, StepReport& report);
+  /// Back to the state before the last successful try_step (only once per step).
+  void undo_step();
+  /// This rank's ghosted nodes and the time, for set_state(piece, first_ghosted_node()).
+  rod::RodState ghosted_piece() const;
 
   double time() const;  ///< [s]
   const rod::RodModel& model() const;

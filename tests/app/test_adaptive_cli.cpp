@@ -1,0 +1,155 @@
+// Adaptive time stepping (time.adaptive, docs/adaptive.md) through the executable: bad
+// controls refused with exit 2 naming the key; the output times of an adaptive run are those
+// of the fixed-dt run and its error against a refined fixed-dt run falls with the tolerance;
+// 1 and 2 ranks take the same steps; a snap through of the undamped shallow arch is passed with
+// rejected steps. (Restart of an adaptive run: test_interrupt_restart.)
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <regex>
+
+#include "process.hpp"
+
+namespace fs = std::filesystem;
+using namespace traverse::testing;
+using traverse::output::Reader;
+
+namespace {
+
+const std::string kExe = TRAVERSE_EXE;
+const std::string kCable = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/default.yaml";
+const std::string kArch = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/arch/shallow_arch_v0.5.yaml";
+const std::string kMpi = std::string(TRAVERSE_MPIEXEC) + " --allow-run-as-root --oversubscribe -n 2 ";
+
+fs::path scratch(const std::string& name) {
+  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+struct Counts {
+  long accepted = -1, rejected = -1, failed = -1;
+};
+Counts counts(const std::string& out) {
+  std::smatch m;
+  Counts c;
+  if (std::regex_search(out, m, std::regex("adaptive: (\\d+) steps accepted, (\\d+) rejected \\(error\\), (\\d+) failed"))) {
+    c.accepted = std::stol(m[1]);
+    c.rejected = std::stol(m[2]);
+    c.failed = std::stol(m[3]);
+  }
+  return c;
+}
+
+/// Largest |difference| of the midspan probe's vertical component (y) of two runs.
+double midspan_difference(const std::string& a, const std::string& b) {
+  const auto pa = Reader(a).probe("midspan"), pb = Reader(b).probe("midspan");
+  double d = 0.0;
+  for (size_t i = 0; i < std::min(pa.rows, pb.rows); ++i) d = std::max(d, std::abs(pa.values[3 * i + 1] - pb.values[3 * i + 1]));
+  return d;
+}
+
+TEST(AdaptiveCli, BadControlsExitWith2NamingTheKey) {
+  const fs::path d = scratch("adaptive-bad");
+  const std::string out = (d / "x.h5").string();
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"--set time.adaptive.tolerance=0", "time.adaptive.tolerance"},
+      {"--set time.adaptive.tolerance=-1e-3", "time.adaptive.tolerance"},
+      {"--set time.adaptive.tolerance=.nan", "time.adaptive.tolerance"},
+      {"--set time.adaptive.tolerance=1", "time.adaptive.tolerance"},
+      {"--set time.adaptive.dt_min=1e-3", "time.adaptive.tolerance"},  // required
+      {"--set time.adaptive.tolerance=1e-3 --set time.adaptive.dt_min=1 --set time.adaptive.dt_max=0.1",
+       "time.adaptive.dt_min"},
+      {"--set time.adaptive.tolerance=1e-3 --set time.adaptive.dt_max=-1", "time.adaptive.dt_max"},
+      {"--set time.adaptive.tolerance=1e-3 --set time.adaptive.growth=1", "time.adaptive.growth"},
+      {"--set time.adaptive.tolerance=1e-3 --set time.adaptive.shrink=0", "time.adaptive.shrink"},
+      {"--set time.adaptive.tolerance=1e-3 --set time.adaptive.on=[u]", "time.adaptive.absolute_u"},
+      {"--set time.adaptive.tolerance=1e-3 --set time.adaptive.on=[]", "time.adaptive.on"},
+      {"--set time.adaptive.tolerance=1e-3 --set time.adaptive.on=[speed]", "time.adaptive.on"},
+  };
+  for (const auto& [args, key] : cases) {
+    const RunResult r = run_command(kExe + " run " + kCable + " -o " + out + " --overwrite -q " + args);
+    std::cout << "  " << args << " -> exit " << r.code << ": " << r.out.substr(0, r.out.find('\n')) << "\n";
+    EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+    EXPECT_NE(r.out.find(key), std::string::npos) << args << ": the message should name " << key << "\n" << r.out;
+    EXPECT_FALSE(fs::exists(out)) << args;
+  }
+}
+
+// The hanging cable at ds = 0.02: the adaptive runs write at the fixed run's output times;
+// their midspan trace error against a fixed-dt run at ds / (16 v) falls as the tolerance does.
+TEST(AdaptiveCli, OutputTimesAreTheFixedRunsAndTheErrorFallsWithTheTolerance) {
+  const fs::path d = scratch("adaptive-cable");
+  const std::string base = kExe + " run " + kCable + " --overwrite --set mesh.ds=0.02 ";
+  const double dt = 0.02 / 3.63418;
+  char ref_args[128];
+  std::snprintf(ref_args, sizeof ref_args, "--set time.dt=%.17g --set output.every=16 -q", dt / 16.0);
+  const std::string ref = (d / "ref.h5").string(), fixed = (d / "fixed.h5").string();
+  ASSERT_EQ(run_command(base + "-o " + ref + " " + ref_args).code, 0);
+  ASSERT_EQ(run_command(base + "-o " + fixed + " -q").code, 0);
+  const auto t_fixed = Reader(fixed).time();
+  std::vector<double> errors;
+  for (const char* tol : {"1e-2", "1e-3", "1e-4"}) {
+    const std::string out = (d / (std::string("ad") + tol + ".h5")).string();
+    const RunResult r = run_command(base + "-o " + out + " --set time.adaptive.tolerance=" + tol);
+    ASSERT_EQ(r.code, 0) << r.out;
+    const Counts c = counts(r.out);
+    ASSERT_GT(c.accepted, 0) << "no summary line\n" << r.out;
+    const auto t = Reader(out).time();
+    ASSERT_EQ(t.size(), t_fixed.size());
+    double dtime = 0.0;
+    for (size_t i = 0; i < t.size(); ++i) dtime = std::max(dtime, std::abs(t[i] - t_fixed[i]));
+    EXPECT_LE(dtime, 1e-12);
+    errors.push_back(midspan_difference(out, ref));
+    std::cout << "  tolerance " << tol << ": " << c.accepted << " accepted, " << c.rejected << " rejected, midspan error "
+              << errors.back() << " m; output times differ by at most " << dtime << " s\n";
+  }
+  std::cout << "  fixed dt = ds / v: midspan error " << midspan_difference(fixed, ref) << " m\n";
+  EXPECT_LT(errors[1], 0.5 * errors[0]);
+  EXPECT_LT(errors[2], 0.5 * errors[1]);
+}
+
+TEST(AdaptiveCli, OneAndTwoRanksTakeTheSameSteps) {
+  const fs::path d = scratch("adaptive-ranks");
+  const std::string a = (d / "np1.h5").string(), b = (d / "np2.h5").string();
+  const std::string args = " run " + kCable + " --overwrite --set mesh.ds=0.02 --set time.adaptive.tolerance=1e-3 "
+                           "--set output.fields=[r,u,omega,kappa,n] -o ";
+  const RunResult r1 = run_command(kExe + args + a), r2 = run_command(kMpi + kExe + args + b);
+  ASSERT_EQ(r1.code, 0) << r1.out;
+  ASSERT_EQ(r2.code, 0) << r2.out;
+  const Counts c1 = counts(r1.out), c2 = counts(r2.out);
+  std::cout << "  1 rank: " << c1.accepted << " accepted, " << c1.rejected << " rejected; 2 ranks: " << c2.accepted
+            << " accepted, " << c2.rejected << " rejected\n";
+  EXPECT_EQ(c1.accepted, c2.accepted);
+  EXPECT_EQ(c1.rejected, c2.rejected);
+  EXPECT_GT(c1.accepted, 0);
+  std::string why;
+  const double diff = max_file_difference(a, b, why);
+  std::cout << "  1 vs 2 ranks: max |difference| = " << diff << " (" << why << ")\n";
+  EXPECT_LE(diff, 1e-9) << why;
+}
+
+// The undamped shallow arch at v = 0.5 m/s (ds = 0.02): the snap through is passed (exit 0),
+// with rejected steps, and the right end turns through its initial inclination.
+TEST(AdaptiveCli, UndampedSnapThroughIsPassedWithRejectedSteps) {
+  const fs::path d = scratch("adaptive-snap");
+  const std::string out = (d / "snap.h5").string();
+  const RunResult r = run_command(kExe + " run " + kArch + " -o " + out +
+                                  " --overwrite --set mesh.ds=0.02 --set scheme.rho_inf=1 --set time.adaptive.tolerance=1e-3");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Counts c = counts(r.out);
+  std::cout << "  " << c.accepted << " accepted, " << c.rejected << " rejected, " << c.failed << " failed\n";
+  EXPECT_GT(c.rejected, 0);
+  const auto d3 = Reader(out).probe("end_tangent");
+  const double a0 = std::atan2(d3.values[1], d3.values[2]);
+  double turned = 0.0;
+  for (size_t i = 0; i < d3.rows; ++i)
+    turned = std::max(turned, std::abs(std::remainder(std::atan2(d3.values[3 * i + 1], d3.values[3 * i + 2]) - a0, 2 * M_PI)));
+  std::cout << "  right end: initial inclination " << std::abs(a0) << " rad, largest rotation " << turned << " rad\n";
+  EXPECT_GT(turned, std::abs(a0));
+}
+
+}  // namespace
