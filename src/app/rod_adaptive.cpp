@@ -5,19 +5,6 @@
 
 namespace traverse::app {
 
-StepControlParameters step_control_parameters(const scene::AdaptiveSpec& a, double dt) {
-  StepControlParameters p;
-  p.relative = a.tolerance;
-  p.dt_min = a.dt_min > 0.0 ? a.dt_min : 1e-6 * dt;
-  p.dt_max = a.dt_max;
-  p.growth = a.growth;
-  p.shrink = a.shrink;
-  p.safety = a.safety;
-  p.newton_target = a.newton_target;
-  p.order = 2;
-  return p;
-}
-
 RodAdaptiveControl::RodAdaptiveControl(const scene::AdaptiveSpec& spec, double first_dt,
                                        const rod::AlphaParameters& alpha, const solver::DistributedStepper& st,
                                        MPI_Comm comm)

@@ -8,15 +8,13 @@
 #include <array>
 #include <vector>
 
+#include "step_control.hpp"
 #include "traverse/core/step_controller.hpp"
 #include "traverse/rod/time_error.hpp"
 #include "traverse/scene/scene.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
 
 namespace traverse::app {
-
-/// The controller's parameters from the scene; dt_min defaults to 1e-6 time.dt.
-StepControlParameters step_control_parameters(const scene::AdaptiveSpec& a, double dt);
 
 class RodAdaptiveControl {
  public:

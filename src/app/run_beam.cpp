@@ -13,6 +13,7 @@
 #include "run_beam_coupled.hpp"
 #include "traverse/beam/beam_simulation.hpp"
 #include "traverse/output/reader.hpp"
+#include "step_control.hpp"
 #include "traverse/output/restart.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/version.hpp"
@@ -59,6 +60,8 @@ beam::BeamProblem beam_problem(const scene::Scene& sc, const TimeGrid& grid) {
   p.dt = grid.dt;
   p.integrator = b.integrator == scene::BeamIntegrator::newmark ? beam::Integrator::Newmark : beam::Integrator::RK4;
   p.output_every = sc.output.every;
+  p.adaptive = sc.time.adaptive.enabled;
+  if (p.adaptive) p.control = step_control_parameters(sc.time.adaptive, grid.dt, p.integrator == beam::Integrator::RK4 ? 4 : 2);
   return p;
 }
 
@@ -226,6 +229,12 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     observe.store_restart();
     writer.fail(e.what());
     throw;
+  } catch (const beam::StepSizeUnderflow& e) {
+    progress.done();
+    observe.store_restart();
+    const std::string msg = std::string(e.what()) + "; try a larger time.adaptive.tolerance or dt_min";
+    writer.fail(msg);
+    throw NumericsError(msg);
   }
   progress.done();
   observe.store_restart();
@@ -237,6 +246,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
                 sc.file.c_str(), sc.beam.modes, sim.steps_taken(), p.dt, scene::name_of(sc.beam.integrator).c_str(),
                 p.t_end, observe.outputs(), opt.output.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
+  if (rank == 0 && !opt.quiet && p.adaptive) std::printf("adaptive: %s\n", sim.adaptive_totals().summary().c_str());
 }
 
 }  // namespace traverse::app

@@ -113,7 +113,23 @@ BeamSimulation::BeamSimulation(BeamProblem problem) : problem_(std::move(problem
   Y_.setZero(n);
   V_.setZero(n);
   A_.setZero(n);
+  set_adaptive_floors();
   reset();
+}
+
+// Adaptive: the floors of the relative scales, so that a start from rest is not held to the
+// relative accuracy of an infinitesimal motion: 1e-3 of the static modal response to the
+// self weight and the loads' forces at midspan (Y), times the first modal frequency (Y').
+void BeamSimulation::set_adaptive_floors() {
+  if (!problem_.adaptive) return;
+  problem_.control.order = problem_.integrator == Integrator::RK4 ? 4 : 2;
+  const auto K = mats_.Kb.ldlt();
+  evaluate_modes(0.5 * problem_.length);
+  double loads = 0.0;
+  for (const double f : force_) loads += std::abs(f);
+  const double y = K.solve(mats_.Pb).lpNorm<Eigen::Infinity>() + loads * K.solve(w_->sphi).lpNorm<Eigen::Infinity>();
+  floor_Y_ = 1e-3 * y;
+  floor_V_ = floor_Y_ * std::sqrt(mats_.Kb(0, 0) / mats_.Mb(0, 0));
 }
 
 void BeamSimulation::prepare_status(double ta, double tb) {
@@ -295,6 +311,10 @@ void BeamSimulation::reset() {
   t_ = p.t_start;
   steps_ = 0;
   A_valid_ = false;
+  totals_ = StepControlTotals();
+  next_dt_ = p.adaptive ? StepController(p.control).clamp(p.dt) : p.dt;
+  peak_Y_ = peak_V_ = 0.0;
+  after_rejection_ = false;
   w.eval_t = std::numeric_limits<double>::quiet_NaN();
   // Status of the first (sub)step decides which loads are on the beam initially.
   double t1 = std::min(p.t_start + p.dt, p.t_end);
@@ -341,25 +361,94 @@ void BeamSimulation::run(const BeamObserver& observer) {
   const long N = grid.steps;
   std::size_t next_event = 0;
   const double tol = 1e-9 * p.dt;
-  for (long k = 1; k <= N; ++k) {
+  // Adaptive: the steps go from output time to output time (every output_every grid steps).
+  const long stride = p.adaptive ? std::max(1, p.output_every) : 1;
+  for (long k = stride < N ? stride : N; k <= N; k = k == N ? N + 1 : std::min(N, k + stride)) {
     const double tb = grid.time(k);
     double ta = t_;
     while (ta < tb) {
       while (next_event < events.size() && events[next_event] <= ta + tol) ++next_event;
       double te = tb;
       if (next_event < events.size() && events[next_event] < tb - tol) te = events[next_event];
-      prepare_status(ta, te);
-      if (p.integrator == Integrator::RK4)
-        rk4_step(ta, te);
+      if (p.adaptive)
+        adaptive_advance(ta, te);
       else
-        newmark_step(ta, te);
-      ++steps_;
+        step(ta, te);
       ta = te;
     }
     t_ = tb;
     if (observer && (k % p.output_every == 0 || k == N)) observer(BeamSnapshot(*this, t_, Y_, V_));
   }
   (void)w;
+}
+
+void BeamSimulation::step(double ta, double tb) {
+  prepare_status(ta, tb);
+  if (problem_.integrator == Integrator::RK4)
+    rk4_step(ta, tb);
+  else
+    newmark_step(ta, tb);
+  ++steps_;
+}
+
+// The error of the two half steps (Yh, Vh = the current state) against the full step (Yf,
+// Vf): (half - full) / (2^p - 1), weighted per group (Y, Y') by absolute + relative * scale,
+// the scale the largest of the group's max-norm now, in the run so far, and its floor.
+double BeamSimulation::doubling_error(const VecX& Yf, const VecX& Vf) {
+  const StepControlParameters& c = problem_.control;
+  const double d = std::pow(2.0, c.order) - 1.0;
+  const double eY = (Y_ - Yf).lpNorm<Eigen::Infinity>() / d, eV = (V_ - Vf).lpNorm<Eigen::Infinity>() / d;
+  const double sY = c.relative * std::max({Y_.lpNorm<Eigen::Infinity>(), peak_Y_, floor_Y_});
+  const double sV = c.relative * std::max({V_.lpNorm<Eigen::Infinity>(), peak_V_, floor_V_});
+  if (!std::isfinite(eY) || !std::isfinite(eV)) return HUGE_VAL;
+  return std::max(eY > 0.0 ? eY / sY : 0.0, eV > 0.0 ? eV / sV : 0.0);
+}
+
+void BeamSimulation::adaptive_advance(double ta, double tb) {
+  StepController ctl(problem_.control);
+  const double tol = 1e-12 * std::max(std::abs(tb), 1.0);
+  while (ta < tb - tol) {
+    const double remaining = tb - ta, proposed = next_dt_;
+    double h = proposed;
+    if (h >= remaining * (1.0 - 1e-12)) h = remaining;
+    else if (h > 0.5 * remaining) h = 0.5 * remaining;
+    const VecX Y0 = Y_, V0 = V_, A0 = A_;
+    const bool A0_valid = A_valid_;
+    const long steps0 = steps_;
+    auto restore = [&] {
+      Y_ = Y0;
+      V_ = V0;
+      A_ = A0;
+      A_valid_ = A0_valid;
+      steps_ = steps0;
+    };
+    step(ta, ta + h);
+    const VecX Yf = Y_, Vf = V_;
+    restore();
+    step(ta, ta + 0.5 * h);
+    step(ta + 0.5 * h, ta + h);
+    const double err = doubling_error(Yf, Vf);
+    ctl.set_after_rejection(after_rejection_);
+    const StepDecision dec = ctl.decide(h, err, 0);
+    after_rejection_ = ctl.after_rejection();
+    if (!dec.accept) {
+      restore();
+      ++totals_.rejected;
+      if (h <= problem_.control.dt_min * (1.0 + 1e-12))
+        throw StepSizeUnderflow("adaptive time stepping (time.adaptive): the error estimate is " + std::to_string(err) +
+                                 " times the tolerance at t = " + std::to_string(ta) +
+                                 " s at the smallest step, time.adaptive.dt_min = " +
+                                 std::to_string(problem_.control.dt_min) + " s");
+      next_dt_ = std::min(dec.next_dt, h);
+      continue;
+    }
+    totals_.record_accepted(0.5 * h);
+    totals_.record_accepted(0.5 * h);
+    peak_Y_ = std::max(peak_Y_, Y_.lpNorm<Eigen::Infinity>());
+    peak_V_ = std::max(peak_V_, V_.lpNorm<Eigen::Infinity>());
+    next_dt_ = h < proposed ? std::max(dec.next_dt, proposed) : dec.next_dt;  // shortened only to land
+    ta += h;
+  }
 }
 
 void BeamSimulation::evaluate_modes(double x) const {

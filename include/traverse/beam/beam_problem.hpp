@@ -3,6 +3,7 @@
 #include <memory>
 #include <vector>
 
+#include "traverse/core/step_controller.hpp"
 #include "traverse/beam/galerkin.hpp"
 #include "traverse/beam/mode_set.hpp"
 #include "traverse/beam/moving_load.hpp"
@@ -52,6 +53,12 @@ struct BeamProblem {
   /// Split a step at the instants where a load enters or leaves the beam, so that the
   /// piecewise-smooth right-hand side keeps the methods' full order.
   bool split_at_load_events = true;
+  /// Adaptive steps (time.adaptive, docs/adaptive.md): dt is the first step; the steps land on
+  /// the grid times of dt (the output times) and on the load events. Step doubling estimates
+  /// each step's error (order 4 for RK4, 2 for Newmark); `adaptive.order` is set from the
+  /// integrator.
+  bool adaptive = false;
+  StepControlParameters control;
 };
 
 /// Circular tube: returns {EI [N m^2], rhoA [kg/m]} for E [Pa], rho [kg/m^3], radii [m].

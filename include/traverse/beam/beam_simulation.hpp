@@ -2,6 +2,7 @@
 // Driver: modal (Galerkin) beam with moving masses/forces, fixed-step time integration.
 #include <functional>
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 #include "traverse/beam/beam_problem.hpp"
@@ -42,6 +43,12 @@ using BeamObserver = std::function<void(const BeamSnapshot&)>;
 /// (Phi_k = Phi(x_k(t)), F_k = -M_k g by default; M_k = 0 for a moving force) with fixed steps.
 /// The mass matrix is inverted by a Woodbury update of the precomputed Mb^{-1}
 /// (resp. (Mb + h^2/4 Kb)^{-1} for Newmark), so a step costs O(n^2) per load.
+/// Adaptive stepping: a step whose error stays above the tolerance at the smallest step.
+class StepSizeUnderflow : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 class BeamSimulation {
  public:
   /// A remainder of the time span below this fraction of dt joins the last step.
@@ -65,8 +72,10 @@ class BeamSimulation {
   double time() const { return t_; }
   const VecX& Y() const { return Y_; }
   const VecX& Ydot() const { return V_; }
-  /// Number of (sub)steps taken by the last run.
+  /// Number of (sub)steps taken by the last run (adaptive: the accepted ones).
   long steps_taken() const { return steps_; }
+  /// Adaptive runs: accepted and rejected steps, the range of dt.
+  const StepControlTotals& adaptive_totals() const { return totals_; }
   /// w(x) [m] of the current state.
   double deflection(double x) const;
 
@@ -79,6 +88,11 @@ class BeamSimulation {
   void residual(const VecX& Y, const VecX& V, Eigen::Ref<VecX> r) const;
   void solve_low_rank(const MatX& Binv, const VecX& r, VecX& out);
   void acceleration(double t, const VecX& Y, const VecX& V, VecX& A);
+  void step(double ta, double tb);
+  /// Adaptive: from ta to tb in steps chosen by step doubling.
+  void adaptive_advance(double ta, double tb);
+  double doubling_error(const VecX& Yf, const VecX& Vf);
+  void set_adaptive_floors();
   void rk4_step(double ta, double tb);
   void newmark_step(double ta, double tb);
   const MatX& newmark_inverse(double h);
@@ -95,6 +109,10 @@ class BeamSimulation {
   long steps_ = 0;
   VecX Y_, V_, A_;
   bool A_valid_ = false;
+  // Adaptive stepping
+  StepControlTotals totals_;
+  double next_dt_ = 0.0, peak_Y_ = 0.0, peak_V_ = 0.0, floor_Y_ = 0.0, floor_V_ = 0.0;
+  bool after_rejection_ = false;
 };
 
 }  // namespace traverse::beam
