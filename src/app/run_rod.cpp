@@ -304,35 +304,56 @@ struct LoopTotals {
   double seconds = 0.0;
 };
 
+/// What both time loops work on, and their common ends: a stop on a signal and the planar
+/// path's loss (each stores a restart point, sets the file's status and throws).
+struct RodLoopParts {
+  solver::DistributedStepper& st;
+  RodOutputs& out;
+  output::Writer& w;
+  RodRestartPoints& rp;
+  LeftEnd& left;
+  const TimeGrid& g;
+  int every;
+  const RunOptions& opt;
+  MPI_Comm comm;
+  /// `where`, e.g. "time step 12 of 100"; the restart point is that of `step`.
+  [[noreturn]] void interrupt(long step, const std::string& where, int sig, Progress& progress) const {
+    progress.done();
+    std::ostringstream os;
+    os.precision(12);
+    os << "interrupted at t = " << st.time() << " s (" << where << ", " << signal_name(sig) << "); "
+       << w.steps_written() << " output steps written; continue with traverse run --restart " << opt.output;
+    rp.store(step, left.position());
+    w.fail(os.str());
+    throw Interrupted(sig, opt.output, os.str(), os.str());
+  }
+  /// The state is that of `step` (before the step that lost planarity).
+  [[noreturn]] void fail_planar(long step, const std::string& what, Progress& progress) const {
+    progress.done();
+    const std::string msg = what + "; traverse run --restart " + opt.output +
+                            " --set scheme.planar=off continues on the 3D path";
+    rp.store(step, left.position());
+    w.fail(msg);
+    throw NumericsError(msg);
+  }
+};
+
 /// The time loop: steps, output steps, restart points, interrupts and failures.
 class RodTimeLoop {
  public:
-  RodTimeLoop(solver::DistributedStepper& st, RodOutputs& outputs, output::Writer& w, RodRestartPoints& restart,
-              LeftEnd& left, const TimeGrid& grid, int every, const RunOptions& opt, const LoadRatio& load, MPI_Comm comm)
-      : st_(st), out_(outputs), w_(w), rp_(restart), left_(left), g_(grid), every_(every), opt_(opt), load_(load),
-        comm_(comm) {}
+  RodTimeLoop(const RodLoopParts& parts, const LoadRatio& load) : p_(parts), load_(load) {}
   LoopTotals run(long first_step, bool show_progress);
 
  private:
   [[noreturn]] void fail_step(long i, double t0, const solver::StepFailure& e, Progress& progress);
-  [[noreturn]] void fail_planar(long i, const solver::PlanarityLost& e, Progress& progress);
-  [[noreturn]] void interrupt(long i, int sig, Progress& progress);
-  solver::DistributedStepper& st_;
-  RodOutputs& out_;
-  output::Writer& w_;
-  RodRestartPoints& rp_;
-  LeftEnd& left_;
-  const TimeGrid& g_;
-  int every_;
-  const RunOptions& opt_;
+  RodLoopParts p_;
   LoadRatio load_;
-  MPI_Comm comm_;
 };
 
 void RodTimeLoop::fail_step(long i, double t0, const solver::StepFailure& e, Progress& progress) {
   progress.done();
   std::ostringstream os;
-  os << "time step " << i << " of " << g_.steps << " (t = " << e.time() << " s, dt = " << e.step()
+  os << "time step " << i << " of " << p_.g.steps << " (t = " << e.time() << " s, dt = " << e.step()
      << " s) failed after halving it " << e.depth() << " times: " << e.report().status << " (residual ";
   // A norm is >= 0: NOX reports a non-finite residual as a huge negative number.
   const double residual = e.report().residual_norm;
@@ -342,17 +363,17 @@ void RodTimeLoop::fail_step(long i, double t0, const solver::StepFailure& e, Pro
   // A step far shorter than the time a bending wave needs to cross a cell: the residual's
   // 1/dt terms round above the absolute residual tolerance, so a smaller dt cannot help. The
   // step is time.dt, or the last one, shortened to end at time.end.
-  const auto& props = st_.model().props;
-  const double ds = st_.model().ds(), cell_time = ds * ds * std::sqrt(props.rhoA / props.bending_stiffness());
+  const auto& props = p_.st.model().props;
+  const double ds = p_.st.model().ds(), cell_time = ds * ds * std::sqrt(props.rhoA / props.bending_stiffness());
   const double h = e.step();
-  const bool last = i == g_.steps && h < g_.dt * (1.0 - 1e-6);
+  const bool last = i == p_.g.steps && h < p_.g.dt * (1.0 - 1e-6);
   if (h < 1e-6 * cell_time) {
-    os << (last ? "the last step, to time.end = " + scene::format_number(g_.t_end) + " s, is "
-                : "time.dt = " + scene::format_number(g_.dt) + " s is ")
+    os << (last ? "the last step, to time.end = " + scene::format_number(p_.g.t_end) + " s, is "
+                : "time.dt = " + scene::format_number(p_.g.dt) + " s is ")
        << cell_time / h << " times shorter than a bending wave needs to cross a cell (mesh.ds^2 sqrt(rho A / (E I)) = "
        << cell_time << " s), where the rounding of the 1/dt terms keeps the residual above 'Residual Tolerance': try "
        << (!last ? "a larger time.dt (auto: mesh.ds / the fastest loads.*.speed)"
-           : g_.steps == 1 ? "a larger time.end" : "a time.end that is a whole number of time.dt steps")
+           : p_.g.steps == 1 ? "a larger time.end" : "a time.end that is a whole number of time.dt steps")
        << " or a larger 'Residual Tolerance' in solver";
   } else {
     os << "try scheme.rho_inf < 1, a smaller time.dt, or a larger 'Max Subdivision Depth' in solver";
@@ -362,65 +383,46 @@ void RodTimeLoop::fail_step(long i, double t0, const solver::StepFailure& e, Pro
     os << "; the load ratio W L^2 / (E I) = " << load_.ratio << " is large (W = " << load_.W << " N from " << load_.what
        << ", E I = " << load_.EI << " N m^2 from rod.youngs_modulus and rod.section): a smaller load or a stiffer rod "
        << "may be needed";
-  os << " (traverse run --restart " << opt_.output << " --set ... continues from t = " << t0 << " s)";
-  rp_.store(i - 1, left_.position());  // the stepper kept the state before the failed step
-  w_.fail(os.str());
+  os << " (traverse run --restart " << p_.opt.output << " --set ... continues from t = " << t0 << " s)";
+  p_.rp.store(i - 1, p_.left.position());  // the stepper kept the state before the failed step
+  p_.w.fail(os.str());
   throw NumericsError(os.str());
 }
 
-void RodTimeLoop::fail_planar(long i, const solver::PlanarityLost& e, Progress& progress) {
-  progress.done();
-  const std::string msg = "time step " + std::to_string(i) + " of " + std::to_string(g_.steps) + ": " + e.what() +
-                          "; traverse run --restart " + opt_.output + " --set scheme.planar=off continues on the 3D path";
-  rp_.store(i - 1, left_.position());
-  w_.fail(msg);
-  throw NumericsError(msg);
-}
-
-void RodTimeLoop::interrupt(long i, int sig, Progress& progress) {
-  progress.done();
-  std::ostringstream os;
-  os.precision(12);
-  os << "interrupted at t = " << st_.time() << " s (time step " << i << " of " << g_.steps << ", "
-     << signal_name(sig) << "); " << w_.steps_written() << " output steps written; continue with "
-     << "traverse run --restart " << opt_.output;
-  rp_.store(i, left_.position());
-  w_.fail(os.str());
-  throw Interrupted(sig, opt_.output, os.str(), os.str());
-}
-
 LoopTotals RodTimeLoop::run(long first_step, bool show_progress) {
-  Progress progress(show_progress, "t", "s", st_.time(), g_.t_end);
+  Progress progress(show_progress, "t", "s", p_.st.time(), p_.g.t_end);
   LoopTotals tot;
   tot.last_step = first_step - 1;
   const auto start = std::chrono::steady_clock::now();
-  for (long i = first_step; i <= g_.steps; ++i) {
+  for (long i = first_step; i <= p_.g.steps; ++i) {
     // Step i ends at the grid time i dt (t_end for the last): computed from i, not accumulated,
     // so the stepper's time (t0 + h, exact) stays on the grid and the run takes the steps it
     // reported (core/time_grid.hpp bounds the rounding of i dt).
-    const double t0 = st_.time();
-    const double h = g_.time(i) - t0;
+    const double t0 = p_.st.time();
+    const double h = p_.g.time(i) - t0;
     if (!(h > 0.0))
-      throw std::logic_error("rod time loop: step " + std::to_string(i) + " of " + std::to_string(g_.steps) +
+      throw std::logic_error("rod time loop: step " + std::to_string(i) + " of " + std::to_string(p_.g.steps) +
                              " has length " + std::to_string(h) + " s (t = " + std::to_string(t0) + " s)");
-    left_.before_step();
+    p_.left.before_step();
     try {
-      const auto rep = st_.step(h);
+      const auto rep = p_.st.step(h);
       tot.newton += rep.newton_iterations;
       tot.solves += rep.substeps;
     } catch (const solver::StepFailure& e) {
       fail_step(i, t0, e, progress);
     } catch (const solver::PlanarityLost& e) {
-      fail_planar(i, e, progress);
+      p_.fail_planar(i - 1, "time step " + std::to_string(i) + " of " + std::to_string(p_.g.steps) + ": " + e.what(),
+                     progress);
     }
-    left_.after_step(h);
+    p_.left.after_step(h);
     tot.last_step = i;
-    if (i % every_ == 0 || i == g_.steps) {
-      out_.write(w_, st_.time(), left_.position());
-      if (rp_.due()) rp_.store(i, left_.position());
+    if (i % p_.every == 0 || i == p_.g.steps) {
+      p_.out.write(p_.w, p_.st.time(), p_.left.position());
+      if (p_.rp.due()) p_.rp.store(i, p_.left.position());
     }
-    progress.update(st_.time(), i);
-    if (const int sig = i < g_.steps ? interrupt_requested(comm_) : 0) interrupt(i, sig, progress);
+    progress.update(p_.st.time(), i);
+    if (const int sig = i < p_.g.steps ? interrupt_requested(p_.comm) : 0)
+      p_.interrupt(i, "time step " + std::to_string(i) + " of " + std::to_string(p_.g.steps), sig, progress);
   }
   progress.done();
   tot.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -434,31 +436,19 @@ LoopTotals RodTimeLoop::run(long first_step, bool show_progress) {
 /// needs, is checked by step doubling.
 class RodAdaptiveLoop {
  public:
-  RodAdaptiveLoop(solver::DistributedStepper& st, RodAdaptiveControl& ctl, RodOutputs& outputs, output::Writer& w,
-                  RodRestartPoints& restart, LeftEnd& left, const TimeGrid& grid, int every, const RunOptions& opt,
-                  MPI_Comm comm)
-      : st_(st), ctl_(ctl), out_(outputs), w_(w), rp_(restart), left_(left), g_(grid), every_(every), opt_(opt),
-        comm_(comm) {}
+  RodAdaptiveLoop(const RodLoopParts& parts, RodAdaptiveControl& ctl) : p_(parts), ctl_(ctl) {}
   LoopTotals run(bool show_progress);
 
  private:
-  double output_time(long k) const { return g_.time(std::min(k * static_cast<long>(every_), g_.steps)); }
+  double output_time(long k) const { return p_.g.time(std::min(k * static_cast<long>(p_.every), p_.g.steps)); }
   bool try_step(double h, solver::StepReport& rep, Progress& progress);
   bool extrapolated_step(double h, Progress& progress);
   bool doubled_step(double h, Progress& progress);
   /// A failed or rejected step of length h: the next try, or the end of the run at dt_min.
   void retry_smaller(double h, double next, const std::string& why, Progress& progress);
   [[noreturn]] void fail(const std::string& why, Progress& progress);
-  solver::DistributedStepper& st_;
+  RodLoopParts p_;
   RodAdaptiveControl& ctl_;
-  RodOutputs& out_;
-  output::Writer& w_;
-  RodRestartPoints& rp_;
-  LeftEnd& left_;
-  const TimeGrid& g_;
-  int every_;
-  const RunOptions& opt_;
-  MPI_Comm comm_;
   LoopTotals tot_;
 };
 
@@ -466,11 +456,11 @@ void RodAdaptiveLoop::fail(const std::string& why, Progress& progress) {
   progress.done();
   std::ostringstream os;
   os.precision(12);
-  os << "adaptive time stepping (time.adaptive) at t = " << st_.time() << " s: " << why
+  os << "adaptive time stepping (time.adaptive) at t = " << p_.st.time() << " s: " << why
      << "; try a larger time.adaptive.tolerance or dt_min, or scheme.rho_inf < 1 (traverse run --restart "
-     << opt_.output << " --set ... continues from t = " << st_.time() << " s)";
-  rp_.store(ctl_.totals().accepted, left_.position());  // the state before the failed step
-  w_.fail(os.str());
+     << p_.opt.output << " --set ... continues from t = " << p_.st.time() << " s)";
+  p_.rp.store(ctl_.totals().accepted, p_.left.position());  // the state before the failed step
+  p_.w.fail(os.str());
   throw NumericsError(os.str());
 }
 
@@ -487,42 +477,37 @@ void RodAdaptiveLoop::retry_smaller(double h, double next, const std::string& wh
 bool RodAdaptiveLoop::try_step(double h, solver::StepReport& rep, Progress& progress) {
   bool ok = false;
   try {
-    ok = st_.try_step(h, rep);
+    ok = p_.st.try_step(h, rep);
   } catch (const solver::PlanarityLost& e) {
-    progress.done();
-    const std::string msg = std::string(e.what()) + "; traverse run --restart " + opt_.output +
-                            " --set scheme.planar=off continues on the 3D path";
-    rp_.store(ctl_.totals().accepted, left_.position());
-    w_.fail(msg);
-    throw NumericsError(msg);
+    p_.fail_planar(ctl_.totals().accepted, e.what(), progress);
   }
   tot_.newton += rep.newton_iterations;
   ++tot_.solves;
   if (!ok) {
     ++ctl_.totals().failed;
     std::ostringstream os;
-    os << "the Newton solve of a step of dt = " << h << " s did not converge (" << st_.last_newton_report().status << ")";
+    os << "the Newton solve of a step of dt = " << h << " s did not converge (" << p_.st.last_newton_report().status << ")";
     retry_smaller(h, ctl_.controller().after_failure(h), os.str(), progress);
   }
   return ok;
 }
 
 bool RodAdaptiveLoop::extrapolated_step(double h, Progress& progress) {
-  left_.before_step();
+  p_.left.before_step();
   solver::StepReport rep;
   if (!try_step(h, rep, progress)) return false;
   std::vector<rod::NodeLevel> y = ctl_.owned_parts();
   const double err = ctl_.extrapolation_error(y, h);
   const StepDecision d = ctl_.controller().decide(h, err, rep.newton_iterations);
   if (!d.accept) {
-    st_.undo_step();
+    p_.st.undo_step();
     ++ctl_.totals().rejected;
     std::ostringstream os;
     os << "the error estimate is " << err << " times the tolerance";
     retry_smaller(h, d.next_dt, os.str(), progress);
     return false;
   }
-  left_.after_step(h);
+  p_.left.after_step(h);
   ctl_.accept(std::move(y), h);
   ctl_.totals().record_accepted(h);
   ctl_.next_dt = d.next_dt;
@@ -530,26 +515,26 @@ bool RodAdaptiveLoop::extrapolated_step(double h, Progress& progress) {
 }
 
 bool RodAdaptiveLoop::doubled_step(double h, Progress& progress) {
-  const rod::RodState saved = st_.ghosted_piece();
-  const Vec3 r_saved = left_.position();
+  const rod::RodState saved = p_.st.ghosted_piece();
+  const Vec3 r_saved = p_.left.position();
   auto restore = [&] {
-    st_.set_state(saved, st_.first_ghosted_node());
-    left_.set_position(r_saved);
+    p_.st.set_state(saved, p_.st.first_ghosted_node());
+    p_.left.set_position(r_saved);
   };
   solver::StepReport rep;
   if (!try_step(h, rep, progress)) return false;
   const std::vector<rod::NodeLevel> full = ctl_.owned_parts();
-  st_.undo_step();
+  p_.st.undo_step();
   std::vector<rod::NodeLevel> mid, half;
   int newton = rep.newton_iterations;
   for (int part = 0; part < 2; ++part) {
-    left_.before_step();
+    p_.left.before_step();
     solver::StepReport r;
     if (!try_step(0.5 * h, r, progress)) {
       restore();
       return false;
     }
-    left_.after_step(0.5 * h);
+    p_.left.after_step(0.5 * h);
     newton = std::max(newton, r.newton_iterations);
     (part == 0 ? mid : half) = ctl_.owned_parts();
   }
@@ -572,13 +557,13 @@ bool RodAdaptiveLoop::doubled_step(double h, Progress& progress) {
 }
 
 LoopTotals RodAdaptiveLoop::run(bool show_progress) {
-  Progress progress(show_progress, "t", "s", st_.time(), g_.t_end);
+  Progress progress(show_progress, "t", "s", p_.st.time(), p_.g.t_end);
   const auto start = std::chrono::steady_clock::now();
-  const long outputs = (g_.steps + every_ - 1) / every_;
+  const long outputs = (p_.g.steps + p_.every - 1) / p_.every;
   long k = 1;  // the next output time: the first one after the current time
-  while (k <= outputs && output_time(k) <= st_.time() * (1.0 + 1e-14)) ++k;
+  while (k <= outputs && output_time(k) <= p_.st.time() * (1.0 + 1e-14)) ++k;
   while (k <= outputs) {
-    const double target = output_time(k), remaining = target - st_.time();
+    const double target = output_time(k), remaining = target - p_.st.time();
     // Land on the output time; a step that would leave less than itself is split in two.
     const double proposed = ctl_.next_dt;
     double h = proposed;
@@ -588,25 +573,17 @@ LoopTotals RodAdaptiveLoop::run(bool show_progress) {
     if (!accepted) continue;
     if (h < proposed) ctl_.next_dt = std::max(ctl_.next_dt, proposed);  // shortened only to land
     tot_.last_step = ctl_.totals().accepted;
-    if (std::abs(target - st_.time()) <= 1e-9 * h) {
-      out_.write(w_, st_.time(), left_.position());
-      if (rp_.due()) rp_.store(tot_.last_step, left_.position());
+    if (std::abs(target - p_.st.time()) <= 1e-9 * h) {
+      p_.out.write(p_.w, p_.st.time(), p_.left.position());
+      if (p_.rp.due()) p_.rp.store(tot_.last_step, p_.left.position());
       ++k;
     }
     char detail[96];
     std::snprintf(detail, sizeof detail, "dt = %.3g s, %ld rejected", ctl_.next_dt,
                   ctl_.totals().rejected + ctl_.totals().failed);
-    progress.update(st_.time(), tot_.last_step, detail);
-    if (const int sig = k <= outputs ? interrupt_requested(comm_) : 0) {
-      progress.done();
-      std::ostringstream os;
-      os.precision(12);
-      os << "interrupted at t = " << st_.time() << " s (adaptive step " << tot_.last_step << ", " << signal_name(sig)
-         << "); " << w_.steps_written() << " output steps written; continue with traverse run --restart " << opt_.output;
-      rp_.store(tot_.last_step, left_.position());
-      w_.fail(os.str());
-      throw Interrupted(sig, opt_.output, os.str(), os.str());
-    }
+    progress.update(p_.st.time(), tot_.last_step, detail);
+    if (const int sig = k <= outputs ? interrupt_requested(p_.comm) : 0)
+      p_.interrupt(tot_.last_step, "adaptive step " + std::to_string(tot_.last_step), sig, progress);
   }
   progress.done();
   tot_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -789,12 +766,13 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     points.store(0, left.position());
   }
   const bool progress = rank == 0 && progress_wanted(opt.quiet, opt.progress);
+  const RodLoopParts parts{*stepper, outputs, writer, points, left, grid, sc.output.every, opt, comm};
   LoopTotals tot;
   if (adaptive) {
-    RodAdaptiveLoop loop(*stepper, *adaptive, outputs, writer, points, left, grid, sc.output.every, opt, comm);
+    RodAdaptiveLoop loop(parts, *adaptive);
     tot = loop.run(progress);
   } else {
-    RodTimeLoop loop(*stepper, outputs, writer, points, left, grid, sc.output.every, opt, load_ratio(sc), comm);
+    RodTimeLoop loop(parts, load_ratio(sc));
     tot = loop.run(first_step, progress);
   }
   points.store(tot.last_step, left.position());  // the end (a no-op when the last output step stored it)
