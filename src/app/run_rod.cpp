@@ -226,7 +226,7 @@ void RodOutputs::evaluate_fields(const std::vector<Vec3>& r) {
 std::vector<Vec3> RodOutputs::owned_centreline(const Vec3& r0) const {
   std::vector<Vec3> t(static_cast<size_t>(count_));
   for (int k = 0; k < count_; ++k) t[static_cast<size_t>(k)] = rod::tangent(st_.owned_node(k));
-  const rod::CentrelinePiece mine = rod::centreline_piece(t, first_, model_.ds());
+  const rod::CentrelinePiece mine = rod::centreline_piece(t, first_, model_.ds(), first_ == 0 ? r0 : Vec3::Zero());
   int rank = 0, ranks = 1;
   MPI_Comm_rank(comm_, &rank);
   MPI_Comm_size(comm_, &ranks);

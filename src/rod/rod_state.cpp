@@ -82,14 +82,15 @@ std::vector<Vec3> centreline_from(const std::vector<Vec3>& tangents, double ds, 
   return r;
 }
 
-CentrelinePiece centreline_piece(const std::vector<Vec3>& tangents, int first, double ds) {
+CentrelinePiece centreline_piece(const std::vector<Vec3>& tangents, int first, double ds, const Vec3& origin) {
   CentrelinePiece p;
   p.first = first;
   p.count = static_cast<int>(tangents.size());
+  p.end = origin;
   if (tangents.empty()) return p;
   p.first_tangent = tangents.front();
   p.last_tangent = tangents.back();
-  for (size_t j = 1; j < tangents.size(); ++j) p.span += 0.5 * ds * (tangents[j - 1] + tangents[j]);
+  for (size_t j = 1; j < tangents.size(); ++j) p.end = p.end + 0.5 * ds * (tangents[j - 1] + tangents[j]);
   return p;
 }
 
@@ -106,9 +107,9 @@ std::vector<Vec3> centreline_starts(const std::vector<CentrelinePiece>& pieces, 
     if (p.first != next)
       throw std::invalid_argument("centreline_starts: a piece starts at node " + std::to_string(p.first) +
                                   ", expected node " + std::to_string(next));
-    if (k > 0) r += 0.5 * ds * (pieces[order[k - 1]].last_tangent + p.first_tangent);
+    if (k > 0) r = r + 0.5 * ds * (pieces[order[k - 1]].last_tangent + p.first_tangent);
     start[order[k]] = r;
-    r += p.span;
+    r = k == 0 ? p.end : Vec3(r + p.end);  // the first piece's end is r at its last node
     next = p.first + p.count;
   }
   return start;

@@ -78,14 +78,20 @@ struct CentrelinePiece {
   int count = 0;  ///< nodes in the piece (0: empty)
   Vec3 first_tangent = Vec3::Zero();  ///< tangent at the piece's first node
   Vec3 last_tangent = Vec3::Zero();   ///< tangent at its last node
-  Vec3 span = Vec3::Zero();  ///< r(last) - r(first) by the trapezoidal rule from a zero offset [m]
+  /// The trapezoidal rule along the piece from `origin` to its last node [m]: the piece that
+  /// holds node 0 starts from r0 (this is then r at its last node, by the sums of
+  /// centreline_in_space), the others from zero (their span r(last) - r(first)).
+  Vec3 end = Vec3::Zero();
 };
-/// The summary of nodes first .. first + tangents.size() - 1 given by their tangents.
-CentrelinePiece centreline_piece(const std::vector<Vec3>& tangents, int first, double ds);
-/// r at the first node of each piece, in the order given, from r(0) = r0: the spans of the
-/// pieces before it in node order plus the trapezoid of each cell between two pieces (the
-/// tangents at its ends). The non-empty pieces must tile the nodes 0 .. N without gaps or
-/// overlaps (std::invalid_argument otherwise); an empty piece's start is unspecified.
+/// The summary of nodes first .. first + tangents.size() - 1 given by their tangents;
+/// `origin`: r0 for the piece that holds node 0, zero for the others.
+CentrelinePiece centreline_piece(const std::vector<Vec3>& tangents, int first, double ds, const Vec3& origin);
+/// r at the first node of each piece, in the order given, from r(0) = r0: the end of the
+/// first piece and the spans of the later ones before it in node order, plus the trapezoid
+/// of each cell between two pieces (the tangents at its ends). Two pieces give the sums of
+/// centreline_in_space; more differ from them by rounding. The non-empty pieces must tile
+/// the nodes 0 .. N without gaps or overlaps (std::invalid_argument otherwise); an empty
+/// piece's start is unspecified.
 std::vector<Vec3> centreline_starts(const std::vector<CentrelinePiece>& pieces, double ds, const Vec3& r0);
 
 /// Where arclength s lies on nodes 0..N at spacing ds: between nodes j and j + 1, xi the
