@@ -177,31 +177,9 @@ InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Co
   }
 }
 
-rod::EndCondition rod_end(const scene::EndSpec& e) {
-  using E = scene::EndType;
-  switch (e.type) {
-    case E::clamped: return rod::EndCondition::make_clamped();
-    case E::pinned: return rod::EndCondition::make_pinned(e.axis);
-    case E::sliding: return rod::EndCondition::make_sliding(e.axis);
-    case E::roller: return rod::EndCondition::make_roller(e.axis, e.slide_axis, e.axial_force);
-    case E::free: return rod::EndCondition::make_free();
-    case E::prescribed: {
-      const Vec3 v = e.velocity, w = e.rotation_rate;
-      return rod::EndCondition::make_prescribed([v](double) { return v; }, [w](double) { return w; });
-    }
-    default: throw std::logic_error("rod_end: unknown end condition " + scene::name_of(e.type));
-  }
-}
+rod::EndCondition rod_end(const scene::EndSpec& e) { return rod::end_condition(e); }
 
-rod::StaticEnd static_end(const scene::EndSpec& e, double s_end) {
-  rod::StaticEnd s;
-  s.position = Vec3(0.0, 0.0, s_end);
-  s.axis = e.axis;
-  s.slide_axis = e.slide_axis;
-  s.axial_force = e.axial_force;
-  s.type = rod_end(e).static_type();  // prescribed motion starts from rest: clamped
-  return s;
-}
+rod::StaticEnd static_end(const scene::EndSpec& e, double s_end) { return rod::static_end(e, Vec3(0.0, 0.0, s_end)); }
 
 output::NodalState nodal_state(const std::vector<rod::StaticNode>& nodes) {
   output::NodalState st;

@@ -126,8 +126,10 @@ class RodOutputs {
   void write(output::Writer& w, double t, const Vec3& r0);
 
  private:
-  void evaluate_probes(const rod::RodState& full, const std::vector<rod::RodNode>& near, const std::vector<Vec3>& r);
+  void evaluate_probes(const std::vector<rod::RodNode>& near, const std::vector<Vec3>& near_r);
   void evaluate_fields(const std::vector<Vec3>& r);
+  std::vector<Vec3> owned_centreline(const Vec3& r0) const;
+  std::vector<Vec3> near_positions(const std::vector<Vec3>& r) const;
   const scene::Scene& sc_;
   const rod::RodModel& model_;
   const solver::DistributedStepper& st_;
@@ -142,8 +144,8 @@ RodOutputs::RodOutputs(const scene::Scene& sc, const rod::RodModel& model, const
                        MPI_Comm comm)
     : sc_(sc), model_(model), st_(st), comm_(comm), num_cells_(sc.mesh.nodes - 1), first_(st.first_owned_node()),
       count_(st.num_owned_nodes()) {
-  // What the outputs read at an output step: the full state and the centreline only for a
-  // position probe or the field r; otherwise just the nodes around the probes.
+  // What the outputs read at an output step: the nodes around the probes, and the centreline
+  // (each rank its own nodes) only for a position probe or the field r.
   std::vector<rod::PointOutput> points;
   for (const auto& pr : sc.output.probes) points.push_back({pr.at, pr.quantity == scene::Quantity::position});
   bool r_field = false;
@@ -187,12 +189,10 @@ void RodOutputs::declare(output::Writer& w) const {
   }
 }
 
-void RodOutputs::evaluate_probes(const rod::RodState& full, const std::vector<rod::RodNode>& near,
-                                 const std::vector<Vec3>& r) {
+void RodOutputs::evaluate_probes(const std::vector<rod::RodNode>& near, const std::vector<Vec3>& near_r) {
   auto view = [&](int j) {
-    if (needs_.centreline) return node_view(full.nodes[static_cast<size_t>(j)], r[static_cast<size_t>(j)]);
-    const auto it = std::lower_bound(needs_.nodes.begin(), needs_.nodes.end(), j);
-    return node_view(near[static_cast<size_t>(it - needs_.nodes.begin())], Vec3::Zero());
+    const auto i = static_cast<size_t>(std::lower_bound(needs_.nodes.begin(), needs_.nodes.end(), j) - needs_.nodes.begin());
+    return node_view(near[i], near_r.empty() ? Vec3::Zero() : near_r[i]);
   };
   for (size_t i = 0; i < sc_.output.probes.size(); ++i) {
     const auto& pr = sc_.output.probes[i];
@@ -214,7 +214,7 @@ void RodOutputs::evaluate_fields(const std::vector<Vec3>& r) {
         for (int i = 0; i < 3; ++i)
           for (int c = 0; c < 3; ++c) o[3 * i + c] = nd.R(i, c);
       } else {
-        const Vec3 p = field == scene::Field::r ? r[static_cast<size_t>(first_ + k)] : Vec3::Zero();
+        const Vec3 p = field == scene::Field::r ? r[static_cast<size_t>(k)] : Vec3::Zero();
         const Vec3 v = quantity_value(field_quantity(field), node_view(nd, p), model_.props, scene::Frame::body);
         std::copy(v.data(), v.data() + 3, o);
       }
@@ -222,17 +222,45 @@ void RodOutputs::evaluate_fields(const std::vector<Vec3>& r) {
   }
 }
 
+// The centreline at this rank's nodes from r(0) = r0: each rank sums up its piece, the
+// summaries of all ranks give each its start (rod::centreline_starts), and it integrates its
+// own nodes from there.
+std::vector<Vec3> RodOutputs::owned_centreline(const Vec3& r0) const {
+  std::vector<Vec3> t(static_cast<size_t>(count_));
+  for (int k = 0; k < count_; ++k) t[static_cast<size_t>(k)] = rod::tangent(st_.owned_node(k));
+  const rod::CentrelinePiece mine = rod::centreline_piece(t, first_, model_.ds(), first_ == 0 ? r0 : Vec3::Zero());
+  int rank = 0, ranks = 1;
+  MPI_Comm_rank(comm_, &rank);
+  MPI_Comm_size(comm_, &ranks);
+  std::vector<rod::CentrelinePiece> all(static_cast<size_t>(ranks));
+  MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, comm_);
+  return rod::centreline_from(t, model_.ds(), rod::centreline_starts(all, model_.ds(), r0)[static_cast<size_t>(rank)]);
+}
+
+// r at the nodes the probes read (needs_.nodes), on every rank, from their owners' `r`.
+std::vector<Vec3> RodOutputs::near_positions(const std::vector<Vec3>& r) const {
+  const std::vector<int>& wanted = needs_.nodes;
+  std::vector<double> local(3 * wanted.size(), 0.0), all(local.size());
+  for (size_t i = 0; i < wanted.size(); ++i)
+    if (wanted[i] >= first_ && wanted[i] < first_ + count_) {
+      const Vec3& p = r[static_cast<size_t>(wanted[i] - first_)];
+      std::copy(p.data(), p.data() + 3, &local[3 * i]);
+    }
+  MPI_Allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  std::vector<Vec3> out(wanted.size());
+  for (size_t i = 0; i < wanted.size(); ++i) out[i] = Vec3(all[3 * i], all[3 * i + 1], all[3 * i + 2]);
+  return out;
+}
+
 void RodOutputs::write(output::Writer& w, double t, const Vec3& r0) {
-  rod::RodState full;
-  std::vector<Vec3> r;
-  std::vector<rod::RodNode> near;  // needs_.nodes, when the full state is not gathered
-  if (needs_.centreline) {
-    full = st_.gather_state();
-    r = rod::centreline_in_space(full, r0);
-  } else if (!needs_.nodes.empty()) {
+  std::vector<Vec3> r, near_r;     // r at the owned nodes and at needs_.nodes (with the centreline)
+  std::vector<rod::RodNode> near;  // needs_.nodes
+  if (needs_.centreline) r = owned_centreline(r0);
+  if (!needs_.nodes.empty()) {
     near = gather_nodes(st_, needs_.nodes, comm_);
+    if (needs_.centreline) near_r = near_positions(r);
   }
-  evaluate_probes(full, near, r);
+  evaluate_probes(near, near_r);
   for (size_t i = 0; i < sc_.loads.size(); ++i) {
     sigma_[i] = sc_.loads[i].sigma(t);
     probe_values_[sc_.output.probes.size() + i][0] = sigma_[i];

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "traverse/core/so3.hpp"
 
@@ -68,12 +69,50 @@ double nodal_energy(const RodState& state, const RodProperties& props) {
 }
 
 std::vector<Vec3> centreline_in_space(const RodState& state, const Vec3& r0) {
-  std::vector<Vec3> r(state.nodes.size());
-  r[0] = r0;
-  for (size_t j = 1; j < r.size(); ++j)
-    r[j] = r[j - 1] + 0.5 * state.ds *
-                          (state.nodes[j - 1].R.row(2).transpose() + state.nodes[j].R.row(2).transpose());
+  std::vector<Vec3> t(state.nodes.size());
+  for (size_t j = 0; j < t.size(); ++j) t[j] = tangent(state.nodes[j]);
+  return centreline_from(t, state.ds, r0);
+}
+
+std::vector<Vec3> centreline_from(const std::vector<Vec3>& tangents, double ds, const Vec3& r_first) {
+  std::vector<Vec3> r(tangents.size());
+  if (r.empty()) return r;
+  r[0] = r_first;
+  for (size_t j = 1; j < r.size(); ++j) r[j] = r[j - 1] + 0.5 * ds * (tangents[j - 1] + tangents[j]);
   return r;
+}
+
+CentrelinePiece centreline_piece(const std::vector<Vec3>& tangents, int first, double ds, const Vec3& origin) {
+  CentrelinePiece p;
+  p.first = first;
+  p.count = static_cast<int>(tangents.size());
+  p.end = origin;
+  if (tangents.empty()) return p;
+  p.first_tangent = tangents.front();
+  p.last_tangent = tangents.back();
+  for (size_t j = 1; j < tangents.size(); ++j) p.end = p.end + 0.5 * ds * (tangents[j - 1] + tangents[j]);
+  return p;
+}
+
+std::vector<Vec3> centreline_starts(const std::vector<CentrelinePiece>& pieces, double ds, const Vec3& r0) {
+  std::vector<size_t> order;
+  for (size_t i = 0; i < pieces.size(); ++i)
+    if (pieces[i].count > 0) order.push_back(i);
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return pieces[a].first < pieces[b].first; });
+  std::vector<Vec3> start(pieces.size(), r0);
+  int next = 0;  // the node the next piece must start at
+  Vec3 r = r0;   // r at the last node of the piece before, then at the first node of this one
+  for (size_t k = 0; k < order.size(); ++k) {
+    const CentrelinePiece& p = pieces[order[k]];
+    if (p.first != next)
+      throw std::invalid_argument("centreline_starts: a piece starts at node " + std::to_string(p.first) +
+                                  ", expected node " + std::to_string(next));
+    if (k > 0) r = r + 0.5 * ds * (pieces[order[k - 1]].last_tangent + p.first_tangent);
+    start[order[k]] = r;
+    r = k == 0 ? p.end : Vec3(r + p.end);  // the first piece's end is r at its last node
+    next = p.first + p.count;
+  }
+  return start;
 }
 
 NodeInterpolation locate_on_nodes(double s, double ds, int num_cells) {
@@ -86,7 +125,6 @@ OutputNeeds output_needs(int num_cells, double ds, const std::vector<PointOutput
   OutputNeeds n;
   n.centreline = centreline_field;
   for (const auto& p : points) n.centreline = n.centreline || p.position;
-  if (n.centreline) return n;
   for (const auto& p : points) {
     const NodeInterpolation loc = locate_on_nodes(p.s, ds, num_cells);
     n.nodes.push_back(loc.j);

@@ -12,9 +12,6 @@ namespace {
 
 const Vec3 e3 = Vec3::UnitZ();
 
-// Left perturbation of R = exp(-hat(theta)) Rbar: dR = hat(D dtheta) R.
-Mat3 perturbation(const Vec3& theta) { return -so3::left_jacobian(-theta); }
-
 LocalBlock block(Eigen::Index row, std::vector<Eigen::Index> cols, int rows) {
   LocalBlock b;
   b.row = row;
@@ -31,98 +28,9 @@ double weight_at(const PointLoadWeights& w, int node) {
   return s;
 }
 
-// Rows 3..5 of a pin about c.axis: rotation relative to c.frame only about the axis (2) and
-// no moment about it (1).
-void pin_rows(const StaticModel& m, const StaticEnd& c, const Vec3& k, const Mat3& R, const Mat3& D, VecX& res,
-              MatX& J) {
-  Vec3 b1, b2;
-  perpendicular_pair(c.axis, b1, b2);
-  const Vec3 phi = so3::log(c.frame.transpose() * R);
-  const Mat3 dphi = so3::left_jacobian(phi).inverse() * c.frame.transpose() * D;
-  res(3) = b1.dot(phi);
-  res(4) = b2.dot(phi);
-  J.block<1, 3>(3, svar::theta) = b1.transpose() * dphi;
-  J.block<1, 3>(4, svar::theta) = b2.transpose() * dphi;
-  const Vec3 a = c.axis.normalized(), Ra = R * a;
-  const Vec3 mm = m.props.K.cwiseProduct(k - m.props.kappa0);
-  res(5) = mm.dot(Ra);
-  J.block<1, 3>(5, svar::kappa) = (Ra.cwiseProduct(m.props.K)).transpose();
-  J.block<1, 3>(5, svar::theta) = (mm.transpose() * (-hat(Ra))) * D;
-}
-
-// Rows of one end (6), with the sign of external forces: +1 right end, -1 left end.
-void end_rows(const StaticModel& m, const StaticEnd& c, const StaticNode& node, double sign, LocalBlock& b) {
-  const Vec3 r = node.x.segment<3>(svar::r), th = node.x.segment<3>(svar::theta);
-  const Vec3 k = node.x.segment<3>(svar::kappa), n = node.x.segment<3>(svar::n);
-  const Mat3 R = node.frame(), D = perturbation(th);
-  auto& res = b.residual;
-  auto& J = b.jac[0];
-  using T = EndCondition::Type;
-  switch (c.type) {
-    case T::clamped:
-    case T::sliding: {
-      int row = 0;
-      if (c.type == T::clamped) {
-        res.segment<3>(0) = r - c.position;
-        J.block<3, 3>(0, svar::r).setIdentity();
-        row = 3;
-      } else {
-        Vec3 b1, b2;
-        perpendicular_pair(c.axis, b1, b2);
-        res(0) = b1.dot(r - c.position);
-        res(1) = b2.dot(r - c.position);
-        J.block<1, 3>(0, svar::r) = b1.transpose();
-        J.block<1, 3>(1, svar::r) = b2.transpose();
-        row = 2;
-      }
-      const Vec3 phi = so3::log(R * c.frame.transpose());
-      res.segment<3>(row) = phi;
-      J.block<3, 3>(row, svar::theta) = so3::left_jacobian(phi).inverse() * D;
-      if (c.type == T::sliding) {
-        const Vec3 e = c.axis.normalized(), Re = R * e;
-        res(5) = n.dot(Re) - sign * c.axial_force;
-        J.block<1, 3>(5, svar::n) = Re.transpose();
-        J.block<1, 3>(5, svar::theta) = (n.transpose() * (-hat(Re))) * D;
-      }
-      break;
-    }
-    case T::pinned: {
-      res.segment<3>(0) = r - c.position;
-      J.block<3, 3>(0, svar::r).setIdentity();
-      pin_rows(m, c, k, R, D, res, J);
-      break;
-    }
-    case T::roller: {
-      Vec3 e1, e2;
-      perpendicular_pair(c.slide_axis, e1, e2);
-      res(0) = e1.dot(r - c.position);
-      res(1) = e2.dot(r - c.position);
-      J.block<1, 3>(0, svar::r) = e1.transpose();
-      J.block<1, 3>(1, svar::r) = e2.transpose();
-      const Vec3 e = c.slide_axis.normalized(), Re = R * e;
-      res(2) = n.dot(Re) - sign * c.axial_force;
-      J.block<1, 3>(2, svar::n) = Re.transpose();
-      J.block<1, 3>(2, svar::theta) = (n.transpose() * (-hat(Re))) * D;
-      pin_rows(m, c, k, R, D, res, J);
-      break;
-    }
-    case T::free: {
-      const Vec3 Fb = R * c.end_force;
-      res.segment<3>(0) = n - sign * Fb;
-      J.block<3, 3>(0, svar::n).setIdentity();
-      J.block<3, 3>(0, svar::theta) = sign * hat(Fb) * D;
-      res.segment<3>(3) = m.props.K.cwiseProduct(k - m.props.kappa0);
-      J.block<3, 3>(3, svar::kappa) = m.props.K.asDiagonal();
-      break;
-    }
-    case T::prescribed:
-      throw std::invalid_argument("statics: a prescribed-motion end has no static form; use clamped");
-    default:
-      throw std::logic_error("statics: unknown end condition type");
-  }
-}
-
 }  // namespace
+
+Mat3 frame_perturbation(const Vec3& theta) { return -so3::left_jacobian(-theta); }
 
 Mat3 StaticNode::frame() const { return so3::exp(-x.segment<3>(svar::theta)) * Rbar; }
 
@@ -142,7 +50,7 @@ LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev
   Mat3 R[2], D[2];
   for (int q = 0; q < 2; ++q) {
     R[q] = nd[q]->frame();
-    D[q] = perturbation(nd[q]->x.segment<3>(svar::theta));
+    D[q] = frame_perturbation(nd[q]->x.segment<3>(svar::theta));
   }
   auto& res = b.residual;
   const double sgn[2] = {-1.0, 1.0};  // difference (self - prev)
@@ -202,20 +110,20 @@ LocalBlock static_mass_block(const StaticModel& m, int j, const StaticNode& prev
   for (int q = 0; q < 2; ++q) {
     b.jac[q].block<3, 3>(0, svar::r) = 0.5 * m.props.rhoA * nd[q]->frame();
     b.jac[q].block<3, 3>(3, svar::theta) =
-        -0.5 * Mat3(m.props.rhoI.asDiagonal()) * perturbation(nd[q]->x.segment<3>(svar::theta));
+        -0.5 * Mat3(m.props.rhoI.asDiagonal()) * frame_perturbation(nd[q]->x.segment<3>(svar::theta));
   }
   return b;
 }
 
 LocalBlock static_left_block(const StaticModel& m, const StaticNode& node) {
   LocalBlock b = block(0, {0}, 6);
-  end_rows(m, m.left, node, -1.0, b);
+  static_end_rows(m, m.left, node, -1.0, b);
   return b;
 }
 
 LocalBlock static_right_block(const StaticModel& m, const StaticNode& node) {
   LocalBlock b = block(12 * static_cast<Eigen::Index>(m.num_cells) + 6, {12 * static_cast<Eigen::Index>(m.num_cells)}, 6);
-  end_rows(m, m.right, node, 1.0, b);
+  static_end_rows(m, m.right, node, 1.0, b);
   return b;
 }
 

@@ -41,25 +41,9 @@ StaticModel StaticProblem::model(const std::array<double, num_static_parameters>
   auto val = [&](StaticParameter p) { return v[static_cast<size_t>(p)]; };
   m.gravity = val(StaticParameter::gravity_factor) * gravity;
   StaticEnd& e = m.right;
-  using T = EndCondition::Type;
-  const double P = val(StaticParameter::end_load);
-  switch (e.type) {
-    case T::free:
-      e.end_force = P * end_load_direction;
-      break;
-    case T::sliding:
-      e.axial_force = P * end_load_direction.dot(e.axis.normalized());
-      break;
-    case T::roller:
-      e.axial_force = P * end_load_direction.dot(e.slide_axis.normalized());
-      break;
-    case T::clamped:
-    case T::pinned:
-      break;
-    default:
-      throw std::invalid_argument("StaticProblem: the right end type has no static form");
-  }
-  if (e.type != T::free) {
+  if (!set_end_load(e, val(StaticParameter::end_load), end_load_direction))
+    throw std::invalid_argument("StaticProblem: the right end type has no static form");
+  if (end_holds_position(e)) {
     const Vec3 a = end_position_axis.normalized();
     e.position += (val(StaticParameter::end_position) - a.dot(e.position)) * a;
   }
@@ -144,23 +128,10 @@ Vec12 static_cell_dfdp(const StaticProblem& pr, const std::array<double, num_sta
 Vec6 static_right_dfdp(const StaticProblem& pr, StaticParameter ip, const StaticNode& node) {
   Vec6 d = Vec6::Zero();
   const StaticEnd& e = pr.base.right;
-  using T = EndCondition::Type;
-  if (ip == StaticParameter::end_load) {  // the end's external force P * end_load_direction
-    const Vec3& dir = pr.end_load_direction;
-    if (e.type == T::free) d.head<3>() = -(node.frame() * dir);
-    else if (e.type == T::sliding) d(5) = -dir.dot(e.axis.normalized());
-    else if (e.type == T::roller) d(2) = -dir.dot(e.slide_axis.normalized());
-  } else if (ip == StaticParameter::end_position && e.type != T::free) {  // rows b . (r - position)
-    const Vec3 a = pr.end_position_axis.normalized();
-    if (e.type == T::clamped || e.type == T::pinned) {
-      d.head<3>() = -a;
-    } else {
-      Vec3 b1, b2;
-      perpendicular_pair(e.type == T::sliding ? e.axis : e.slide_axis, b1, b2);
-      d(0) = -b1.dot(a);
-      d(1) = -b2.dot(a);
-    }
-  }
+  if (ip == StaticParameter::end_load)  // the end's external force P * end_load_direction
+    d = end_load_derivative(e, node, pr.end_load_direction);
+  else if (ip == StaticParameter::end_position)  // rows b . (r - position)
+    d = end_position_derivative(e, pr.end_position_axis.normalized());
   return d;
 }
 

@@ -17,7 +17,6 @@ namespace traverse::scene {
   }
 TRAVERSE_ENUM_NAMES(Supports, "simply-supported", "clamped-free", "clamped-clamped", "clamped-pinned")
 TRAVERSE_ENUM_NAMES(BeamIntegrator, "rk4", "newmark")
-TRAVERSE_ENUM_NAMES(EndType, "clamped", "pinned", "sliding", "roller", "free", "prescribed")
 TRAVERSE_ENUM_NAMES(LoadType, "moving_mass", "moving_force", "coupled_mass")
 TRAVERSE_ENUM_NAMES(Contact, "bilateral", "unilateral")
 TRAVERSE_ENUM_NAMES(Entry, "left", "right")
@@ -32,6 +31,20 @@ TRAVERSE_ENUM_NAMES(Quantity, "position", "u", "omega", "kappa", "n", "m", "d1",
 TRAVERSE_ENUM_NAMES(Frame, "fixed", "body")
 TRAVERSE_ENUM_NAMES(Field, "u", "omega", "kappa", "n", "m", "r", "R", "deflection", "slope", "bending_moment")
 #undef TRAVERSE_ENUM_NAMES
+
+template <>
+const std::vector<std::string>& enum_names<EndType>() {  // the words of end_type_declarations()
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> w;
+    for (const auto& d : end_type_declarations()) {
+      if (static_cast<std::size_t>(d.type) != w.size())
+        throw std::logic_error("end_type_declarations: not in enumerator order at " + std::string(d.word));
+      w.push_back(d.word);
+    }
+    return w;
+  }();
+  return names;
+}
 
 namespace {
 
@@ -153,39 +166,42 @@ std::shared_ptr<TypeRegistry> load_types() {
   return r;
 }
 
+// The schema of one end condition parameter and the checks of a type, from its declaration.
+Param end_parameter(const EndParameter& p) {
+  if (p.vector) return vector3(p.key, p.doc, p.units).def(p.vector_default);
+  return real(p.key, p.doc, p.units).def(p.number_default);
+}
+
+Check nonzero(const std::string& key) {
+  return [key](const ParameterList& s, const CheckContext& ctx) {
+    const auto a = s.get<Teuchos::Array<double>>(key);
+    if (std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) == 0.0) ctx.fail(key, "a non-zero axis", "[0, 0, 0]");
+  };
+}
+
+Check perpendicular(const EndPerpendicular& q) {
+  return [key = std::string(q.key), other = std::string(q.other), expected = std::string(q.expected)](
+             const ParameterList& s, const CheckContext& ctx) {
+    const auto a = s.get<Teuchos::Array<double>>(other), e = s.get<Teuchos::Array<double>>(key);
+    const double dot = a[0] * e[0] + a[1] * e[1] + a[2] * e[2];
+    const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    const double ne = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
+    if (std::abs(dot) > 1e-12 * na * ne) ctx.fail(key, expected, "a dot product of " + format_number(dot / (na * ne)));
+  };
+}
+
+// The end condition types of traverse/core/end_types.hpp.
 std::shared_ptr<TypeRegistry> end_types() {
   auto r = std::make_shared<TypeRegistry>("end condition");
-  auto nonzero = [](const char* key) {
-    return [key](const ParameterList& s, const CheckContext& ctx) {
-      const auto a = s.get<Teuchos::Array<double>>(key);
-      if (std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) == 0.0)
-        ctx.fail(key, "a non-zero axis", "[0, 0, 0]");
-    };
-  };
-  r->add({"clamped", "Position and orientation fixed: u = 0, omega = 0", {}, {}});
-  r->add({"pinned", "Pin joint: position fixed, rotation only about the pin axis, no moment about it "
-                    "(u = 0, omega parallel to the axis, m . axis = 0)",
-          {vector3("axis", "Pin axis, fixed frame").def("[1, 0, 0]")}, {nonzero("axis")}});
-  r->add({"sliding", "Clamped and sliding along an axis: no rotation, no motion across the axis, no force "
-                     "along it (u x axis = 0, omega = 0, n . axis = 0)",
-          {vector3("axis", "Sliding axis, fixed frame").def("[0, 0, 1]")}, {nonzero("axis")}});
-  r->add({"roller", "Pin joint that slides: rotation only about the pin axis, motion only along the sliding "
-                    "axis, a given external force along it, no moment about the pin axis",
-          {vector3("axis", "Pin axis, fixed frame").def("[1, 0, 0]"),
-           vector3("slide_axis", "Sliding axis, fixed frame (perpendicular to the pin axis)").def("[0, 0, 1]"),
-           real("force", "External force on the end along the sliding axis (negative: compression at the "
-                         "right end)", "N").def(0.0)},
-          {nonzero("axis"), nonzero("slide_axis"), [](const ParameterList& s, const CheckContext& ctx) {
-             const auto a = s.get<Teuchos::Array<double>>("axis"), e = s.get<Teuchos::Array<double>>("slide_axis");
-             const double dot = a[0] * e[0] + a[1] * e[1] + a[2] * e[2];
-             const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-             const double ne = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-             if (std::abs(dot) > 1e-12 * na * ne) ctx.fail("slide_axis", "a sliding axis perpendicular to the pin axis", "a dot product of " + format_number(dot / (na * ne)));
-           }}});
-  r->add({"free", "Free end: n = 0, m = 0", {}, {}});
-  r->add({"prescribed", "Prescribed end velocity and rotation rate (constant, fixed frame)",
-          {vector3("velocity", "End velocity", "m/s").def("[0, 0, 0]"),
-           vector3("rotation_rate", "End rotation rate", "rad/s").def("[0, 0, 0]")}, {}});
+  for (const auto& d : end_type_declarations()) {
+    TypeInfo t{d.word, d.doc, {}, {}};
+    for (const auto& p : d.parameters) {
+      t.params.push_back(end_parameter(p));
+      if (p.direction) t.checks.push_back(nonzero(p.key));
+    }
+    for (const auto& q : d.perpendicular) t.checks.push_back(perpendicular(q));
+    r->add(t);
+  }
   return r;
 }
 
@@ -618,13 +634,15 @@ void read_rod(const ParameterList& r, RodSpec& rod) {
   rod.intrinsic_curvature = vec3_of(r, "intrinsic_curvature");
 }
 
+// An end as its type declares it (traverse/core/end_types.hpp): each parameter into its
+// member of EndSpec, a direction normalised.
 void read_end(const ParameterList& e, EndSpec& spec) {
   spec.type = enum_of<EndType>(e.get<std::string>("type"));
-  if (e.isParameter("axis")) spec.axis = vec3_of(e, "axis").normalized();
-  if (e.isParameter("slide_axis")) spec.slide_axis = vec3_of(e, "slide_axis").normalized();
-  if (e.isParameter("force")) spec.axial_force = e.get<double>("force");
-  if (e.isParameter("velocity")) spec.velocity = vec3_of(e, "velocity");
-  if (e.isParameter("rotation_rate")) spec.rotation_rate = vec3_of(e, "rotation_rate");
+  for (const auto& p : end_type_declarations().at(static_cast<std::size_t>(spec.type)).parameters) {
+    if (!e.isParameter(p.key)) continue;
+    if (p.vector) spec.*p.vector = p.direction ? vec3_of(e, p.key).normalized() : vec3_of(e, p.key);
+    else spec.*p.number = e.get<double>(p.key);
+  }
 }
 
 void read_scheme(const ParameterList& s, SchemeSpec& scheme) {

@@ -258,6 +258,51 @@ TEST(RodOutputs, OnlyPositionOutputsNeedTheCentrelineOtherProbesTheirTwoNodes) {
   EXPECT_NEAR(a.xi, 0.5, 1e-12);
   EXPECT_EQ(b.j, N - 1);
   EXPECT_EQ(b.xi, 1.0);
+  // With the centreline, a probe still reads only its two nodes (r there from their owners).
+  EXPECT_EQ(output_needs(N, ds, {{0.5, true}}, false).nodes, (std::vector<int>{50, 51}));
+}
+
+/// Issue #14: the centreline of a rod held in pieces (the ranks' nodes, in any rank order,
+/// some empty) is each piece integrated from the start centreline_starts gives it; one or two
+/// pieces are centreline_in_space to the bit, more agree with it to rounding.
+TEST(RodOutputs, CentrelineInPiecesIsTheCentrelineOfTheWholeRod) {
+  const int N = 60;
+  const RodState s = state_from_curvature(N, 1.3, [](double x) { return Vec3(0.4 + x, -2.0 * x, 0.7); });
+  const Vec3 r0(0.1, -0.2, 0.3);
+  const std::vector<Vec3> whole = centreline_in_space(s, r0);
+  std::vector<Vec3> t;
+  for (const auto& nd : s.nodes) t.push_back(tangent(nd));
+  const std::vector<CentrelinePiece> one{centreline_piece(t, 0, s.ds, r0)};
+  const std::vector<Vec3> alone = centreline_from(t, s.ds, centreline_starts(one, s.ds, r0)[0]);
+  for (int j = 0; j <= N; ++j) EXPECT_EQ(alone[static_cast<size_t>(j)], whole[static_cast<size_t>(j)]) << j;
+  // Two pieces, [0, 23) and [23, 61): the same sums as the whole rod.
+  const std::vector<Vec3> t0(t.begin(), t.begin() + 23), t1(t.begin() + 23, t.end());
+  const std::vector<CentrelinePiece> two{centreline_piece(t1, 23, s.ds, Vec3::Zero()),
+                                         centreline_piece(t0, 0, s.ds, r0)};
+  const std::vector<Vec3> starts2 = centreline_starts(two, s.ds, r0);
+  const std::vector<Vec3> r0s = centreline_from(t0, s.ds, starts2[1]), r1s = centreline_from(t1, s.ds, starts2[0]);
+  for (int j = 0; j <= N; ++j)
+    EXPECT_EQ(j < 23 ? r0s[static_cast<size_t>(j)] : r1s[static_cast<size_t>(j - 23)], whole[static_cast<size_t>(j)]) << j;
+  // Pieces [23, 61), [0, 1), (empty), [1, 23), given out of node order.
+  const int first[4] = {23, 0, 61, 1}, count[4] = {38, 1, 0, 22};
+  std::vector<CentrelinePiece> pieces;
+  std::vector<std::vector<Vec3>> tangents;
+  for (int p = 0; p < 4; ++p) {
+    tangents.emplace_back(t.begin() + first[p], t.begin() + first[p] + count[p]);
+    pieces.push_back(centreline_piece(tangents.back(), first[p], s.ds, first[p] == 0 ? r0 : Vec3::Zero()));
+  }
+  const std::vector<Vec3> starts = centreline_starts(pieces, s.ds, r0);
+  double worst = 0.0;
+  for (int p = 0; p < 4; ++p) {
+    const std::vector<Vec3> r = centreline_from(tangents[static_cast<size_t>(p)], s.ds, starts[static_cast<size_t>(p)]);
+    for (int k = 0; k < count[p]; ++k)
+      worst = std::max(worst, (r[static_cast<size_t>(k)] - whole[static_cast<size_t>(first[p] + k)]).norm());
+  }
+  std::printf("centreline in 3 pieces against the whole rod: max |difference| %.3g m\n", worst);
+  EXPECT_LT(worst, 1e-14);
+  // Pieces that leave a gap or overlap are refused.
+  pieces[0].first = 24;
+  EXPECT_THROW(centreline_starts(pieces, s.ds, r0), std::invalid_argument);
 }
 }  // namespace
 }  // namespace traverse::rod

@@ -175,6 +175,48 @@ TEST(RodKernels, EndConditionJacobiansMatchCentralDifferences) {
   }
 }
 
+/// Issue #14: every end condition type declared for the scene (traverse/core/end_types.hpp)
+/// has its entry in the rod's table: the conversion from the scene's spec, 6 dynamic rows, a
+/// static reading with 6 static rows and the continuation's end load and position.
+TEST(RodKernels, EveryDeclaredEndTypeHasRowsStaticRowsAndAConversion) {
+  const RodProperties props = RodProperties::circular(0.005, 2.5e8, 0.25, 1500.0);
+  StaticModel sm;
+  sm.props = props;
+  sm.num_cells = 4;
+  const std::vector<StaticNode> nodes = straight_static_state(sm);
+  size_t count = 0;
+  for (const auto& d : end_type_declarations()) {
+    EndSpec spec;
+    spec.type = d.type;
+    spec.velocity = Vec3(0.0, 0.1, 0.0);
+    const EndCondition c = end_condition(spec);
+    EXPECT_EQ(c.type, d.type) << d.word;
+    EXPECT_EQ(c.num_rows(), 6) << d.word;
+    Vec6 r;
+    Eigen::Matrix<double, 6, 12> J;
+    EXPECT_NO_THROW(end_condition_rows(c, props, 0.0, Vec12::Zero(), Mat3::Identity(), Mat3::Zero(), r, J)) << d.word;
+    const EndConditionCheck check = validate_end_conditions(c, EndCondition::make_clamped());
+    EXPECT_TRUE(check.ok) << d.word << ": " << check.message;
+    sm.left = static_end(spec, Vec3::Zero());
+    sm.right = static_end(spec, Vec3(0.0, 0.0, sm.length));
+    EXPECT_EQ(sm.left.type, c.static_type()) << d.word;
+    EXPECT_NO_THROW(static_left_block(sm, nodes.front())) << d.word;
+    EXPECT_EQ(static_right_block(sm, nodes.back()).residual.size(), 6) << d.word;
+    EXPECT_TRUE(set_end_load(sm.right, 1.0, -Vec3::UnitZ())) << d.word;
+    EXPECT_NO_THROW(end_load_derivative(sm.right, nodes.back(), -Vec3::UnitZ())) << d.word;
+    EXPECT_NO_THROW(end_position_derivative(sm.right, Vec3::UnitZ())) << d.word;
+    std::printf("%-10s dynamic rows, static reading %s (%s), moves %d\n", d.word,
+                end_type_declarations()[static_cast<size_t>(c.static_type())].word,
+                end_holds_position(sm.right) ? "holds its position" : "free position", c.end_moves() ? 1 : 0);
+    ++count;
+  }
+  EXPECT_EQ(count, static_cast<size_t>(EndType::prescribed) + 1);
+  // A type outside the table is refused, not read as another one.
+  EndSpec bad;
+  bad.type = static_cast<EndType>(count);
+  EXPECT_THROW(end_condition(bad), std::logic_error);
+}
+
 TEST(RodKernels, ValidationOfEndConditionPairs) {
   const auto c = EndCondition::make_clamped(), f = EndCondition::make_free();
   const auto p = EndCondition::make_pinned(Vec3::UnitX()), s = EndCondition::make_sliding(Vec3::UnitZ());

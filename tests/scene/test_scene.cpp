@@ -206,6 +206,30 @@ TEST(Scene, RodSceneWithRollerAndDefaults) {
   expect_error({"beam.length=1"}, {"beam: expected no 'beam' here: it applies only with model: beam"}, kRod);
 }
 
+/// Issue #14: the end conditions come from their one declaration (traverse/core/end_types.hpp):
+/// its words in enumerator order, each type in `traverse check --types`, and each parameter
+/// read into its member of EndSpec (a direction normalised).
+TEST(Scene, EndTypesAreTheirDeclarations) {
+  const auto& decl = traverse::end_type_declarations();
+  ASSERT_EQ(enum_names<EndType>().size(), decl.size());
+  const std::string types = describe_types();
+  for (size_t i = 0; i < decl.size(); ++i) {
+    EXPECT_EQ(static_cast<size_t>(decl[i].type), i);
+    EXPECT_EQ(enum_names<EndType>()[i], decl[i].word);
+    EXPECT_NE(types.find(decl[i].doc), std::string::npos) << decl[i].word;
+  }
+  const Scene s = parse_scene(kRod, "scene.yaml",
+                              {"ends.left.type=prescribed", "ends.left.velocity=[0, 2, 0]", "ends.right.axis=[2, 0, 0]",
+                               "ends.right.slide_axis=[0, 0, 3]"});
+  EXPECT_EQ(s.left.type, EndType::prescribed);
+  EXPECT_EQ(s.left.velocity, traverse::Vec3(0, 2, 0));
+  EXPECT_EQ(s.left.rotation_rate, traverse::Vec3::Zero());
+  EXPECT_EQ(s.right.axis, traverse::Vec3::UnitX());
+  EXPECT_EQ(s.right.slide_axis, traverse::Vec3::UnitZ());
+  EXPECT_DOUBLE_EQ(s.right.axial_force, -1.0);
+  expect_error({"ends.right.axis=[0, 0, 0]"}, {"ends.right.axis: expected a non-zero axis, found [0, 0, 0]"}, kRod);
+}
+
 TEST(Scene, InitialStatesAndContinuation) {
   const Scene s = parse_scene(kRod, "scene.yaml",
                               {"initial_state={type: arch, end_to_end: 0.8}", "continuation.parameter=load_position",

@@ -4,31 +4,31 @@
 #include <functional>
 #include <string>
 
+#include "traverse/core/end_types.hpp"
 #include "traverse/core/types.hpp"
 #include "traverse/rod/rod_properties.hpp"
 
 namespace traverse::rod {
 
-struct EndCondition {
-  enum class Type {
-    clamped,     ///< u = 0 (3), omega = 0 (3)
-    pinned,      ///< u = 0 (3), omega . (R b1) = omega . (R b2) = 0 (2), m . (R a) = 0 (1)
-    sliding,     ///< u . (R b1) = u . (R b2) = 0 (2), omega = 0 (3), n . (R e) = 0 (1)
-    free,        ///< n = 0 (3), m = K (kappa - kappa0) = 0 (3)
-    prescribed,  ///< u = R u_fixed(t) (3), omega = R omega_fixed(t) (3)
-    roller,      ///< pin about a sliding along e: u . (R b1_e) = u . (R b2_e) = 0 (2),
-                 ///< n . (R e) = axial_force (1), omega . (R b1_a) = omega . (R b2_a) = 0 (2),
-                 ///< m . (R a) = 0 (1)
-  };
-  Type type = Type::clamped;
-  /// Pin axis a (pinned) or sliding axis e (sliding), fixed frame; normalised internally.
-  /// b1, b2 complete it to an orthonormal fixed triad (chosen once, see perpendicular_pair).
-  Vec3 axis = Vec3::UnitX();
-  /// Roller only: the sliding axis e (fixed frame; normalised internally, should be
-  /// perpendicular to the pin axis) and the contact force component n . e held there [N]
-  /// (at the right end the external force along e; at the left end minus it).
-  Vec3 slide_axis = Vec3::UnitZ();
-  double axial_force = 0.0;
+/// A dynamic end condition: the scene's parameters (EndSpec: the type, its axes and force;
+/// velocity and rotation_rate are read only through u_fixed and omega_fixed) plus the
+/// prescribed motion as functions of time. Rows per type (end_condition.cpp, one table entry
+/// per EndType holding the dynamic rows, the static rows and the conversion from EndSpec):
+///   clamped     u = 0 (3), omega = 0 (3)
+///   pinned      u = 0 (3), omega . (R b1) = omega . (R b2) = 0 (2), m . (R a) = 0 (1)
+///   sliding     u . (R b1) = u . (R b2) = 0 (2), omega = 0 (3), n . (R e) = 0 (1)
+///   free        n = 0 (3), m = K (kappa - kappa0) = 0 (3)
+///   prescribed  u = R u_fixed(t) (3), omega = R omega_fixed(t) (3)
+///   roller      pin about a sliding along e: u . (R b1_e) = u . (R b2_e) = 0 (2),
+///               n . (R e) = axial_force (1), omega . (R b1_a) = omega . (R b2_a) = 0 (2),
+///               m . (R a) = 0 (1)
+/// `axis`: pin axis a (pinned, roller) or sliding axis e (sliding), fixed frame; normalised
+/// internally; b1, b2 complete it to an orthonormal fixed triad (perpendicular_pair).
+/// Roller: `slide_axis` e (should be perpendicular to the pin axis) and the contact force
+/// component n . e held there [N] (at the right end the external force along e; at the
+/// left end minus it).
+struct EndCondition : EndSpec {
+  using Type = EndType;
   /// Prescribed end velocity [m/s] and rotation rate [rad/s], fixed components, at time t [s].
   std::function<Vec3(double)> u_fixed;
   std::function<Vec3(double)> omega_fixed;
@@ -45,13 +45,15 @@ struct EndCondition {
   /// Number of scalar rows this condition contributes (always 6 for a valid condition).
   int num_rows() const;
   /// The condition of the static problem: a prescribed end starts from rest, so clamped.
-  Type static_type() const { return type == Type::prescribed ? Type::clamped : type; }
+  Type static_type() const;
   /// Whether the end point can move (its position is then integrated in time from its
   /// velocity): free, sliding, roller and prescribed ends.
-  bool end_moves() const {
-    return type == Type::free || type == Type::sliding || type == Type::roller || type == Type::prescribed;
-  }
+  bool end_moves() const;
 };
+
+/// The dynamic end condition of a scene end (the conversion of its type's table entry; a
+/// prescribed end's constant velocity and rotation rate become u_fixed and omega_fixed).
+EndCondition end_condition(const EndSpec& spec);
 
 /// Two unit vectors b1, b2 with (a/|a|, b1, b2) orthonormal; deterministic in a.
 void perpendicular_pair(const Vec3& a, Vec3& b1, Vec3& b2);

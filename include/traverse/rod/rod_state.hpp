@@ -61,6 +61,39 @@ double nodal_energy(const RodState& state, const RodProperties& props);
 /// (second order). Fixed components [m].
 std::vector<Vec3> centreline_in_space(const RodState& state, const Vec3& r0 = Vec3::Zero());
 
+/// The tangent dr/ds = R^T e3 of a node (its director d3, fixed components).
+inline Vec3 tangent(const RodNode& node) { return node.R.row(2).transpose(); }
+
+/// The same rule along consecutive nodes given by their tangents, from r = r_first at the
+/// first of them: r_k = r_{k-1} + ds/2 (t_{k-1} + t_k). centreline_in_space is this from r0
+/// at node 0 (the same sums in the same order).
+std::vector<Vec3> centreline_from(const std::vector<Vec3>& tangents, double ds, const Vec3& r_first);
+
+/// The centreline of a rod held in pieces (each rank its nodes) without the whole state in
+/// one place: each piece's summary (centreline_piece), the summaries of all pieces merged
+/// (centreline_starts) give each piece the position of its first node, from which
+/// centreline_from integrates its own nodes.
+struct CentrelinePiece {
+  int first = 0;  ///< global index of the piece's first node
+  int count = 0;  ///< nodes in the piece (0: empty)
+  Vec3 first_tangent = Vec3::Zero();  ///< tangent at the piece's first node
+  Vec3 last_tangent = Vec3::Zero();   ///< tangent at its last node
+  /// The trapezoidal rule along the piece from `origin` to its last node [m]: the piece that
+  /// holds node 0 starts from r0 (this is then r at its last node, by the sums of
+  /// centreline_in_space), the others from zero (their span r(last) - r(first)).
+  Vec3 end = Vec3::Zero();
+};
+/// The summary of nodes first .. first + tangents.size() - 1 given by their tangents;
+/// `origin`: r0 for the piece that holds node 0, zero for the others.
+CentrelinePiece centreline_piece(const std::vector<Vec3>& tangents, int first, double ds, const Vec3& origin);
+/// r at the first node of each piece, in the order given, from r(0) = r0: the end of the
+/// first piece and the spans of the later ones before it in node order, plus the trapezoid
+/// of each cell between two pieces (the tangents at its ends). Two pieces give the sums of
+/// centreline_in_space; more differ from them by rounding. The non-empty pieces must tile
+/// the nodes 0 .. N without gaps or overlaps (std::invalid_argument otherwise); an empty
+/// piece's start is unspecified.
+std::vector<Vec3> centreline_starts(const std::vector<CentrelinePiece>& pieces, double ds, const Vec3& r0);
+
 /// Where arclength s lies on nodes 0..N at spacing ds: between nodes j and j + 1, xi the
 /// linear-interpolation weight of node j + 1 (s clamped to the rod).
 struct NodeInterpolation {
@@ -77,13 +110,14 @@ struct PointOutput {
 };
 
 /// What a rod run's outputs read from the state at an output step (issue #7: the centreline
-/// is reconstructed, and the whole state gathered, only for outputs that need it).
+/// is reconstructed only for outputs that need it; issue #14: never from a gathered state).
 struct OutputNeeds {
-  /// r(s) at the nodes: a "position" point output or the field "r" (it needs every node's
-  /// frame from the left end on, so the whole state).
+  /// r(s) at the nodes: a "position" point output or the field "r" (each rank integrates its
+  /// own nodes from the start centreline_starts gives it).
   bool centreline = false;
-  /// Otherwise the nodes the point outputs read (j and j + 1 of each), sorted, no repeats;
-  /// the fields read only each rank's own nodes.
+  /// The nodes the point outputs read (j and j + 1 of each), sorted, no repeats (with the
+  /// centreline too: a position probe reads r at these two nodes); the fields read only each
+  /// rank's own nodes.
   std::vector<int> nodes;
 };
 /// `centreline_field`: the fields include r.

@@ -38,15 +38,18 @@ inline constexpr int n = 9;      ///< contact force [N], body components
 ///   roller:   r - position perpendicular to slide_axis e is 0 (2), external force along e =
 ///             axial_force (1), log(frame^T R) parallel to the pin axis a (2), m . (R a) = 0 (1)
 /// External forces act on the rod at that end: n(L) = F at the right end, n(0) = -F at the left.
-struct StaticEnd {
-  EndCondition::Type type = EndCondition::Type::clamped;
-  Vec3 axis = Vec3::UnitX();       ///< pin axis (pinned, roller) or sliding axis (sliding), fixed frame
-  Vec3 slide_axis = Vec3::UnitZ(); ///< roller: sliding axis e, fixed frame
+/// The scene's parameters (EndSpec) are read as in EndCondition: `axis` the pin axis (pinned,
+/// roller) or sliding axis (sliding), `slide_axis` the roller's sliding axis e, `axial_force`
+/// the external force along the sliding axis [N] (sliding, roller).
+struct StaticEnd : EndSpec {
   Vec3 position = Vec3::Zero();    ///< [m]
   Mat3 frame = Mat3::Identity();   ///< fixed -> body at the end
-  double axial_force = 0.0;        ///< sliding, roller: external force along the sliding axis [N]
   Vec3 end_force = Vec3::Zero();   ///< free: external force, fixed frame [N]
 };
+
+/// The static reading of a scene end at `position` (the type EndCondition::static_type
+/// gives, the frame the identity).
+StaticEnd static_end(const EndSpec& spec, const Vec3& position);
 
 /// A point force at a fixed arclength (statics).
 struct StaticPointForce {
@@ -74,6 +77,25 @@ struct StaticNode {
   /// Folds theta into Rbar (theta = 0 afterwards; the frame is unchanged).
   void rebase();
 };
+
+/// The left perturbation D of R = exp(-hat(theta)) Rbar: dR = hat(D dtheta) R.
+Mat3 frame_perturbation(const Vec3& theta);
+
+/// The 6 rows of an end (the static rows of its type's table entry, end_condition.cpp) into
+/// b (rows 0..5, Jacobian b.jac[0]); `sign` of external forces: +1 right end, -1 left end.
+void static_end_rows(const StaticModel& m, const StaticEnd& c, const StaticNode& node, double sign, LocalBlock& b);
+
+/// The end load P along `direction` (fixed frame) of a continuation on this end, set in e
+/// (free: the end force; sliding, roller: the force along the sliding axis; clamped, pinned:
+/// none). False for a type without a static form (prescribed).
+bool set_end_load(StaticEnd& e, double P, const Vec3& direction);
+/// d(rows)/dP of that load at `node`.
+Vec6 end_load_derivative(const StaticEnd& e, const StaticNode& node, const Vec3& direction);
+/// Whether the end's rows hold its position (in full or across its sliding axis): a
+/// continuation of the end position moves it (not free).
+bool end_holds_position(const StaticEnd& e);
+/// d(rows)/dp of the end position p along the unit `axis` (position += (p - axis . position) axis).
+Vec6 end_position_derivative(const StaticEnd& e, const Vec3& axis);
 
 /// Cell (j-1, j): 12 rows at 6 + 12 (j-1), Jacobian blocks for nodes j-1 and j.
 LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev, const StaticNode& self);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "traverse/core/end_types.hpp"
 #include "traverse/core/types.hpp"
 #include "traverse/scene/schema.hpp"
 
@@ -20,7 +21,8 @@ enum class Model { Beam, Rod };
 // name_of(e) is the word of one enumerator.
 enum class Supports { simply_supported, clamped_free, clamped_clamped, clamped_pinned };
 enum class BeamIntegrator { rk4, newmark };
-enum class EndType { clamped, pinned, sliding, roller, free, prescribed };
+/// The end condition types and their parameters: declared in traverse/core/end_types.hpp.
+using traverse::EndType;
 enum class LoadType { moving_mass, moving_force, coupled_mass };
 /// How a coupled mass is held on the structure: threaded on it (bilateral) or resting on its
 /// +d2 side (unilateral: it may lift off).
@@ -103,15 +105,8 @@ struct RodSpec {
   double mass() const { return density * section.area * length; }
 };
 
-/// One end condition of the rod (fixed-frame vectors).
-struct EndSpec {
-  EndType type = EndType::clamped;
-  Vec3 axis = Vec3::UnitX();     ///< pin axis (pinned, roller) or sliding axis (sliding)
-  Vec3 slide_axis = Vec3::UnitZ();  ///< roller: sliding axis
-  double axial_force = 0.0;      ///< roller: external force along the sliding axis [N]
-  Vec3 velocity = Vec3::Zero();  ///< prescribed end velocity [m/s]
-  Vec3 rotation_rate = Vec3::Zero();  ///< prescribed end rotation rate [rad/s]
-};
+/// One end condition of the rod (fixed-frame vectors), traverse/core/end_types.hpp.
+using traverse::EndSpec;
 
 /// A load that travels along the structure.
 struct MovingLoadSpec {
