@@ -6,17 +6,10 @@
 namespace traverse::app {
 
 RodAdaptiveControl::RodAdaptiveControl(const scene::AdaptiveSpec& spec, double first_dt,
-                                       const rod::AlphaParameters& alpha, const solver::DistributedStepper& st,
-                                       MPI_Comm comm)
+                                       const rod::AlphaParameters& alpha, double length, MPI_Comm comm)
     : spec_(spec), controller_(step_control_parameters(spec, first_dt)), c_(rod::local_error_constant(alpha)),
-      st_(st), comm_(comm) {
+      length_(length), comm_(comm) {
   next_dt = controller_.clamp(first_dt);
-}
-
-std::vector<rod::NodeLevel> RodAdaptiveControl::owned_parts() const {
-  std::vector<rod::NodeLevel> y(static_cast<size_t>(st_.num_owned_nodes()));
-  for (int k = 0; k < st_.num_owned_nodes(); ++k) y[static_cast<size_t>(k)] = rod::node_level(st_.owned_node(k));
-  return y;
 }
 
 double RodAdaptiveControl::reduce(const rod::TimeErrorParts& local) const {
@@ -36,7 +29,7 @@ double RodAdaptiveControl::reduce(const rod::TimeErrorParts& local) const {
   rod::ErrorWeights w;
   w.relative = spec_.tolerance;
   w.absolute = spec_.absolute;
-  w.floor = rod::scale_floors(st_.model().length);
+  w.floor = rod::scale_floors(length_);
   w.controlled = spec_.controlled;
   return rod::weighted_error(all, peak_, w);
 }

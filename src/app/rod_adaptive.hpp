@@ -12,17 +12,14 @@
 #include "traverse/core/step_controller.hpp"
 #include "traverse/rod/time_error.hpp"
 #include "traverse/scene/scene.hpp"
-#include "traverse/solver/distributed_stepper.hpp"
 
 namespace traverse::app {
 
 class RodAdaptiveControl {
  public:
+  /// `length`: the rod's (the position floor); `comm`: the ranks sharing the nodes (reduced by max).
   RodAdaptiveControl(const scene::AdaptiveSpec& spec, double first_dt, const rod::AlphaParameters& alpha,
-                     const solver::DistributedStepper& st, MPI_Comm comm);
-
-  /// The controlled quantities of this rank's owned nodes, now.
-  std::vector<rod::NodeLevel> owned_parts() const;
+                     double length, MPI_Comm comm);
   /// Whether the history has the three levels the extrapolation estimate needs.
   bool has_history() const { return history_.levels >= 3; }
   /// The weighted error norm (collective) of a step of length h that produced `y_new`.
@@ -32,7 +29,8 @@ class RodAdaptiveControl {
                         const std::vector<rod::NodeLevel>& half, double h) const;
   /// Record an accepted level y_new reached by a step of h.
   void accept(std::vector<rod::NodeLevel> y_new, double h);
-  /// Record the current level as the first one (at the start of the run).
+  /// Record the current level as the first one (at the start of the run, or after a restart
+  /// without the controller's state).
   void start(std::vector<rod::NodeLevel> y0) { history_.start(std::move(y0)); }
 
   StepController& controller() { return controller_; }
@@ -57,7 +55,7 @@ class RodAdaptiveControl {
   rod::GroupValues peak_{};
   mutable rod::GroupValues last_sizes_{};  ///< sizes of the last estimate (reduced)
   double c_;
-  const solver::DistributedStepper& st_;
+  double length_;
   MPI_Comm comm_;
 };
 

@@ -67,6 +67,13 @@ std::vector<rod::RodNode> gather_nodes(const solver::DistributedStepper& st, con
   return out;
 }
 
+/// The adaptive estimate's quantities of this rank's owned nodes, now.
+std::vector<rod::NodeLevel> owned_levels(const solver::DistributedStepper& st) {
+  std::vector<rod::NodeLevel> y(static_cast<size_t>(st.num_owned_nodes()));
+  for (int k = 0; k < st.num_owned_nodes(); ++k) y[static_cast<size_t>(k)] = rod::node_level(st.owned_node(k));
+  return y;
+}
+
 /// A load that crosses more than one cell per time step is resolved by the space grid but
 /// not in time: the run goes on (it converges as dt falls), with a warning naming the keys.
 void warn_under_resolved_loads(const scene::Scene& sc, const TimeGrid& g) {
@@ -524,7 +531,7 @@ bool RodAdaptiveLoop::extrapolated_step(double h, Progress& progress) {
   p_.left.before_step();
   solver::StepReport rep;
   if (!try_step(h, rep, progress)) return false;
-  std::vector<rod::NodeLevel> y = ctl_.owned_parts();
+  std::vector<rod::NodeLevel> y = owned_levels(p_.st);
   const double err = ctl_.extrapolation_error(y, h);
   const StepDecision d = ctl_.controller().decide(h, err, rep.newton_iterations);
   if (!d.accept) {
@@ -551,7 +558,7 @@ bool RodAdaptiveLoop::doubled_step(double h, Progress& progress) {
   };
   solver::StepReport rep;
   if (!try_step(h, rep, progress)) return false;
-  const std::vector<rod::NodeLevel> full = ctl_.owned_parts();
+  const std::vector<rod::NodeLevel> full = owned_levels(p_.st);
   p_.st.undo_step();
   std::vector<rod::NodeLevel> mid, half;
   int newton = rep.newton_iterations;
@@ -564,7 +571,7 @@ bool RodAdaptiveLoop::doubled_step(double h, Progress& progress) {
     }
     p_.left.after_step(0.5 * h);
     newton = std::max(newton, r.newton_iterations);
-    (part == 0 ? mid : half) = ctl_.owned_parts();
+    (part == 0 ? mid : half) = owned_levels(p_.st);
   }
   const double err = ctl_.doubling_error(full, mid, half, h);
   const StepDecision d = ctl_.controller().decide(h, err, newton);
@@ -648,9 +655,9 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
 std::unique_ptr<RodAdaptiveControl> make_adaptive(const scene::Scene& sc, const rod::RodModel& model,
                                                   const solver::DistributedStepper& st, const RestartSource& restart,
                                                   const TimeGrid& g, MPI_Comm comm) {
-  auto ctl = std::make_unique<RodAdaptiveControl>(sc.time.adaptive, g.dt, model.alpha, st, comm);
+  auto ctl = std::make_unique<RodAdaptiveControl>(sc.time.adaptive, g.dt, model.alpha, model.length, comm);
   if (restart.file.empty()) {
-    ctl->start(ctl->owned_parts());
+    ctl->start(owned_levels(st));
     return ctl;
   }
   const auto& x = restart.point.extra;
@@ -659,7 +666,7 @@ std::unique_ptr<RodAdaptiveControl> make_adaptive(const scene::Scene& sc, const 
   for (std::size_t k = 0; k < static_cast<std::size_t>(st.num_owned_nodes()); ++k)
     for (std::size_t i = 0; i < RodAdaptiveControl::kPerNode; ++i)
       per_node[RodAdaptiveControl::kPerNode * k + i] = restart.point.state[comps * (first + k) + kPackedNode + i];
-  ctl->restore(ctl->owned_parts(), per_node, std::vector<double>(x.begin() + std::min<std::size_t>(5, x.size()), x.end()));
+  ctl->restore(owned_levels(st), per_node, std::vector<double>(x.begin() + std::min<std::size_t>(5, x.size()), x.end()));
   return ctl;
 }
 

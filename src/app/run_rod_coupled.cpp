@@ -11,6 +11,7 @@
 
 #include "interrupt.hpp"
 #include "progress.hpp"
+#include "rod_adaptive.hpp"
 #include "rod_quantities.hpp"
 #include "rod_setup.hpp"
 #include "run.hpp"
@@ -175,6 +176,209 @@ void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const s
   replay.written(w.steps_written(), comm);
 }
 
+/// The adaptive estimate's quantities of the rod's nodes, and of the mass: its speed as the rate
+/// of a position (the position group; the rest zero).
+std::vector<rod::NodeLevel> rod_levels(const rod::RodState& s) {
+  std::vector<rod::NodeLevel> y;
+  y.reserve(s.nodes.size());
+  for (const auto& nd : s.nodes) y.push_back(rod::node_level(nd));
+  return y;
+}
+std::vector<rod::NodeLevel> mass_level(const rod::CoupledMassState& m) {
+  rod::NodeLevel y = rod::NodeLevel::Zero();
+  y(0) = m.speed;
+  return {y};
+}
+
+/// The time loop of rod + coupled mass: the steps (fixed, or adaptive: time.adaptive), the
+/// contact and the events after each accepted step, the output steps and interrupts.
+class CoupledLoop {
+ public:
+  CoupledLoop(const scene::Scene& sc, rod::CoupledRodStepper& stepper, rod::RodState& state, rod::CoupledMassState& m,
+              CoupledRodOutputs& outputs, const CoupledReplay& replay, output::Writer& w, const RunOptions& opt,
+              MPI_Comm comm, Progress& progress)
+      : sc_(sc), load_(*coupled_load(sc)), stepper_(stepper), state_(state), m_(m), out_(outputs), replay_(replay), w_(w),
+        opt_(opt), comm_(comm), progress_(progress), r_(rod::centreline_in_space(state)) {}
+  void write() { out_.write(w_, state_, r_, m_, contact_, replay_, comm_); }
+  void run_fixed(const TimeGrid& g);
+  void run_adaptive(const TimeGrid& g);
+  std::vector<output::RunEvent> events;
+  long newton = 0, coupling = 0, steps = 0;
+  std::string adaptive_summary;  ///< adaptive runs: the controller's summary
+
+ private:
+  /// One coupled solve of length h from the current state; false (state unchanged) when it fails.
+  bool solve(double h) {
+    const auto rep = stepper_.step(state_, m_, h);
+    newton += rep.newton_iterations;
+    coupling += rep.coupling_iterations;
+    last_ = rep;
+    return rep.converged;
+  }
+  [[noreturn]] void fail(const std::string& why) {
+    progress_.done();
+    w_.fail(why);
+    throw NumericsError(why);
+  }
+  std::string failure(double t, double h) const {
+    std::ostringstream os;
+    os.precision(9);
+    os << "time step " << steps + 1 << " (t = " << t << " s, dt = " << h << " s): the coupled step of rod and mass '"
+       << load_.name << "' did not converge (" << last_.coupling_iterations << " coupling iterations, last change "
+       << last_.last_change << " ds)";
+    return os.str();
+  }
+  void accepted(const rod::RodState& old, const rod::CoupledMassState& m_old, double h);
+  void check_interrupt(bool more) {
+    if (const int sig = more && events.empty() ? interrupt_requested(comm_) : 0) {
+      progress_.done();
+      const std::string msg = "interrupted at t = " + scene::format_number(state_.t) + " s (" + signal_name(sig) +
+                              "); continue with traverse run --restart " + opt_.output;
+      w_.fail(msg);
+      throw Interrupted(sig, opt_.output, msg, msg);
+    }
+  }
+  bool adaptive_step(double h, RodAdaptiveControl& rc, RodAdaptiveControl& mc);
+  const scene::Scene& sc_;
+  const scene::MovingLoadSpec& load_;
+  rod::CoupledRodStepper& stepper_;
+  rod::RodState& state_;
+  rod::CoupledMassState& m_;
+  CoupledRodOutputs& out_;
+  const CoupledReplay& replay_;
+  output::Writer& w_;
+  const RunOptions& opt_;
+  MPI_Comm comm_;
+  Progress& progress_;
+  std::vector<Vec3> r_;
+  StepContact contact_;
+  rod::CoupledStepReport last_;
+  double up_prev_ = 0.0, up_time_ = 0.0;
+};
+
+// The centreline, the contact and the events of a step from (old, m_old) to the current state.
+void CoupledLoop::accepted(const rod::RodState& old, const rod::CoupledMassState& m_old, double h) {
+  ++steps;
+  r_ = rod::advance_centreline_in_time(r_, old, state_);
+  const rod::CoupledContact c =
+      rod::step_contact(old, m_old, state_, m_, stepper_.coupled_mass(), stepper_.model().loads.gravity, h);
+  const double L = sc_.rod.length;
+  if (m_.sigma < 0.0 || m_.sigma > L) {  // left the rod in this step: the time where sigma crosses the end
+    const double edge = m_.sigma < 0.0 ? 0.0 : L;
+    const double te = old.t + h * (edge - m_old.sigma) / (m_.sigma - m_old.sigma);
+    events.push_back({te, edge, load_.name, edge == 0.0 ? "left_rod_at_0" : "left_rod_at_L"});
+  } else if (load_.contact == scene::Contact::unilateral && c.up < 0.0) {
+    // lift-off: the zero of C . d2 between the steps' midpoints
+    const double tm = old.t + 0.5 * h;
+    const double t0 = steps > 1 ? up_time_ : tm, f = steps > 1 && up_prev_ > 0.0 ? up_prev_ / (up_prev_ - c.up) : 1.0;
+    const double te = t0 + f * (tm - t0);
+    const double se = te <= old.t ? m_old.sigma : m_old.sigma + (te - old.t) / h * (m_.sigma - m_old.sigma);
+    events.push_back({te, se, load_.name, "lift_off"});
+  }
+  up_prev_ = c.up;
+  up_time_ = old.t + 0.5 * h;
+  contact_ = StepContact{c.normal, c.tangential};
+}
+
+void CoupledLoop::run_fixed(const TimeGrid& g) {
+  for (long i = 1; i <= g.steps && events.empty(); ++i) {
+    const double h = g.time(i) - state_.t;
+    const rod::RodState old = state_;
+    const rod::CoupledMassState m_old = m_;
+    if (!solve(h)) fail(failure(old.t, h) + "; reduce time.dt");
+    accepted(old, m_old, h);
+    if (i % sc_.output.every == 0 || i == g.steps || !events.empty()) write();
+    progress_.update(state_.t, i);
+    check_interrupt(i < g.steps);
+  }
+}
+
+// One adaptive attempt of length h (step doubling while the history is short): true when
+// accepted; otherwise the state is as before and rc.next_dt the step to try.
+bool CoupledLoop::adaptive_step(double h, RodAdaptiveControl& rc, RodAdaptiveControl& mc) {
+  const rod::RodState old = state_;
+  const rod::CoupledMassState m_old = m_;
+  auto restore = [&] {
+    state_ = old;
+    m_ = m_old;
+  };
+  const double dt_min = rc.controller().parameters().dt_min;
+  auto retry = [&](double next, const std::string& why) {
+    restore();
+    if (h <= dt_min * (1.0 + 1e-12))
+      fail("adaptive time stepping (time.adaptive) at t = " + scene::format_number(old.t) + " s: " + why +
+           " at the smallest step, time.adaptive.dt_min = " + scene::format_number(dt_min) + " s");
+    rc.next_dt = std::min(next, h);
+    return false;
+  };
+  const bool doubled = !rc.has_history();
+  if (!solve(h)) return ++rc.totals().failed, retry(rc.controller().after_failure(h), failure(old.t, h));
+  double err = 0.0;
+  rod::RodState mid;
+  rod::CoupledMassState m_mid;
+  if (doubled) {
+    const auto full = rod_levels(state_), full_m = mass_level(m_);
+    restore();
+    if (!solve(0.5 * h)) return ++rc.totals().failed, retry(rc.controller().after_failure(h), failure(old.t, 0.5 * h));
+    mid = state_;
+    m_mid = m_;
+    if (!solve(0.5 * h)) return ++rc.totals().failed, retry(rc.controller().after_failure(h), failure(mid.t, 0.5 * h));
+    err = std::max(rc.doubling_error(full, rod_levels(mid), rod_levels(state_), h),
+                   mc.doubling_error(full_m, mass_level(m_mid), mass_level(m_), h));
+  } else {
+    err = std::max(rc.extrapolation_error(rod_levels(state_), h), mc.extrapolation_error(mass_level(m_), h));
+  }
+  const StepDecision d = rc.controller().decide(h, err, last_.newton_iterations);
+  if (!d.accept) return ++rc.totals().rejected, retry(d.next_dt, "the error estimate is " + std::to_string(err) +
+                                                                      " times the tolerance");
+  if (doubled) {
+    const rod::RodState end = state_;
+    const rod::CoupledMassState m_end = m_;
+    for (int part = 0; part < 2; ++part) {  // the two half steps, in order
+      state_ = part == 0 ? mid : end;
+      m_ = part == 0 ? m_mid : m_end;
+      accepted(part == 0 ? old : mid, part == 0 ? m_old : m_mid, 0.5 * h);
+      rc.accept(rod_levels(state_), 0.5 * h);
+      mc.accept(mass_level(m_), 0.5 * h);
+      rc.totals().record_accepted(0.5 * h);
+      if (!events.empty()) break;
+    }
+  } else {
+    accepted(old, m_old, h);
+    rc.accept(rod_levels(state_), h);
+    mc.accept(mass_level(m_), h);
+    rc.totals().record_accepted(h);
+  }
+  rc.next_dt = d.next_dt;
+  return true;
+}
+
+void CoupledLoop::run_adaptive(const TimeGrid& g) {
+  RodAdaptiveControl rc(sc_.time.adaptive, g.dt, stepper_.model().alpha, sc_.rod.length, MPI_COMM_SELF);
+  scene::AdaptiveSpec mass_spec = sc_.time.adaptive;  // the mass: its position only
+  mass_spec.controlled = {true, false, false, false, false};
+  RodAdaptiveControl mc(mass_spec, g.dt, stepper_.model().alpha, sc_.rod.length, MPI_COMM_SELF);
+  rc.start(rod_levels(state_));
+  mc.start(mass_level(m_));
+  const long every = sc_.output.every, outputs = (g.steps + every - 1) / every;
+  for (long k = 1; k <= outputs && events.empty();) {
+    const double target = g.time(std::min(k * every, g.steps)), remaining = target - state_.t, proposed = rc.next_dt;
+    double h = proposed;
+    if (h >= remaining * (1.0 - 1e-12)) h = remaining;
+    else if (h > 0.5 * remaining) h = 0.5 * remaining;
+    if (!adaptive_step(h, rc, mc)) continue;
+    if (h < proposed) rc.next_dt = std::max(rc.next_dt, proposed);  // shortened only to land
+    const bool landed = std::abs(target - state_.t) <= 1e-9 * h;
+    if (landed) ++k;
+    if (landed || !events.empty()) write();
+    char detail[96];
+    std::snprintf(detail, sizeof detail, "dt = %.3g s, %ld rejected", rc.next_dt, rc.totals().rejected + rc.totals().failed);
+    progress_.update(state_.t, steps, detail);
+    check_interrupt(k <= outputs);
+  }
+  adaptive_summary = rc.totals().summary();
+}
+
 }  // namespace
 
 void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGrid& grid, const RunOptions& opt,
@@ -188,69 +392,28 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   rod::CoupledRodStepper stepper(setup.model, mass);
   rod::RodState state = start.state;
   rod::CoupledMassState m{load.start, load.initial_velocity()};
-  std::vector<Vec3> r = rod::centreline_in_space(state);
   CoupledRodOutputs outputs(sc, load, stepper.model());
   const CoupledReplay replay(opt, outputs.probe_names(), outputs.field_names(), "the rod and its coupled mass", comm);
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod", {}};
   info.attributes = {{"rod_path", "3D"}, {"rod_path_detail", "3D, serial reference stepper (coupled_mass)"}};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
   outputs.declare(writer);
-  outputs.write(writer, state, r, m, StepContact{}, replay, comm);
-  if (!opt.quiet)
-    std::printf("rod scene '%s': %d nodes, up to %ld steps of dt = %.6g s to t = %.6g s; initial state: %s; coupled mass "
-                "'%s' on the serial reference stepper (partitioned iteration), 3D path\n",
-                sc.file.c_str(), sc.mesh.nodes, grid.steps, grid.dt, grid.t_end, start.description.c_str(),
-                load.name.c_str());
   Progress progress(progress_wanted(opt.quiet, opt.progress), "t", "s", grid.t_start, grid.t_end);
-  const double L = sc.rod.length;
-  std::vector<output::RunEvent> events;
-  long newton = 0, coupling = 0, i = 1;
-  const bool unilateral = load.contact == scene::Contact::unilateral;
-  double up_prev = 0.0, up_time = 0.0;
+  CoupledLoop loop(sc, stepper, state, m, outputs, replay, writer, opt, comm, progress);
+  loop.write();
+  if (!opt.quiet)
+    std::printf("rod scene '%s': %d nodes, up to %ld steps of dt = %.6g s to t = %.6g s%s; initial state: %s; coupled "
+                "mass '%s' on the serial reference stepper (partitioned iteration), 3D path\n",
+                sc.file.c_str(), sc.mesh.nodes, grid.steps, grid.dt, grid.t_end,
+                sc.time.adaptive.enabled ? " (adaptive: the first step and the output spacing)" : "",
+                start.description.c_str(), load.name.c_str());
   const auto wall = std::chrono::steady_clock::now();
-  for (; i <= grid.steps && events.empty(); ++i) {
-    const double h = grid.time(i) - state.t;
-    const rod::RodState old = state;
-    const rod::CoupledMassState m_old = m;
-    const auto rep = stepper.step(state, m, h);
-    if (!rep.converged) {
-      std::ostringstream os;
-      os.precision(9);
-      os << "time step " << i << " (t = " << old.t << " s, dt = " << h << " s): the coupled step of rod and mass '"
-         << load.name << "' did not converge (" << rep.coupling_iterations << " coupling iterations, last change "
-         << rep.last_change << " ds); reduce time.dt";
-      progress.done();
-      writer.fail(os.str());
-      throw NumericsError(os.str());
-    }
-    newton += rep.newton_iterations;
-    coupling += rep.coupling_iterations;
-    r = rod::advance_centreline_in_time(r, old, state);
-    const rod::CoupledContact c = rod::step_contact(old, m_old, state, m, mass, stepper.model().loads.gravity, h);
-    if (m.sigma < 0.0 || m.sigma > L) {  // left the rod in this step: the time where sigma crosses the end
-      const double edge = m.sigma < 0.0 ? 0.0 : L;
-      const double te = old.t + h * (edge - m_old.sigma) / (m.sigma - m_old.sigma);
-      events.push_back({te, edge, load.name, edge == 0.0 ? "left_rod_at_0" : "left_rod_at_L"});
-    } else if (unilateral && c.up < 0.0) {  // lift-off: the zero of C . d2 between the steps' midpoints
-      const double tm = old.t + 0.5 * h;
-      const double t0 = i > 1 ? up_time : tm, f = i > 1 && up_prev > 0.0 ? up_prev / (up_prev - c.up) : 1.0;
-      const double te = t0 + f * (tm - t0);
-      const double se = te <= old.t ? m_old.sigma : m_old.sigma + (te - old.t) / h * (m.sigma - m_old.sigma);
-      events.push_back({te, se, load.name, "lift_off"});
-    }
-    up_prev = c.up;
-    up_time = old.t + 0.5 * h;
-    if (i % sc.output.every == 0 || i == grid.steps || !events.empty())
-      outputs.write(writer, state, r, m, StepContact{c.normal, c.tangential}, replay, comm);
-    progress.update(state.t, i);
-    if (const int sig = i < grid.steps && events.empty() ? interrupt_requested(comm) : 0) {
-      progress.done();
-      const std::string msg = "interrupted at t = " + scene::format_number(state.t) + " s (" + signal_name(sig) +
-                              "); continue with traverse run --restart " + opt.output;
-      writer.fail(msg);
-      throw Interrupted(sig, opt.output, msg, msg);
-    }
-  }
+  if (sc.time.adaptive.enabled)
+    loop.run_adaptive(grid);
+  else
+    loop.run_fixed(grid);
+  const auto& events = loop.events;
+  const long i = loop.steps + 1, coupling = loop.coupling, newton = loop.newton;
   progress.done();
   writer.write_events(events);
   writer.finish();
@@ -262,6 +425,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
                   events[0].time);
     std::printf("; %zu output steps -> %s; time stepping %.3f s (wall, output included)\n", writer.steps_written(),
                 opt.output.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count());
+    if (!loop.adaptive_summary.empty()) std::printf("adaptive: %s\n", loop.adaptive_summary.c_str());
   }
 }
 

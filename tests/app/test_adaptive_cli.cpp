@@ -2,7 +2,8 @@
 // controls refused with exit 2 naming the key; the output times of an adaptive run are those
 // of the fixed-dt run and its error against a refined fixed-dt run falls with the tolerance;
 // 1 and 2 ranks take the same steps; a snap through of the undamped shallow arch is passed with
-// rejected steps. (Restart of an adaptive run: test_interrupt_restart.)
+// rejected steps; the beam's integrators and the rod's coupled mass follow the tolerance.
+// (Restart of an adaptive run: test_interrupt_restart.)
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -186,6 +187,29 @@ TEST(AdaptiveCli, BeamIntegratorsFollowTheTolerance) {
   const double e = tip_error(rk);
   std::cout << "  rk4, tolerance 1e-5: relative tip error " << e << "\n";
   EXPECT_LT(e, 1e-6);
+}
+
+// The rod's coupled mass (the bead on the cable, ds = 0.05): the adaptive runs end at the same
+// event; the event time of tolerances 1e-2 and 1e-3 agree far better than the fixed-dt run's
+// with either.
+TEST(AdaptiveCli, CoupledMassRunsEndAtTheConvergedEvent) {
+  const fs::path d = scratch("adaptive-coupled");
+  const std::string scene = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/rod/coupled_bead_cable.yaml";
+  const std::string base = kExe + " run " + scene + " --overwrite --set mesh.ds=0.05 ";
+  std::vector<double> te;
+  for (const char* tol : {"", "1e-2", "1e-3"}) {
+    const std::string out = (d / (std::string("bead") + tol + ".h5")).string();
+    const std::string extra = *tol ? std::string(" --set time.adaptive.tolerance=") + tol : std::string();
+    const RunResult r = run_command(base + "-o " + out + extra);
+    ASSERT_EQ(r.code, 0) << r.out;
+    if (*tol) EXPECT_GT(counts(r.out).accepted, 0) << r.out;
+    const auto ev = Reader(out).events();
+    ASSERT_EQ(ev.size(), 1u) << out;
+    EXPECT_EQ(ev[0].reason, "left_rod_at_L");
+    te.push_back(ev[0].time);
+    std::cout << "  " << (*tol ? tol : "fixed dt") << ": the bead leaves at t = " << ev[0].time << " s\n";
+  }
+  EXPECT_LT(std::abs(te[1] - te[2]), 0.01 * std::abs(te[0] - te[2]));
 }
 
 }  // namespace
