@@ -596,7 +596,8 @@ LoopTotals RodAdaptiveLoop::run(bool show_progress) {
   const auto start = std::chrono::steady_clock::now();
   const long outputs = (p_.g.steps + p_.every - 1) / p_.every;
   long k = 1;  // the next output time: the first one after the current time
-  while (k <= outputs && output_time(k) <= p_.st.time() * (1.0 + 1e-14)) ++k;
+  // (A restart point at an output time may lie a rounding below it: the landing tolerance.)
+  while (k <= outputs && output_time(k) - p_.st.time() <= 1e-9 * p_.g.dt) ++k;
   while (k <= outputs) {
     const double target = output_time(k), remaining = target - p_.st.time();
     // Land on the output time; a step that would leave less than itself is split in two.

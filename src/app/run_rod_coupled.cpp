@@ -3,6 +3,7 @@
 // Outputs: the rod's probes and fields, the mass's probes (position, speed, fixed-frame position
 // and velocity, contact forces), the energies, and the events table (the run ends when the mass
 // leaves the rod).
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -328,7 +329,9 @@ bool CoupledLoop::adaptive_step(double h, RodAdaptiveControl& rc, RodAdaptiveCon
   } else {
     err = std::max(rc.extrapolation_error(rod_levels(state_), h), mc.extrapolation_error(mass_level(m_), h));
   }
-  const StepDecision d = rc.controller().decide(h, err, last_.newton_iterations);
+  // The Newton signal: iterations per rod solve (the step makes one per coupling iteration).
+  const int per_solve = last_.newton_iterations / std::max(1, last_.coupling_iterations);
+  const StepDecision d = rc.controller().decide(h, err, per_solve);
   if (!d.accept) return ++rc.totals().rejected, retry(d.next_dt, "the error estimate is " + std::to_string(err) +
                                                                       " times the tolerance");
   if (doubled) {
