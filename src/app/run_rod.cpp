@@ -476,15 +476,18 @@ class RodAdaptiveLoop {
 
  private:
   double output_time(long k) const { return p_.g.time(std::min(k * static_cast<long>(p_.every), p_.g.steps)); }
+  /// One Newton solve of h; false (the state unchanged, failure_ set) when it did not converge.
   bool try_step(double h, solver::StepReport& rep, Progress& progress);
   bool extrapolated_step(double h, Progress& progress);
   bool doubled_step(double h, Progress& progress);
-  /// A failed or rejected step of length h: the next try, or the end of the run at dt_min.
+  /// A failed or rejected step of length h (the state as before it): the next try, or the
+  /// end of the run at dt_min.
   void retry_smaller(double h, double next, const std::string& why, Progress& progress);
   [[noreturn]] void fail(const std::string& why, Progress& progress);
   RodLoopParts p_;
   RodAdaptiveControl& ctl_;
   LoopTotals tot_;
+  std::string failure_;  ///< why the last try_step failed
 };
 
 void RodAdaptiveLoop::fail(const std::string& why, Progress& progress) {
@@ -522,7 +525,7 @@ bool RodAdaptiveLoop::try_step(double h, solver::StepReport& rep, Progress& prog
     ++ctl_.totals().failed;
     std::ostringstream os;
     os << "the Newton solve of a step of dt = " << h << " s did not converge (" << p_.st.last_newton_report().status << ")";
-    retry_smaller(h, ctl_.controller().after_failure(h), os.str(), progress);
+    failure_ = os.str();
   }
   return ok;
 }
@@ -530,7 +533,10 @@ bool RodAdaptiveLoop::try_step(double h, solver::StepReport& rep, Progress& prog
 bool RodAdaptiveLoop::extrapolated_step(double h, Progress& progress) {
   p_.left.before_step();
   solver::StepReport rep;
-  if (!try_step(h, rep, progress)) return false;
+  if (!try_step(h, rep, progress)) {
+    retry_smaller(h, ctl_.controller().after_failure(h), failure_, progress);
+    return false;
+  }
   std::vector<rod::NodeLevel> y = owned_levels(p_.st);
   const double err = ctl_.extrapolation_error(y, h);
   const StepDecision d = ctl_.controller().decide(h, err, rep.newton_iterations);
@@ -557,7 +563,10 @@ bool RodAdaptiveLoop::doubled_step(double h, Progress& progress) {
     p_.left.set_position(r_saved);
   };
   solver::StepReport rep;
-  if (!try_step(h, rep, progress)) return false;
+  if (!try_step(h, rep, progress)) {
+    retry_smaller(h, ctl_.controller().after_failure(h), failure_, progress);
+    return false;
+  }
   const std::vector<rod::NodeLevel> full = owned_levels(p_.st);
   p_.st.undo_step();
   std::vector<rod::NodeLevel> mid, half;
@@ -566,7 +575,8 @@ bool RodAdaptiveLoop::doubled_step(double h, Progress& progress) {
     p_.left.before_step();
     solver::StepReport r;
     if (!try_step(0.5 * h, r, progress)) {
-      restore();
+      restore();  // the state of the step's start, for the retry or the restart point
+      retry_smaller(h, ctl_.controller().after_failure(h), failure_, progress);
       return false;
     }
     p_.left.after_step(0.5 * h);
