@@ -646,7 +646,23 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
   const int N = sc.mesh.nodes - 1;
   src.file = output::restart_source(opt.output);
   const std::size_t comps = restart_components(sc);
-  src.point = output::read_restart_point(src.file, static_cast<std::size_t>(N + 1), comps);
+  try {
+    src.point = output::read_restart_point(src.file, static_cast<std::size_t>(N + 1), comps);
+  } catch (const output::RestartError&) {
+    // A point of the other kind (adaptive or fixed dt) says what changed.
+    const bool adaptive = sc.time.adaptive.enabled;
+    const std::size_t other = adaptive ? kPackedNode : kPackedNode + RodAdaptiveControl::kPerNode;
+    bool other_kind = true;
+    try {
+      (void)output::read_restart_point(src.file, static_cast<std::size_t>(N + 1), other);
+    } catch (const output::RestartError&) {
+      other_kind = false;
+    }
+    if (!other_kind) throw;  // the first error, as it was
+    throw UsageError{"--restart " + opt.output + ": the run being restarted " +
+                     (adaptive ? "took fixed steps" : "was adaptive (time.adaptive)") +
+                     "; a restart keeps it " + (adaptive ? "so: no time.adaptive" : "so: keep time.adaptive")};
+  }
   const auto& x = src.point.extra;
   if (x.size() < 4 || x[3] != g.dt)
     throw UsageError{"--restart " + opt.output + ": time.dt = " + scene::format_number(g.dt) +

@@ -80,6 +80,24 @@ TEST(AdaptiveCli, BadControlsExitWith2NamingTheKey) {
   }
 }
 
+// A restart keeps whether the run is adaptive: either change is refused with exit 2 saying so.
+TEST(AdaptiveCli, RestartKeepsAdaptiveOrFixedSteps) {
+  const fs::path d = scratch("adaptive-restart-kind");
+  const std::string fixed = (d / "fixed.h5").string(), adaptive = (d / "adaptive.h5").string();
+  const std::string base = kExe + " run " + kCable + " --overwrite -q --set mesh.ds=0.05 ";
+  ASSERT_EQ(run_command(base + "-o " + fixed).code, 0);
+  ASSERT_EQ(run_command(base + "-o " + adaptive + " --set time.adaptive.tolerance=1e-3").code, 0);
+  const RunResult a = run_command(kExe + " run --restart " + fixed + " -q --set time.adaptive.tolerance=1e-3");
+  std::cout << "  fixed run restarted adaptive: exit " << a.code << ": " << a.out.substr(0, a.out.find('\n')) << "\n";
+  EXPECT_EQ(a.code, 2);
+  EXPECT_NE(a.out.find("took fixed steps"), std::string::npos) << a.out;
+  // The adaptive run's stored scene has the section; a scene file without it is the change.
+  const RunResult b = run_command(kExe + " run --restart " + adaptive + " " + kCable + " -q --set mesh.ds=0.05");
+  std::cout << "  adaptive run restarted fixed: exit " << b.code << ": " << b.out.substr(0, b.out.find('\n')) << "\n";
+  EXPECT_EQ(b.code, 2);
+  EXPECT_NE(b.out.find("was adaptive (time.adaptive)"), std::string::npos) << b.out;
+}
+
 // The hanging cable at ds = 0.02: the adaptive runs write at the fixed run's output times;
 // their midspan trace error against a fixed-dt run at ds / (16 v) falls as the tolerance does.
 TEST(AdaptiveCli, OutputTimesAreTheFixedRunsAndTheErrorFallsWithTheTolerance) {
