@@ -24,13 +24,6 @@ const std::string kCable = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/default.y
 const std::string kArch = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/arch/shallow_arch_v0.5.yaml";
 const std::string kMpi = std::string(TRAVERSE_MPIEXEC) + " --allow-run-as-root --oversubscribe -n 2 ";
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
 struct Counts {
   long accepted = -1, rejected = -1, failed = -1;
 };

@@ -14,6 +14,8 @@
 #include "process.hpp"
 #include "traverse/output/reader.hpp"
 
+using traverse::testing::scratch;
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -22,13 +24,6 @@ using Result = traverse::testing::RunResult;
 
 Result run_with(const std::string& prefix, const std::string& args);
 Result run(const std::string& args) { return run_with("", args); }
-
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 const fs::path kScene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "beam" / "cantilever.yaml";
 const fs::path kCable = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "hanging_cable_F2_a0.5.yaml";

@@ -28,13 +28,6 @@ const std::string kRodArgs = " --set mesh.ds=0.02 --set output.fields=[r,R,u,ome
 // Cantilever: 3 modes, 200 output steps.
 const std::string kBeamArgs = " --set time.dt=2e-5 --set output.every=5 --set output.fields=[deflection,slope,bending_moment] -q";
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
 std::vector<std::string> command(int ranks, const std::string& args) {
   std::vector<std::string> a;
   if (ranks > 1) a = {TRAVERSE_MPIEXEC, "--allow-run-as-root", "--oversubscribe", "-n", std::to_string(ranks)};

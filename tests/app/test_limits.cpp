@@ -18,6 +18,8 @@
 #include "run_limits.hpp"
 #include "traverse/output/reader.hpp"
 
+using traverse::testing::scratch;
+
 namespace fs = std::filesystem;
 using traverse::testing::Child;
 
@@ -26,13 +28,6 @@ namespace {
 const fs::path kBeam = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "beam" / "cantilever.yaml";
 const fs::path kRod = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "hanging_cable_F2_a0.5.yaml";
 constexpr long kMaxSteps = 200;
-
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
 
 struct Case {
   std::string label, log, out;

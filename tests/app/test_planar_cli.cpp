@@ -14,6 +14,8 @@
 #include "process.hpp"
 #include "traverse/output/reader.hpp"
 
+using traverse::testing::scratch;
+
 namespace fs = std::filesystem;
 using traverse::output::Reader;
 
@@ -40,13 +42,6 @@ std::string mpirun(int ranks) {
 // The linear solver is named so that these tests do not depend on the default choice.
 std::string solver(int ranks) {
   return ranks == 1 ? " --set 'solver.Linear Solver=KLU2'" : " --set 'solver.Linear Solver=GMRES'";
-}
-
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
 }
 
 // The hanging cable (default scene, 21 nodes) on the planar path (auto) and forced 3D: same

@@ -16,6 +16,8 @@
 #include "sweep_spec.hpp"
 #include "traverse/output/reader.hpp"
 
+using traverse::testing::scratch;
+
 namespace fs = std::filesystem;
 using traverse::app::parse_vary;
 using traverse::app::UsageError;
@@ -28,13 +30,6 @@ const fs::path kBeam = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "beam" / "cant
 
 std::string mpiexec(int ranks) {
   return std::string(TRAVERSE_MPIEXEC) + " --allow-run-as-root --oversubscribe -n " + std::to_string(ranks) + " ";
-}
-
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
 }
 
 // The index as rows of fields (no quoted commas in these tests' values).

@@ -37,13 +37,6 @@ std::string num(double v) {
   return buf;
 }
 
-fs::path scratch(const std::string& name) {
-  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
 struct Outcome {
   int code = -1;
   std::string log, status;

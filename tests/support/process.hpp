@@ -205,4 +205,12 @@ inline double max_file_difference(const std::string& a_path, const std::string& 
   return worst;
 }
 
+/// An empty scratch directory for a test: BUILD/test-scratch/<name>, cleared first.
+inline fs::path scratch(const std::string& name) {
+  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
 }  // namespace traverse::testing
