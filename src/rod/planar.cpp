@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "traverse/core/so3.hpp"
+#include "traverse/rod/cell_scheme.hpp"
 #include "traverse/rod/end_condition.hpp"
 
 namespace traverse::rod {
@@ -271,71 +272,110 @@ PlanarReduction::PlanarReduction(const RodModel& model, const PlanarSymmetry& sy
     Mm_.col(k) = apply_Mm(model.props, e);
     Kk_.col(k) = apply_Kk(model.props, e);
   }
+  for (int c = 0; c < 6; ++c)
+    for (int r = 0; r < 6; ++r) {
+      Mm6_(r, c) = Mm_(S[static_cast<size_t>(r)], S[static_cast<size_t>(c)]);
+      Kk6_(r, c) = Kk_(S[static_cast<size_t>(r)], S[static_cast<size_t>(c)]);
+    }
+  sigma_ = sym_.axis == 0 ? 1.0 : -1.0;
+  if (model.loads.f_fixed || model.loads.l_fixed)
+    throw std::invalid_argument("PlanarReduction: distributed loads given as functions are not planar");
+}
+
+PlanarReduction::OldNode PlanarReduction::old_node(const RodModel& model, const StepTimes& step, int j,
+                                                   const RodNode& old) const {
+  const std::array<int, 6> S = in_plane_components(sym_.axis);
+  const NodeFlux F = old_level_flux(model, step, j, old);
+  OldNode o;
+  for (int i = 0; i < 6; ++i) {
+    const int c = S[static_cast<size_t>(i)];
+    o.y(i) = old.y(c);
+    o.yt(i) = old.yt(c);
+    o.ys(i) = old.ys(c);
+    o.F(i) = F.F(c);
+  }
+  o.fb.setZero();
+  if (model.loads.has_frame_loads()) {
+    const Vec3 fb = old.R * (model.props.rhoA * model.loads.gravity);
+    o.fb << fb(S[0]), fb(S[1]);  // the polar in-plane components (b, 3)
+    o.fb_normal = fb(sym_.axis);
+  }
+  return o;
+}
+
+void PlanarReduction::new_levels(const RodModel& model, const StepTimes& step, const OldNode& o, const double* x,
+                                 NewLevels& L) const {
+  // In-plane components, in the order of in_plane_components: u = (u_b, u_3), omega_a, kappa_a,
+  // n = (n_b, n_3). With only these nonzero, the 3D flux (node_flux) reduces to
+  //   F_u = -s k J n + rhoA s w J u - fb,  F_omega = s n_b,  F_kappa = 0,  F_n = s k J u + (s w, 0)
+  // (k x v = s k J v for a polar v, s = sigma_), and the new frame is the old one turned about
+  // the normal by theta = -dt (w + w_old) / 2, so fb = rotation(theta) fb_old, d fb / d w =
+  // -(dt / 2) s J fb.
+  const AlphaParameters& a = model.alpha;
+  const double dt = step.dt, s = sigma_, rhoA = model.props.rhoA;
+  const Eigen::Map<const Vec6> y(x);
+  L.yt = (y - o.y) / (a.gt * dt) - (1.0 - a.gt) / a.gt * o.yt;
+  auto J = [](const Eigen::Vector2d& v) { return Eigen::Vector2d(-v(1), v(0)); };
+  const Eigen::Vector2d u(y(0), y(1)), n(y(4), y(5));
+  const double w = y(2), k = y(3);
+  Eigen::Vector2d fb = Eigen::Vector2d::Zero();
+  if (model.loads.has_frame_loads()) {
+    const double th = -0.5 * dt * (w + o.y(2));
+    fb = std::cos(th) * o.fb + (s * std::sin(th)) * J(o.fb);
+  }
+  const Eigen::Vector2d Ju = J(u), Jn = J(n), Jfb = J(fb);
+  const Eigen::Vector2d Fu = -(s * k) * Jn + (rhoA * s * w) * Ju - fb;
+  const Eigen::Vector2d Fn = (s * k) * Ju + Eigen::Vector2d(s * w, 0.0);
+  L.F << Fu(0), Fu(1), s * n(0), 0.0, Fn(0), Fn(1);
+  Eigen::Matrix<double, 6, 6>& D = L.dF;
+  D.setZero();
+  D(0, 1) = -rhoA * s * w;  // d F_u / d u = rhoA s w J
+  D(1, 0) = rhoA * s * w;
+  D(0, 2) = rhoA * s * Ju(0) + 0.5 * dt * s * Jfb(0);  // d F_u / d w, the frame's turn included
+  D(1, 2) = rhoA * s * Ju(1) + 0.5 * dt * s * Jfb(1);
+  D(0, 3) = -s * Jn(0);  // d F_u / d k
+  D(1, 3) = -s * Jn(1);
+  D(0, 5) = s * k;  // d F_u / d n = -s k J
+  D(1, 4) = -s * k;
+  D(2, 4) = s;       // d F_omega / d n_b
+  D(4, 1) = -s * k;  // d F_n / d u = s k J
+  D(5, 0) = s * k;
+  D(4, 2) = s;  // d F_n / d w
+  D(4, 3) = s * Ju(0);  // d F_n / d k
+  D(5, 3) = s * Ju(1);
 }
 
 double PlanarReduction::cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step, int j,
-                                        const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
-                                        const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur) const {
+                                      const OldNode& op, const OldNode& oc, const double* xp, const double* xc,
+                                      const NewLevels& lp, const NewLevels& lc) const {
   if (j < 1 || j > num_cells_) throw std::out_of_range("PlanarReduction::cell_block_into: cell index");
-  if (new_prev.size() != p_ || new_this.size() != p_)
-    throw std::invalid_argument("PlanarReduction::cell_block_into: node unknown block has the wrong size");
-  const AlphaParameters& a = model.alpha;
-  const double ds = model.ds(), dt = step.dt;
-  // Residual: every row, as cell_block_into forms it (the dropped rows are monitored).
-  VecX r;
-  cell_residual_into(r, model, Mm_, Kk_, old_prev, old_this, new_prev, new_this, prev, cur);
-
-  // In-plane Jacobian entries only. The flux Jacobian's omega columns carry the frame's
-  // sensitivity dF_dRrot G (new_level_flux_jacobian); of them only column a is in-plane.
-  const std::array<int, 6> S = in_plane_components(sym_.axis);
-  const int wa = var::omega + sym_.axis;
-  const double ct = (1.0 - a.at) / (a.gt * dt);
-  const double cm[2] = {ct * a.as, ct * (1.0 - a.as)};                      // Mm weight: prev, this
-  const double cf[2] = {(1.0 - a.bt) * a.bs, (1.0 - a.bt) * (1.0 - a.bs)};  // new flux weight
-  const NodeLevels* lv[2] = {&prev, &cur};
   b.row = (carried_ ? 9 : 3) + static_cast<Eigen::Index>(q_) * (j - 1);
-  b.residual.resize(q_);
   b.cols.resize(2);
   b.cols[0] = static_cast<Eigen::Index>(q_) * (j - 1);
   b.cols[1] = static_cast<Eigen::Index>(q_) * j;
   b.jac.resize(2);
-  for (int side = 0; side < 2; ++side) {
-    const NodeFlux& F = lv[side]->F_new;
-    const Mat3& G = lv[side]->nn.G;
-    MatX& Jq = b.jac[static_cast<size_t>(side)];
-    Jq.setZero(q_, q_);
-    for (int ic = 0; ic < 6; ++ic) {
-      const int c = S[static_cast<size_t>(ic)];
-      for (int ir = 0; ir < 6; ++ir) {
-        const int i = S[static_cast<size_t>(ir)];
-        double jf = F.dF_dy(i, c);
-        if (c == wa && F.frame_loads)  // dF_dRrot = 0 without fixed-frame loads
-          jf += F.dF_dRrot(i, 0) * G(0, sym_.axis) + F.dF_dRrot(i, 1) * G(1, sym_.axis) +
-                F.dF_dRrot(i, 2) * G(2, sym_.axis);
-        double v = cm[side] * Mm_(i, c) + cf[side] * jf;
-        if (!carried_) v += (side == 1 ? 1.0 : -1.0) * ((1.0 - a.bt) / ds) * Kk_(i, c);
-        Jq(ir, ic) = v;
-        if (carried_) {
-          Jq(ir, 6 + ic) = cf[side] * Kk_(i, c);
-          if (ir == ic) {
-            Jq(6 + ir, 6 + ic) = side == 1 ? a.gs : 1.0 - a.gs;
-            Jq(6 + ir, ic) = side == 1 ? -1.0 / ds : 1.0 / ds;
-          }
-        }
-      }
-    }
-  }
-  if (loads_touch_cell(model, step, j)) {  // a point force or moving mass on this cell (rare)
-    const LocalBlock lb = load_block(model, step, j, old_prev, old_this, new_prev, new_this);
-    r.head<12>() += lb.residual;
-    for (int side = 0; side < 2; ++side)
-      for (int ic = 0; ic < 6; ++ic)
-        for (int ir = 0; ir < 6; ++ir)
-          b.jac[static_cast<size_t>(side)](ir, ic) += lb.jac[static_cast<size_t>(side)](S[ir], S[ic]);
-  }
-  for (int k = 0; k < q_; ++k) b.residual(k) = r(cell_keep_[static_cast<size_t>(k)]);
+  for (MatX& J : b.jac) J.setZero(q_, q_);
+  using M6 = Eigen::Map<const Vec6>;
+  const CellNode<6> P{op.y, op.yt, op.ys, op.F, M6(xp), M6(carried_ ? xp + 6 : xp), lp.yt, lp.F};
+  const CellNode<6> C{oc.y, oc.yt, oc.ys, oc.F, M6(xc), M6(carried_ ? xc + 6 : xc), lc.yt, lc.F};
+  cell_scheme_residual<6>(b.residual, model.alpha, carried_, model.ds(), Mm6_, Kk6_, P, C);
+  cell_scheme_jacobian<6>(b.jac[0], b.jac[1], model.alpha, carried_, model.ds(), step.dt, Mm6_, Kk6_, lp.dF, lc.dF);
+  // The dropped momentum row along the normal: A_F of -fb_normal (the same at both levels).
+  const double bs = model.alpha.bs;
+  return std::abs((1.0 - bs) * oc.fb_normal + bs * op.fb_normal);
+}
+
+double PlanarReduction::add_loads(LocalBlock& cell, const LocalBlock& loads) const {
+  const std::array<int, 6> S = in_plane_components(sym_.axis);
+  for (int i = 0; i < 6; ++i) cell.residual(i) += loads.residual(S[static_cast<size_t>(i)]);
+  for (size_t side = 0; side < 2; ++side)
+    for (int ic = 0; ic < 6; ++ic)
+      for (int ir = 0; ir < 6; ++ir)
+        cell.jac[side](ir, ic) += loads.jac[side](S[static_cast<size_t>(ir)], S[static_cast<size_t>(ic)]);
+  const std::array<bool, 12> even = even_mask(sym_.axis);
   double dropped = 0.0;
-  for (int k : cell_drop_) dropped = std::max(dropped, std::abs(r(k)));
+  for (int k = 0; k < 12; ++k)
+    if (!even[static_cast<size_t>(k)]) dropped = std::max(dropped, std::abs(loads.residual(k)));
   return dropped;
 }
 

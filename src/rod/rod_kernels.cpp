@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "traverse/core/so3.hpp"
+#include "traverse/rod/cell_scheme.hpp"
 
 namespace traverse::rod {
 
@@ -377,27 +378,21 @@ LocalBlock cell_block(const RodModel& model, const StepTimes& step, int j,
   return b;
 }
 
+namespace {
+/// A cell node's quantities for the cell scheme (cell_scheme.hpp).
+CellNode<12> cell_node(const RodModel& model, const RodNode& old_node, const VecX& new_node, const NodeLevels& lv) {
+  const bool carried = model.carries_ys();
+  return CellNode<12>{old_node.y,         old_node.yt,      old_node.ys, lv.F_old.F,
+                      new_node.head<12>(), carried ? new_node.tail<12>() : new_node.head<12>(),
+                      lv.nn.yt,           lv.F_new.F};
+}
+}  // namespace
+
 void cell_residual_into(VecX& r, const RodModel& model, const Mat12& Mm, const Mat12& Kk, const RodNode& old_prev,
                         const RodNode& old_this, const VecX& new_prev, const VecX& new_this, const NodeLevels& prev,
                         const NodeLevels& cur) {
-  const AlphaParameters& a = model.alpha;
-  const bool carried = model.carries_ys();
-  const double ds = model.ds();
-  const Vec12 yp = new_prev.head<12>(), yc = new_this.head<12>();
-  const Vec12 At = (1.0 - a.at) * ((1.0 - a.as) * cur.nn.yt + a.as * prev.nn.yt) +
-                   a.at * ((1.0 - a.as) * old_this.yt + a.as * old_prev.yt);
-  Vec12 As;
-  if (carried) {
-    As = (1.0 - a.bt) * ((1.0 - a.bs) * new_this.tail<12>() + a.bs * new_prev.tail<12>()) +
-         a.bt * ((1.0 - a.bs) * old_this.ys + a.bs * old_prev.ys);
-  } else {
-    As = (1.0 - a.bt) * (yc - yp) / ds + a.bt * (old_this.y - old_prev.y) / ds;
-  }
-  const Vec12 AF = (1.0 - a.bt) * ((1.0 - a.bs) * cur.F_new.F + a.bs * prev.F_new.F) +
-                   a.bt * ((1.0 - a.bs) * cur.F_old.F + a.bs * prev.F_old.F);
-  r.resize(carried ? 24 : 12);
-  r.head<12>() = Mm * At + Kk * As + AF;
-  if (carried) r.tail<12>() = a.gs * new_this.tail<12>() + (1.0 - a.gs) * new_prev.tail<12>() - (yc - yp) / ds;
+  cell_scheme_residual<12>(r, model.alpha, model.carries_ys(), model.ds(), Mm, Kk,
+                           cell_node(model, old_prev, new_prev, prev), cell_node(model, old_this, new_this, cur));
 }
 
 void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step, int j,
@@ -407,37 +402,15 @@ void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step
   check_unknowns(model, new_prev);
   check_unknowns(model, new_this);
   const RodProperties& P = model.props;
-  const AlphaParameters& a = model.alpha;
-  const bool carried = model.carries_ys();
   const int p = model.unknowns_per_node();
-  const double ds = model.ds(), dt = step.dt;
   const Mat12 Mm = Mm_matrix(P), Kk = Kk_matrix(P);
 
   prepare_block(b, model.cell_row(j), model.cell_rows(), p, model.node_col(j - 1), model.node_col(j));
-  const NewLevelNode& np = prev.nn;
-  const NewLevelNode& nc = cur.nn;
-  const NodeFlux& Fnp = prev.F_new;
-  const NodeFlux& Fnc = cur.F_new;
   cell_residual_into(b.residual, model, Mm, Kk, old_prev, old_this, new_prev, new_this, prev, cur);
-
-  const double ct = (1.0 - a.at) / (a.gt * dt);
   MatX& Jp = b.jac[0];
   MatX& Jc = b.jac[1];
-  Jc.block<12, 12>(0, 0) = ct * (1.0 - a.as) * Mm +
-                           (1.0 - a.bt) * (1.0 - a.bs) * new_level_flux_jacobian(Fnc, nc.G);
-  Jp.block<12, 12>(0, 0) = ct * a.as * Mm + (1.0 - a.bt) * a.bs * new_level_flux_jacobian(Fnp, np.G);
-  if (carried) {
-    Jc.block<12, 12>(0, 12) = (1.0 - a.bt) * (1.0 - a.bs) * Kk;
-    Jp.block<12, 12>(0, 12) = (1.0 - a.bt) * a.bs * Kk;
-    // Recursion gs ys(j) + (1 - gs) ys(j-1) - (y(j) - y(j-1)) / ds = 0 at the new level.
-    Jc.block<12, 12>(12, 12) = a.gs * Mat12::Identity();
-    Jp.block<12, 12>(12, 12) = (1.0 - a.gs) * Mat12::Identity();
-    Jc.block<12, 12>(12, 0) = -Mat12::Identity() / ds;
-    Jp.block<12, 12>(12, 0) = Mat12::Identity() / ds;
-  } else {
-    Jc.block<12, 12>(0, 0) += (1.0 - a.bt) / ds * Kk;
-    Jp.block<12, 12>(0, 0) -= (1.0 - a.bt) / ds * Kk;
-  }
+  const Mat12 dFp = new_level_flux_jacobian(prev.F_new, prev.nn.G), dFc = new_level_flux_jacobian(cur.F_new, cur.nn.G);
+  cell_scheme_jacobian<12>(Jp, Jc, model.alpha, model.carries_ys(), model.ds(), step.dt, Mm, Kk, dFp, dFc);
 
   if (loads_touch_cell(model, step, j)) {  // else load_block is zero
     const LocalBlock lb = load_block(model, step, j, old_prev, old_this, new_prev, new_this);

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "block_newton.hpp"
 #include "linear_solver_builder.hpp"
 #include "reusable_ifpack2_factory.hpp"
 #include "traverse/mesh/distributed_mesh.hpp"
@@ -59,6 +60,8 @@ struct DistributedStepper::Impl {
   Teuchos::RCP<const mesh::DistributedMesh> mesh;
   Teuchos::RCP<RodStepModel> me;
   std::unique_ptr<NewtonSolver> newton;
+  std::unique_ptr<BlockNewton> block_newton;  ///< instead of NOX where it applies (uses_block_newton)
+  std::vector<double> xb;                      ///< its unknowns
   Teuchos::RCP<Tpetra::Vector<double>> x;
   std::vector<rod::RodNode> nodes;  ///< ghosted range, current level
   double t = 0.0;
@@ -78,6 +81,7 @@ struct DistributedStepper::Impl {
     const rod::RodModel& rm = *model;
     const int p = planar ? planar->unknowns_per_node() : rm.unknowns_per_node();
     newton.reset();
+    block_newton.reset();
     me = Teuchos::null;
     direct_stats = std::make_shared<DirectSolverStats>();
     reusing_klu2 = false;
@@ -102,6 +106,52 @@ struct DistributedStepper::Impl {
     x = Teuchos::rcp(new Tpetra::Vector<double>(mesh->dof_map()));
   }
 
+  /// Whether the time steps use BlockNewton (same iterates as NOX, without Tpetra, Thyra and
+  /// NOX): one rank, the block-tridiagonal LU as the direct solver, a full Newton step, no NOX
+  /// pass-through keys, no modified Newton, and not "Newton Implementation: NOX".
+  bool uses_block_newton() const {
+    return comm->getSize() == 1 && choice.block_tridiagonal_direct &&
+           params.get<std::string>("Newton Implementation") == "auto" &&
+           params.get<std::string>("Line Search") == "Full Step" && !params.get<bool>("Jacobian Reuse") &&
+           (!params.isSublist("NOX") || params.sublist("NOX").numParams() == 0);
+  }
+
+  /// The Newton solver of the time steps (after build() and set_old_level).
+  void build_newton() {
+    if (uses_block_newton()) {
+      const Teuchos::ParameterList np = newton_params();
+      BlockNewtonOptions o;
+      o.residual_tolerance = np.get<double>("Residual Tolerance");
+      o.update_relative_tolerance = np.get<double>("Update Relative Tolerance");
+      o.update_absolute_tolerance = np.get<double>("Update Absolute Tolerance");
+      o.max_iterations = np.get<int>("Max Newton Iterations");
+      o.linear_tolerance = choice.linear_tolerance;
+      block_newton = std::make_unique<BlockNewton>(me->assembly(), o);
+      xb.assign(static_cast<size_t>(me->assembly().num_owned_nodes()) * me->unknowns_per_node(), 0.0);
+      return;
+    }
+    newton = std::make_unique<NewtonSolver>(me, newton_params());
+  }
+
+  /// Newton on the model's old level from its old unknowns; the converged (or last) iterate's
+  /// ghosted full unknown blocks in xg.
+  NewtonReport solve_step(std::vector<VecX>& xg) {
+    if (block_newton) {
+      me->assembly().old_unknowns(xb.data());
+      NewtonReport r = block_newton->solve(xb);
+      me->assembly().full_unknowns(xb.data(), xg);
+      return r;
+    }
+    me->old_unknowns(*x);
+    NewtonReport r = newton->solve(*x);
+    xg = me->ghosted_unknowns(*x);
+    return r;
+  }
+
+  double dropped_residual() const {
+    return block_newton ? block_newton->last_dropped_residual() : me->last_dropped_residual();
+  }
+
   /// The Newton parameters. Planar path: NOX's update test is a WRMS norm, sqrt(sum w_i^2 / n)
   /// over the n unknowns; the 3D solve's out-of-plane updates are zero, so over the in-plane
   /// unknowns only (n / 2) the same updates give a norm sqrt(2) larger. Both update tolerances
@@ -121,7 +171,7 @@ struct DistributedStepper::Impl {
   /// within the Newton residual tolerance, else the problem was not planar after all.
   void check_planarity(double t0, double dt) const {
     if (!planar) return;
-    const double local = me->last_dropped_residual();
+    const double local = dropped_residual();
     double d = local;
     Teuchos::reduceAll<int, double>(*comm, Teuchos::REDUCE_MAX, 1, &local, &d);
     if (!(d <= planar_tolerance)) {
@@ -140,9 +190,9 @@ struct DistributedStepper::Impl {
   bool attempt(double t0, double dt, StepReport& sr) {
     me->set_old_level(std::move(nodes), rod::StepTimes{t0, dt});
     nodes.clear();
+    std::vector<VecX> xg;
     try {
-      me->old_unknowns(*x);
-      last = newton->solve(*x);
+      last = solve_step(xg);
       sr.newton_iterations += last.iterations;
       sr.linear_iterations += last.linear_iterations;
       if (!last.converged && me->jacobian_reuse() && me->stale_jacobian_used()) {
@@ -150,8 +200,7 @@ struct DistributedStepper::Impl {
         ++full_newton_retries;
         me->set_full_newton(true);
         me->set_old_level(me->old_ghosted_nodes(), rod::StepTimes{t0, dt});
-        me->old_unknowns(*x);
-        last = newton->solve(*x);
+        last = solve_step(xg);
         me->set_full_newton(false);
         sr.newton_iterations += last.iterations;
         sr.linear_iterations += last.linear_iterations;
@@ -166,7 +215,6 @@ struct DistributedStepper::Impl {
       nodes = old;
       return false;
     }
-    const std::vector<VecX> xg = me->ghosted_unknowns(*x);
     nodes.resize(old.size());
     for (size_t k = 0; k < nodes.size(); ++k) nodes[k] = rod::advance_node(*model, old[k], xg[k], dt);
     t = t0 + dt;
@@ -213,7 +261,7 @@ DistributedStepper::DistributedStepper(rod::RodModel model,
   m.build();
   set_state(rod::straight_rest_state(rm.num_cells, rm.length));
   m.me->set_old_level(m.nodes, rod::StepTimes{m.t, 0.0});
-  m.newton = std::make_unique<NewtonSolver>(m.me, m.newton_params());
+  m.build_newton();
 }
 
 DistributedStepper::~DistributedStepper() = default;
@@ -226,7 +274,7 @@ void DistributedStepper::set_planar(const rod::PlanarSymmetry* symmetry) {
   m.undo_ready = false;
   m.build();
   m.me->set_old_level(m.nodes, rod::StepTimes{m.t, 0.0});
-  m.newton = std::make_unique<NewtonSolver>(m.me, m.newton_params());
+  m.build_newton();
 }
 
 bool DistributedStepper::planar() const { return impl_->planar != nullptr; }
@@ -355,6 +403,9 @@ const std::string& DistributedStepper::resolved_linear_solver() const { return i
 const std::string& DistributedStepper::requested_linear_solver() const { return impl_->choice.requested; }
 bool DistributedStepper::linear_solver_rerouted() const { return impl_->choice.rerouted; }
 const NewtonReport& DistributedStepper::last_newton_report() const { return impl_->last; }
+std::string DistributedStepper::newton_implementation() const {
+  return impl_->block_newton ? "block storage" : "NOX";
+}
 const Teuchos::ParameterList& DistributedStepper::parameters() const { return impl_->params; }
 
 ReuseCounters DistributedStepper::reuse_counters() const {
@@ -368,6 +419,14 @@ ReuseCounters DistributedStepper::reuse_counters() const {
   c.full_newton_retries = m.full_newton_retries;
   c.symbolic_factorizations = m.direct_stats->symbolic;
   c.numeric_factorizations = m.direct_stats->numeric;
+  if (m.block_newton) {
+    const BlockNewton& b = *m.block_newton;
+    c.jacobian_evaluations += b.factorizations();
+    c.residual_evaluations += b.residual_evaluations();
+    c.assembly_seconds += b.assembly_seconds();
+    c.linear_setup_seconds += b.factorization_seconds();
+    c.numeric_factorizations += b.factorizations();
+  }
   if (auto f = Teuchos::rcp_dynamic_cast<const ReusableIfpack2Factory>(m.me->prec_factory()); !f.is_null()) {
     c.preconditioners_created = f->counters().created;
     c.preconditioner_initializations = f->counters().initialized;

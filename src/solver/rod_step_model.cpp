@@ -29,11 +29,9 @@ RodStepModel::RodStepModel(std::shared_ptr<const rod::RodModel> model,
                            Teuchos::RCP<const mesh::DistributedMesh> mesh,
                            std::shared_ptr<const rod::PlanarReduction> planar)
     : BlockAssemblyModel(std::move(mesh), step_unknowns(model, planar), "traverse rod time step"),
-      model_(std::move(model)), planar_(std::move(planar)) {
-  full_p_ = model_->unknowns_per_node();
-  if (planar_ && planar_->full_unknowns_per_node() != full_p_)
-    throw std::invalid_argument("RodStepModel: the planar reduction belongs to another layout");
-  if (mesh_->unknowns_per_node() != p_ || mesh_->mesh().num_nodes() != model_->num_cells + 1)
+      asm_(model, planar, mesh_->first_ghosted_node(), mesh_->num_ghosted_nodes(), mesh_->first_owned_node(),
+           mesh_->num_owned_nodes()) {
+  if (mesh_->unknowns_per_node() != p_ || mesh_->mesh().num_nodes() != model->num_cells + 1)
     throw std::invalid_argument(
         "RodStepModel: the mesh must have num_cells + 1 nodes and unknowns_per_node() unknowns per node");
   x0_ = Teuchos::rcp(new Vector(mesh_->dof_map()));
@@ -58,15 +56,7 @@ bool RodStepModel::same_x(const Vector& x) const {
 
 void RodStepModel::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes,
                                  const rod::StepTimes& step) {
-  if (static_cast<int>(ghosted_old_nodes.size()) != mesh_->num_ghosted_nodes())
-    throw std::invalid_argument("RodStepModel::set_old_level: expected one node per ghosted node");
-  old_nodes_ = std::move(ghosted_old_nodes);
-  step_ = step;
-  // Old-level fluxes: fixed during the step's Newton iterations (the cells use F only).
-  F_old_.resize(old_nodes_.size());
-  const int g0 = mesh_->first_ghosted_node();
-  for (size_t k = 0; k < old_nodes_.size(); ++k)
-    F_old_[k] = rod::old_level_flux(*model_, step_, g0 + static_cast<int>(k), old_nodes_[k]).F;
+  asm_.set_old_level(std::move(ghosted_old_nodes), step);
   old_unknowns(*x0_);
   W_valid_ = false;  // W at the same x differs now (it depends on the old level)
   f_norms_.clear();
@@ -74,13 +64,8 @@ void RodStepModel::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes,
 }
 
 void RodStepModel::old_unknowns(Vector& x) const {
-  const int off = mesh_->first_owned_node() - mesh_->first_ghosted_node();
   auto data = x.getDataNonConst();
-  for (int k = 0; k < mesh_->num_owned_nodes(); ++k) {
-    VecX u = rod::node_unknowns(*model_, old_nodes_[static_cast<size_t>(off + k)]);
-    if (planar_) u = planar_->restrict_unknowns(u);
-    for (int c = 0; c < p_; ++c) data[static_cast<size_t>(k) * p_ + c] = u(c);
-  }
+  asm_.old_unknowns(data.getRawPtr());
 }
 
 std::vector<VecX> RodStepModel::ghosted_unknowns(const Vector& x) const {
@@ -91,75 +76,15 @@ std::vector<VecX> RodStepModel::ghosted_unknowns(const Vector& x) const {
 
 void RodStepModel::ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out) const {
   auto data = ghosted(x).getData();
-  out.resize(static_cast<size_t>(mesh_->num_ghosted_nodes()));
-  for (size_t k = 0; k < out.size(); ++k) {
-    if (planar_) {
-      planar_->embed(&data[k * p_], out[k]);
-      continue;
-    }
-    out[k].resize(p_);
-    for (int c = 0; c < p_; ++c) out[k](c) = data[k * p_ + c];
-  }
-}
-
-double RodStepModel::for_each_block(const std::vector<VecX>& xg,
-                                    const std::function<void(const rod::LocalBlock&)>& visit) const {
-  const int N = model_->num_cells;
-  const int first = mesh_->first_owned_node(), last = first + mesh_->num_owned_nodes() - 1;
-  const int g0 = mesh_->first_ghosted_node();
-  auto O = [&](int j) -> const rod::RodNode& { return old_nodes_[static_cast<size_t>(j - g0)]; };
-  auto X = [&](int j) -> const VecX& { return xg[static_cast<size_t>(j - g0)]; };
-  // Rows of node k are [p k, p (k+1)): they come from the end blocks and cells k, k+1.
-  const int c0 = std::max(1, first), c1 = std::min(N, last + 1);
-  // Node j's new-level frame and flux (and its old-level flux), computed once and shared by
-  // cells j and j + 1: a window of two nodes, node j in window_[j % 2]. Same arithmetic as
-  // cell_block.
-  auto levels = [&](int j) -> rod::NodeLevels& {
-    rod::NodeLevels& L = window_[static_cast<size_t>(j & 1)];
-    rod::new_level_quantities(*model_, step_, j, O(j), X(j), L);
-    L.F_old.F = F_old_[static_cast<size_t>(j - g0)];
-    return L;
-  };
-  if (!planar_) {
-    if (first == 0) visit(rod::left_block(*model_, step_, O(0), X(0)));
-    if (c0 <= c1) levels(c0 - 1);
-    for (int j = c0; j <= c1; ++j) {
-      const rod::NodeLevels& cur = levels(j);
-      rod::cell_block_into(block_, *model_, step_, j, O(j - 1), O(j), X(j - 1), X(j),
-                           window_[static_cast<size_t>((j - 1) & 1)], cur);
-      visit(block_);
-    }
-    if (last == N) visit(rod::right_block(*model_, step_, O(N), X(N)));
-    return 0.0;
-  }
-  // Planar layout (row r still belongs to node r / q): the in-plane rows and columns, the cells
-  // computed directly in-plane; note the largest dropped (out-of-plane) residual.
-  double dropped = 0.0;
-  if (first == 0) {
-    dropped = std::max(dropped, planar_->restrict_block(rod::left_block(*model_, step_, O(0), X(0)), block_));
-    visit(block_);
-  }
-  if (c0 <= c1) levels(c0 - 1);
-  for (int j = c0; j <= c1; ++j) {
-    const rod::NodeLevels& cur = levels(j);
-    dropped = std::max(dropped, planar_->cell_block_into(block_, *model_, step_, j, O(j - 1), O(j), X(j - 1), X(j),
-                                                         window_[static_cast<size_t>((j - 1) & 1)], cur));
-    visit(block_);
-  }
-  if (last == N) {
-    dropped = std::max(dropped, planar_->restrict_block(rod::right_block(*model_, step_, O(N), X(N)), block_));
-    visit(block_);
-  }
-  return dropped;
+  asm_.full_unknowns(data.getRawPtr(), out);
 }
 
 void RodStepModel::fill(const Vector& x, Vector* f, Matrix* W) const {
-  if (old_nodes_.empty()) throw std::logic_error("RodStepModel: evaluated before set_old_level");
-  ghosted_unknowns_into(x, xg_);
+  const auto data = ghosted(x).getData();
   // Each block is added into f and W as soon as it is computed (same blocks in the same order
   // as when all were computed first, so the same sums).
   Scatter scatter(*this, f, W);
-  const double dropped = for_each_block(xg_, [&](const rod::LocalBlock& b) { scatter.add(b); });
+  const double dropped = asm_.for_each_block(data.getRawPtr(), [&](const rod::LocalBlock& b) { scatter.add(b); });
   scatter.finish();
   if (f) {
     dropped_ = dropped;

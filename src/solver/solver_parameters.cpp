@@ -38,6 +38,12 @@ Teuchos::RCP<const Teuchos::ParameterList> valid_solver_parameters() {
         "Line Search", "Full Step", "NOX line search method",
         tuple<std::string>("Full Step", "Backtrack", "Polynomial", "More'-Thuente"), pl.get());
     pl->sublist("NOX", false, "NOX parameters merged over the defaults").disableRecursiveValidation();
+    Teuchos::setStringToIntegralParameter<int>(
+        "Newton Implementation", "auto",
+        "Rod time step: auto = traverse's Newton on block storage where it applies (one rank, the "
+        "block-tridiagonal LU, Full Step, no NOX sublist, no Jacobian Reuse; the same iterates as "
+        "NOX without its overhead), NOX elsewhere; NOX = always NOX",
+        tuple<std::string>("auto", "NOX"), pl.get());
     pl->set("Max Subdivision Depth", 4, "How often a failing step may be halved (0: no retry)");
     pl->set("Verbose", true, "One-line notices on rank 0");
     pl->set("Jacobian Reuse", false,

@@ -166,8 +166,9 @@ TEST(Planar, CellKernelDecouplesAtSymmetricStates) {
   EXPECT_GT(P.odd_residual / P.residual, 1e-4);
 }
 
-// PlanarReduction::cell_block_into (only the in-plane Jacobian entries) against the in-plane
-// rows and columns of the full kernel, with and without loads on the cell.
+// The in-plane cell kernel (PlanarReduction: the 6-component flux, its 6 x 6 Jacobian and the
+// frame's turn about the normal) against the in-plane rows and columns of the full kernel,
+// with and without loads on the cell, both normals, every scheme variant.
 TEST(Planar, InPlaneCellKernelEqualsRestrictedFullKernel) {
   test::Rng rng;
   const StepTimes st{0.37, 0.01};
@@ -190,12 +191,14 @@ TEST(Planar, InPlaneCellKernelEqualsRestrictedFullKernel) {
         const VecX x0 = symmetric_unknowns(m, o0, axis, rng), x1 = symmetric_unknowns(m, o1, axis, rng);
         LocalBlock full = cell_block(m, st, j, o0, o1, x0, x1), expected, got;
         const double drop_expected = red.restrict_block(full, expected);
-        NodeLevels l0, l1;
-        l0.F_old = old_level_flux(m, st, j - 1, o0);
-        l1.F_old = old_level_flux(m, st, j, o1);
-        new_level_quantities(m, st, j - 1, o0, x0, l0);
-        new_level_quantities(m, st, j, o1, x1, l1);
-        const double drop_got = red.cell_block_into(got, m, st, j, o0, o1, x0, x1, l0, l1);
+        const PlanarReduction::OldNode p0 = red.old_node(m, st, j - 1, o0), p1 = red.old_node(m, st, j, o1);
+        const VecX q0 = red.restrict_unknowns(x0), q1 = red.restrict_unknowns(x1);
+        PlanarReduction::NewLevels l0, l1;
+        red.new_levels(m, st, p0, q0.data(), l0);
+        red.new_levels(m, st, p1, q1.data(), l1);
+        double drop_got = red.cell_block_into(got, m, st, j, p0, p1, q0.data(), q1.data(), l0, l1);
+        if (loads_touch_cell(m, st, j))
+          drop_got = std::max(drop_got, red.add_loads(got, load_block(m, st, j, o0, o1, x0, x1)));
         ASSERT_EQ(got.row, expected.row);
         ASSERT_EQ(got.cols, expected.cols);
         dr = std::max(dr, test::relative_difference(got.residual, expected.residual));

@@ -84,7 +84,7 @@ Problem damped_arch(int N) {
 }
 
 std::vector<std::string> solvers() {
-  if (test::ranks() == 1) return {"KLU2", "GMRES+SCHWARZ"};
+  if (test::ranks() == 1) return {"auto", "KLU2", "GMRES+SCHWARZ"};
   return {"GMRES+SCHWARZ"};
 }
 
@@ -142,6 +142,55 @@ TEST(PlanarStepper, HangingCableMatches3D) { check_agreement("hanging cable N = 
 
 TEST(PlanarStepper, CarriedYsDampedArchWithMovingMassMatches3D) {
   check_agreement("pinned arc, carried ys, rho 0.8/0.7, moving mass, N = 40", damped_arch(40));
+}
+
+// The single-rank Newton on block storage (BlockNewton, "Newton Implementation: auto") against
+// NOX on the same steps ("NOX"), on the 3D and the planar path of both problems: the same
+// Newton iterations in every step; on the hanging cable the same residual histories and states
+// bit for bit; on the pinned arc (carried ys) the block LU's residual check asks for iterative
+// refinement, whose residual NOX's path forms with Tpetra's sparse product (another order of
+// the sums), so there the states agree to round-off (< 1e-10).
+TEST(PlanarStepper, BlockNewtonTakesNoxsIterates) {
+  if (test::ranks() != 1) GTEST_SKIP() << "BlockNewton is the single-rank path (2 ranks run NOX, tested above)";
+  const Problem problems[2] = {hanging_cable(50), damped_arch(40)};
+  for (const Problem& pb : problems) {
+    const rod::PlanarCheck chk = rod::check_planar(pb.model, pb.initial, pb.forces);
+    ASSERT_TRUE(chk.planar) << chk.reason;
+    for (const bool planar : {false, true}) {
+      Teuchos::ParameterList nox = test::solver_params("auto");
+      nox.set("Newton Implementation", std::string("NOX"));
+      DistributedStepper a(pb.model, test::comm(), test::solver_params("auto")), b(pb.model, test::comm(), nox);
+      EXPECT_EQ(a.newton_implementation(), "block storage");
+      EXPECT_EQ(b.newton_implementation(), "NOX");
+      a.set_state(pb.initial);
+      b.set_state(pb.initial);
+      if (planar) {
+        a.set_planar(&chk.symmetry);
+        b.set_planar(&chk.symmetry);
+      }
+      long its = 0;
+      double worst = 0.0;
+      for (int i = 0; i < pb.steps; ++i) {
+        const StepReport ra = a.step(pb.dt), rb = b.step(pb.dt);
+        ASSERT_EQ(ra.newton_iterations, rb.newton_iterations) << "step " << i;
+        // BlockNewton's history starts at the initial guess; NOX's observer sees the first
+        // residual only after the first iteration.
+        const std::vector<double>& ha = ra.last.residual_history;
+        ASSERT_EQ(ha.size(), rb.last.residual_history.size() + 1) << "step " << i;
+        if (!pb.model.carries_ys())
+          EXPECT_EQ(std::vector<double>(ha.begin() + 1, ha.end()), rb.last.residual_history) << "step " << i;
+        its += ra.newton_iterations;
+        worst = std::max(worst, test::max_difference(a.gather_state(), b.gather_state()));
+      }
+      say("%s, %s path: %ld Newton iterations in %d steps on both, max |state difference| %.1e\n",
+          pb.model.carries_ys() ? "pinned arc (carried ys)" : "hanging cable", planar ? "planar" : "3D", its, pb.steps,
+          worst);
+      if (pb.model.carries_ys())
+        EXPECT_LT(worst, 1e-10);
+      else
+        EXPECT_EQ(worst, 0.0);
+    }
+  }
 }
 
 // A problem that is not planar (gravity tilted out of the plane by 1e-3) forced onto the

@@ -114,14 +114,37 @@ class PlanarReduction {
   /// |residual| of the dropped (out-of-plane) rows: zero to round-off when the symmetry holds.
   double restrict_block(const LocalBlock& full, LocalBlock& out) const;
 
-  /// restrict_block(cell_block(...)) computed directly: the full residual rows (needed for the
-  /// dropped residual) but only the in-plane Jacobian entries (a quarter of them), from the
-  /// nodes' precomputed NodeLevels (see cell_block_into). Same formulas as cell_block_into,
-  /// equal to its restricted block up to the order of a few floating-point sums. Returns the
-  /// largest |dropped residual|. `model` must be the one this reduction was built for.
-  double cell_block_into(LocalBlock& out, const RodModel& model, const StepTimes& step, int j,
-                         const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
-                         const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur) const;
+  /// The in-plane cell kernel (6 unknowns of y per node, 6 x 6 blocks): the flux, its Jacobian
+  /// and the frame's rotation about the plane normal are formed for the in-plane components
+  /// only, and the cell's rows come from the same cell scheme as the 3D kernel's
+  /// (cell_scheme.hpp). At a symmetric state it equals restrict_block(cell_block(...)) to
+  /// round-off. What a node needs at the old level is formed once per step (old_node) and at
+  /// the new level once per Newton iteration (new_levels), shared by the node's two cells.
+  struct OldNode {
+    Vec6 y, yt, ys;          ///< in-plane components of the old level's y, yt, ys
+    Vec6 F;                  ///< in-plane components of the old-level flux
+    Eigen::Vector2d fb;      ///< the rod's weight per length rho A g in old body components (in-plane)
+    double fb_normal = 0.0;  ///< its component along the normal (zero when the problem is planar)
+  };
+  struct NewLevels {
+    Vec6 yt, F;                         ///< at the new level
+    Eigen::Matrix<double, 6, 6> dF;     ///< dF/dy_new, the frame's rotation included
+  };
+  OldNode old_node(const RodModel& model, const StepTimes& step, int j, const RodNode& old) const;
+  /// From the node's q planar unknowns (y's in-plane components, then ys's when carried).
+  void new_levels(const RodModel& model, const StepTimes& step, const OldNode& old, const double* x_new,
+                  NewLevels& out) const;
+  /// Cell j's q rows (planar layout) without point loads: x_prev/x_this the nodes' q planar
+  /// unknowns. Use add_loads for a cell that loads_touch_cell. Returns the largest |residual|
+  /// of the cell's dropped rows: at an embedded planar state only the momentum row along the
+  /// normal can be nonzero, by the weight's component along it (the frame's normal axis does
+  /// not turn), so that row is all it computes.
+  double cell_block_into(LocalBlock& out, const RodModel& model, const StepTimes& step, int j, const OldNode& op,
+                       const OldNode& oc, const double* x_prev, const double* x_this, const NewLevels& lp,
+                       const NewLevels& lc) const;
+  /// Adds the in-plane rows and columns of a cell's load_block (full layout) to its planar cell
+  /// block; returns the largest |residual| of the load's out-of-plane rows.
+  double add_loads(LocalBlock& cell, const LocalBlock& loads) const;
 
  private:
   PlanarSymmetry sym_;
@@ -133,6 +156,8 @@ class PlanarReduction {
   std::vector<int> left_keep_, cell_keep_, right_keep_;  ///< kept local rows per block kind
   std::vector<int> left_drop_, cell_drop_, right_drop_;  ///< the others
   Mat12 Mm_, Kk_;  ///< the model's Mm and Kk (apply_Mm, apply_Kk as matrices)
+  Eigen::Matrix<double, 6, 6> Mm6_, Kk6_;  ///< their in-plane rows and columns
+  double sigma_ = 1.0;  ///< e_a x v = sigma J v for in-plane polar v, J (v_b, v_3) = (-v_3, v_b)
 };
 
 }  // namespace traverse::rod

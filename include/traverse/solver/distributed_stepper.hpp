@@ -119,6 +119,9 @@ class DistributedStepper {
   const std::string& requested_linear_solver() const;
   bool linear_solver_rerouted() const;
 
+  /// "block storage" when the steps use BlockNewton (one rank, block-tridiagonal LU: the same
+  /// iterates as NOX), "NOX" otherwise.
+  std::string newton_implementation() const;
   /// Newton report of the last solve attempted (converged or not).
   const NewtonReport& last_newton_report() const;
   ReuseCounters reuse_counters() const;

@@ -23,6 +23,7 @@
 #include "traverse/solver/block_assembly_model.hpp"
 #include "traverse/rod/planar.hpp"
 #include "traverse/rod/rod_kernels.hpp"
+#include "traverse/rod/step_assembly.hpp"
 
 namespace traverse::solver {
 
@@ -63,8 +64,10 @@ class RodStepModel : public BlockAssemblyModel {
   /// Old-level states of this rank's ghosted nodes (mesh->first_ghosted_node() ...) and the
   /// step. Sets the nominal x to the old unknowns.
   void set_old_level(std::vector<rod::RodNode> ghosted_old_nodes, const rod::StepTimes& step);
-  const std::vector<rod::RodNode>& old_ghosted_nodes() const { return old_nodes_; }
-  const rod::StepTimes& step_times() const { return step_; }
+  const std::vector<rod::RodNode>& old_ghosted_nodes() const { return asm_.old_nodes(); }
+  const rod::StepTimes& step_times() const { return asm_.step(); }
+  /// The step's blocks (shared with the Newton on block storage, solver::BlockNewton).
+  const rod::StepAssembly& assembly() const { return asm_; }
 
   /// The old unknowns of the owned nodes (the Newton initial guess), on the dof map.
   void old_unknowns(Vector& x) const;
@@ -72,14 +75,14 @@ class RodStepModel : public BlockAssemblyModel {
   /// (model->unknowns_per_node() entries; on the planar path the in-plane ones embedded).
   std::vector<VecX> ghosted_unknowns(const Vector& x) const;
   /// The planar reduction in use, or null (3D path).
-  const rod::PlanarReduction* planar() const { return planar_.get(); }
+  const rod::PlanarReduction* planar() const { return asm_.planar(); }
   /// Unknowns per node of x, f and W (12 or 24; 6 or 12 on the planar path).
   int unknowns_per_node() const { return p_; }
   /// Planar path: the largest |residual| of the out-of-plane rows (dropped) at the last
   /// residual evaluation on this rank; 0 on the 3D path.
   double last_dropped_residual() const { return dropped_; }
 
-  const rod::RodModel& rod_model() const { return *model_; }
+  const rod::RodModel& rod_model() const { return asm_.model(); }
   /// Modified Newton ("Jacobian Reuse"): a W request keeps the W (and preconditioner)
   /// already filled - possibly at an earlier iterate or time step - unless the last max|f|
   /// contraction in this solve was worse than `contraction`, or full Newton is forced.
@@ -112,33 +115,18 @@ class RodStepModel : public BlockAssemblyModel {
   void evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>& in,
                      const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const override;
 
-  /// Every kernel block whose rows include owned rows, given the ghosted new unknowns, handed
-  /// to `visit` one at a time in row order (left end, cells, right end) and not kept: the
-  /// blocks are streamed into f and W, so no per-cell storage lives beyond one block. Each
-  /// node's new-level quantities are computed once and shared by its two cells through a
-  /// two-node window. On the planar path the blocks are restricted; returns the largest
-  /// dropped residual (0 on the 3D path).
-  double for_each_block(const std::vector<VecX>& xg, const std::function<void(const rod::LocalBlock&)>& visit) const;
   void ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out) const;
   void fill(const Vector& x, Vector* f, Matrix* W) const;
   bool same_x(const Vector& x) const;  ///< x == the x at which W was last filled
 
-  std::shared_ptr<const rod::RodModel> model_;
-  std::shared_ptr<const rod::PlanarReduction> planar_;
-  int full_p_ = 12;  ///< unknowns per node of the kernels (model->unknowns_per_node())
+  rod::StepAssembly asm_;
   mutable double dropped_ = 0.0;
-  std::vector<rod::RodNode> old_nodes_;
-  rod::StepTimes step_;
   Teuchos::RCP<Vector> x0_;
   Teuchos::RCP<Thyra::VectorBase<double>> x0_thyra_;
   mutable Teuchos::RCP<Vector> W_at_x_;  ///< x at which W was last filled
   mutable bool W_valid_ = false;
   mutable int n_f_ = 0, n_W_ = 0;
   mutable double t_fill_ = 0.0, t_prec_ = 0.0;
-  mutable std::vector<VecX> xg_;  ///< ghosted unknown blocks (reused buffer)
-  std::vector<Vec12> F_old_;      ///< per ghosted node: the old-level flux (set per step)
-  mutable rod::NodeLevels window_[2];  ///< new-level quantities of nodes j - 1 and j (j % 2)
-  mutable rod::LocalBlock block_;      ///< the block being assembled (reused storage)
   bool reuse_ = false, full_newton_ = false;
   double contraction_ = 0.25;
   mutable bool W_filled_ = false, stale_used_ = false;

@@ -23,6 +23,10 @@
 //                                  "Polynomial" | "More'-Thuente" (default "Full Step")
 //   NOX                    sublist optional NOX parameters, merged over the defaults built
 //                                  from the keys above (a user's value wins)
+//   Newton Implementation  string  "auto" (default: the rod time step's Newton on block storage,
+//                                  solver/block_newton.hpp, on one rank with the block-tridiagonal
+//                                  LU, Full Step, no NOX sublist and no Jacobian Reuse; NOX
+//                                  otherwise) | "NOX" (always NOX)
 //   Max Subdivision Depth  int     how often a failing step may be halved (default 4;
 //                                  0 disables retries)
 //   Verbose                bool    one-line notices on rank 0 (default true)

@@ -1,0 +1,64 @@
+#pragma once
+// Newton on block storage for the single-rank rod time step with the block-tridiagonal LU: the
+// step's blocks (rod::StepAssembly, the same ones RodStepModel gives NOX) are written straight
+// into the L, D, U blocks of each node (block_tridiagonal_factors.hpp), factorised and solved
+// without Tpetra, Thyra or NOX. It repeats, operation for operation, what NOX's line-search
+// Newton with a full step does with traverse's status tests (newton_solver.cpp), so the
+// iterates are the same: residual at the initial guess; each iteration one factorisation, one
+// solve d = J^{-1} f with the block LU's residual check and at most two refinements (as the
+// block-tridiagonal direct solver does), x <- x - d, the residual at the new x; converged when
+// max|f| < residual tolerance and the WRMS update test (NOX's NormWRMS: weights rtol |x_old| +
+// atol) is below 1, failed at a non-finite residual or after the maximum of iterations.
+// Eigen and the rod kernels only.
+#include <memory>
+#include <vector>
+
+#include "block_tridiagonal_factors.hpp"
+#include "traverse/rod/step_assembly.hpp"
+#include "traverse/solver/newton_report.hpp"
+
+namespace traverse::solver {
+
+struct BlockNewtonOptions {
+  double residual_tolerance = 1e-8;
+  double update_relative_tolerance = 1e-8;
+  double update_absolute_tolerance = 1e-10;
+  int max_iterations = 20;
+  double linear_tolerance = 1e-12;  ///< max|f - J d| <= this max|f| after the refinements
+};
+
+class BlockNewton {
+ public:
+  /// `assembly` must cover the whole rod (one rank: every node owned) and outlive this object.
+  BlockNewton(const rod::StepAssembly& assembly, BlockNewtonOptions options);
+
+  /// Newton from x (in: initial guess, unknowns_per_node() per node; out: the last iterate, the
+  /// solution when converged) on the assembly's current old level.
+  NewtonReport solve(std::vector<double>& x);
+
+  /// The largest dropped (out-of-plane) residual at the last residual evaluation (planar path).
+  double last_dropped_residual() const { return dropped_; }
+  int residual_evaluations() const { return n_f_; }
+  int factorizations() const { return n_lu_; }
+  double assembly_seconds() const { return t_asm_; }
+  double factorization_seconds() const { return t_lu_; }
+
+ private:
+  /// f and the blocks at x; returns max|f| (NaN when f is not finite).
+  double evaluate(const std::vector<double>& x);
+  /// d = J^{-1} f with the residual check and refinements; returns max|f - J d| / max|f|.
+  double solve_linear();
+  /// r = f - J d (block-tridiagonal product).
+  void residual_of(const std::vector<double>& d, std::vector<double>& r) const;
+
+  const rod::StepAssembly& asm_;
+  BlockNewtonOptions opt_;
+  int n_ = 0, b_ = 0;
+  std::vector<double> blocks_, f_, d_, r_, dx_, x_old_;
+  std::unique_ptr<BlockTridiagonalFactors> lu_;
+  double dropped_ = 0.0;
+  int n_f_ = 0, n_lu_ = 0;
+  double t_asm_ = 0.0, t_lu_ = 0.0;
+};
+
+}  // namespace traverse::solver

@@ -1,0 +1,355 @@
+#include "block_tridiagonal_factors.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace traverse::solver {
+
+namespace {
+
+/// The block Thomas algorithm on a chain of m blocks, visited in a given order (natural or
+/// reversed): position i has the coupling Lp[i] to position i-1, Dp[i], the coupling Up[i]
+/// to position i+1, and its vector block at offset off[i] (in blocks). The first q positions
+/// are eliminated together (one LU of q b x q b): q = 1 unless the first diagonal block is
+/// singular on its own, which happens at a rod end eliminated first in the reversed order
+/// (the right end's rows there are its end conditions and the kinematic rows of the last
+/// cell, which leave the force unknowns out), then q grows until the start block is regular.
+template <int B>
+struct Chain {
+  using Mat = Eigen::Matrix<double, B, B>;
+  using Vec = Eigen::Matrix<double, B, 1>;
+  using CMap = Eigen::Map<const Mat>;
+  using Dyn = Eigen::MatrixXd;
+  static constexpr int kMaxMerge = 4;
+  static constexpr double kStartPivot = 1e-13;
+  int b = 0, m = 0, q = 1;
+  std::vector<const double*> Lp, Dp, Up;
+  std::vector<long> off;
+  Eigen::PartialPivLU<Dyn> lu0;              ///< LU of the start block (positions 0..q-1)
+  Dyn E0;                                    ///< start block^-1 [0; ..; 0; U_{q-1}]
+  std::vector<Eigen::PartialPivLU<Mat>> lu;  ///< LU of the Schur complements S_i, i >= q
+  std::vector<Mat> C;                        ///< S_i^{-1} U_i (i = q-1: E0's last block)
+  mutable Eigen::VectorXd zq;
+
+  /// Positions 0..m_-1 over the blocks first..first+m_-1 of a [L, D, U] array, natural
+  /// order or reversed (then "previous" is the next node: L and U swap roles).
+  void bind(const double* blocks, int bsz, int first, int m_, bool reversed) {
+    b = bsz;
+    m = m_;
+    const long bb = static_cast<long>(b) * b;
+    Lp.assign(static_cast<size_t>(m), nullptr);
+    Dp = Up = Lp;
+    off.assign(static_cast<size_t>(m), 0);
+    for (int i = 0; i < m; ++i) {
+      const long j = first + (reversed ? m - 1 - i : i);
+      const double* base = blocks + 3 * bb * j;
+      Lp[static_cast<size_t>(i)] = reversed ? base + 2 * bb : base;
+      Dp[static_cast<size_t>(i)] = base + bb;
+      Up[static_cast<size_t>(i)] = reversed ? base : base + 2 * bb;
+      off[static_cast<size_t>(i)] = j;
+    }
+  }
+
+  /// The start block's LU has no pivot below kStartPivot times its largest (Eigen's rcond()
+  /// estimate is no test: it returns 1 for an exactly singular matrix).
+  bool regular_start() const {
+    const Eigen::VectorXd d = lu0.matrixLU().diagonal().cwiseAbs();
+    const double lo = d.minCoeff(), hi = d.maxCoeff();
+    return std::isfinite(lo) && std::isfinite(hi) && hi > 0.0 && lo > kStartPivot * hi;
+  }
+
+  void factor() {
+    lu.resize(static_cast<size_t>(m));
+    C.resize(static_cast<size_t>(m));
+    if (m == 0) return;
+    for (int want = 1;; ++want) {
+      q = std::min(want, m);
+      Dyn M = Dyn::Zero(q * b, q * b);
+      for (int i = 0; i < q; ++i) {
+        const auto I = static_cast<size_t>(i);
+        M.block(i * b, i * b, b, b) = CMap(Dp[I], b, b);
+        if (i > 0) M.block(i * b, (i - 1) * b, b, b) = CMap(Lp[I], b, b);
+        if (i + 1 < q) M.block(i * b, (i + 1) * b, b, b) = CMap(Up[I], b, b);
+      }
+      lu0.compute(M);
+      if (q == m || want == kMaxMerge || regular_start()) break;
+    }
+    if (q < m) {
+      Dyn R = Dyn::Zero(q * b, b);
+      R.bottomRows(b) = CMap(Up[static_cast<size_t>(q - 1)], b, b);
+      E0 = lu0.solve(R);
+      C[static_cast<size_t>(q - 1)] = E0.bottomRows(b);
+    }
+    Mat S(b, b);
+    for (int k = q; k < m; ++k) {
+      const auto K = static_cast<size_t>(k);
+      S = CMap(Dp[K], b, b);
+      S.noalias() -= CMap(Lp[K], b, b) * C[K - 1];
+      lu[K].compute(S);
+      if (k + 1 < m) C[K] = lu[K].solve(CMap(Up[K], b, b));
+    }
+  }
+
+  /// y = A^{-1} x on this chain's blocks (x and y in natural layout; other blocks untouched).
+  void solve(const double* x, double* y) const {
+    forward(x, y);
+    backward(y);
+  }
+
+  /// The forward elimination of x into y (natural layout). Afterwards the block at the
+  /// chain's last position is final: it is that block of A^{-1} x.
+  void forward(const double* x, double* y) const {
+    if (m == 0) return;
+    zq.resize(static_cast<Eigen::Index>(q) * b);
+    for (int i = 0; i < q; ++i) zq.segment(i * b, b) = Eigen::Map<const Vec>(x + off[static_cast<size_t>(i)] * b, b);
+    zq = lu0.solve(zq);
+    for (int i = 0; i < q; ++i) Eigen::Map<Vec>(y + off[static_cast<size_t>(i)] * b, b) = zq.segment(i * b, b);
+    Vec z(b);
+    for (int k = q; k < m; ++k) {
+      const auto K = static_cast<size_t>(k);
+      z = Eigen::Map<const Vec>(x + off[K] * b, b);
+      z.noalias() -= CMap(Lp[K], b, b) * Eigen::Map<const Vec>(y + off[K - 1] * b, b);
+      Eigen::Map<Vec>(y + off[K] * b, b) = lu[K].solve(z);
+    }
+  }
+
+  /// Redoes the last position of forward(x, y) with its right-hand side block replaced by
+  /// x_last (the other positions are unchanged: the last is eliminated last). Same
+  /// operations as forward() on the modified right-hand side, so the same bits.
+  void forward_last(const double* x, const Vec& x_last, double* y) const {
+    if (m == 0) return;
+    const auto K = static_cast<size_t>(m - 1);
+    if (m > q) {
+      Vec z = x_last;
+      z.noalias() -= CMap(Lp[K], b, b) * Eigen::Map<const Vec>(y + off[K - 1] * b, b);
+      Eigen::Map<Vec>(y + off[K] * b, b) = lu[K].solve(z);
+      return;
+    }
+    for (int i = 0; i + 1 < q; ++i)
+      zq.segment(i * b, b) = Eigen::Map<const Vec>(x + off[static_cast<size_t>(i)] * b, b);
+    zq.segment((q - 1) * b, b) = x_last;
+    zq = lu0.solve(zq);
+    for (int i = 0; i < q; ++i) Eigen::Map<Vec>(y + off[static_cast<size_t>(i)] * b, b) = zq.segment(i * b, b);
+  }
+
+  /// The back substitution that completes forward(): y becomes A^{-1} x.
+  void backward(double* y) const {
+    if (m == 0) return;
+    for (int k = m - 2; k >= q; --k) {
+      const auto K = static_cast<size_t>(k);
+      Eigen::Map<Vec>(y + off[K] * b, b).noalias() -= C[K] * Eigen::Map<const Vec>(y + off[K + 1] * b, b);
+    }
+    if (q < m) {
+      const Vec yq = Eigen::Map<const Vec>(y + off[static_cast<size_t>(q)] * b, b);
+      for (int i = 0; i < q; ++i)
+        Eigen::Map<Vec>(y + off[static_cast<size_t>(i)] * b, b).noalias() -= E0.middleRows(i * b, b) * yq;
+    }
+  }
+
+  /// (A^{-1})_{last,last} R.
+  Mat last_last(const Mat& R) const {
+    if (m > q) return lu.back().solve(R);
+    Dyn Z = Dyn::Zero(q * b, b);
+    Z.bottomRows(b) = R;
+    return lu0.solve(Z).bottomRows(b);
+  }
+  /// (A^{-1})_{last,first} R: forward elimination of the right-hand side e_first R (the
+  /// last block of the solution is the last block after the forward sweep).
+  Mat last_first(const Mat& R) const {
+    Dyn Z = Dyn::Zero(q * b, b);
+    Z.topRows(b) = R;
+    Mat W = lu0.solve(Z).bottomRows(b);
+    for (int k = q; k < m; ++k) {
+      const auto K = static_cast<size_t>(k);
+      W = lu[K].solve(-(CMap(Lp[K], b, b) * W));
+    }
+    return W;
+  }
+
+  double min_rcond() const {
+    double r = m > 0 ? lu0.rcond() : 1.0;
+    for (int k = q; k < m; ++k) r = std::min(r, lu[static_cast<size_t>(k)].rcond());
+    return r;
+  }
+};
+
+template <int B>
+struct Factors final : BlockTridiagonalFactors {
+  using Mat = Eigen::Matrix<double, B, B>;
+  using Vec = Eigen::Matrix<double, B, 1>;
+  using CMap = Eigen::Map<const Mat>;
+  using VMap = Eigen::Map<const Vec>;
+
+  int b = 0, n = 0, m = 0, rank = 0, ranks = 1;
+  bool has_left = false, has_sep = false;
+  Chain<B> fwd, rev;        ///< interior in natural order (when a separator follows) / reversed
+  const Chain<B>* solver = nullptr;
+  std::vector<double> red;  ///< separator system, [L, D, U] per separator
+  std::vector<double> usep; ///< every rank's U of its separator (coupling to the next rank)
+  Chain<B> red_chain;
+  mutable std::vector<double> z, w, xs, rhs;
+
+  const double* L(const double* blocks, long j) const { return blocks + 3L * b * b * j; }
+  const double* D(const double* blocks, long j) const { return blocks + 3L * b * b * j + static_cast<long>(b) * b; }
+  const double* U(const double* blocks, long j) const { return blocks + 3L * b * b * j + 2L * b * b; }
+
+  void factor(const double* blocks, int n_, int b_, int rank_, int ranks_,
+              const BlockExchange& exchange) override {
+    b = b_;
+    n = n_;
+    rank = rank_;
+    ranks = ranks_;
+    has_left = rank > 0;
+    has_sep = rank + 1 < ranks;
+    m = has_sep ? n - 1 : n;
+    const bool need_fwd = has_sep || !has_left;
+    if (need_fwd) {
+      fwd.bind(blocks, b, 0, m, false);
+      fwd.factor();
+    }
+    if (has_left) {
+      rev.bind(blocks, b, 0, m, true);
+      rev.factor();
+    }
+    solver = need_fwd ? &fwd : &rev;
+    if (ranks == 1) return;
+
+    // This rank's contribution to the separator system (5 b x b blocks):
+    //   [0] D_s - L_s (A^-1)_{last,last} U_{m-1}   (own separator s; from the interior)
+    //   [1] -L_s (A^-1)_{last,first} L_0          (s's coupling to the previous separator)
+    //   [2] U_s                                    (s's coupling to the next rank's first node)
+    //   [3] (A^-1)_{first,first} L_0               (for the previous separator's row)
+    //   [4] (A^-1)_{first,last} U_{m-1}            (ditto, coupling to this rank's separator)
+    const long bb = static_cast<long>(b) * b;
+    std::vector<double> mine(static_cast<size_t>(5 * bb), 0.0);
+    auto put = [&](int slot, const Mat& M) { Eigen::Map<Mat>(mine.data() + slot * bb, b, b) = M; };
+    // A rank holding only its separator (m = 0) has no interior: its separator couples
+    // directly to the previous one ([1] = L_s, [4] = -I so that the previous row gets +U).
+    const long s = n - 1;
+    if (has_sep) {
+      const Mat Ls = CMap(L(blocks, s), b, b);
+      if (m > 0) {
+        put(0, CMap(D(blocks, s), b, b) - Ls * fwd.last_last(CMap(U(blocks, m - 1), b, b)));
+        if (has_left) put(1, -(Ls * fwd.last_first(CMap(L(blocks, 0), b, b))));
+      } else {
+        put(0, CMap(D(blocks, s), b, b));
+        if (has_left) put(1, Ls);
+      }
+      put(2, CMap(U(blocks, s), b, b));
+    }
+    if (has_left) {
+      if (m > 0) {
+        put(3, rev.last_last(CMap(L(blocks, 0), b, b)));
+        if (has_sep) put(4, rev.last_first(CMap(U(blocks, m - 1), b, b)));
+      } else {
+        put(4, -Mat::Identity(b, b));
+      }
+    }
+    const std::vector<double> all = exchange(mine);
+    auto got = [&](int r, int slot) { return CMap(all.data() + (5L * r + slot) * bb, b, b); };
+    const int ns = ranks - 1;  // separators: the last node of ranks 0 .. ranks-2
+    red.assign(static_cast<size_t>(3 * bb * ns), 0.0);
+    usep.assign(static_cast<size_t>(bb * ns), 0.0);
+    for (int k = 0; k < ns; ++k) {
+      double* base = red.data() + 3 * bb * k;
+      const Mat Us = got(k, 2);
+      Eigen::Map<Mat>(usep.data() + bb * k, b, b) = Us;
+      if (k > 0) Eigen::Map<Mat>(base, b, b) = got(k, 1);
+      Eigen::Map<Mat>(base + bb, b, b) = got(k, 0) - Us * got(k + 1, 3);
+      if (k + 1 < ns) Eigen::Map<Mat>(base + 2 * bb, b, b) = -(Us * got(k + 1, 4));
+    }
+    red_chain.bind(red.data(), b, 0, ns, false);
+    red_chain.factor();
+    z.assign(static_cast<size_t>(n) * b, 0.0);
+    w.assign(static_cast<size_t>(n) * b, 0.0);
+    xs.assign(static_cast<size_t>(ns) * b, 0.0);
+    rhs.assign(static_cast<size_t>(ns) * b, 0.0);
+  }
+
+  void solve(const double* x, double* y, const double* blocks,
+             const BlockExchange& exchange) const override {
+    if (ranks == 1) {
+      solver->solve(x, y);
+      return;
+    }
+    // 1. Interior solve with the separators at zero; 2. the separators' right-hand sides
+    // (every rank's) and the separator system, solved on every rank; 3. the interior again
+    // with the separators' values moved to the right-hand side.
+    // A rank at either end of the rod has one separator, coupled to its chain's last
+    // position (rank 0: the forward chain ends at its separator; the last rank: the reversed
+    // chain ends next to the previous rank's separator). There step 1 is only the forward
+    // elimination (the last position, which is all step 2 needs, is final after it) and step
+    // 3 redoes that last position with the separator's term on its right-hand side and
+    // back-substitutes: one sweep over the interior instead of two solves, same results.
+    const bool one_sweep = has_left != has_sep && m > 0;
+    if (one_sweep)
+      solver->forward(x, z.data());
+    else
+      solver->solve(x, z.data());
+    std::vector<double> mine(static_cast<size_t>(2 * b), 0.0);
+    const long s = n - 1;
+    if (has_sep) {
+      Eigen::Map<Vec>(mine.data(), b) = VMap(x + s * b, b);
+      if (m > 0)
+        Eigen::Map<Vec>(mine.data(), b).noalias() -= CMap(L(blocks, s), b, b) * VMap(z.data() + (m - 1L) * b, b);
+    }
+    if (has_left && m > 0) Eigen::Map<Vec>(mine.data() + b, b) = VMap(z.data(), b);
+    const std::vector<double> all = exchange(mine);
+    const int ns = ranks - 1;
+    for (int k = 0; k < ns; ++k)
+      Eigen::Map<Vec>(rhs.data() + static_cast<long>(k) * b, b) =
+          VMap(all.data() + 2L * b * k, b) -
+          CMap(usep.data() + static_cast<long>(b) * b * k, b, b) * VMap(all.data() + 2L * b * (k + 1) + b, b);
+    red_chain.solve(rhs.data(), xs.data());
+    if (has_sep) Eigen::Map<Vec>(y + s * b, b) = VMap(xs.data() + static_cast<long>(rank) * b, b);
+    if (m == 0) return;
+    if (one_sweep) {
+      // The interior occupies blocks 0 .. m-1 on both end ranks (rank 0: nodes 0 .. n-2; the
+      // last rank: its nodes 0 .. m-1 with the separator to the left of node 0).
+      std::copy(z.begin(), z.begin() + static_cast<long>(m) * b, y);
+      const long j = has_sep ? m - 1L : 0L;  // the interior node next to the separator
+      Vec xl = VMap(x + j * b, b);
+      if (has_sep)
+        xl.noalias() -= CMap(U(blocks, j), b, b) * VMap(xs.data() + static_cast<long>(rank) * b, b);
+      else
+        xl.noalias() -= CMap(L(blocks, j), b, b) * VMap(xs.data() + (rank - 1L) * b, b);
+      solver->forward_last(x, xl, y);
+      solver->backward(y);
+      return;
+    }
+    std::copy(x, x + static_cast<long>(m) * b, w.begin());
+    if (has_left)
+      Eigen::Map<Vec>(w.data(), b).noalias() -=
+          CMap(L(blocks, 0), b, b) * VMap(xs.data() + (rank - 1L) * b, b);
+    if (has_sep)
+      Eigen::Map<Vec>(w.data() + (m - 1L) * b, b).noalias() -=
+          CMap(U(blocks, m - 1), b, b) * VMap(xs.data() + static_cast<long>(rank) * b, b);
+    solver->solve(w.data(), y);
+  }
+
+  double min_rcond() const override {
+    double r = 1.0;
+    if (!fwd.lu.empty()) r = std::min(r, fwd.min_rcond());
+    if (!rev.lu.empty()) r = std::min(r, rev.min_rcond());
+    if (!red_chain.lu.empty()) r = std::min(r, red_chain.min_rcond());
+    return r;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<BlockTridiagonalFactors> make_block_tridiagonal_factors(int b) {
+  switch (b) {
+    case 6: return std::make_unique<Factors<6>>();
+    case 12: return std::make_unique<Factors<12>>();
+    case 24: return std::make_unique<Factors<24>>();
+    default: return std::make_unique<Factors<Eigen::Dynamic>>();
+  }
+}
+
+}  // namespace traverse::solver
