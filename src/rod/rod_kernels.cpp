@@ -233,7 +233,7 @@ NewLevelNode new_level_node(const RodNode& old_node, const Vec12& y_new, double 
   return n;
 }
 
-NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double s, double t) {
+NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double s, double t, bool jacobian) {
   const RodProperties& p = model.props;
   const Vec3 u = y.segment<3>(var::u), w = y.segment<3>(var::omega);
   const Vec3 k = y.segment<3>(var::kappa), n = y.segment<3>(var::n);
@@ -257,6 +257,8 @@ NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double 
   out.F.segment<3>(3) = -k.cross(m) - e3.cross(n) + w.cross(Iw) - lb;
   out.F.segment<3>(6) = -k.cross(w);
   out.F.segment<3>(9) = k.cross(u) - w.cross(e3);
+  out.has_jacobian = jacobian;
+  if (!jacobian) return out;
 
   Mat12& J = out.dF_dy;
   J.setZero();
@@ -351,7 +353,7 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
 }
 
 NodeFlux old_level_flux(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node) {
-  return node_flux(model, old_node.y, old_node.R, j * model.ds(), step.t_old);
+  return node_flux(model, old_node.y, old_node.R, j * model.ds(), step.t_old, false);
 }
 
 void new_level_quantities(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node,

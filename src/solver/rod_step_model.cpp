@@ -57,7 +57,6 @@ bool RodStepModel::same_x(const Vector& x) const {
 void RodStepModel::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes,
                                  const rod::StepTimes& step) {
   asm_.set_old_level(std::move(ghosted_old_nodes), step);
-  old_unknowns(*x0_);
   W_valid_ = false;  // W at the same x differs now (it depends on the old level)
   f_norms_.clear();
   stale_used_ = false;
@@ -95,6 +94,7 @@ void RodStepModel::fill(const Vector& x, Vector* f, Matrix* W) const {
 
 Thyra::ModelEvaluatorBase::InArgs<double> RodStepModel::getNominalValues() const {
   MEB::InArgs<double> in = createInArgs();
+  if (!asm_.old_nodes().empty()) old_unknowns(*x0_);  // the old unknowns, formed when asked for
   in.set_x(x0_thyra_);
   return in;
 }

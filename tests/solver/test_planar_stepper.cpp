@@ -177,18 +177,20 @@ TEST(PlanarStepper, BlockNewtonTakesNoxsIterates) {
         // residual only after the first iteration.
         const std::vector<double>& ha = ra.last.residual_history;
         ASSERT_EQ(ha.size(), rb.last.residual_history.size() + 1) << "step " << i;
-        if (!pb.model.carries_ys())
+        if (!pb.model.carries_ys()) {
           EXPECT_EQ(std::vector<double>(ha.begin() + 1, ha.end()), rb.last.residual_history) << "step " << i;
+        }
         its += ra.newton_iterations;
         worst = std::max(worst, test::max_difference(a.gather_state(), b.gather_state()));
       }
       say("%s, %s path: %ld Newton iterations in %d steps on both, max |state difference| %.1e\n",
           pb.model.carries_ys() ? "pinned arc (carried ys)" : "hanging cable", planar ? "planar" : "3D", its, pb.steps,
           worst);
-      if (pb.model.carries_ys())
+      if (pb.model.carries_ys()) {
         EXPECT_LT(worst, 1e-10);
-      else
+      } else {
         EXPECT_EQ(worst, 0.0);
+      }
     }
   }
 }

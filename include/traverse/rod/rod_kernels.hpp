@@ -50,8 +50,10 @@ struct NodeFlux {
   Mat12 dF_dy;
   Eigen::Matrix<double, 12, 3> dF_dRrot;
   bool frame_loads = true;  ///< whether the load terms R f, R l (and dF_dRrot) were formed
+  bool has_jacobian = true;  ///< false: only F was formed (dF_dy, dF_dRrot not set)
 };
-NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double s, double t);
+/// `jacobian` false: only F (the old level's flux, which no Jacobian needs).
+NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double s, double t, bool jacobian = true);
 
 /// Mm y and Kk y of the first-order form (docs/rod.md).
 Vec12 apply_Mm(const RodProperties& p, const Vec12& y);
@@ -72,7 +74,7 @@ struct NodeLevels {
   NodeFlux F_new;   ///< node_flux(y_new, nn.R, s_j, t_new)
   NodeFlux F_old;   ///< node_flux(old.y, old.R, s_j, t_old)
 };
-/// F_old of node j (s_j = j ds) at t_old.
+/// F_old of node j (s_j = j ds) at t_old: F only (has_jacobian false).
 NodeFlux old_level_flux(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node);
 /// nn and F_new of node j from its new unknown block; leaves out.F_old alone.
 void new_level_quantities(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node,

@@ -62,7 +62,7 @@ class RodStepModel : public BlockAssemblyModel {
                std::shared_ptr<const rod::PlanarReduction> planar = nullptr);
 
   /// Old-level states of this rank's ghosted nodes (mesh->first_ghosted_node() ...) and the
-  /// step. Sets the nominal x to the old unknowns.
+  /// step. The nominal x (getNominalValues) is then the old unknowns.
   void set_old_level(std::vector<rod::RodNode> ghosted_old_nodes, const rod::StepTimes& step);
   const std::vector<rod::RodNode>& old_ghosted_nodes() const { return asm_.old_nodes(); }
   const rod::StepTimes& step_times() const { return asm_.step(); }

@@ -21,8 +21,10 @@
 //       detection's verdict, then both steppers advanced alternately step by step in this one
 //       process (so both see the same machine load), each step timed; per path: run time,
 //       per-Newton time split into assembly (kernels + W/f fill), linear set-up (factorisation or
-//       preconditioner) and the rest (solve, NOX), and the ratio 3D / planar; finally the largest
-//       difference of the two final states (y, R; yt scaled by gt dt).
+//       preconditioner) and the rest (solve, Newton), the floor of the path's block size (one
+//       block-tridiagonal LU with 12 x 12 blocks for 3D, 6 x 6 planar, same nodes, this process)
+//       and the ratio per Newton iteration / floor, and the ratio 3D / planar; finally the
+//       largest difference of the two final states (y, R; yt scaled by gt dt).
 //
 // Solver names: auto (the default: block-tridiagonal LU, direct on any number of ranks), KLU2,
 // GMRES+BLOCK_TRIDIAGONAL, GMRES+SCHWARZ, GMRES+ILUT, GMRES+RILUK, with optional suffixes
@@ -479,11 +481,24 @@ int planar(int argc, char** argv) {
     dR = std::max(dR, (a.nodes[j].R - b.nodes[j].R).cwiseAbs().maxCoeff());
     dyt = std::max(dyt, gtdt * (a.nodes[j].yt - b.nodes[j].yt).cwiseAbs().maxCoeff());
   }
+  // The floors of the two block sizes (12 x 12, 6 x 6 blocks; carried ys: 24, 12), medians of five.
+  auto floor_of = [&](int b) {
+    std::vector<double> f;
+    for (int k = 0; k < 5; ++k)
+      f.push_back(b == 6    ? bench::time_block_tridiagonal<6>(nodes, 0.1)
+                  : b == 12 ? bench::time_block_tridiagonal<12>(nodes, 0.1)
+                            : bench::time_block_tridiagonal<24>(nodes, 0.1));
+    return median(f);
+  };
   const char* names[2] = {"3D", "planar"};
-  double per_newton[2], run[2];
+  double per_newton[2], run[2], floors[2];
+  for (int k = 0; k < 2; ++k) {
+    floors[k] = root() ? floor_of(P[k].st->unknowns_per_node()) : 0.0;
+    Teuchos::broadcast(*comm(), 0, &floors[k]);
+  }
   if (root())
-    std::printf("%-7s %4s %10s %8s %10s %10s %10s %10s %10s %8s\n", "path", "p", "run [s]", "Newton", "s/Newton",
-                "median", "asm/N", "linset/N", "rest/N", "lin/N");
+    std::printf("%-7s %4s %10s %8s %10s %10s %10s %10s %10s %8s %10s %7s %7s\n", "path", "p", "run [s]", "Newton",
+                "s/Newton", "median", "asm/N", "linset/N", "rest/N", "lin/N", "floor [s]", "ratio", "r.med");
   for (int k = 0; k < 2; ++k) {
     const Path& p = P[k];
     const solver::ReuseCounters c = p.st->reuse_counters();
@@ -492,20 +507,25 @@ int planar(int argc, char** argv) {
     run[k] = p.seconds;
     const double asmN = c.assembly_seconds / nN, linN = c.linear_setup_seconds / nN;
     if (root())
-      std::printf("%-7s %4d %10.4f %8ld %10.3e %10.3e %10.3e %10.3e %10.3e %8.1f\n", names[k],
+      std::printf("%-7s %4d %10.4f %8ld %10.3e %10.3e %10.3e %10.3e %10.3e %8.1f %10.3e %7.2f %7.2f\n", names[k],
                   p.st->unknowns_per_node(), p.seconds, p.newton, per_newton[k], median(p.per_newton), asmN, linN,
-                  per_newton[k] - asmN - linN, double(p.linear) / nN);
+                  per_newton[k] - asmN - linN, double(p.linear) / nN, floors[k], per_newton[k] / floors[k],
+                  median(p.per_newton) / floors[k]);
     append_csv(csv,
                "label,solver,ranks,nodes,steps,path,unknowns_per_node,run_seconds,newton,newton_seconds,"
-               "median_newton_seconds,assembly_seconds_per_newton,linear_setup_seconds_per_newton,linear_per_newton",
+               "median_newton_seconds,assembly_seconds_per_newton,linear_setup_seconds_per_newton,linear_per_newton,"
+               "floor_seconds,ratio,median_ratio",
                label + "," + solver + "," + std::to_string(comm()->getSize()) + "," + std::to_string(nodes) + "," +
                    std::to_string(steps) + "," + names[k] + "," + std::to_string(p.st->unknowns_per_node()) + "," +
                    std::to_string(p.seconds) + "," + std::to_string(p.newton) + "," + std::to_string(per_newton[k]) +
                    "," + std::to_string(median(p.per_newton)) + "," + std::to_string(asmN) + "," +
-                   std::to_string(linN) + "," + std::to_string(double(p.linear) / nN));
+                   std::to_string(linN) + "," + std::to_string(double(p.linear) / nN) + "," +
+                   std::to_string(floors[k]) + "," + std::to_string(per_newton[k] / floors[k]) + "," +
+                   std::to_string(median(p.per_newton) / floors[k]));
   }
   if (root())
-    std::printf("# speed-up 3D / planar: run time %.2fx, per Newton iteration %.2fx\n"
+    std::printf("# ratio = s/Newton / floor (one block-tridiagonal LU of the path's block size, same nodes; r.med: "
+                "the median s/Newton)\n# speed-up 3D / planar: run time %.2fx, per Newton iteration %.2fx\n"
                 "# final states differ by max|dy| %.2e, max|dR| %.2e, max gt dt |dyt| %.2e\n",
                 run[0] / run[1], per_newton[0] / per_newton[1], dy, dR, dyt);
   return 0;

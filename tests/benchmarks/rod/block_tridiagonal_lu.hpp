@@ -1,8 +1,9 @@
 #pragma once
 // The "floor" of the rod benchmarks: one block-tridiagonal LU factorisation and solve with
-// dense 12x12 Eigen blocks (no pivoting across blocks, partial pivoting inside each diagonal
+// dense B x B Eigen blocks (no pivoting across blocks, partial pivoting inside each diagonal
 // block), i.e. the least work any direct solver of the rod's Jacobian (block-tridiagonal by
-// node, 12 unknowns per node) has to do. Written for the benchmarks; not used by the solver.
+// node, B = 12 unknowns per node on the 3D path, 6 on the planar path) has to do. Written for
+// the benchmarks; not used by the solver.
 #include <Eigen/Dense>
 #include <chrono>
 #include <random>
@@ -10,10 +11,10 @@
 
 namespace traverse::bench {
 
-using Block = Eigen::Matrix<double, 12, 12>;
-using BVec = Eigen::Matrix<double, 12, 1>;
-
+template <int B>
 struct BlockTridiagonal {
+  using Block = Eigen::Matrix<double, B, B>;
+  using BVec = Eigen::Matrix<double, B, 1>;
   std::vector<Block> lower, diag, upper;  ///< lower[0], upper[n-1] unused
   std::vector<BVec> rhs;
 
@@ -23,15 +24,15 @@ struct BlockTridiagonal {
     std::mt19937 gen(seed);
     std::uniform_real_distribution<double> U(-1.0, 1.0);
     auto fill = [&](Block& b) {
-      for (int i = 0; i < 12; ++i)
-        for (int j = 0; j < 12; ++j) b(i, j) = U(gen);
+      for (int i = 0; i < B; ++i)
+        for (int j = 0; j < B; ++j) b(i, j) = U(gen);
     };
     for (int k = 0; k < n; ++k) {
       fill(lower[k]);
       fill(upper[k]);
       fill(diag[k]);
       diag[k].diagonal().array() += 30.0;  // block diagonally dominant: no inter-block pivoting needed
-      for (int i = 0; i < 12; ++i) rhs[k](i) = U(gen);
+      for (int i = 0; i < B; ++i) rhs[k](i) = U(gen);
     }
   }
   int size() const { return static_cast<int>(diag.size()); }
@@ -39,7 +40,10 @@ struct BlockTridiagonal {
 
 /// Storage of the factors (allocated once, reused: the floor times the arithmetic, not the
 /// page faults of fresh allocations).
+template <int B>
 struct BlockLuWorkspace {
+  using Block = Eigen::Matrix<double, B, B>;
+  using BVec = Eigen::Matrix<double, B, 1>;
   std::vector<Eigen::PartialPivLU<Block>> lu;
   std::vector<Block> C;  ///< D_k^{-1} U_k
   std::vector<BVec> y;
@@ -49,7 +53,10 @@ struct BlockLuWorkspace {
 };
 
 /// Factorise and solve (Thomas algorithm by blocks); the solution is left in ws.y.
-inline void block_tridiagonal_solve(const BlockTridiagonal& A, BlockLuWorkspace& ws) {
+template <int B>
+void block_tridiagonal_solve(const BlockTridiagonal<B>& A, BlockLuWorkspace<B>& ws) {
+  using Block = Eigen::Matrix<double, B, B>;
+  using BVec = Eigen::Matrix<double, B, 1>;
   const int n = A.size();
   auto& lu = ws.lu;
   auto& C = ws.C;
@@ -71,10 +78,13 @@ inline void block_tridiagonal_solve(const BlockTridiagonal& A, BlockLuWorkspace&
   for (int k = n - 2; k >= 0; --k) y[k] -= C[k] * y[k + 1];
 }
 
-/// Seconds per factorise+solve of an n-block system (repeated until min_seconds elapsed).
-inline double time_block_tridiagonal(int n, double min_seconds = 0.2, double* residual = nullptr) {
-  const BlockTridiagonal A(n);
-  BlockLuWorkspace ws(n);
+/// Seconds per factorise+solve of an n-block system of B x B blocks (repeated until
+/// min_seconds elapsed).
+template <int B = 12>
+double time_block_tridiagonal(int n, double min_seconds = 0.2, double* residual = nullptr) {
+  using BVec = Eigen::Matrix<double, B, 1>;
+  const BlockTridiagonal<B> A(n);
+  BlockLuWorkspace<B> ws(n);
   block_tridiagonal_solve(A, ws);  // warm-up: touches all the storage once
   int reps = 0;
   double el = 0.0, sink = 0.0;
