@@ -466,8 +466,8 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   if (!opt.quiet) {
     std::printf("done: %ld steps, %ld coupling iterations, %ld Newton iterations", i - 1, coupling, newton);
     if (!events.empty())
-      std::printf("; ended by the event %s at t = %.9g s (interpolated)", events[0].reason.c_str(),
-                  events[0].time);
+      std::printf("; ended by the event %s at t = %.9g s%s", events[0].reason.c_str(), events[0].time,
+                  events[0].reason.rfind("left_rod", 0) == 0 || events[0].reason == "lift_off" ? " (interpolated)" : "");
     std::printf("; %zu output steps -> %s; time stepping %.3f s (wall, output included)\n", writer.steps_written(),
                 opt.output.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count());
     if (!loop.adaptive_summary.empty()) std::printf("adaptive: %s\n", loop.adaptive_summary.c_str());
