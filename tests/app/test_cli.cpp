@@ -418,6 +418,35 @@ TEST(Cli, CoupledMassAutoEndStopsAtItsLimit) {
   EXPECT_NEAR(fb.time().back(), 0.1, 1e-12);
 }
 
+// The inspection robot of the 20 N class (docs/results.md): its weight folds the soft cable, so
+// it drives down a steep leg faster than the rigid level line's D / c = 0.1 m/s: the mean speed
+// after 0.5 s lies between 1.4 and 2 times D / c (the speed (D + M g) / c of a vertical line is
+// 2 D / c here); the run ends at time.auto_limit = 1.7 s with the event time_limit; the energy
+// balance closes to 1 % of the dissipated work.
+TEST(Cli, CoupledRobotOfThe20NClassIsSpedUpByTheCablesFold) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "coupled_inspection_robot_20N.yaml";
+  const std::string out = (scratch("coupled_robot20") / "robot.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.attribute("end_reason"), "time_limit");
+  const auto t = f.time();
+  const auto sigma = f.probe("robot_position");
+  size_t k0 = 0;
+  while (k0 < t.size() && t[k0] < 0.5) ++k0;
+  ASSERT_LT(k0 + 1, t.size());
+  const double mean = (sigma.values.back() - sigma.values[k0]) / (t.back() - t[k0]), terminal = 20.0 / 200.0;
+  const auto balance = f.probe("energy_balance"), loss = f.probe("work_dissipated");
+  const double drift = drift_of(balance.values);
+  std::printf("  robot 20 N class: mean speed %.4f m/s over [%.2f, %.2f] s = %.3f D / c; sigma(end) = %.4f m; balance "
+              "drift %.3e J of %.4f J dissipated\n", mean, t[k0], t.back(), mean / terminal, sigma.values.back(), drift,
+              loss.values.back());
+  EXPECT_NEAR(t.back(), 1.7, 1e-12);
+  EXPECT_GT(mean, 1.4 * terminal);
+  EXPECT_LT(mean, 2.0 * terminal);
+  EXPECT_LT(drift, 0.01 * loss.values.back());
+}
+
 // Unilateral contact on the rod: inputs/rod/coupled_lift_off_arc.yaml at a coarse mesh and step
 // (20 cells, dt = 2e-3 s) ends with the event lift_off near the rigid-wire answer
 // R acos((v0^2/(g R) + 2 cos theta0) / 3) = 0.795613 m (docs/rod.md "Coupled mass").
