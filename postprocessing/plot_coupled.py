@@ -21,7 +21,7 @@ import traverse_io  # noqa: E402
 
 ENERGIES_BEAM = ["energy_beam_kinetic", "energy_beam_elastic", "energy_beam_gravity"]
 ENERGIES_ROD = ["energy_rod", "energy_rod_gravity"]
-ENERGIES_MASS = ["energy_mass_kinetic", "energy_mass_gravity", "work_drive", "work_dissipated"]
+ENERGIES_MASS = ["energy_mass_kinetic", "energy_mass_gravity", "work_drive", "work_dissipated", "work_friction"]
 
 
 def mass_name(run):

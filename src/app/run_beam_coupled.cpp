@@ -29,6 +29,7 @@ beam::CoupledMass coupled_mass(const scene::MovingLoadSpec& l) {
   m.velocity = l.initial_velocity();
   m.drive = l.drive;
   m.resistance = l.resistance;
+  m.friction = l.friction;
   m.unilateral = l.contact == scene::Contact::unilateral;
   return m;
 }
@@ -62,7 +63,7 @@ CoupledOutputs::CoupledOutputs(const scene::Scene& sc, const scene::MovingLoadSp
 
 const char* const kEnergyProbes[] = {"energy_beam_kinetic", "energy_beam_elastic", "energy_beam_gravity",
                                       "energy_mass_kinetic", "energy_mass_gravity", "work_drive",
-                                      "work_dissipated", "energy_balance"};
+                                      "work_dissipated", "work_friction", "energy_balance"};
 
 std::vector<std::string> CoupledOutputs::probe_names() const {
   std::vector<std::string> names;
@@ -97,7 +98,9 @@ void CoupledOutputs::declare(output::Writer& w) const {
       {"energy_mass_gravity", "gravity potential of the coupled mass M g w(x)"},
       {"work_drive", "work of the drive since the start, int D x' dt"},
       {"work_dissipated", "work dissipated by the resistance since the start, int c x'^2 dt"},
-      {"energy_balance", "mechanical energy - work_drive + work_dissipated (constant up to the time discretisation)"}};
+      {"work_friction", "work dissipated by the Coulomb friction since the start, int mu |N| |x'| dt"},
+      {"energy_balance", "mechanical energy - work_drive + work_dissipated + work_friction (constant up to the time "
+                         "discretisation)"}};
   for (const auto& [name, what] : energies) w.add_probe({name, 1, "J", what, {}});
   fields_.declare(w);
 }
@@ -115,7 +118,7 @@ void CoupledOutputs::evaluate(const beam::CoupledMassBeam& s) {
   probes_.push_back({s.tangential_force()});
   const beam::CoupledEnergies e = s.energies();
   for (double value : {e.beam_kinetic, e.beam_elastic, e.beam_gravity, e.mass_kinetic, e.mass_gravity, e.drive_work,
-                       e.dissipated, e.mechanical() - e.drive_work + e.dissipated})
+                       e.dissipated, e.friction_work, e.balance()})
     probes_.push_back({value});
   sigma_[0] = x;
   fields_.evaluate(s.Y());
@@ -129,6 +132,16 @@ const scene::MovingLoadSpec* coupled_load(const scene::Scene& sc) {
   for (const auto& l : sc.loads)
     if (l.coupled) return &l;
   return nullptr;
+}
+
+void add_time_limit_event(const scene::Scene& sc, std::vector<output::RunEvent>& events, double t, double position,
+                          bool quiet) {
+  if (!sc.time.end_at_event || !events.empty()) return;
+  const scene::MovingLoadSpec& load = *coupled_load(sc);
+  events.push_back({t, position, load.name, "time_limit"});
+  if (!quiet)
+    std::printf("time.end: auto: coupled mass '%s' had no event (leaving, lift-off, stick) by time.auto_limit = %.9g s; "
+                "the run ends there (event time_limit)\n", load.name.c_str(), t);
 }
 
 void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, const RunOptions& opt, MPI_Comm comm) {
@@ -188,6 +201,7 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   std::vector<output::RunEvent> events;
   const bool event = sim.end_reason() != beam::CoupledEnd::EndTime;
   if (event) events.push_back({sim.time(), sim.position(), load.name, beam::coupled_end_name(sim.end_reason())});
+  add_time_limit_event(sc, events, sim.time(), sim.position(), opt.quiet || rank != 0);
   writer.write_events(events);
   writer.finish();
   replay.finished(static_cast<std::size_t>(written), comm);

@@ -19,6 +19,11 @@ using CoupledReplay = OutputReplay;
 /// The scene's coupled_mass load, or nullptr.
 const scene::MovingLoadSpec* coupled_load(const scene::Scene& scene);
 
+/// time.end: auto (scene::TimeSpec::end_at_event) and no event by time.auto_limit: appends the
+/// event time_limit at (t, position) and prints why the run ended there (unless quiet).
+void add_time_limit_event(const scene::Scene& scene, std::vector<output::RunEvent>& events, double t, double position,
+                          bool quiet);
+
 /// Runs a beam scene whose (only) load is a coupled_mass, on the beam problem `problem` (its
 /// loads are ignored). Same contract as run_beam; --restart re-integrates from t = 0 and checks
 /// the output steps the file holds (UsageError when they differ).

@@ -86,6 +86,12 @@ double auto_end(const scene::Scene& sc, TimePlan& p) {
 }
 
 double fixed_end(const scene::Scene& sc, TimePlan& p) {
+  if (sc.time.end_at_event) {  // a coupled_mass with time.end: auto
+    p.end_text = "time.end: auto (the coupled mass's first event), at the latest time.auto_limit = " +
+                 fmt(sc.time.end) + " s";
+    p.end_keys = {"time.auto_limit", "time.end"};
+    return sc.time.end;
+  }
   p.end_text = "time.end = " + fmt(sc.time.end) + " s";
   p.end_keys = {"time.end"};
   return sc.time.end;

@@ -87,7 +87,7 @@ class CoupledRodOutputs {
 const char* const kMassProbes[] = {"_position", "_speed", "_fixed_position", "_fixed_velocity", "_normal_force",
                                     "_tangential_force"};
 const char* const kEnergyProbes[] = {"energy_rod", "energy_rod_gravity", "energy_mass_kinetic", "energy_mass_gravity",
-                                     "work_drive", "work_dissipated", "energy_balance"};
+                                     "work_drive", "work_dissipated", "work_friction", "energy_balance"};
 
 std::vector<std::string> CoupledRodOutputs::probe_names() const {
   std::vector<std::string> names;
@@ -122,7 +122,9 @@ void CoupledRodOutputs::declare(output::Writer& w) const {
       {"energy_mass_gravity", "gravity potential of the coupled mass -M g . r(sigma)"},
       {"work_drive", "work of the drive since the start"},
       {"work_dissipated", "work dissipated by the resistance since the start"},
-      {"energy_balance", "mechanical energy - work_drive + work_dissipated (constant up to the discretisation)"}};
+      {"work_friction", "work dissipated by the Coulomb friction since the start, int mu |C_perp| |sigma'| dt"},
+      {"energy_balance", "mechanical energy - work_drive + work_dissipated + work_friction (constant up to the "
+                         "discretisation)"}};
   for (const auto& [name, what] : energies) w.add_probe({name, 1, "J", what, {}});
   for (const auto f : sc_.output.fields) {
     const RodFieldInfo fi = rod_field_info(f);
@@ -150,8 +152,8 @@ void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const s
   probes_.push_back({c.normal.x(), c.normal.y(), c.normal.z()});
   probes_.push_back({c.tangential});
   const auto e = rod::coupled_energies(model_, s, r, m, load_.mass);
-  for (double v : {e.rod, e.rod_gravity, e.mass_kinetic, e.mass_gravity, e.drive_work, e.dissipated,
-                   e.mechanical() - e.drive_work + e.dissipated})
+  for (double v : {e.rod, e.rod_gravity, e.mass_kinetic, e.mass_gravity, e.drive_work, e.dissipated, e.friction_work,
+                   e.balance()})
     probes_.push_back({v});
   fields_.resize(sc_.output.fields.size());
   for (size_t f = 0; f < sc_.output.fields.size(); ++f) {
@@ -200,7 +202,11 @@ class CoupledLoop {
               MPI_Comm comm, Progress& progress)
       : sc_(sc), load_(*coupled_load(sc)), stepper_(stepper), state_(state), m_(m), out_(outputs), replay_(replay), w_(w),
         opt_(opt), comm_(comm), progress_(progress), r_(rod::centreline_in_space(state)) {}
-  void write() { out_.write(w_, state_, r_, m_, contact_, replay_, comm_); }
+  void write() {  // once per time (a stick at the start of a step ends the run at a time already written)
+    if (state_.t == written_t_) return;
+    written_t_ = state_.t;
+    out_.write(w_, state_, r_, m_, contact_, replay_, comm_);
+  }
   void run_fixed(const TimeGrid& g);
   void run_adaptive(const TimeGrid& g);
   std::vector<output::RunEvent> events;
@@ -230,6 +236,8 @@ class CoupledLoop {
     return os.str();
   }
   void accepted(const rod::RodState& old, const rod::CoupledMassState& m_old, double h);
+  double shorten_to_stop(const rod::RodState& old, const rod::CoupledMassState& m_old, double h);
+  void step_events(const rod::RodState& old, const rod::CoupledMassState& m_old, double h);
   void check_interrupt(bool more) {
     if (const int sig = more && events.empty() ? interrupt_requested(comm_) : 0) {
       progress_.done();
@@ -255,11 +263,44 @@ class CoupledLoop {
   StepContact contact_;
   rod::CoupledStepReport last_;
   double up_prev_ = 0.0, up_time_ = 0.0;
+  double written_t_ = std::numeric_limits<double>::quiet_NaN();
 };
+
+// A step in which the friction stopped the mass (rod::CoupledMassState::stick_fraction): redone
+// from (old, m_old) with the step shortened to the stop (secant on the length for sigma' = 0,
+// from the linear zero of the step); the state at the stop and its length (0: stuck at the start).
+double CoupledLoop::shorten_to_stop(const rod::RodState& old, const rod::CoupledMassState& m_old, double h) {
+  double ha = h, va = m_.speed, hb = m_.stick_fraction * h;
+  for (int it = 0; it < 8 && hb > 0.0; ++it) {
+    state_ = old;
+    m_ = m_old;
+    if (!solve(hb)) fail(failure(old.t, hb) + " (the step shortened to the mass's stop)");
+    const double vb = m_.speed;
+    if (std::abs(vb) <= 1e-12 * std::abs(m_old.speed) || vb == va) break;
+    const double next = std::clamp(hb - vb * (hb - ha) / (vb - va), 0.0, h);
+    ha = hb;
+    va = vb;
+    hb = next;
+  }
+  if (hb <= 0.0) {
+    state_ = old;
+    m_ = m_old;
+    return 0.0;
+  }
+  return hb;
+}
 
 // The centreline, the contact and the events of a step from (old, m_old) to the current state.
 void CoupledLoop::accepted(const rod::RodState& old, const rod::CoupledMassState& m_old, double h) {
   ++steps;
+  const bool stuck = m_.sticks();
+  if (stuck) h = shorten_to_stop(old, m_old, h);
+  if (h > 0.0) step_events(old, m_old, h);
+  if (stuck && events.empty()) events.push_back({state_.t, m_.sigma, load_.name, "stick"});
+}
+
+// The centreline, the contact and the events (leaving, lift-off) of a step of length h > 0.
+void CoupledLoop::step_events(const rod::RodState& old, const rod::CoupledMassState& m_old, double h) {
   r_ = rod::advance_centreline_in_time(r_, old, state_);
   const rod::CoupledContact c =
       rod::step_contact(old, m_old, state_, m_, stepper_.coupled_mass(), stepper_.model().loads.gravity, h);
@@ -391,7 +432,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   MPI_Comm_size(comm, &ranks);
   check_coupled_rod(sc, setup.model, ranks);
   InitialState start = initial_state(sc, setup, comm);
-  const rod::CoupledRodMass mass{load.mass, load.drive, load.resistance};
+  const rod::CoupledRodMass mass{load.mass, load.drive, load.resistance, load.friction};
   rod::CoupledRodStepper stepper(setup.model, mass);
   rod::RodState state = start.state;
   rod::CoupledMassState m{load.start, load.initial_velocity()};
@@ -415,17 +456,18 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
     loop.run_adaptive(grid);
   else
     loop.run_fixed(grid);
-  const auto& events = loop.events;
+  auto& events = loop.events;
   const long i = loop.steps + 1, coupling = loop.coupling, newton = loop.newton;
   progress.done();
+  add_time_limit_event(sc, events, state.t, m.sigma, opt.quiet);
   writer.write_events(events);
   writer.finish();
   replay.finished(writer.steps_written(), comm);
   if (!opt.quiet) {
     std::printf("done: %ld steps, %ld coupling iterations, %ld Newton iterations", i - 1, coupling, newton);
     if (!events.empty())
-      std::printf("; ended by the event %s at t = %.9g s (interpolated)", events[0].reason.c_str(),
-                  events[0].time);
+      std::printf("; ended by the event %s at t = %.9g s%s", events[0].reason.c_str(), events[0].time,
+                  events[0].reason.rfind("left_rod", 0) == 0 || events[0].reason == "lift_off" ? " (interpolated)" : "");
     std::printf("; %zu output steps -> %s; time stepping %.3f s (wall, output included)\n", writer.steps_written(),
                 opt.output.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count());
     if (!loop.adaptive_summary.empty()) std::printf("adaptive: %s\n", loop.adaptive_summary.c_str());

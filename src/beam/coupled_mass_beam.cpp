@@ -10,12 +10,13 @@
 namespace traverse::beam {
 
 const std::string& coupled_end_name(CoupledEnd e) {
-  static const std::string names[] = {"end_time", "left_beam_at_0", "left_beam_at_L", "lift_off"};
+  static const std::string names[] = {"end_time", "left_beam_at_0", "left_beam_at_L", "lift_off", "stick"};
   switch (e) {
     case CoupledEnd::EndTime:
     case CoupledEnd::LeftLeft:
     case CoupledEnd::LeftRight:
     case CoupledEnd::LiftOff:
+    case CoupledEnd::Stick:
       return names[static_cast<int>(e)];
     default:
       throw std::invalid_argument("coupled_end_name: unknown end");
@@ -23,12 +24,13 @@ const std::string& coupled_end_name(CoupledEnd e) {
 }
 
 /// The integrated state: modal coordinates and velocities, the mass's position and speed, and
-/// the work of the drive and of the resistance since t_start.
+/// the work of the drive, of the resistance and of the friction since t_start.
 struct CoupledMassBeam::State {
   VecX Y, V;
-  double x = 0.0, v = 0.0, drive = 0.0, loss = 0.0;
+  double x = 0.0, v = 0.0, drive = 0.0, loss = 0.0, friction = 0.0;
   VecX A;          ///< Y'' (Newmark only)
   double a = 0.0;  ///< x'' (Newmark only)
+  double n = 0.0;  ///< the normal force N [N] (Newmark; in a derivative: N at the state)
   void resize(Eigen::Index n) {
     Y.setZero(n);
     V.setZero(n);
@@ -42,6 +44,7 @@ struct CoupledMassBeam::State {
     v = a.v + h * b.v;
     drive = a.drive + h * b.drive;
     loss = a.loss + h * b.loss;
+    friction = a.friction + h * b.friction;
   }
   void add(double h, const State& b) {
     Y += h * b.Y;
@@ -50,12 +53,13 @@ struct CoupledMassBeam::State {
     v += h * b.v;
     drive += h * b.drive;
     loss += h * b.loss;
+    friction += h * b.friction;
   }
 };
 
 /// Scratch arrays (sized once).
 struct CoupledMassBeam::Work {
-  mutable VecX phi, dphi, ddphi, r0, zY, uY;
+  mutable VecX phi, dphi, ddphi, r0, zY, uY, A;
   State k[4], stage, s0, s1, trial;
   mutable double h_cache[2] = {0.0, 0.0};
   mutable MatX B_inv[2];  ///< (Mb + h^2/4 Kb)^{-1} for two step lengths (Newmark)
@@ -80,6 +84,8 @@ CoupledMassBeam::CoupledMassBeam(BeamProblem problem, CoupledMass mass) : proble
   if (!(mass_.start >= 0.0 && mass_.start <= p.length))
     throw std::invalid_argument("CoupledMassBeam: start must lie on the beam, in [0, L]");
   if (!(mass_.resistance >= 0.0)) throw std::invalid_argument("CoupledMassBeam: resistance must be >= 0");
+  if (!(mass_.friction >= 0.0) || !std::isfinite(mass_.friction))
+    throw std::invalid_argument("CoupledMassBeam: friction must be finite and >= 0");
   modes_ = p.modes ? p.modes : std::make_shared<UniformModes>(p.support, p.n_modes, p.length, p.EI, p.rhoA);
   const Eigen::Index n = modes_->size();
   const std::vector<double> nodes = p.quadrature_nodes.empty()
@@ -91,7 +97,7 @@ CoupledMassBeam::CoupledMassBeam(BeamProblem problem, CoupledMass mass) : proble
   mats_ = assemble_galerkin(*modes_, nodes, ra, ei, p.self_weight ? p.gravity : 0.0, p.gauss_points);
   Mb_inv_ = mats_.Mb.ldlt().solve(MatX::Identity(n, n));
   w_ = std::make_unique<Work>();
-  for (VecX* v : {&w_->phi, &w_->dphi, &w_->ddphi, &w_->r0, &w_->zY, &w_->uY}) v->setZero(n);
+  for (VecX* v : {&w_->phi, &w_->dphi, &w_->ddphi, &w_->r0, &w_->zY, &w_->uY, &w_->A}) v->setZero(n);
   for (State* s : {&w_->k[0], &w_->k[1], &w_->k[2], &w_->k[3], &w_->stage, &w_->s0, &w_->s1, &w_->trial})
     s->resize(n);
   Y_.setZero(n);
@@ -100,29 +106,47 @@ CoupledMassBeam::CoupledMassBeam(BeamProblem problem, CoupledMass mass) : proble
   reset();
 }
 
-// d = (V, A, v, a, D v, c v^2) by Sherman-Morrison on blockdiag(Mb, M) + M G G^T.
+// The rows: Binv (r0 - M Phi q) = A (beam), Mx a + M w_x q = r1 - mu s sN (n_rest + M Phi . A)
+// (mass, sN the sign of N), q = Phi . A + w_x a (the mass's vertical acceleration less the
+// convective terms): two scalar equations for q and a once A is eliminated.
+double CoupledMassBeam::accelerations(const MatX& Binv, double Mx, double r1, double n_rest, double slope, VecX& A,
+                                      double& a) const {
+  const Work& w = *w_;
+  const double M = mass_.mass;
+  w.zY.noalias() = Binv * w.r0;
+  w.uY.noalias() = Binv * w.phi;
+  const double pz = w.phi.dot(w.zY), gu = w.phi.dot(w.uY);
+  double N = 0.0;
+  for (double side : {1.0, -1.0}) {  // N assumed positive; redone with the other sign when it is not
+    const double mu = mass_.friction * dir_ * side, r1f = r1 - mu * n_rest;
+    const double q = (pz + slope * (r1f - mu * M * pz) / Mx) /
+                     (1.0 + M * gu + M * slope * slope / Mx - mu * M * M * gu * slope / Mx);
+    A = w.zY - (M * q) * w.uY;
+    const double pa = w.phi.dot(A);
+    a = (r1f - M * slope * q - mu * M * pa) / Mx;
+    N = n_rest + M * pa;
+    if (mu == 0.0 || N * side >= 0.0) break;
+  }
+  return N;
+}
+
+// d = (V, A, v, a, D v, c v^2, mu |N| |v|); d.n = N.
 void CoupledMassBeam::derivative(const State& s, State& d) const {
   const Work& w = *w_;
   const double M = mass_.mass, g = problem_.gravity;
   modes_->evaluate(std::clamp(s.x, 0.0, problem_.length), w.phi, w.dphi, w.ddphi);
   const double slope = w.dphi.dot(s.Y);
   const double h = 2.0 * s.v * w.dphi.dot(s.V) + s.v * s.v * w.ddphi.dot(s.Y);
-  const double gh = M * (g + h);
+  const double gh = M * (g + h), tangential = mass_.drive - mass_.resistance * s.v;
   w.r0.noalias() = -mats_.Pb;
   w.r0.noalias() -= mats_.Kb * s.Y;
   w.r0.noalias() -= gh * w.phi;
-  const double r1 = mass_.drive - mass_.resistance * s.v - gh * slope;
-  w.zY.noalias() = Mb_inv_ * w.r0;
-  w.uY.noalias() = Mb_inv_ * w.phi;
-  const double zx = r1 / M, ux = slope / M;
-  const double Gz = w.phi.dot(w.zY) + slope * zx, Gu = w.phi.dot(w.uY) + slope * ux;
-  const double beta = M * Gz / (1.0 + M * Gu);
+  d.n = accelerations(Mb_inv_, M, tangential - gh * slope, gh + slope * tangential, slope, d.V, d.v);
   d.Y = s.V;
-  d.V = w.zY - beta * w.uY;
   d.x = s.v;
-  d.v = zx - beta * ux;
   d.drive = mass_.drive * s.v;
   d.loss = mass_.resistance * s.v * s.v;
+  d.friction = mass_.friction * std::abs(d.n * s.v);
 }
 
 void CoupledMassBeam::rk4(const State& s0, double h, State& s1) const {
@@ -179,14 +203,12 @@ void CoupledMassBeam::newmark(const State& s0, double h, State& s1) const {
     w.r0.noalias() = -mats_.Pb;
     w.r0.noalias() -= mats_.Kb * Yp;
     w.r0.noalias() -= (M * (g + hc)) * w.phi;
-    const double r1 = mass_.drive - c * vp - M * (g + hc) * slope;
-    w.zY.noalias() = Binv * w.r0;
-    w.uY.noalias() = Binv * w.phi;
-    const double zx = r1 / Mx, ux = slope / Mx;
-    const double beta = M * (w.phi.dot(w.zY) + slope * zx) / (1.0 + M * (w.phi.dot(w.uY) + slope * ux));
-    const double a_new = zx - beta * ux;
-    const double dY = q * (w.zY - beta * w.uY - s1.A).cwiseAbs().maxCoeff(), dx = q * std::abs(a_new - s1.a);
-    s1.A = w.zY - beta * w.uY;
+    double a_new = 0.0;
+    const double tangential = mass_.drive - c * s1.v;
+    s1.n = accelerations(Binv, Mx, mass_.drive - c * vp - M * (g + hc) * slope, M * (g + hc) + slope * tangential, slope,
+                         w.A, a_new);
+    const double dY = q * (w.A - s1.A).cwiseAbs().maxCoeff(), dx = q * std::abs(a_new - s1.a);
+    s1.A = w.A;
     s1.a = a_new;
     if (dx <= 1e-14 * problem_.length && dY <= 1e-14 * std::max(s1.Y.cwiseAbs().maxCoeff(), 1e-300)) break;
   }
@@ -196,6 +218,7 @@ void CoupledMassBeam::newmark(const State& s0, double h, State& s1) const {
   s1.v = vp + 0.5 * h * s1.a;
   s1.drive = s0.drive + 0.5 * h * mass_.drive * (s0.v + s1.v);
   s1.loss = s0.loss + 0.5 * h * c * (s0.v * s0.v + s1.v * s1.v);
+  s1.friction = s0.friction + 0.5 * h * mass_.friction * (std::abs(s0.n * s0.v) + std::abs(s1.n * s1.v));
 }
 
 void CoupledMassBeam::step(const State& s0, double h, State& s1) const {
@@ -205,7 +228,7 @@ void CoupledMassBeam::step(const State& s0, double h, State& s1) const {
     rk4(s0, h, s1);
 }
 
-// >= 0 while the event has not happened: x, L - x, the normal force / (M g).
+// >= 0 while the event has not happened: x, L - x, the normal force / (M g), x' s / sqrt(g L).
 double CoupledMassBeam::event_value(CoupledEnd e, const State& s) const {
   switch (e) {
     case CoupledEnd::LeftLeft: return s.x / problem_.length;
@@ -220,6 +243,7 @@ double CoupledMassBeam::event_value(CoupledEnd e, const State& s) const {
       const double normal = mass_.mass * (problem_.gravity + py) - slope * tang;
       return normal / (mass_.mass * std::max(problem_.gravity, 1e-300));
     }
+    case CoupledEnd::Stick: return s.v * dir_ / std::sqrt(std::max(problem_.gravity, 1e-300) * problem_.length);
     case CoupledEnd::EndTime:
     default:
       throw std::invalid_argument("CoupledMassBeam: not an event");
@@ -232,11 +256,13 @@ double CoupledMassBeam::event_value(CoupledEnd e, const State& s) const {
 bool CoupledMassBeam::locate_event(const State& s0, double t0, double h, State& s1) {
   CoupledEnd first = CoupledEnd::EndTime;
   double tau_first = h;
-  for (CoupledEnd e : {CoupledEnd::LeftLeft, CoupledEnd::LeftRight, CoupledEnd::LiftOff}) {
+  for (CoupledEnd e : {CoupledEnd::LeftLeft, CoupledEnd::LeftRight, CoupledEnd::LiftOff, CoupledEnd::Stick}) {
     if (e == CoupledEnd::LiftOff && !mass_.unilateral) continue;
+    if (e == CoupledEnd::Stick && mass_.friction == 0.0) continue;
     const double gb0 = event_value(e, s1);
     if (!(gb0 < 0.0)) continue;
     double a = 0.0, b = h, ga = event_value(e, s0), gb = gb0;
+    if (e == CoupledEnd::Stick && !(ga > 0.0)) continue;  // just reversed: x' s starts at 0
     if (!(ga > 0.0)) b = 0.0;  // at the event already (e.g. at an end, moving off)
     int side = 0;
     for (int it = 0; it < 100 && b - a > 1e-14 * h; ++it) {
@@ -279,8 +305,36 @@ void CoupledMassBeam::load_state(const State& s) {
   v_ = s.v;
   work_drive_ = s.drive;
   work_loss_ = s.loss;
+  work_friction_ = s.friction;
   A_ = s.A;
   a_ = s.a;
+  n_ = s.n;
+}
+
+// At x' = 0 (h = 0), the mass held at its material point: (Mb + M Phi Phi^T) Y'' = -Pb - Kb Y -
+// M g Phi, q = Phi . Y''; the friction force that holds it F = M w_x (g + q) - D, against mu |N|,
+// N = M (g + q) + w_x D. `direction`: where it slides when F is too large (the sign of -F).
+bool CoupledMassBeam::holds(const State& s, double& direction) const {
+  const Work& w = *w_;
+  const double M = mass_.mass, g = problem_.gravity;
+  modes_->evaluate(std::clamp(s.x, 0.0, problem_.length), w.phi, w.dphi, w.ddphi);
+  const double slope = w.dphi.dot(s.Y);
+  w.r0.noalias() = -mats_.Pb;
+  w.r0.noalias() -= mats_.Kb * s.Y;
+  w.r0.noalias() -= (M * g) * w.phi;
+  w.zY.noalias() = Mb_inv_ * w.r0;
+  w.uY.noalias() = Mb_inv_ * w.phi;
+  const double q = w.phi.dot(w.zY) / (1.0 + M * w.phi.dot(w.uY));
+  const double F = M * slope * (g + q) - mass_.drive, N = M * (g + q) + slope * mass_.drive;
+  direction = F > 0.0 ? -1.0 : 1.0;
+  return std::abs(F) <= mass_.friction * std::abs(N);
+}
+
+void CoupledMassBeam::refresh_accelerations() {
+  const State d = current_derivative();
+  A_ = d.V;
+  a_ = d.v;
+  n_ = d.n;
 }
 
 void CoupledMassBeam::reset() {
@@ -290,7 +344,7 @@ void CoupledMassBeam::reset() {
   end_ = CoupledEnd::EndTime;
   x_ = mass_.start;
   v_ = mass_.velocity;
-  work_drive_ = work_loss_ = 0.0;
+  work_drive_ = work_loss_ = work_friction_ = 0.0;
   V_.setZero();
   switch (p.initial_state) {
     case InitialState::Rest: Y_.setZero(); break;
@@ -303,42 +357,57 @@ void CoupledMassBeam::reset() {
     }
     default: throw std::invalid_argument("CoupledMassBeam: unknown initial state");
   }
-  State s, d;
-  s.Y = Y_;
-  s.V = V_;
-  s.x = x_;
-  s.v = v_;
-  d.resize(Y_.size());
-  derivative(s, d);
-  A_ = d.V;
-  a_ = d.v;
+  dir_ = v_ < 0.0 ? -1.0 : 1.0;
+  if (mass_.friction > 0.0 && v_ == 0.0) {  // from rest: stuck, or sliding where the forces push it
+    State s;
+    s.Y = Y_;
+    s.x = x_;
+    if (holds(s, dir_)) end_ = CoupledEnd::Stick;
+  }
+  refresh_accelerations();
 }
 
-void CoupledMassBeam::run(const Observer& observer) {
-  reset();
-  const BeamProblem& p = problem_;
+// One grid step from t_ to t_target, split where the friction reverses the mass; true at an event
+// that ends the run (the state and t_ there).
+bool CoupledMassBeam::advance_to(double t_target) {
   Work& w = *w_;
-  if (observer) observer(*this);
-  const TimeGrid grid = make_time_grid(p.t_start, p.t_end, p.dt, 1e-9).grid;
-  for (long k = 1; k <= grid.steps; ++k) {
+  ++steps_;
+  for (int part = 0; part < 100; ++part) {
+    const double t0 = t_, h = t_target - t0;
+    if (h <= 1e-12 * problem_.dt) break;  // reversed at the step's end
     w.s0.Y = Y_;
     w.s0.V = V_;
     w.s0.x = x_;
     w.s0.v = v_;
     w.s0.drive = work_drive_;
     w.s0.loss = work_loss_;
+    w.s0.friction = work_friction_;
     w.s0.A = A_;
     w.s0.a = a_;
-    const double t0 = t_, h = grid.time(k) - t0;
+    w.s0.n = n_;
     step(w.s0, h, w.s1);
-    ++steps_;
     const bool event = locate_event(w.s0, t0, h, w.s1);
     load_state(w.s1);
-    if (event) {
+    if (!event) break;
+    if (end_ != CoupledEnd::Stick || holds(w.s1, dir_)) return true;
+    end_ = CoupledEnd::EndTime;  // x' = 0 with the demand above mu |N|: reverses (dir_ flipped by holds)
+    refresh_accelerations();
+  }
+  t_ = t_target;
+  return false;
+}
+
+void CoupledMassBeam::run(const Observer& observer) {
+  reset();
+  const BeamProblem& p = problem_;
+  if (observer) observer(*this);
+  if (end_ != CoupledEnd::EndTime) return;  // stuck at the start
+  const TimeGrid grid = make_time_grid(p.t_start, p.t_end, p.dt, 1e-9).grid;
+  for (long k = 1; k <= grid.steps; ++k) {
+    if (advance_to(grid.time(k))) {
       if (observer) observer(*this);
       return;
     }
-    t_ = grid.time(k);
     if (observer && (k % p.output_every == 0 || k == grid.steps)) observer(*this);
   }
 }
@@ -404,6 +473,7 @@ CoupledEnergies CoupledMassBeam::energies() const {
   e.mass_gravity = mass_.mass * problem_.gravity * deflection(std::clamp(x_, 0.0, problem_.length));
   e.drive_work = work_drive_;
   e.dissipated = work_loss_;
+  e.friction_work = work_friction_;
   return e;
 }
 

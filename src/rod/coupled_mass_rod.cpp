@@ -40,6 +40,8 @@ CoupledRodStepper::~CoupledRodStepper() = default;
 CoupledRodStepper::CoupledRodStepper(RodModel model, CoupledRodMass mass) : path_(std::make_shared<Path>()), mass_(mass) {
   if (!(mass_.mass > 0.0)) throw std::invalid_argument("CoupledRodStepper: mass must be > 0");
   if (!(mass_.resistance >= 0.0)) throw std::invalid_argument("CoupledRodStepper: resistance must be >= 0");
+  if (!(mass_.friction >= 0.0) || !std::isfinite(mass_.friction))
+    throw std::invalid_argument("CoupledRodStepper: friction must be finite and >= 0");
   const std::shared_ptr<const Path> p = path_;
   MovingMass mm;
   mm.mass = mass_.mass;
@@ -83,15 +85,60 @@ bool CoupledRodStepper::rod_newton(const StepTimes& st, const RodState& old_stat
   return false;
 }
 
-// v_new from the midpoint rule of the mass's tangential momentum (header).
-double CoupledRodStepper::new_speed(const RodState& old_state, const RodState& new_state, const CoupledMassState& m,
-                                    double sigma_new, double dt) const {
+namespace {
+
+// The part across d3m of M (p'_new - p'_old) / dt - M g: the normal contact force of a step
+// (drive, resistance and friction act along d3m).
+Vec3 normal_part(const RodPointKinematics& ko, double v_old, const RodPointKinematics& kn, double v_new,
+                 const Vec3& d3m, double M, const Vec3& g, double dt) {
+  const Vec3 C = M * ((kn.U + v_new * kn.d3) - (ko.U + v_old * ko.d3)) / dt - M * g;
+  return C - C.dot(d3m) * d3m;
+}
+
+double sign(double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }
+
+}  // namespace
+
+/// v_new of a step and what the friction did in it.
+struct CoupledRodStepper::Speed {
+  double v = 0.0;
+  double stick_fraction = -1.0;  ///< CoupledMassState::stick_fraction
+  double friction_work = 0.0;    ///< mu |C_perp| int |v| dt over the step
+};
+
+// v_new from the midpoint rule of the mass's tangential momentum (header): a v = b + J / M with
+// the friction impulse J; |C_perp| from the iterate v_iterate.
+CoupledRodStepper::Speed CoupledRodStepper::new_speed(const RodState& old_state, const RodState& new_state,
+                                                      const CoupledMassState& m, double sigma_new, double v_iterate,
+                                                      double dt) const {
   const RodPointKinematics ko = point_kinematics(old_state, m.sigma), kn = point_kinematics(new_state, sigma_new);
   const Vec3 d3m = (ko.d3 + kn.d3).normalized();
-  const double M = mass_.mass, hc = 0.5 * mass_.resistance * dt / M;
+  const double M = mass_.mass, hc = 0.5 * mass_.resistance * dt / M, v0 = m.speed;
   const Vec3 g = stepper_->model().loads.gravity;
-  const double rhs = m.speed * (ko.d3.dot(d3m) - hc) + (ko.U - kn.U).dot(d3m) + dt * (g.dot(d3m) + mass_.drive / M);
-  return rhs / (kn.d3.dot(d3m) + hc);
+  const double a = kn.d3.dot(d3m) + hc;
+  const double b = v0 * (ko.d3.dot(d3m) - hc) + (ko.U - kn.U).dot(d3m) + dt * (g.dot(d3m) + mass_.drive / M);
+  Speed out;
+  if (mass_.friction == 0.0) {
+    out.v = b / a;
+    return out;
+  }
+  const double N = normal_part(ko, v0, kn, v_iterate, d3m, M, g, dt).norm(), muN = mass_.friction * N;
+  const double demand = M * g.dot(d3m) + mass_.drive - M * (kn.U - ko.U).dot(d3m) / dt;  // at sigma' = 0
+  const double s = v0 != 0.0 ? sign(v0) : sign(demand), k = muN * dt / M;
+  out.v = (b - s * k) / a;  // sliding along s all step
+  if (s * out.v > 0.0 || (v0 == 0.0 && std::abs(demand) > muN)) {
+    out.friction_work = 0.5 * muN * dt * std::abs(v0 + out.v);
+    return out;
+  }
+  if (std::abs(demand) <= muN) {  // stops and sticks: keeps the sliding friction (the app shortens the step)
+    out.stick_fraction = v0 == 0.0 ? 0.0 : v0 / (v0 - out.v);
+  } else {  // reverses: J = -mu N s (2 tau - dt), tau = dt v0 / (v0 - v); a v^2 - (a v0 + b + k s) v + v0 (b - k s) = 0
+    const double B = a * v0 + b + k * s, disc = std::sqrt(std::max(0.0, B * B - 4.0 * a * v0 * (b - k * s)));
+    out.v = (B - s * disc) / (2.0 * a);  // the root of sign -s (the roots' product has the sign of -1)
+  }
+  const double tau = v0 == 0.0 ? 0.0 : dt * v0 / (v0 - out.v);
+  out.friction_work = 0.5 * muN * (std::abs(v0) * tau + std::abs(out.v) * (dt - tau));
+  return out;
 }
 
 CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, double dt) {
@@ -109,18 +156,25 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   VecX x = stepper_->unknowns(state);
   CoupledStepReport rep;
   RodState trial;
+  Speed speed;
+  double omega = 1.0, r_prev = 0.0;  // Aitken's relaxation of the speed (a heavy mass: strong coupling)
   for (int k = 1; k <= max_coupling_iterations; ++k) {
     if (!rod_newton(st, state, x, rep.newton_iterations)) return rep;
     trial = stepper_->state_from_unknowns(state, x, dt);
-    const double v = new_speed(state, trial, m, p.s_new, dt);
-    const double s = m.sigma + 0.5 * dt * (m.speed + v);
-    if (!std::isfinite(v)) return rep;
+    speed = new_speed(state, trial, m, p.s_new, p.v_new, dt);
+    const double r = speed.v - p.v_new;  // the fixed point's residual in the speed
+    if (!std::isfinite(r)) return rep;
+    if (k > 1 && r != r_prev) omega = std::clamp(-omega * r_prev / (r - r_prev), -1e3, 1e3);
+    r_prev = r;
+    const double v = p.v_new + omega * r, s = m.sigma + 0.5 * dt * (m.speed + v);
     rep.coupling_iterations = k;
-    rep.last_change = std::max(std::abs(s - p.s_new), std::abs(v - p.v_new) * dt) / ds;
+    const double previous = rep.last_change;
+    rep.last_change = std::abs(r) * dt / ds;  // sigma's residual is half of it
     p.s_new = s;
     p.v_new = v;
     p.d3 = point_kinematics(trial, s).d3.normalized();
-    if (rep.last_change <= tol) {
+    // converged; or at the round-off floor (a heavy mass: the change stalls a little above tol)
+    if (rep.last_change <= tol || (k > 2 && rep.last_change <= 1e3 * tol && rep.last_change > 0.5 * previous)) {
       rep.converged = true;
       break;
     }
@@ -135,6 +189,8 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   const Vec3 pm = 0.5 * (ko.U + m.speed * ko.d3 + kn.U + p.v_new * kn.d3);
   m.drive_work += dt * mass_.drive * vm;
   m.dissipated += dt * mass_.resistance * vm * d3m.dot(pm);
+  m.friction_work += speed.friction_work;
+  m.stick_fraction = speed.stick_fraction;
   m.sigma = p.s_new;
   m.speed = p.v_new;
   state = trial;
@@ -177,6 +233,7 @@ CoupledRodEnergies coupled_energies(const RodModel& model, const RodState& state
   e.mass_gravity = -mass * g.dot(rp);
   e.drive_work = m.drive_work;
   e.dissipated = m.dissipated;
+  e.friction_work = m.friction_work;
   return e;
 }
 

@@ -1,5 +1,6 @@
 #include "traverse/scene/scene.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -148,7 +149,8 @@ std::shared_ptr<TypeRegistry> load_types() {
   r->add({"coupled_mass",
           "A point mass that moves by itself along the deforming structure (two-way coupling): its position "
           "is an unknown, driven by gravity along the local tangent, the structure's motion, an optional drive "
-          "and resistance; the run ends at the first event (the mass leaves the structure, lifts off)",
+          "and resistance, Coulomb friction; the run ends at the first event (the mass leaves the structure, lifts "
+          "off, or stops and sticks)",
           {real("mass", "Mass M", "kg").positive().required(),
            real("start", "Initial position sigma0 along the structure (default 0)", "m").non_negative(),
            real("speed", "Initial velocity along +s (negative: towards s = 0)", "m/s").def(0.0),
@@ -157,7 +159,9 @@ std::shared_ptr<TypeRegistry> load_types() {
            real("resistance", "Viscous resistance c: a force -c sigma' d3 (air, not through the structure)", "N s/m")
                .non_negative()
                .def(0.0),
-           real("friction", "Coulomb friction coefficient mu between the mass and the structure", "").non_negative().def(0.0),
+           real("friction", "Coulomb friction coefficient mu between the mass and the structure: a tangential contact "
+                            "force -mu |C_perp| sign(sigma'); where the mass stops and the friction can hold it, it "
+                            "sticks (the event stick)", "").non_negative().def(0.0),
            choice("contact", "bilateral: threaded on the structure (a bead); unilateral: resting on its upper (+d2, +w) "
                              "side, it lifts off where the normal contact force would pull",
                   enum_names<Contact>())
@@ -408,7 +412,10 @@ Param build_schema() {
   time.add(real("dt", "Time step; auto: beam: a twentieth of the period of the highest mode, at most the time a "
                       "load needs to cross one mesh cell; rod: ds / v of the fastest load (the load sits on a "
                       "node at every step)", "s").positive().allow_auto().def("auto"));
-  time.add(real("end", "End time; auto: when the last load leaves the structure", "s").positive().allow_auto().def("auto"));
+  time.add(real("end", "End time; auto: when the last load leaves the structure (a coupled_mass: at its first event, "
+                       "at the latest at time.auto_limit)", "s").positive().allow_auto().def("auto"));
+  time.add(real("auto_limit", "With a coupled_mass and time.end: auto: the latest end time; reached without an event, "
+                              "the run ends there with the event time_limit (unused otherwise)", "s").positive().def(10.0));
   time.add(adaptive_section());
   root.add(time);
 
@@ -742,9 +749,6 @@ void check_coupled_masses(Scene& sc) {
       fail_at(sc, k + ".type", "at most one coupled_mass per scene (not yet supported: several)",
               "a second one besides '" + coupled->name + "'");
     coupled = &l;
-    if (l.friction != 0.0)
-      fail_at(sc, k + ".friction", "0: Coulomb friction of a coupled_mass is not yet supported",
-              format_number(l.friction));
   }
   if (!coupled) return;
   if (sc.model == Model::Beam && sc.tree.params.sublist("time").isSublist("adaptive"))
@@ -754,9 +758,6 @@ void check_coupled_masses(Scene& sc) {
     fail_at(sc, "loads." + coupled->name + ".type",
             "a coupled_mass as the only load of its scene (not yet supported: together with other loads)",
             std::to_string(sc.loads.size()) + " loads");
-  if (sc.tree.params.sublist("time").isType<std::string>("end"))
-    fail_at(sc, "time.end", "a number with a coupled_mass: an upper bound, the run ends earlier at the first event "
-            "('auto' is not yet supported)", "auto");
 }
 
 // time.adaptive, when given.
@@ -794,6 +795,12 @@ void read_time(const ParameterList& t, Scene& sc) {
   if (!sc.time.dt_auto) sc.time.dt = t.get<double>("dt");
   sc.time.end_auto = t.isType<std::string>("end");
   if (!sc.time.end_auto) sc.time.end = t.get<double>("end");
+  const bool coupled = std::any_of(sc.loads.begin(), sc.loads.end(), [](const MovingLoadSpec& l) { return l.coupled; });
+  if (coupled && sc.time.end_auto) {  // ends at the first event, at the latest at auto_limit
+    sc.time.end_auto = false;
+    sc.time.end_at_event = true;
+    sc.time.end = t.get<double>("auto_limit");
+  }
   if (sc.time.end_auto && !sc.continuation.enabled) {
     if (sc.loads.empty()) fail_at(sc, "time.end", "a number when the scene has no loads ('auto' ends when the last load leaves)", "auto");
     for (const auto& l : sc.loads)

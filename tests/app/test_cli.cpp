@@ -332,6 +332,121 @@ TEST(Cli, CoupledMassRodRunEndsAtItsEvent) {
   EXPECT_NE(again.out.find("does not reproduce output step 0"), std::string::npos) << again.out;
 }
 
+/// The largest |v - v[0]| of a probe's values.
+double drift_of(const std::vector<double>& v) {
+  double d = 0.0;
+  for (double b : v) d = std::max(d, std::abs(b - v.front()));
+  return d;
+}
+
+// Coulomb friction on the rod with time.end: auto (docs/rod.md "Coupled mass"): the bead of
+// coupled_bead_cable.yaml with mu = 0.5 slows down in the sag and sticks: exit 0, the event stick
+// in /events and end_reason, the last output step at the stop (the step shortened to it: speed
+// ~0), the energy balance closed by work_friction (to the line mass's O(ds^2), as without it).
+TEST(Cli, CoupledMassRodFrictionSticksAndEndsTheRun) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "coupled_bead_cable.yaml";
+  const std::string out = (scratch("coupled_stick") / "stick.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out + " --set loads.bead.friction=0.5 --set time.end=auto");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("ended by the event stick"), std::string::npos) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.status(), "complete");
+  EXPECT_EQ(f.attribute("end_reason"), "stick");
+  const auto events = f.events();
+  ASSERT_EQ(events.size(), 1u);
+  const auto t = f.time();
+  const auto speed = f.probe("bead_speed"), sigma = f.probe("bead_position");
+  const auto friction = f.probe("work_friction"), balance = f.probe("energy_balance");
+  const double drift = drift_of(balance.values);
+  std::printf("  stick at t = %.9f s, sigma = %.6f m (mu g deceleration alone: %.4f m), final speed %.2e m/s; "
+              "work_friction %.5f J, energy balance drift %.3e J\n", events[0].time, events[0].position,
+              0.1 + 4.0 / (2 * 0.5 * 9.8), speed.values.back(), friction.values.back(), drift);
+  EXPECT_DOUBLE_EQ(t.back(), events[0].time);
+  EXPECT_DOUBLE_EQ(sigma.values.back(), events[0].position);
+  EXPECT_LT(std::abs(speed.values.back()), 1e-9);
+  EXPECT_GT(events[0].position, 0.3);
+  EXPECT_LT(events[0].position, 0.8);
+  EXPECT_GT(friction.values.back(), 0.05);
+  EXPECT_LT(drift, 0.01 * friction.values.back());
+}
+
+// The beam's coupled mass with friction and time.end: auto: coupled_bead.yaml's bead (3 m/s) with
+// mu = 0.3 sticks before the strip's end, near x0 + v0^2 / (2 mu g), and work_friction is near
+// mu M g times the distance slid (the strip's sag under the bead changes both by a few percent).
+TEST(Cli, CoupledMassBeamFrictionSticks) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "beam" / "coupled_bead.yaml";
+  const std::string out = (scratch("coupled_beam_stick") / "stick.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out + " -q --set loads.bead.friction=0.3 --set time.end=auto");
+  ASSERT_EQ(r.code, 0) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.attribute("end_reason"), "stick");
+  const auto events = f.events();
+  ASSERT_EQ(events.size(), 1u);
+  const double level = 0.05 + 9.0 / (2 * 0.3 * 9.8);
+  const double drift = drift_of(f.probe("energy_balance").values), work = f.probe("work_friction").values.back();
+  std::printf("  beam: stick at t = %.6f s, x = %.6f m (level rigid line %.6f m); work_friction %.4f J, balance drift "
+              "%.2e J\n", events[0].time, events[0].position, level, work, drift);
+  EXPECT_NEAR(events[0].position, level, 0.05 * level);
+  const double sliding = 0.3 * 9.8 * (events[0].position - 0.05);  // mu M g times the distance slid
+  std::printf("  mu M g (x_stop - x0) = %.4f J\n", sliding);
+  EXPECT_NEAR(work, sliding, 0.05 * sliding);
+  EXPECT_LT(drift, 1e-6 * work);
+}
+
+// time.end: auto reaching its bound: the zip line's trolley swings in the sag without an event;
+// with time.auto_limit = 0.2 s the run ends there with exit 0, the event time_limit and a message.
+TEST(Cli, CoupledMassAutoEndStopsAtItsLimit) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "coupled_zip_line.yaml";
+  const fs::path d = scratch("coupled_limit");
+  const std::string out = (d / "zip.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out + " --set time.end=auto --set time.auto_limit=0.2");
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(r.out.find("no event (leaving, lift-off, stick) by time.auto_limit = 0.2 s"), std::string::npos) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.status(), "complete");
+  EXPECT_EQ(f.attribute("end_reason"), "time_limit");
+  const auto events = f.events();
+  ASSERT_EQ(events.size(), 1u);
+  EXPECT_NEAR(events[0].time, 0.2, 1e-12);
+  EXPECT_NEAR(f.time().back(), 0.2, 1e-12);
+  const auto beam = run("run " + (fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "beam" / "coupled_bead.yaml").string() +
+                        " -o " + (d / "bead.h5").string() +
+                        " -q --set time.end=auto --set time.auto_limit=0.1");
+  ASSERT_EQ(beam.code, 0) << beam.out;
+  traverse::output::Reader fb((d / "bead.h5").string());
+  EXPECT_EQ(fb.attribute("end_reason"), "time_limit");
+  EXPECT_NEAR(fb.time().back(), 0.1, 1e-12);
+}
+
+// The inspection robot of the 20 N class (docs/results.md): its weight folds the soft cable, so
+// it drives down a steep leg faster than the rigid level line's D / c = 0.1 m/s: the mean speed
+// after 0.5 s lies between 1.4 and 2 times D / c (the speed (D + M g) / c of a vertical line is
+// 2 D / c here); the run ends at time.auto_limit = 1.7 s with the event time_limit; the energy
+// balance closes to 1 % of the dissipated work.
+TEST(Cli, CoupledRobotOfThe20NClassIsSpedUpByTheCablesFold) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "coupled_inspection_robot_20N.yaml";
+  const std::string out = (scratch("coupled_robot20") / "robot.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out + " -q");
+  ASSERT_EQ(r.code, 0) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.attribute("end_reason"), "time_limit");
+  const auto t = f.time();
+  const auto sigma = f.probe("robot_position");
+  size_t k0 = 0;
+  while (k0 < t.size() && t[k0] < 0.5) ++k0;
+  ASSERT_LT(k0 + 1, t.size());
+  const double mean = (sigma.values.back() - sigma.values[k0]) / (t.back() - t[k0]), terminal = 20.0 / 200.0;
+  const auto balance = f.probe("energy_balance"), loss = f.probe("work_dissipated");
+  const double drift = drift_of(balance.values);
+  std::printf("  robot 20 N class: mean speed %.4f m/s over [%.2f, %.2f] s = %.3f D / c; sigma(end) = %.4f m; balance "
+              "drift %.3e J of %.4f J dissipated\n", mean, t[k0], t.back(), mean / terminal, sigma.values.back(), drift,
+              loss.values.back());
+  EXPECT_NEAR(t.back(), 1.7, 1e-12);
+  EXPECT_GT(mean, 1.4 * terminal);
+  EXPECT_LT(mean, 2.0 * terminal);
+  EXPECT_LT(drift, 0.01 * loss.values.back());
+}
+
 // Unilateral contact on the rod: inputs/rod/coupled_lift_off_arc.yaml at a coarse mesh and step
 // (20 cells, dt = 2e-3 s) ends with the event lift_off near the rigid-wire answer
 // R acos((v0^2/(g R) + 2 cos theta0) / 3) = 0.795613 m (docs/rod.md "Coupled mass").

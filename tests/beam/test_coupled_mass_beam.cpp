@@ -45,7 +45,7 @@ Trace trace(const BeamProblem& p, const CoupledMass& m) {
     r.t.push_back(s.time());
     r.x.push_back(s.position());
     r.E.push_back(e.mechanical());
-    r.balance.push_back(e.mechanical() - e.drive_work + e.dissipated);
+    r.balance.push_back(e.balance());
     r.normal.push_back(s.normal_force());
   });
   r.x_end = sim.position();
@@ -183,36 +183,128 @@ TEST(CoupledMassBeam, EnergyConservedToOrderFour) {
   EXPECT_LT(drift.back(), 1e-6);
 }
 
-// With a drive and a viscous resistance, E(t) - E(0) = W_drive - W_loss closes to O(dt^4).
-TEST(CoupledMassBeam, EnergyBalanceWithDriveAndResistance) {
-  const CoupledMass m{0.5, 0.05, 1.0, 1.5, 0.4, false};
+/// max |balance - balance0| on the flexible strip (SS, L = 2 m, EI = 100, 8 modes, to 1.2 s) for
+/// each dt, and the energies at the end of the last run.
+std::vector<double> balance_errors(const CoupledMass& m, const std::vector<double>& dts, CoupledEnergies& last,
+                                   CoupledEnd& reason) {
   std::vector<double> err;
-  double loss = 0.0, gain = 0.0;
-  for (double dt : {5e-4, 2.5e-4, 1.25e-4}) {
+  for (double dt : dts) {
     BeamProblem p = make_beam(Support::SimplySupported, 2.0, 100.0, 1.0, 8, dt, 1.2);
     CoupledMassBeam sim(p, m);
-    double e = 0.0, E0 = 0.0;
+    double e = 0.0, b0 = 0.0;
     bool first = true;
     sim.run([&](const CoupledMassBeam& s) {
       const CoupledEnergies en = s.energies();
-      if (first) E0 = en.mechanical();
+      if (first) b0 = en.balance();
       first = false;
-      e = std::max(e, std::abs(en.mechanical() - E0 - en.drive_work + en.dissipated));
-      loss = en.dissipated;
-      gain = en.drive_work;
+      e = std::max(e, std::abs(en.balance() - b0));
+      last = en;
     });
     err.push_back(e);
-    std::printf("dt = %.2e: max |E - E0 - W_drive + W_loss| = %.4e J (W_drive = %.5f J, W_loss = %.5f J, end %s)\n",
-                dt, e, gain, loss, coupled_end_name(sim.end_reason()).c_str());
+    reason = sim.end_reason();
+    std::printf("dt = %.2e: max |balance - balance0| = %.4e J (W_drive = %.5f J, W_loss = %.5f J, W_friction = %.5f J, "
+                "end %s at t = %.6f s)\n", dt, e, last.drive_work, last.dissipated, last.friction_work,
+                coupled_end_name(reason).c_str(), sim.time());
   }
-  EXPECT_GT(loss, 0.05);
+  return err;
+}
+
+// With a drive and a viscous resistance, E(t) - E(0) = W_drive - W_loss closes to O(dt^4).
+TEST(CoupledMassBeam, EnergyBalanceWithDriveAndResistance) {
+  const CoupledMass m{0.5, 0.05, 1.0, 1.5, 0.4, false};
+  CoupledEnergies e;
+  CoupledEnd reason;
+  const std::vector<double> err = balance_errors(m, {5e-4, 2.5e-4, 1.25e-4}, e, reason);
+  EXPECT_GT(e.dissipated, 0.05);
   // The mass ends at x = L: the drive's work is D (L - x0) (an answer independent of the ODE).
-  EXPECT_NEAR(gain, m.drive * (2.0 - m.start), 1e-9);
-  EXPECT_LT(err.back(), 1e-6 * gain);
+  EXPECT_NEAR(e.drive_work, m.drive * (2.0 - m.start), 1e-9);
+  EXPECT_LT(err.back(), 1e-6 * e.drive_work);
   const double o1 = std::log2(err[0] / err[1]), o2 = std::log2(err[1] / err[2]);
   std::printf("balance orders %.3f %.3f\n", o1, o2);
   EXPECT_GT(o1, 3.5);
   EXPECT_GT(o2, 3.5);
+}
+
+// Coulomb friction (mu = 0.1) with the drive on the flexible strip: the normal force swings with
+// the strip's motion; E(t) - E(0) = W_drive - W_friction closes to O(dt^4) (RK4).
+TEST(CoupledMassBeam, EnergyBalanceWithFriction) {
+  CoupledMass m{0.5, 0.05, 1.0, 1.5, 0.0, false};
+  m.friction = 0.1;
+  CoupledEnergies e;
+  CoupledEnd reason;
+  const std::vector<double> err = balance_errors(m, {5e-4, 2.5e-4, 1.25e-4}, e, reason);
+  EXPECT_GT(e.friction_work, 0.5);
+  EXPECT_EQ(reason, CoupledEnd::LeftRight);
+  EXPECT_LT(err.back(), 1e-6 * e.friction_work);
+  const double o1 = std::log2(err[0] / err[1]), o2 = std::log2(err[1] / err[2]);
+  std::printf("balance orders %.3f %.3f\n", o1, o2);
+  EXPECT_GT(o1, 3.5);
+  EXPECT_GT(o2, 3.5);
+}
+
+// A mass launched at v0 on a stiff level beam (EI = 1e5, its slope under the mass ~1e-5)
+// decelerates at mu g and sticks: the run ends with the event stick at t = v0 / (mu g), x = x0 +
+// v0^2 / (2 mu g), to the beam's slope (the prescribed-motion limit's 1/EI); energy balance closes.
+TEST(CoupledMassBeam, FrictionStopsAMassOnAStiffBeam) {
+  const double M = 0.1, x0 = 0.1, v0 = 1.0, mu = 0.2, g = 9.8;
+  const double t_exact = v0 / (mu * g), x_exact = x0 + v0 * v0 / (2 * mu * g);
+  for (double EI : {1e4, 1e5}) {
+    const BeamProblem p = make_beam(Support::SimplySupported, 1.0, EI, 1.0, 5, 2e-5, 2.0);
+    CoupledMass m{M, x0, v0, 0.0, 0.0, false};
+    m.friction = mu;
+    const Trace r = trace(p, m);
+    std::printf("EI = %.0e: %s at t = %.8f s (v0 / (mu g) = %.8f s, error %.3e s), x = %.8f m (exact %.8f m, error "
+                "%.3e m); balance drift %.3e J of M v0^2 / 2 = %.3f J\n", EI, coupled_end_name(r.reason).c_str(),
+                r.t_end, t_exact, r.t_end - t_exact, r.x_end, x_exact, r.x_end - x_exact, max_drift(r.balance),
+                0.5 * M * v0 * v0);
+    EXPECT_EQ(r.reason, CoupledEnd::Stick);
+    EXPECT_NEAR(r.t_end, t_exact, 1e4 / EI * 1e-3 * t_exact);
+    EXPECT_NEAR(r.x_end, x_exact, 1e4 / EI * 1e-3 * (x_exact - x0));
+    EXPECT_LT(max_drift(r.balance), 1e-8);
+  }
+}
+
+// Reversal: a driven mass (D = 0.5 N > mu M g = 0.196 N) launched against the drive at 1 m/s on the
+// stiff level beam decelerates at D/M + mu g, stops at t1 = v0 / (D/M + mu g), and is driven back
+// at D/M - mu g: x(t) piecewise quadratic; no stick.
+TEST(CoupledMassBeam, FrictionReversesADrivenMass) {
+  const double M = 0.1, x0 = 0.6, v0 = -1.0, D = 0.5, mu = 0.2, g = 9.8, T = 0.5;
+  const BeamProblem p = make_beam(Support::SimplySupported, 1.0, 1e5, 1.0, 5, 2e-5, T);
+  CoupledMass m{M, x0, v0, D, 0.0, false};
+  m.friction = mu;
+  const Trace r = trace(p, m);
+  const double a1 = D / M + mu * g, a2 = D / M - mu * g, t1 = -v0 / a1, x1 = x0 - v0 * v0 / (2 * a1);
+  double err = 0.0;
+  for (size_t i = 0; i < r.t.size(); ++i) {
+    const double t = r.t[i];
+    const double x = t < t1 ? x0 + v0 * t + 0.5 * a1 * t * t : x1 + 0.5 * a2 * (t - t1) * (t - t1);
+    err = std::max(err, std::abs(r.x[i] - x));
+  }
+  std::printf("reversal at t1 = %.6f s, x1 = %.6f m; max |x - x_exact| = %.3e m; ends %s at x = %.6f m\n", t1, x1, err,
+              coupled_end_name(r.reason).c_str(), r.x_end);
+  EXPECT_EQ(r.reason, CoupledEnd::EndTime);
+  EXPECT_LT(err, 1e-5);
+  EXPECT_LT(max_drift(r.balance), 1e-8);
+}
+
+// From rest with a drive the friction can hold (D = 0.1 N < mu M g = 0.196 N): the run ends at
+// once with the event stick; with D = 0.3 N it slides from rest at (D - mu M g) / M.
+TEST(CoupledMassBeam, FrictionAtRest) {
+  const BeamProblem p = make_beam(Support::SimplySupported, 1.0, 1e5, 1.0, 5, 2e-5, 0.3);
+  CoupledMass m{0.1, 0.3, 0.0, 0.1, 0.0, false};
+  m.friction = 0.2;
+  const Trace held = trace(p, m);
+  m.drive = 0.3;
+  const Trace slides = trace(p, m);
+  const double x_exact = 0.3 + 0.5 * (0.3 - 0.2 * 0.1 * 9.8) / 0.1 * 0.3 * 0.3;
+  std::printf("D = 0.1 N: %s at t = %.3g s, %zu outputs; D = 0.3 N: %s, x(0.3 s) = %.8f m (exact %.8f m)\n",
+              coupled_end_name(held.reason).c_str(), held.t_end, held.t.size(), coupled_end_name(slides.reason).c_str(),
+              slides.x_end, x_exact);
+  EXPECT_EQ(held.reason, CoupledEnd::Stick);
+  EXPECT_EQ(held.t_end, 0.0);
+  EXPECT_EQ(held.t.size(), 1u);
+  EXPECT_EQ(slides.reason, CoupledEnd::EndTime);
+  EXPECT_NEAR(slides.x_end, x_exact, 1e-5);
 }
 
 // A mass launched towards x = 0 leaves there: the run ends at the event with x = 0.

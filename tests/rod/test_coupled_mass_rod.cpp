@@ -2,6 +2,7 @@
 // prescribed-motion limit, order in dt, energy drift, rigid-wire limit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -51,6 +52,7 @@ RodSetup cable(int cells, double stiffen, double M, double sigma0) {
 struct Trace {
   std::vector<double> t, sigma, speed, energy, mid_y;
   bool converged = true;
+  bool stuck = false;  ///< a step reported a stop where the friction holds the mass
   int max_coupling = 0;
 };
 
@@ -65,7 +67,7 @@ Trace advance(RodSetup s, const rod::CoupledRodMass& mass, rod::CoupledMassState
     tr.t.push_back(s.state.t);
     tr.sigma.push_back(m.sigma);
     tr.speed.push_back(m.speed);
-    tr.energy.push_back(e.mechanical() - e.drive_work + e.dissipated);
+    tr.energy.push_back(e.balance());
     tr.mid_y.push_back(r[r.size() / 2].y());
   };
   record();
@@ -78,6 +80,7 @@ Trace advance(RodSetup s, const rod::CoupledRodMass& mass, rod::CoupledMassState
       break;
     }
     tr.max_coupling = std::max(tr.max_coupling, rep.coupling_iterations);
+    tr.stuck = tr.stuck || m.sticks();
     r = rod::advance_centreline_in_time(r, old, s.state);
     if (k % every == 0) record();
     if (m.sigma < 0.02 || m.sigma > 0.98) break;
@@ -220,72 +223,117 @@ RodSetup rigid_arc(int cells, double M, double s0) {
   return s;
 }
 
+/// The static shape's tangent angle phi at sigma (interpolated linearly between the nodes).
+std::function<double(double)> tangent_angle(const rod::RodState& state, double L, int cells) {
+  std::vector<double> phi;
+  for (const auto& nd : state.nodes) {
+    const Vec3 d3 = nd.R.row(2).transpose();
+    phi.push_back(std::atan2(-d3.y(), d3.z()));
+  }
+  return [phi, L, cells](double sigma) {
+    const rod::NodeInterpolation at = rod::locate_on_nodes(sigma, L / cells, cells);
+    return (1.0 - at.xi) * phi[static_cast<size_t>(at.j)] + at.xi * phi[static_cast<size_t>(at.j + 1)];
+  };
+}
+
+/// max |sigma_rod - sigma_ODE| over the trace's times for sigma'' = accel(sigma, sigma') from
+/// (s0, v0), by RK4 at a twentieth of the trace's steps; `travel` the ODE's largest |sigma - s0|.
+double ode_error(const Trace& tr, double s0, double v0, const std::function<double(double, double)>& accel,
+                 double& travel) {
+  double sg = s0, v = v0, err = 0.0;
+  travel = 0.0;
+  const int sub = 20;
+  for (size_t i = 1; i < tr.t.size(); ++i) {
+    const double h = (tr.t[i] - tr.t[i - 1]) / sub;
+    for (int k = 0; k < sub; ++k) {
+      const double k1v = accel(sg, v), k1s = v;
+      const double k2v = accel(sg + 0.5 * h * k1s, v + 0.5 * h * k1v), k2s = v + 0.5 * h * k1v;
+      const double k3v = accel(sg + 0.5 * h * k2s, v + 0.5 * h * k2v), k3s = v + 0.5 * h * k2v;
+      const double k4v = accel(sg + h * k3s, v + h * k3v), k4s = v + h * k3v;
+      sg += h / 6 * (k1s + 2 * k2s + 2 * k3s + k4s);
+      v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+    }
+    err = std::max(err, std::abs(tr.sigma[i] - sg));
+    travel = std::max(travel, std::abs(sg - s0));
+  }
+  return err;
+}
+
 TEST(CoupledMassRod, RigidWireLimit) {
   const int cells = 40;
   const double L = 1.0, M = 0.05, s0 = 0.05, dt = 1e-3;
   RodSetup s = rigid_arc(cells, M, s0);
-  // The static shape's tangent angle at the nodes.
-  std::vector<double> phi;
-  for (const auto& nd : s.state.nodes) {
-    const Vec3 d3 = nd.R.row(2).transpose();
-    phi.push_back(std::atan2(-d3.y(), d3.z()));
-  }
-  auto accel = [&](double sigma) {
-    const rod::NodeInterpolation at = rod::locate_on_nodes(sigma, L / cells, cells);
-    const double p = (1.0 - at.xi) * phi[static_cast<size_t>(at.j)] + at.xi * phi[static_cast<size_t>(at.j + 1)];
-    return kG * std::sin(p);
-  };
+  const auto phi = tangent_angle(s.state, L, cells);
   const double T = 0.9;
   const Trace tr = advance(s, {M, 0.0, 0.0}, {s0, 0.0}, dt, T);
   ASSERT_TRUE(tr.converged);
-  // The ODE by RK4 at dt / 20, compared at the rod's output times.
-  double sg = s0, v = 0.0, t = 0.0, err = 0.0, travel = 0.0;
-  const int sub = 20;
-  const double h = dt / sub;
-  for (size_t i = 1; i < tr.t.size(); ++i) {
-    for (int k = 0; k < sub; ++k) {
-      const double k1v = accel(sg), k1s = v;
-      const double k2v = accel(sg + 0.5 * h * k1s), k2s = v + 0.5 * h * k1v;
-      const double k3v = accel(sg + 0.5 * h * k2s), k3s = v + 0.5 * h * k2v;
-      const double k4v = accel(sg + h * k3s), k4s = v + h * k3v;
-      sg += h / 6 * (k1s + 2 * k2s + 2 * k3s + k4s);
-      v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-      t += h;
-    }
-    err = std::max(err, std::abs(tr.sigma[i] - sg));
-    travel = std::max(travel, sg - s0);
-  }
+  double travel = 0.0;
+  const double err = ode_error(tr, s0, 0.0, [&](double sg, double) { return kG * std::sin(phi(sg)); }, travel);
   std::printf("rigid wire: to t = %.4f s the bead travels %.6f m (ODE), rod sigma(T) = %.6f m; max |sigma_rod - "
               "sigma_ODE| = %.4e m = %.4f %% of the travel; coupling iterations <= %d\n",
-              t, travel, tr.sigma.back(), err, 100.0 * err / travel, tr.max_coupling);
+              tr.t.back(), travel, tr.sigma.back(), err, 100.0 * err / travel, tr.max_coupling);
   EXPECT_GT(travel, 0.3);
   EXPECT_LT(err / travel, 1e-3);
+}
+
+// Friction that cannot hold the mass where it stops (mu = 0.1 below the slope's tangent): on
+// RigidWireLimit's arc, launched uphill (towards s = 0) from s0 = 0.5 m at 1.2 m/s, the mass
+// decelerates, stops near s = 0.37 m, reverses and slides back down. Against the rigid-wire ODE
+// sigma'' = g sin phi - mu |g cos phi - kappa0 sigma'^2| sign(sigma') (RK4 at dt / 20) to 0.6 s:
+// sigma within 0.1 % of the travel; the rod's step never reports a stick.
+TEST(CoupledMassRod, FrictionReversesOnAnInclinedWire) {
+  const int cells = 40;
+  const double L = 1.0, M = 0.05, s0 = 0.5, v0 = -1.2, mu = 0.1, dt = 1e-3, T = 0.6;
+  RodSetup s = rigid_arc(cells, M, s0);
+  const auto phi = tangent_angle(s.state, L, cells);
+  const Trace tr = advance(s, {M, 0.0, 0.0, mu}, {s0, v0}, dt, T);
+  ASSERT_TRUE(tr.converged);
+  auto accel = [&](double sg, double v) {
+    const double p = phi(sg), sgn = v > 0.0 ? 1.0 : (v < 0.0 ? -1.0 : 0.0);
+    return kG * std::sin(p) - mu * std::abs(kG * std::cos(p) - v * v) * sgn;
+  };
+  double travel = 0.0;
+  const double err = ode_error(tr, s0, v0, accel, travel);
+  const double lowest = *std::min_element(tr.sigma.begin(), tr.sigma.end());
+  std::printf("reversal: lowest sigma %.6f m, sigma(T) = %.6f m, speed(T) = %.5f m/s; max |sigma_rod - sigma_ODE| = "
+              "%.4e m = %.4f %% of the travel %.4f m; sticks: %d\n", lowest, tr.sigma.back(), tr.speed.back(), err,
+              100.0 * err / travel, travel, tr.stuck ? 1 : 0);
+  EXPECT_LT(lowest, 0.4);
+  EXPECT_GT(tr.speed.back(), 0.3);
+  EXPECT_FALSE(tr.stuck);
+  EXPECT_LT(err / travel, 1e-3);
+}
+
+/// max |balance - balance0| over the steps to T of the soft cable with `cells` cells, 0.05 kg
+/// launched at v0 = 2 m/s from 0.1 m, dt = ds / v0; `end` the mass's state at T.
+double balance_error(int cells, const rod::CoupledRodMass& mass, double T, rod::CoupledMassState& end) {
+  const double s0 = 0.1, v0 = 2.0;
+  RodSetup s = cable(cells, 1.0, mass.mass, s0);
+  rod::CoupledRodStepper stepper(s.model, mass);
+  rod::CoupledMassState m{s0, v0};
+  std::vector<Vec3> r = rod::centreline_in_space(s.state);
+  const double dt = (1.0 / cells) / v0;
+  auto balance = [&]() { return rod::coupled_energies(stepper.model(), s.state, r, m, mass.mass).balance(); };
+  const double b0 = balance();
+  double err = 0.0;
+  for (long k = 1; k <= std::lround(T / dt); ++k) {
+    const rod::RodState old = s.state;
+    if (!stepper.step(s.state, m, dt).converged) return std::nan("");
+    r = rod::advance_centreline_in_time(r, old, s.state);
+    err = std::max(err, std::abs(balance() - b0));
+  }
+  end = m;
+  return err;
 }
 
 // With a drive and a viscous resistance the balance E - E0 - W_drive + W_loss closes as the
 // discretisation is refined (40 and 80 cells, dt = ds / v0), at the level of the frictionless
 // drift (EnergyDrift), while W_loss itself is much larger.
 TEST(CoupledMassRod, EnergyBalanceWithDriveAndResistance) {
-  const double M = 0.05, s0 = 0.1, v0 = 2.0, T = 0.25;
   std::vector<double> errs;
   for (int cells : {40, 80}) {
-    RodSetup s = cable(cells, 1.0, M, s0);
-    rod::CoupledRodStepper stepper(s.model, {M, 0.2, 0.05});
-    rod::CoupledMassState m{s0, v0};
-    std::vector<Vec3> r = rod::centreline_in_space(s.state);
-    const double dt = (1.0 / cells) / v0;
-    auto balance = [&]() {
-      const auto e = rod::coupled_energies(stepper.model(), s.state, r, m, M);
-      return e.mechanical() - e.drive_work + e.dissipated;
-    };
-    const double b0 = balance();
-    double err = 0.0;
-    for (long k = 1; k <= std::lround(T / dt); ++k) {
-      const rod::RodState old = s.state;
-      ASSERT_TRUE(stepper.step(s.state, m, dt).converged);
-      r = rod::advance_centreline_in_time(r, old, s.state);
-      err = std::max(err, std::abs(balance() - b0));
-    }
+    rod::CoupledMassState m;
+    const double err = balance_error(cells, {0.05, 0.2, 0.05}, 0.25, m);
     std::printf("%d cells: drive 0.2 N, resistance 0.05 N s/m: W_drive = %.5f J, W_loss = %.5f J, max |balance - "
                 "balance0| = %.4e J, sigma(T) = %.5f m\n", cells, m.drive_work, m.dissipated, err, m.sigma);
     EXPECT_GT(m.dissipated, 0.05);
@@ -294,6 +342,67 @@ TEST(CoupledMassRod, EnergyBalanceWithDriveAndResistance) {
   }
   std::printf("order %.3f\n", std::log2(errs[0] / errs[1]));
   EXPECT_GT(std::log2(errs[0] / errs[1]), 1.2);
+}
+
+// Coulomb friction mu = 0.1 on the sagging cable (the normal force swings with the cable's motion):
+// the balance E - E0 + W_friction closes as the discretisation is refined (40 and 80 cells,
+// dt = ds / v0), while W_friction ~ mu M g (travel) is 0.02 J.
+TEST(CoupledMassRod, EnergyBalanceWithFriction) {
+  std::vector<double> errs;
+  for (int cells : {40, 80}) {
+    rod::CoupledMassState m;
+    const double err = balance_error(cells, {0.05, 0.0, 0.0, 0.1}, 0.25, m);
+    std::printf("%d cells: friction 0.1: W_friction = %.5f J (mu M g travel = %.5f J), max |balance - balance0| = "
+                "%.4e J, sigma(T) = %.5f m, speed %.4f m/s\n", cells, m.friction_work, 0.1 * 0.05 * kG * (m.sigma - 0.1),
+                err, m.sigma, m.speed);
+    EXPECT_GT(m.friction_work, 0.015);
+    EXPECT_LT(err, 0.02 * m.friction_work);
+    errs.push_back(err);
+  }
+  std::printf("order %.3f\n", std::log2(errs[0] / errs[1]));
+  EXPECT_GT(std::log2(errs[0] / errs[1]), 1.2);
+}
+
+// A mass launched at v0 along a level rod stiff enough to stay straight (E raised 1e4 times, the
+// default cable's ends) decelerates at mu g: it stops at t = v0 / (mu g) after v0^2 / (2 mu g), and
+// the friction holds it there (the step reports the stop: the zero of v linear in the step).
+// The deviation is the rod's sag (as in PrescribedMotionLimit); the midpoint rule is exact for a
+// constant deceleration, so halving dt changes nothing beyond it.
+TEST(CoupledMassRod, FrictionStopsAMassOnALevelRod) {
+  const double M = 0.05, s0 = 0.2, v0 = 1.0, mu = 0.2;
+  const double t_exact = v0 / (mu * kG), d_exact = v0 * v0 / (2 * mu * kG);
+  std::vector<double> et;
+  for (double dt : {5e-3, 2.5e-3}) {
+    RodSetup s = cable(20, 1e4, M, s0);
+    rod::CoupledRodStepper stepper(s.model, {M, 0.0, 0.0, mu});
+    rod::CoupledMassState m{s0, v0};
+    std::vector<Vec3> r = rod::centreline_in_space(s.state);
+    const double b0 = rod::coupled_energies(stepper.model(), s.state, r, m, M).balance();
+    double t_stop = -1.0, d_stop = 0.0, drift = 0.0;
+    for (long k = 1; k <= std::lround(2.0 * t_exact / dt) && t_stop < 0.0; ++k) {
+      const rod::RodState old = s.state;
+      const rod::CoupledMassState m_old = m;
+      ASSERT_TRUE(stepper.step(s.state, m, dt).converged);
+      r = rod::advance_centreline_in_time(r, old, s.state);
+      if (m.sticks()) {
+        t_stop = old.t + m.stick_fraction * dt;
+        d_stop = m_old.sigma + 0.5 * m_old.speed * m.stick_fraction * dt - s0;
+      } else {
+        drift = std::max(drift, std::abs(rod::coupled_energies(stepper.model(), s.state, r, m, M).balance() - b0));
+      }
+    }
+    std::printf("dt = %.4g s: stops at t = %.7f s (v0 / (mu g) = %.7f s, error %.3e s) after %.7f m (v0^2 / (2 mu g) "
+                "= %.7f m, error %.3e m); W_friction %.6f J (M v0^2 / 2 = %.6f J), balance drift before the stop "
+                "%.3e J\n", dt, t_stop, t_exact, t_stop - t_exact, d_stop, d_exact, d_stop - d_exact, m.friction_work,
+                0.5 * M * v0 * v0, drift);
+    ASSERT_GT(t_stop, 0.0) << "no stop";
+    EXPECT_NEAR(t_stop, t_exact, 1e-4 * t_exact);
+    EXPECT_NEAR(d_stop, d_exact, 1e-4 * d_exact);
+    EXPECT_LT(drift, 1e-4 * 0.5 * M * v0 * v0);
+    et.push_back(t_stop);
+  }
+  std::printf("stop time at dt minus dt / 2: %.3e s\n", et[0] - et[1]);
+  EXPECT_LT(std::abs(et[0] - et[1]), 1e-5 * t_exact);
 }
 
 // Lift-off from a rigid convex wire: a mass launched at v0 = 1 m/s from s0 = 0.05 m over the arc

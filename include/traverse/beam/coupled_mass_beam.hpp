@@ -9,7 +9,7 @@
 
 namespace traverse::beam {
 
-/// The coupled mass (plain data, SI units). Friction is not implemented (the scene refuses it).
+/// The coupled mass (plain data, SI units).
 struct CoupledMass {
   double mass = 0.0;        ///< M [kg], > 0
   double start = 0.0;       ///< x(t_start) [m], in [0, L]
@@ -17,6 +17,7 @@ struct CoupledMass {
   double drive = 0.0;       ///< D [N]: constant force along the beam's axis (tangent)
   double resistance = 0.0;  ///< c [N s/m] >= 0: force -c x' (external, not through the beam)
   bool unilateral = false;  ///< resting on the beam's upper side: lift-off ends the run
+  double friction = 0.0;    ///< Coulomb mu >= 0: tangential force -mu |N| sign(x') (N the normal force)
 };
 
 /// Why a coupled run ended.
@@ -24,9 +25,10 @@ enum class CoupledEnd {
   EndTime,    ///< t_end reached with the mass on the beam
   LeftLeft,   ///< the mass left the beam at x = 0
   LeftRight,  ///< the mass left the beam at x = L
-  LiftOff     ///< unilateral contact: the normal force reached zero (it would pull)
+  LiftOff,    ///< unilateral contact: the normal force reached zero (it would pull)
+  Stick       ///< friction: x' reached 0 and the demand is at most mu |N| (the mass sticks)
 };
-/// "end_time", "left_beam_at_0", "left_beam_at_L", "lift_off".
+/// "end_time", "left_beam_at_0", "left_beam_at_L", "lift_off", "stick".
 const std::string& coupled_end_name(CoupledEnd e);
 
 /// Energies of beam + mass [J] and the work of the non-conservative forces.
@@ -38,8 +40,11 @@ struct CoupledEnergies {
   double mass_gravity = 0.0;   ///< M g w(x)
   double drive_work = 0.0;     ///< int D x' dt since t_start
   double dissipated = 0.0;     ///< int c x'^2 dt since t_start
+  double friction_work = 0.0;  ///< int mu |N| |x'| dt since t_start
   /// The mechanical energy (first five terms).
   double mechanical() const { return beam_kinetic + beam_elastic + beam_gravity + mass_kinetic + mass_gravity; }
+  /// mechanical - drive work + the losses (constant up to the time discretisation).
+  double balance() const { return mechanical() - drive_work + dissipated + friction_work; }
 };
 
 /// Solves, for generalised coordinates (Y, x) with the mass's vertical velocity
@@ -57,6 +62,12 @@ struct CoupledEnergies {
 /// iteration; the works by the trapezoidal rule) at fixed steps; a step
 /// in which an event happens (the mass leaves at either end, unilateral lift-off) is
 /// shortened to end at the event (secant on the step length), and the run ends there.
+/// Coulomb friction (docs/beam.md "Coupled mass"): the generalised force -mu |N| s on x (s the
+/// sliding direction, fixed while sliding; N = M (g + w_tt + 2 x' w_xt + x'^2 w_xx) + w_x (D - c x')
+/// the normal force to first order in the slope, linear in the beam's accelerations, so the
+/// accelerations come from a 2 x 2 reduced solve). The step in which x' s reaches 0 is shortened
+/// to it; there the mass sticks (the event, the run ends) when the tangential force that holds it
+/// to the beam is at most mu |N|, otherwise it reverses (s flips) and the step goes on.
 class CoupledMassBeam {
  public:
   /// Throws std::invalid_argument for a problem it cannot integrate (loads other than the
@@ -113,6 +124,13 @@ class CoupledMassBeam {
   const MatX& newmark_inverse(double h) const;
   double event_value(CoupledEnd e, const State& s) const;
   bool locate_event(const State& s0, double t0, double h, State& s1);
+  /// The accelerations (Y'', x'') of the state's rows (w_->r0, r1 and the modes at x in the work
+  /// arrays) with the effective matrices Binv, Mx and friction; returns the normal force.
+  double accelerations(const MatX& Binv, double Mx, double r1, double n_rest, double slope, VecX& A, double& a) const;
+  /// At x' = 0: whether the friction holds the mass (and the direction it slides otherwise).
+  bool holds(const State& s, double& direction) const;
+  bool advance_to(double t_target);
+  void refresh_accelerations();  ///< A_, a_, n_ from the current state
   void load_state(const State& s);
 
   BeamProblem problem_;
@@ -125,7 +143,8 @@ class CoupledMassBeam {
   long steps_ = 0;
   VecX Y_, V_, A_;
   double a_ = 0.0;
-  double x_ = 0.0, v_ = 0.0, work_drive_ = 0.0, work_loss_ = 0.0;
+  double x_ = 0.0, v_ = 0.0, work_drive_ = 0.0, work_loss_ = 0.0, work_friction_ = 0.0, n_ = 0.0;
+  double dir_ = 1.0;  ///< sliding direction (friction)
   CoupledEnd end_ = CoupledEnd::EndTime;
 };
 

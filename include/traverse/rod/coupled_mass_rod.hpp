@@ -8,11 +8,13 @@
 
 namespace traverse::rod {
 
-/// The coupled mass (SI). Frictionless, bilateral (a bead threaded on the rod).
+/// The coupled mass (SI). Bilateral contact (a bead threaded on the rod); the app checks the
+/// unilateral sign condition.
 struct CoupledRodMass {
   double mass = 0.0;        ///< M [kg]
   double drive = 0.0;       ///< D [N] along d3 (a robot's traction)
   double resistance = 0.0;  ///< c [N s/m]: the force -c sigma' d3 on the mass (air)
+  double friction = 0.0;    ///< Coulomb coefficient mu >= 0: tangential contact force -mu |C_perp| sign(sigma')
 };
 
 /// The mass's state at a time level.
@@ -20,7 +22,13 @@ struct CoupledMassState {
   double sigma = 0.0;       ///< position along the rod [m]
   double speed = 0.0;       ///< sigma' [m/s]
   double drive_work = 0.0;  ///< int D sigma' dt since the start [J]
-  double dissipated = 0.0;  ///< int c sigma'^2 dt since the start [J]
+  double dissipated = 0.0;  ///< work of the resistance since the start [J] (docs/rod.md)
+  double friction_work = 0.0;  ///< int mu |C_perp| |sigma'| dt since the start [J]
+  /// Set by the step that produced this state: sigma' reached 0 in it, at this fraction of the
+  /// step, with the tangential demand at most mu |C_perp| (the mass sticks; the step kept the
+  /// sliding friction to its end, so sigma' has overshot to the other sign). -1: no stop.
+  double stick_fraction = -1.0;
+  bool sticks() const { return stick_fraction >= 0.0; }
 };
 
 /// The rod's fields at sigma, interpolated linearly between the nodes of the cell holding it
@@ -49,7 +57,14 @@ struct CoupledStepReport {
 ///     sigma_new = sigma_old + dt (v_old + v_new) / 2,     d3m = unit(d3_old + d3_new)
 /// (d3 and p' at sigma at each level) gives v_new given the rod's new level; the rod step is
 /// solved given (sigma_new, v_new). The iteration between the two (Newton of the rod warm-
-/// started from the previous iterate) stops when both change by less than tol * ds.
+/// started from the previous iterate) stops when both change by less than tol * ds (or by less
+/// than 1e3 tol * ds when the change no longer halves: the round-off floor of a heavy mass).
+/// Coulomb friction adds the impulse J = -mu |C_perp| int sign(v(t)) dt (v linear in the step,
+/// |C_perp| the normal part of the contact force of the step, from the latest iterate) to the
+/// right-hand side: while sliding J = -mu |C_perp| dt sign(v_old); a step in which v crosses 0
+/// sticks (stick_fraction) when the demand T = M g . d3m + D - M (U_new - U_old) . d3m / dt is at
+/// most mu |C_perp|, and otherwise reverses (J switches sign at the crossing: v_new from a
+/// quadratic, docs/rod.md "Coupled mass").
 class CoupledRodStepper {
  public:
   CoupledRodStepper(RodModel model, CoupledRodMass mass);
@@ -69,8 +84,9 @@ class CoupledRodStepper {
   CoupledRodMass mass_;
   std::unique_ptr<ReferenceStepper> stepper_;
   bool rod_newton(const StepTimes& st, const RodState& old_state, VecX& x, int& iterations) const;
-  double new_speed(const RodState& old_state, const RodState& new_state, const CoupledMassState& m, double sigma_new,
-                   double dt) const;
+  struct Speed;
+  Speed new_speed(const RodState& old_state, const RodState& new_state, const CoupledMassState& m, double sigma_new,
+                  double v_iterate, double dt) const;
 };
 
 }  // namespace traverse::rod
@@ -97,8 +113,10 @@ struct CoupledRodEnergies {
   double rod_gravity = 0.0;   ///< sum over cells of ds rhoA (-g . r_cell_average)
   double mass_kinetic = 0.0;  ///< 1/2 M |p'|^2
   double mass_gravity = 0.0;  ///< -M g . r(sigma)
-  double drive_work = 0.0, dissipated = 0.0;
+  double drive_work = 0.0, dissipated = 0.0, friction_work = 0.0;
   double mechanical() const { return rod + rod_gravity + mass_kinetic + mass_gravity; }
+  /// mechanical - drive work + the losses (constant up to the discretisation).
+  double balance() const { return mechanical() - drive_work + dissipated + friction_work; }
 };
 /// `r` is the centreline at the nodes (centreline_in_space or advanced in time).
 CoupledRodEnergies coupled_energies(const RodModel& model, const RodState& state, const std::vector<Vec3>& r,

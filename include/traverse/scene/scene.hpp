@@ -167,6 +167,9 @@ struct TimeSpec {
   double dt = 0.0;   ///< [s] (resolved by the runner when dt_auto); adaptive: the first step
   bool end_auto = true;
   double end = 0.0;  ///< [s] (resolved by the runner when end_auto)
+  /// time.end: auto with a coupled_mass: the run ends at the mass's first event; `end` is then
+  /// time.auto_limit, the latest end (end_auto is false: the end is a number).
+  bool end_at_event = false;
   AdaptiveSpec adaptive;
 };
 
