@@ -1,7 +1,8 @@
 #!/bin/bash
 # Start-up and sweep figures of issue 16 (docs/benchmarks.md, "Start-up and sweeps"): the
 # median wall and CPU time (user + system, children included) of
-#   traverse --version, traverse check inputs/default.yaml, a 26-node cable run (ds = 0.04)
+#   traverse --version, traverse check inputs/default.yaml, the cable run (inputs/default.yaml)
+#   at ds = 0.04, 0.02 and the scene's 0.01 (26, 51, 101 nodes; output every step)
 # for each executable given (e.g. the build of main and this one), then the F = 2 N resonance
 # sweep (20 speeds, postprocessing/hanging_cable.py's) on 1 and 2 ranks with the last one.
 # Usage: bash scripts/bench-startup.sh [-n RUNS] [--no-sweep] EXE [EXE ...]
@@ -34,7 +35,9 @@ echo "| executable | command | wall [s] | CPU [s] |"
 echo "|---|---|---|---|"
 for exe in "${exes[@]}"; do
   for cmd in "--version" "check inputs/default.yaml" \
-             "run inputs/default.yaml --set mesh.ds=0.04 -o $work/cable.h5 --overwrite -q"; do
+             "run inputs/default.yaml --set mesh.ds=0.04 -o $work/cable.h5 --overwrite -q" \
+             "run inputs/default.yaml --set mesh.ds=0.02 -o $work/cable.h5 --overwrite -q" \
+             "run inputs/default.yaml -o $work/cable.h5 --overwrite -q"; do
     # shellcheck disable=SC2086
     read -r wall cpu < <(measure "$exe" $cmd)
     echo "| $exe | traverse ${cmd%% -o *} | $wall | $cpu |"
