@@ -730,10 +730,11 @@ void print_start(const scene::Scene& sc, const TimeGrid& g, const std::string& i
                   sc.time.adaptive.tolerance, g.dt, g.dt * sc.output.every);
   else
     std::snprintf(steps, sizeof steps, "%ld steps of dt = %.6g s", g.steps, g.dt);
-  std::printf("rod scene '%s': %d nodes, %s to t = %.6g s; initial state: %s; linear solver: %s%s; path: %s\n",
+  std::printf("rod scene '%s': %d nodes, %s to t = %.6g s; initial state: %s; linear solver: %s%s; Newton: %s; "
+              "path: %s\n",
               sc.file.c_str(), sc.mesh.nodes, steps, g.t_end, initial.c_str(), st.resolved_linear_solver().c_str(),
               st.linear_solver_rerouted() ? " (rerouted: Amesos2 gives wrong answers on 2+ ranks here)" : "",
-              path_text.c_str());
+              st.newton_implementation().c_str(), path_text.c_str());
 }
 
 }  // namespace

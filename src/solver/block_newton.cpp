@@ -102,6 +102,18 @@ double BlockNewton::solve_linear() {
 
 NewtonReport BlockNewton::solve(std::vector<double>& x) {
   if (x.size() != f_.size()) throw std::invalid_argument("BlockNewton::solve: x has the wrong size");
+  // As NewtonSolver (NOX): an exception inside the kernels or the LU is a failed solve.
+  try {
+    return iterate(x);
+  } catch (const std::exception& e) {
+    NewtonReport rep;
+    rep.status = std::string("failed: exception: ") + e.what();
+    rep.residual_norm = std::numeric_limits<double>::quiet_NaN();
+    return rep;
+  }
+}
+
+NewtonReport BlockNewton::iterate(std::vector<double>& x) {
   NewtonReport rep;
   double nf = evaluate(x);
   rep.residual_history.push_back(nf);

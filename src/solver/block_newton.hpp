@@ -33,7 +33,8 @@ class BlockNewton {
   BlockNewton(const rod::StepAssembly& assembly, BlockNewtonOptions options);
 
   /// Newton from x (in: initial guess, unknowns_per_node() per node; out: the last iterate, the
-  /// solution when converged) on the assembly's current old level.
+  /// solution when converged) on the assembly's current old level. An exception thrown inside
+  /// the kernels or the LU is reported as a failed solve (as NewtonSolver reports NOX's).
   NewtonReport solve(std::vector<double>& x);
 
   /// The largest dropped (out-of-plane) residual at the last residual evaluation (planar path).
@@ -44,6 +45,7 @@ class BlockNewton {
   double factorization_seconds() const { return t_lu_; }
 
  private:
+  NewtonReport iterate(std::vector<double>& x);
   /// f and the blocks at x; returns max|f| (NaN when f is not finite).
   double evaluate(const std::vector<double>& x);
   /// d = J^{-1} f with the residual check and refinements; returns max|f - J d| / max|f|.
