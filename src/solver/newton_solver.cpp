@@ -24,19 +24,23 @@ namespace traverse::solver {
 namespace {
 using namespace tt;  // MEB, LO, GO, Node, Extract
 
-/// Records max |f| at the initial guess and after each Newton iteration.
+/// Records max |f| at the initial guess and after each Newton iteration. (NOX computes the
+/// initial residual inside the first step, after runPreIterate: it is taken from the previous
+/// solution group after the first iteration.)
 class HistoryObserver : public NOX::Observer {
  public:
   std::vector<double> history;
   void runPreSolve(const NOX::Solver::Generic&) override { history.clear(); }
   void runPreIterate(const NOX::Solver::Generic& s) override {
-    if (history.empty()) record(s);
+    if (history.empty()) record(s.getSolutionGroup());
   }
-  void runPostIterate(const NOX::Solver::Generic& s) override { record(s); }
+  void runPostIterate(const NOX::Solver::Generic& s) override {
+    if (history.empty()) record(s.getPreviousSolutionGroup());
+    record(s.getSolutionGroup());
+  }
 
  private:
-  void record(const NOX::Solver::Generic& s) {
-    const auto& g = s.getSolutionGroup();
+  void record(const NOX::Abstract::Group& g) {
     if (g.isF()) history.push_back(g.getF().norm(NOX::Abstract::Vector::MaxNorm));
   }
 };
