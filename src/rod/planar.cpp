@@ -267,16 +267,14 @@ PlanarReduction::PlanarReduction(const RodModel& model, const PlanarSymmetry& sy
   if (left_keep_.size() + left_drop_.size() != (carried_ ? 18u : 6u) || right_keep_.size() != 3 ||
       right_drop_.size() != 3)
     throw std::invalid_argument("PlanarReduction: the end rows must split 3 + 3");
-  for (int k = 0; k < 12; ++k) {
-    const Vec12 e = Vec12::Unit(k);
-    Mm_.col(k) = apply_Mm(model.props, e);
-    Kk_.col(k) = apply_Kk(model.props, e);
-  }
-  for (int c = 0; c < 6; ++c)
+  for (int c = 0; c < 6; ++c) {  // the in-plane rows and columns of Mm and Kk
+    const Vec12 e = Vec12::Unit(S[static_cast<size_t>(c)]);
+    const Vec12 Me = apply_Mm(model.props, e), Ke = apply_Kk(model.props, e);
     for (int r = 0; r < 6; ++r) {
-      Mm6_(r, c) = Mm_(S[static_cast<size_t>(r)], S[static_cast<size_t>(c)]);
-      Kk6_(r, c) = Kk_(S[static_cast<size_t>(r)], S[static_cast<size_t>(c)]);
+      Mm6_(r, c) = Me(S[static_cast<size_t>(r)]);
+      Kk6_(r, c) = Ke(S[static_cast<size_t>(r)]);
     }
+  }
   sigma_ = sym_.axis == 0 ? 1.0 : -1.0;
   if (model.loads.f_fixed || model.loads.l_fixed)
     throw std::invalid_argument("PlanarReduction: distributed loads given as functions are not planar");
@@ -284,11 +282,10 @@ PlanarReduction::PlanarReduction(const RodModel& model, const PlanarSymmetry& sy
 
 PlanarReduction::OldNode PlanarReduction::old_node(const RodModel& model, const StepTimes& step, int j,
                                                    const RodNode& old) const {
-  const std::array<int, 6> S = in_plane_components(sym_.axis);
   const NodeFlux F = old_level_flux(model, step, j, old);
   OldNode o;
   for (int i = 0; i < 6; ++i) {
-    const int c = S[static_cast<size_t>(i)];
+    const int c = cols_[static_cast<size_t>(i)];
     o.y(i) = old.y(c);
     o.yt(i) = old.yt(c);
     o.ys(i) = old.ys(c);
@@ -297,7 +294,7 @@ PlanarReduction::OldNode PlanarReduction::old_node(const RodModel& model, const 
   o.fb.setZero();
   if (model.loads.has_frame_loads()) {
     const Vec3 fb = old.R * (model.props.rhoA * model.loads.gravity);
-    o.fb << fb(S[0]), fb(S[1]);  // the polar in-plane components (b, 3)
+    o.fb << fb(cols_[0]), fb(cols_[1]);  // the polar in-plane components (b, 3)
     o.fb_normal = fb(sym_.axis);
   }
   return o;
@@ -366,16 +363,15 @@ double PlanarReduction::cell_block_into(LocalBlock& b, const RodModel& model, co
 }
 
 double PlanarReduction::add_loads(LocalBlock& cell, const LocalBlock& loads) const {
-  const std::array<int, 6> S = in_plane_components(sym_.axis);
-  for (int i = 0; i < 6; ++i) cell.residual(i) += loads.residual(S[static_cast<size_t>(i)]);
+  // cols_ starts with the 6 in-plane components; the load's rows are the 12 PDE rows.
+  for (int i = 0; i < 6; ++i) cell.residual(i) += loads.residual(cols_[static_cast<size_t>(i)]);
   for (size_t side = 0; side < 2; ++side)
     for (int ic = 0; ic < 6; ++ic)
       for (int ir = 0; ir < 6; ++ir)
-        cell.jac[side](ir, ic) += loads.jac[side](S[static_cast<size_t>(ir)], S[static_cast<size_t>(ic)]);
-  const std::array<bool, 12> even = even_mask(sym_.axis);
+        cell.jac[side](ir, ic) += loads.jac[side](cols_[static_cast<size_t>(ir)], cols_[static_cast<size_t>(ic)]);
   double dropped = 0.0;
-  for (int k = 0; k < 12; ++k)
-    if (!even[static_cast<size_t>(k)]) dropped = std::max(dropped, std::abs(loads.residual(k)));
+  for (int k : cell_drop_)
+    if (k < 12) dropped = std::max(dropped, std::abs(loads.residual(k)));
   return dropped;
 }
 

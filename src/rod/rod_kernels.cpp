@@ -31,6 +31,7 @@ Mat12 Kk_matrix(const RodProperties& p) {
 
 /// Jacobian of the flux with respect to the new-level y, R's dependence on omega included.
 Mat12 new_level_flux_jacobian(const NodeFlux& f, const Mat3& G) {
+  if (!f.has_jacobian) throw std::logic_error("rod kernels: the Jacobian of a flux formed without it");
   Mat12 J = f.dF_dy;
   if (f.frame_loads) J.block<12, 3>(0, var::omega) += f.dF_dRrot * G;  // else dF_dRrot = 0
   return J;

@@ -83,10 +83,9 @@ void BlockNewton::residual_of(const std::vector<double>& d, std::vector<double>&
   }
 }
 
-double BlockNewton::solve_linear() {
+double BlockNewton::solve_linear(double nb) {
   const BlockExchange none;  // one rank: never called
   lu_->solve(f_.data(), d_.data(), blocks_.data(), none);
-  const double nb = max_abs(f_);
   double worst = 0.0;
   for (int pass = 0; pass <= 2; ++pass) {
     residual_of(d_, r_);
@@ -140,7 +139,7 @@ NewtonReport BlockNewton::iterate(std::vector<double>& x) {
     lu_->factor(blocks_.data(), n_, b_, 0, 1, none);
     ++n_lu_;
     t_lu_ += seconds_since(t0);
-    const double achieved = solve_linear();
+    const double achieved = solve_linear(nf);
     x_old_ = x;
     for (size_t i = 0; i < x.size(); ++i) x[i] = x_old_[i] + (-d_[i]);
     ++it;

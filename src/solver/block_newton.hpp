@@ -48,8 +48,9 @@ class BlockNewton {
   NewtonReport iterate(std::vector<double>& x);
   /// f and the blocks at x; returns max|f| (NaN when f is not finite).
   double evaluate(const std::vector<double>& x);
-  /// d = J^{-1} f with the residual check and refinements; returns max|f - J d| / max|f|.
-  double solve_linear();
+  /// d = J^{-1} f with the residual check and refinements; returns max|f - J d| / max|f|
+  /// (nb = max|f|, from evaluate).
+  double solve_linear(double nb);
   /// r = f - J d (block-tridiagonal product).
   void residual_of(const std::vector<double>& d, std::vector<double>& r) const;
 

@@ -155,8 +155,7 @@ class PlanarReduction {
   std::vector<int> cols_;                               ///< kept entries of a node block
   std::vector<int> left_keep_, cell_keep_, right_keep_;  ///< kept local rows per block kind
   std::vector<int> left_drop_, cell_drop_, right_drop_;  ///< the others
-  Mat12 Mm_, Kk_;  ///< the model's Mm and Kk (apply_Mm, apply_Kk as matrices)
-  Eigen::Matrix<double, 6, 6> Mm6_, Kk6_;  ///< their in-plane rows and columns
+  Eigen::Matrix<double, 6, 6> Mm6_, Kk6_;  ///< the in-plane rows and columns of the model's Mm and Kk
   double sigma_ = 1.0;  ///< e_a x v = sigma J v for in-plane polar v, J (v_b, v_3) = (-v_3, v_b)
 };
 
