@@ -363,5 +363,18 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
   return out;
 }
 
+[[noreturn]] void linear_solver_refused(const scene::Scene& sc, int ranks, const std::invalid_argument& e) {
+  scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(ranks) + " rank(s)", e.what());
+}
+
+std::unique_ptr<solver::DistributedStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
+  auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
+  try {
+    return std::make_unique<solver::DistributedStepper>(setup.model, tcomm, setup.solver);
+  } catch (const std::invalid_argument& e) {
+    linear_solver_refused(sc, tcomm->getSize(), e);
+  }
+}
+
 }  // namespace traverse::app
 

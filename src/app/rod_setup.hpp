@@ -4,6 +4,8 @@
 
 #include <Teuchos_ParameterList.hpp>
 
+#include <memory>
+#include <stdexcept>
 #include <string>
 
 #include "traverse/output/continuation_writer.hpp"
@@ -102,5 +104,12 @@ void precheck_planar(const scene::Scene& sc, const rod::RodModel& model);
 /// stored planar path whose state is no longer planar throws SceneError). Collective.
 PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const solver::DistributedStepper& stepper,
                        int stored, MPI_Comm comm);
+
+/// SceneError located at `solver`: the scene's linear solver cannot run on `ranks` ranks.
+[[noreturn]] void linear_solver_refused(const scene::Scene& sc, int ranks, const std::invalid_argument& e);
+
+/// The time stepper of a scene's rod model (collective); a linear solver that cannot run on
+/// this many ranks is bad input (linear_solver_refused).
+std::unique_ptr<solver::DistributedStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);
 
 }  // namespace traverse::app

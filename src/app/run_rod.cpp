@@ -697,11 +697,6 @@ std::unique_ptr<RodAdaptiveControl> make_adaptive(const scene::Scene& sc, const 
   return ctl;
 }
 
-/// The stepper of a scene; a linear solver that cannot run on this many ranks is bad input.
-[[noreturn]] void linear_solver_refused(const scene::Scene& sc, int ranks, const std::invalid_argument& e) {
-  scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(ranks) + " rank(s)", e.what());
-}
-
 // What the stepper would refuse about its linear solver, found before anything is allocated.
 void check_linear_solver(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
   int ranks = 1;
@@ -713,14 +708,6 @@ void check_linear_solver(const scene::Scene& sc, const RodSetup& setup, MPI_Comm
   }
 }
 
-std::unique_ptr<solver::DistributedStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
-  auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
-  try {
-    return std::make_unique<solver::DistributedStepper>(setup.model, tcomm, setup.solver);
-  } catch (const std::invalid_argument& e) {
-    linear_solver_refused(sc, tcomm->getSize(), e);
-  }
-}
 
 void print_start(const scene::Scene& sc, const TimeGrid& g, const std::string& initial,
                  const solver::DistributedStepper& st, const std::string& path_text) {
@@ -741,10 +728,7 @@ void print_start(const scene::Scene& sc, const TimeGrid& g, const std::string& i
 
 void check_rod(const scene::Scene& sc) {
   const RodSetup setup = build_rod_model(sc);
-  if (coupled_load(sc)) {
-    check_coupled_rod(sc, setup.model, 1);  // the ranks are the run's: checked when it starts
-    return;
-  }
+  if (coupled_load(sc)) check_coupled_rod(sc, setup.model);
   precheck_planar(sc, setup.model);
 }
 

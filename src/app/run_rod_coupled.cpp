@@ -1,6 +1,7 @@
-// A rod run with a coupled mass (issue 17, docs/rod.md "Coupled mass"): the serial reference
-// stepper with the mass's position an unknown of each step (rod::CoupledRodStepper), on one rank.
-// Outputs: the rod's probes and fields, the mass's probes (position, speed, fixed-frame position
+// A rod run with a coupled mass (issue 17, docs/rod.md "Coupled mass"): the mass's position an
+// unknown of each step (rod::CoupledRodStepper), the rod's step solved by
+// solver::DistributedStepper (any ranks, the planar or the 3D path, any linear solver), the whole
+// state kept on every rank between the steps. Outputs: the rod's probes and fields, the mass's probes (position, speed, fixed-frame position
 // and velocity, contact forces), the energies, and the events table (the run ends when the mass
 // leaves the rod).
 #include <algorithm>
@@ -20,22 +21,18 @@
 #include "run_rod_coupled.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/rod/coupled_mass_rod.hpp"
+#include "traverse/solver/coupled_rod_solve.hpp"
 #include "traverse/version.hpp"
 
 namespace traverse::app {
 
 namespace {
 
-constexpr int kMaxCoupledNodes = 2001;  // the reference stepper factorises the whole rod
+constexpr int kMaxCoupledNodes = 20001;  // the whole state is kept (and gathered each step) on every rank
 
 }  // namespace
 
-void check_coupled_rod(const scene::Scene& sc, const rod::RodModel& model, int ranks) {
-  const scene::MovingLoadSpec& load = *coupled_load(sc);
-  const std::string k = "loads." + load.name;
-  if (ranks != 1)
-    scene::fail_at(sc, k + ".type", "a run on 1 rank: a coupled_mass on the rod uses the serial reference stepper "
-                   "(the distributed path is not yet supported)", std::to_string(ranks) + " ranks");
+void check_coupled_rod(const scene::Scene& sc, const rod::RodModel& model) {
   const auto& a = model.alpha;
   for (double w : {a.as, a.bs, a.gs, a.at, a.bt, a.gt})
     if (w != 0.5)
@@ -46,8 +43,8 @@ void check_coupled_rod(const scene::Scene& sc, const rod::RodModel& model, int r
                          scene::format_number(a.bt) + ", " + scene::format_number(a.gt) + ")");
   if (sc.mesh.nodes > kMaxCoupledNodes)
     scene::fail_at(sc, sc.tree.params.sublist("mesh").isParameter("ds") ? "mesh.ds" : "mesh.nodes",
-                   "at most " + std::to_string(kMaxCoupledNodes) + " nodes with a coupled_mass on the rod (the serial "
-                   "reference stepper)", std::to_string(sc.mesh.nodes) + " nodes");
+                   "at most " + std::to_string(kMaxCoupledNodes) + " nodes with a coupled_mass on the rod (its run "
+                   "keeps the whole rod on every rank)", std::to_string(sc.mesh.nodes) + " nodes");
 }
 
 namespace {
@@ -60,14 +57,16 @@ struct StepContact {
 
 class CoupledRodOutputs {
  public:
-  CoupledRodOutputs(const scene::Scene& sc, const scene::MovingLoadSpec& load, const rod::RodModel& model)
-      : sc_(sc), load_(load), model_(model) {}
+  /// The fields of nodes first .. first + count - 1 are this rank's.
+  CoupledRodOutputs(const scene::Scene& sc, const scene::MovingLoadSpec& load, const rod::RodModel& model, int first,
+                    int count)
+      : sc_(sc), load_(load), model_(model), first_(first), count_(count) {}
   output::NodeLayout layout() const {
     output::NodeLayout l;
     l.global_count = static_cast<size_t>(sc_.mesh.nodes);
-    l.first = 0;
-    l.count = l.global_count;
-    for (int j = 0; j < sc_.mesh.nodes; ++j) l.s.push_back(j * sc_.mesh.ds);
+    l.first = static_cast<size_t>(first_);
+    l.count = static_cast<size_t>(count_);
+    for (int j = first_; j < first_ + count_; ++j) l.s.push_back(j * sc_.mesh.ds);
     return l;
   }
   void declare(output::Writer& w) const;
@@ -81,6 +80,7 @@ class CoupledRodOutputs {
   const scene::Scene& sc_;
   const scene::MovingLoadSpec& load_;
   const rod::RodModel& model_;
+  int first_, count_;
   std::vector<std::vector<double>> probes_, fields_;
 };
 
@@ -159,10 +159,10 @@ void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const s
   for (size_t f = 0; f < sc_.output.fields.size(); ++f) {
     const scene::Field field = sc_.output.fields[f];
     const size_t comps = field == scene::Field::R ? 9 : 3;
-    fields_[f].resize(comps * static_cast<size_t>(N + 1));
-    for (int j = 0; j <= N; ++j) {
+    fields_[f].resize(comps * static_cast<size_t>(count_));
+    for (int j = first_; j < first_ + count_; ++j) {
       const auto& nd = s.nodes[static_cast<size_t>(j)];
-      double* o = fields_[f].data() + comps * static_cast<size_t>(j);
+      double* o = fields_[f].data() + comps * static_cast<size_t>(j - first_);
       if (field == scene::Field::R) {
         for (int i = 0; i < 3; ++i)
           for (int k = 0; k < 3; ++k) o[3 * i + k] = nd.R(i, k);
@@ -216,7 +216,12 @@ class CoupledLoop {
  private:
   /// One coupled solve of length h from the current state; false (state unchanged) when it fails.
   bool solve(double h) {
-    const auto rep = stepper_.step(state_, m_, h);
+    rod::CoupledStepReport rep;
+    try {
+      rep = stepper_.step(state_, m_, h);
+    } catch (const solver::PlanarityLost& e) {
+      fail(std::string(e.what()) + "; run the scene with scheme.planar: off");
+    }
     newton += rep.newton_iterations;
     coupling += rep.coupling_iterations;
     last_ = rep;
@@ -428,29 +433,46 @@ void CoupledLoop::run_adaptive(const TimeGrid& g) {
 void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGrid& grid, const RunOptions& opt,
                      MPI_Comm comm) {
   const scene::MovingLoadSpec& load = *coupled_load(sc);
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
-  check_coupled_rod(sc, setup.model, ranks);
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  check_coupled_rod(sc, setup.model);
+  precheck_planar(sc, setup.model);
   InitialState start = initial_state(sc, setup, comm);
   const rod::CoupledRodMass mass{load.mass, load.drive, load.resistance, load.friction};
-  rod::CoupledRodStepper stepper(setup.model, mass);
-  rod::RodState state = start.state;
+  // The rod's steps on the distributed stepper, made from the model with the mass's loads.
+  solver::DistributedCoupledRodSolve* rod_solve = nullptr;
+  rod::CoupledRodStepper stepper(setup.model, mass, [&](rod::RodModel with_mass) {
+    RodSetup s{std::move(with_mass), setup.solver};
+    auto made = std::make_unique<solver::DistributedCoupledRodSolve>(make_stepper(sc, s, comm), comm);
+    rod_solve = made.get();
+    return made;
+  });
+  solver::DistributedStepper& st = rod_solve->stepper();
+  st.set_state(start.state, start.first_node);
+  rod::RodState state = st.gather_state();  // whole, on every rank
+  start.state = rod::RodState();
+  // The mass's loads lie in the plane of a planar rod (its weight, its inertia along the rod
+  // and the resistance along d3): the path is chosen from the model without them.
+  const PathChoice path = choose_path(sc, setup.model, st, -1, comm);
+  if (path.planar) st.set_planar(&path.symmetry);
+  const std::string path_text = st.path_description() + "; " + path.detail;
   rod::CoupledMassState m{load.start, load.initial_velocity()};
-  CoupledRodOutputs outputs(sc, load, stepper.model());
+  CoupledRodOutputs outputs(sc, load, stepper.model(), st.first_owned_node(), st.num_owned_nodes());
   const CoupledReplay replay(opt, outputs.probe_names(), outputs.field_names(), "the rod and its coupled mass", comm);
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod", {}};
-  info.attributes = {{"rod_path", "3D"}, {"rod_path_detail", "3D, serial reference stepper (coupled_mass)"}};
+  info.attributes = {{"rod_path", path.planar ? "planar" : "3D"}, {"rod_path_detail", path_text + " (coupled_mass)"}};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
   outputs.declare(writer);
-  Progress progress(progress_wanted(opt.quiet, opt.progress), "t", "s", grid.t_start, grid.t_end);
+  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", grid.t_start, grid.t_end);
   CoupledLoop loop(sc, stepper, state, m, outputs, replay, writer, opt, comm, progress);
   loop.write();
-  if (!opt.quiet)
+  if (rank == 0 && !opt.quiet)
     std::printf("rod scene '%s': %d nodes, up to %ld steps of dt = %.6g s to t = %.6g s%s; initial state: %s; coupled "
-                "mass '%s' on the serial reference stepper (partitioned iteration), 3D path\n",
+                "mass '%s' (partitioned iteration); linear solver: %s; Newton: %s; path: %s\n",
                 sc.file.c_str(), sc.mesh.nodes, grid.steps, grid.dt, grid.t_end,
                 sc.time.adaptive.enabled ? " (adaptive: the first step and the output spacing)" : "",
-                start.description.c_str(), load.name.c_str());
+                start.description.c_str(), load.name.c_str(), st.resolved_linear_solver().c_str(),
+                st.newton_implementation().c_str(), path_text.c_str());
   const auto wall = std::chrono::steady_clock::now();
   if (sc.time.adaptive.enabled)
     loop.run_adaptive(grid);
@@ -459,11 +481,11 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   auto& events = loop.events;
   const long i = loop.steps + 1, coupling = loop.coupling, newton = loop.newton;
   progress.done();
-  add_time_limit_event(sc, events, state.t, m.sigma, opt.quiet);
+  add_time_limit_event(sc, events, state.t, m.sigma, opt.quiet || rank != 0);
   writer.write_events(events);
   writer.finish();
   replay.finished(writer.steps_written(), comm);
-  if (!opt.quiet) {
+  if (rank == 0 && !opt.quiet) {
     std::printf("done: %ld steps, %ld coupling iterations, %ld Newton iterations", i - 1, coupling, newton);
     if (!events.empty())
       std::printf("; ended by the event %s at t = %.9g s%s", events[0].reason.c_str(), events[0].time,

@@ -7,13 +7,14 @@
 
 namespace traverse::app {
 
-/// What the serial coupled rod run does not support (SceneError naming the key): `ranks` ranks
-/// other than 1, rho_inf != 1, more than 2001 nodes. Also called by `traverse check`.
-void check_coupled_rod(const scene::Scene& scene, const rod::RodModel& model, int ranks);
+/// What the coupled rod run does not support (SceneError naming the key): rho_inf != 1, more
+/// than 20001 nodes. Also called by `traverse check`.
+void check_coupled_rod(const scene::Scene& scene, const rod::RodModel& model);
 
-/// Runs a rod scene whose (only) load is a coupled_mass on the serial reference stepper (one
-/// rank, box scheme); what it does not support is refused with a SceneError naming the key;
-/// --restart replays from t = 0 (CoupledReplay). Same contract as run_rod otherwise.
+/// Runs a rod scene whose (only) load is a coupled_mass (box scheme; any ranks, the planar or
+/// the 3D path, any linear solver); what it does not support is refused with a SceneError
+/// naming the key; --restart replays from t = 0 (CoupledReplay). Same contract as run_rod
+/// otherwise.
 void run_rod_coupled(const scene::Scene& scene, const RodSetup& setup, const TimeGrid& grid, const RunOptions& options,
                      MPI_Comm comm);
 

@@ -37,7 +37,57 @@ struct CoupledRodStepper::Path {
 
 CoupledRodStepper::~CoupledRodStepper() = default;
 
-CoupledRodStepper::CoupledRodStepper(RodModel model, CoupledRodMass mass) : path_(std::make_shared<Path>()), mass_(mass) {
+namespace {
+
+/// reference_rod_solve: Newton on the whole rod with the criteria of ReferenceStepper::step.
+class ReferenceRodSolve final : public CoupledRodSolve {
+ public:
+  explicit ReferenceRodSolve(RodModel model) : stepper_(std::move(model)) {}
+  bool solve(const RodState& old, double dt, bool again, int& iterations) override {
+    const StepTimes st{old.t, dt};
+    if (!again) x_ = stepper_.unknowns(old);
+    if (!newton(st, old, iterations)) return false;
+    trial_ = stepper_.state_from_unknowns(old, x_, dt);
+    return true;
+  }
+  RodPointKinematics point(double sigma) const override { return point_kinematics(trial_, sigma); }
+  RodState solution() const override { return trial_; }
+
+ private:
+  bool newton(const StepTimes& st, const RodState& old, int& iterations) {
+    VecX r;
+    Eigen::SparseMatrix<double> J;
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+    double previous = 0.0;
+    for (int it = 1; it <= stepper_.max_iterations; ++it) {
+      stepper_.residual_and_jacobian(st, old, x_, r, J);
+      if (!r.allFinite()) return false;
+      lu.compute(J);
+      if (lu.info() != Eigen::Success) return false;
+      const VecX dx = lu.solve(-r);
+      if (!dx.allFinite()) return false;
+      x_ += dx;
+      ++iterations;
+      const double change = dx.cwiseAbs().maxCoeff(), scale = x_.cwiseAbs().maxCoeff();
+      if (change <= stepper_.rtol * scale + stepper_.atol) return true;
+      if (it > 1 && change <= 1e-9 * scale + stepper_.atol && change > 0.1 * previous) return true;
+      previous = change;
+    }
+    return false;
+  }
+  ReferenceStepper stepper_;
+  VecX x_;
+  RodState trial_;
+};
+
+}  // namespace
+
+std::unique_ptr<CoupledRodSolve> reference_rod_solve(RodModel model) {
+  return std::make_unique<ReferenceRodSolve>(std::move(model));
+}
+
+CoupledRodStepper::CoupledRodStepper(RodModel model, CoupledRodMass mass, const CoupledRodSolveFactory& make)
+    : path_(std::make_shared<Path>()), mass_(mass) {
   if (!(mass_.mass > 0.0)) throw std::invalid_argument("CoupledRodStepper: mass must be > 0");
   if (!(mass_.resistance >= 0.0)) throw std::invalid_argument("CoupledRodStepper: resistance must be >= 0");
   if (!(mass_.friction >= 0.0) || !std::isfinite(mass_.friction))
@@ -57,32 +107,8 @@ CoupledRodStepper::CoupledRodStepper(RodModel model, CoupledRodMass mass) : path
     f.force_fixed = [p, c](double t) -> Vec3 { return -c * p->at(t, p->v_old, p->v_new) * p->d3; };
     model.loads.point_forces.push_back(f);
   }
-  stepper_ = std::make_unique<ReferenceStepper>(std::move(model));
-}
-
-const RodModel& CoupledRodStepper::model() const { return stepper_->model(); }
-
-// Newton on the rod's step from x (warm start), the criteria of ReferenceStepper::step.
-bool CoupledRodStepper::rod_newton(const StepTimes& st, const RodState& old_state, VecX& x, int& iterations) const {
-  VecX r;
-  Eigen::SparseMatrix<double> J;
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-  double previous = 0.0;
-  for (int it = 1; it <= stepper_->max_iterations; ++it) {
-    stepper_->residual_and_jacobian(st, old_state, x, r, J);
-    if (!r.allFinite()) return false;
-    lu.compute(J);
-    if (lu.info() != Eigen::Success) return false;
-    const VecX dx = lu.solve(-r);
-    if (!dx.allFinite()) return false;
-    x += dx;
-    ++iterations;
-    const double change = dx.cwiseAbs().maxCoeff(), scale = x.cwiseAbs().maxCoeff();
-    if (change <= stepper_->rtol * scale + stepper_->atol) return true;
-    if (it > 1 && change <= 1e-9 * scale + stepper_->atol && change > 0.1 * previous) return true;
-    previous = change;
-  }
-  return false;
+  model_ = model;
+  solve_ = make ? make(std::move(model)) : reference_rod_solve(std::move(model));
 }
 
 namespace {
@@ -108,13 +134,11 @@ struct CoupledRodStepper::Speed {
 
 // v_new from the midpoint rule of the mass's tangential momentum (header): a v = b + J / M with
 // the friction impulse J; |C_perp| from the iterate v_iterate.
-CoupledRodStepper::Speed CoupledRodStepper::new_speed(const RodState& old_state, const RodState& new_state,
-                                                      const CoupledMassState& m, double sigma_new, double v_iterate,
-                                                      double dt) const {
-  const RodPointKinematics ko = point_kinematics(old_state, m.sigma), kn = point_kinematics(new_state, sigma_new);
+CoupledRodStepper::Speed CoupledRodStepper::new_speed(const RodPointKinematics& ko, const RodPointKinematics& kn,
+                                                      double v_old, double v_iterate, double dt) const {
   const Vec3 d3m = (ko.d3 + kn.d3).normalized();
-  const double M = mass_.mass, hc = 0.5 * mass_.resistance * dt / M, v0 = m.speed;
-  const Vec3 g = stepper_->model().loads.gravity;
+  const double M = mass_.mass, hc = 0.5 * mass_.resistance * dt / M, v0 = v_old;
+  const Vec3 g = model_.loads.gravity;
   const double a = kn.d3.dot(d3m) + hc;
   const double b = v0 * (ko.d3.dot(d3m) - hc) + (ko.U - kn.U).dot(d3m) + dt * (g.dot(d3m) + mass_.drive / M);
   Speed out;
@@ -153,15 +177,13 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   p.s_new = m.sigma + dt * m.speed;
   p.d3 = point_kinematics(state, m.sigma).d3.normalized();
   const double ds = state.ds;
-  VecX x = stepper_->unknowns(state);
+  const RodPointKinematics ko = point_kinematics(state, m.sigma);
   CoupledStepReport rep;
-  RodState trial;
   Speed speed;
   double omega = 1.0, r_prev = 0.0;  // Aitken's relaxation of the speed (a heavy mass: strong coupling)
   for (int k = 1; k <= max_coupling_iterations; ++k) {
-    if (!rod_newton(st, state, x, rep.newton_iterations)) return rep;
-    trial = stepper_->state_from_unknowns(state, x, dt);
-    speed = new_speed(state, trial, m, p.s_new, p.v_new, dt);
+    if (!solve_->solve(state, dt, k > 1, rep.newton_iterations)) return rep;
+    speed = new_speed(ko, solve_->point(p.s_new), m.speed, p.v_new, dt);
     const double r = speed.v - p.v_new;  // the fixed point's residual in the speed
     if (!std::isfinite(r)) return rep;
     if (k > 1 && r != r_prev) omega = std::clamp(-omega * r_prev / (r - r_prev), -1e3, 1e3);
@@ -172,7 +194,7 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
     rep.last_change = std::abs(r) * dt / ds;  // sigma's residual is half of it
     p.s_new = s;
     p.v_new = v;
-    p.d3 = point_kinematics(trial, s).d3.normalized();
+    p.d3 = solve_->point(s).d3.normalized();
     // converged; or at the round-off floor (a heavy mass: the change stalls a little above tol)
     if (rep.last_change <= tol || (k > 2 && rep.last_change <= 1e3 * tol && rep.last_change > 0.5 * previous)) {
       rep.converged = true;
@@ -184,7 +206,8 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   // acts on the mass alone: its power is c sigma' d3 . p' (p' = U + sigma' d3 includes the
   // rod's material velocity along d3), here at the step's midpoint.
   const double vm = 0.5 * (m.speed + p.v_new);
-  const RodPointKinematics ko = point_kinematics(state, m.sigma), kn = point_kinematics(trial, p.s_new);
+  RodState trial = solve_->solution();
+  const RodPointKinematics kn = point_kinematics(trial, p.s_new);
   const Vec3 d3m = (ko.d3 + kn.d3).normalized();
   const Vec3 pm = 0.5 * (ko.U + m.speed * ko.d3 + kn.U + p.v_new * kn.d3);
   m.drive_work += dt * mass_.drive * vm;
@@ -193,7 +216,7 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   m.stick_fraction = speed.stick_fraction;
   m.sigma = p.s_new;
   m.speed = p.v_new;
-  state = trial;
+  state = std::move(trial);
   return rep;
 }
 

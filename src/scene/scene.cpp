@@ -742,9 +742,6 @@ void check_coupled_masses(Scene& sc) {
     if (sc.model == Model::Rod && sc.continuation.enabled)
       fail_at(sc, k + ".type", "a moving_mass or moving_force in a continuation scene (a coupled_mass moves by "
               "itself: dynamics only)", "coupled_mass");
-    if (sc.model == Model::Rod && sc.scheme.planar == PlanarMode::on)
-      fail_at(sc, "scheme.planar", "auto or off with a coupled_mass (it runs on the serial 3D reference stepper; "
-              "the planar path is not yet supported)", "on");
     if (coupled)
       fail_at(sc, k + ".type", "at most one coupled_mass per scene (not yet supported: several)",
               "a second one besides '" + coupled->name + "'");

@@ -73,6 +73,7 @@ struct DistributedStepper::Impl {
   std::shared_ptr<const rod::PlanarReduction> planar;  ///< null on the 3D path
   double planar_tolerance = 1e-8;  ///< largest dropped residual accepted at a converged iterate
   double undo_time = 0.0;  ///< try_step: the time before the last successful step
+  double undo_dt = 0.0;    ///< and its length
   bool undo_ready = false;
 
   /// Mesh, model evaluator, linear solver and Newton solver for p unknowns per node (the
@@ -133,16 +134,16 @@ struct DistributedStepper::Impl {
     newton = std::make_unique<NewtonSolver>(me, newton_params());
   }
 
-  /// Newton on the model's old level from its old unknowns; the converged (or last) iterate's
-  /// ghosted full unknown blocks in xg.
-  NewtonReport solve_step(std::vector<VecX>& xg) {
+  /// Newton on the model's old level from its old unknowns (warm: from the unknowns of the
+  /// last solve); the converged (or last) iterate's ghosted full unknown blocks in xg.
+  NewtonReport solve_step(std::vector<VecX>& xg, bool warm) {
     if (block_newton) {
-      me->assembly().old_unknowns(xb.data());
+      if (!warm) me->assembly().old_unknowns(xb.data());
       NewtonReport r = block_newton->solve(xb);
       me->assembly().full_unknowns(xb.data(), xg);
       return r;
     }
-    me->old_unknowns(*x);
+    if (!warm) me->old_unknowns(*x);
     NewtonReport r = newton->solve(*x);
     xg = me->ghosted_unknowns(*x);
     return r;
@@ -187,12 +188,14 @@ struct DistributedStepper::Impl {
   /// One Newton solve from t0 to t0 + dt. The nodes are moved into the model as its old level
   /// for the solve (one copy of the rod's nodes instead of two) and `nodes` is refilled from
   /// it: with the new level on success, as it was on failure or when the solve throws.
-  bool attempt(double t0, double dt, StepReport& sr) {
-    me->set_old_level(std::move(nodes), rod::StepTimes{t0, dt});
+  /// `warm` (redo_step): the model already holds this step's old level and Newton starts from
+  /// the unknowns of the solve before.
+  bool attempt(double t0, double dt, StepReport& sr, bool warm = false) {
+    if (!warm) me->set_old_level(std::move(nodes), rod::StepTimes{t0, dt});
     nodes.clear();
     std::vector<VecX> xg;
     try {
-      last = solve_step(xg);
+      last = solve_step(xg, warm);
       sr.newton_iterations += last.iterations;
       sr.linear_iterations += last.linear_iterations;
       if (!last.converged && me->jacobian_reuse() && me->stale_jacobian_used()) {
@@ -200,7 +203,7 @@ struct DistributedStepper::Impl {
         ++full_newton_retries;
         me->set_full_newton(true);
         me->set_old_level(me->old_ghosted_nodes(), rod::StepTimes{t0, dt});
-        last = solve_step(xg);
+        last = solve_step(xg, false);
         me->set_full_newton(false);
         sr.newton_iterations += last.iterations;
         sr.linear_iterations += last.linear_iterations;
@@ -347,10 +350,26 @@ bool DistributedStepper::try_step(double dt, StepReport& report) {
     ++report.substeps;
     report.last = m.last;
     m.undo_time = t0;
+    m.undo_dt = dt;
     m.undo_ready = true;
   } else {
     ++report.failed_attempts;
     m.t = t0;
+  }
+  return ok;
+}
+
+bool DistributedStepper::redo_step(StepReport& report) {
+  Impl& m = *impl_;
+  if (!m.undo_ready) throw std::logic_error("DistributedStepper::redo_step: no step to redo");
+  const bool ok = m.attempt(m.undo_time, m.undo_dt, report, true);
+  if (ok) {
+    ++report.substeps;
+    report.last = m.last;
+  } else {  // back at the step's start
+    ++report.failed_attempts;
+    m.t = m.undo_time;
+    m.undo_ready = false;
   }
   return ok;
 }

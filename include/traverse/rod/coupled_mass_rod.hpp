@@ -1,7 +1,10 @@
 #pragma once
-// A mass that moves by itself along the rod (two-way coupling, physics spec section 4), on the
-// serial reference stepper: sigma and its speed are unknowns of each time step, found by a
-// partitioned iteration converged to the Newton tolerance (docs/rod.md "Coupled mass").
+// A mass that moves by itself along the rod (two-way coupling, physics spec section 4): sigma
+// and its speed are unknowns of each time step, found by a partitioned iteration converged to
+// the Newton tolerance (docs/rod.md "Coupled mass"). The rod's step inside it is solved by the
+// serial reference Newton or by any other rod solver (CoupledRodSolve: the app's runs use
+// solver::DistributedStepper, on any ranks, either path and any linear solver).
+#include <functional>
 #include <memory>
 
 #include "traverse/rod/reference_stepper.hpp"
@@ -41,6 +44,28 @@ RodPointKinematics point_kinematics(const RodState& state, double sigma);
 /// The mass's velocity p' = U + sigma' d3 at sigma [m/s], fixed frame.
 Vec3 mass_velocity(const RodState& state, const CoupledMassState& m);
 
+/// The rod's time step with the coupled mass's path in it, for CoupledRodStepper. The model it
+/// is made from holds the mass's loads (their path is read from the stepper while it solves).
+/// Every call is collective when the solver is distributed; the states passed and returned
+/// are whole (N + 1 nodes) and the same on every rank.
+class CoupledRodSolve {
+ public:
+  virtual ~CoupledRodSolve() = default;
+  /// Solves the step of dt from `old`; `again`: the same step once more after the mass's path
+  /// changed, Newton starting from the last solution. Adds its Newton iterations; false when
+  /// the solve fails.
+  virtual bool solve(const RodState& old, double dt, bool again, int& newton_iterations) = 0;
+  /// U and d3 at sigma of the last solution (point_kinematics of it).
+  virtual RodPointKinematics point(double sigma) const = 0;
+  /// The last solution.
+  virtual RodState solution() const = 0;
+};
+/// Makes the rod solve from the model with the mass's loads.
+using CoupledRodSolveFactory = std::function<std::unique_ptr<CoupledRodSolve>(RodModel)>;
+/// The serial reference Newton (ReferenceStepper's residual and Jacobian, sparse LU of the
+/// whole rod; its tolerances), warm-started from the last solution on `again`.
+std::unique_ptr<CoupledRodSolve> reference_rod_solve(RodModel model);
+
 struct CoupledStepReport {
   bool converged = false;
   int coupling_iterations = 0;  ///< partitioned iterations (each one rod Newton solve)
@@ -67,13 +92,16 @@ struct CoupledStepReport {
 /// quadratic, docs/rod.md "Coupled mass").
 class CoupledRodStepper {
  public:
-  CoupledRodStepper(RodModel model, CoupledRodMass mass);
+  /// `model` without the mass; `make` builds the rod solve from it with the mass's loads
+  /// added (default: reference_rod_solve).
+  CoupledRodStepper(RodModel model, CoupledRodMass mass, const CoupledRodSolveFactory& make = {});
   ~CoupledRodStepper();
 
   /// One step of dt; on failure state and m are unchanged.
   CoupledStepReport step(RodState& state, CoupledMassState& m, double dt);
 
-  const RodModel& model() const;
+  /// The rod model with the mass's loads.
+  const RodModel& model() const { return model_; }
   const CoupledRodMass& coupled_mass() const { return mass_; }
   double tol = 1e-12;
   int max_coupling_iterations = 60;
@@ -82,11 +110,11 @@ class CoupledRodStepper {
   struct Path;
   std::shared_ptr<Path> path_;
   CoupledRodMass mass_;
-  std::unique_ptr<ReferenceStepper> stepper_;
-  bool rod_newton(const StepTimes& st, const RodState& old_state, VecX& x, int& iterations) const;
+  RodModel model_;
+  std::unique_ptr<CoupledRodSolve> solve_;
   struct Speed;
-  Speed new_speed(const RodState& old_state, const RodState& new_state, const CoupledMassState& m, double sigma_new,
-                  double v_iterate, double dt) const;
+  Speed new_speed(const RodPointKinematics& ko, const RodPointKinematics& kn, double v_old, double v_iterate,
+                  double dt) const;
 };
 
 }  // namespace traverse::rod

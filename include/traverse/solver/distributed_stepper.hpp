@@ -101,6 +101,12 @@ class DistributedStepper {
   bool try_step(double dt, StepReport& report);
   /// Back to the state before the last successful try_step (only once per step).
   void undo_step();
+  /// Solves the last successful try_step again (collective): the same old level and dt,
+  /// Newton starting from that solve's solution. For loads that changed since (a coupled
+  /// mass's path within the step: rod::CoupledRodStepper). True when it converged (the state
+  /// is the new solution; undo_step and redo_step still apply), false when it did not (the
+  /// state is back at the step's start). Throws PlanarityLost as step() does.
+  bool redo_step(StepReport& report);
   /// This rank's ghosted nodes and the time, for set_state(piece, first_ghosted_node()).
   rod::RodState ghosted_piece() const;
 
