@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "traverse/output/restart.hpp"
+#include "traverse/rod/rod_state.hpp"
 #include "traverse/scene/scene.hpp"
 
 namespace traverse::app {
@@ -14,5 +15,10 @@ namespace traverse::app {
 /// UsageError if the file cannot be read as a traverse output, SceneError for bad overrides.
 scene::Scene restart_scene(const std::string& path, const std::string& scene_file,
                            const std::vector<std::string>& overrides);
+
+/// Restart packing of one rod node: y (12), R row-major (9), yt (12), ys (12).
+constexpr std::size_t kPackedNode = 45;
+void pack_node(const rod::RodNode& nd, double* o);
+rod::RodNode unpack_node(const double* o);
 
 }  // namespace traverse::app

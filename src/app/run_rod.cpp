@@ -19,6 +19,7 @@
 #include "progress.hpp"
 #include "rod_adaptive.hpp"
 #include "rod_quantities.hpp"
+#include "restart.hpp"
 #include "rod_setup.hpp"
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/output/restart.hpp"
@@ -33,25 +34,6 @@
 namespace traverse::app {
 
 namespace {
-
-// Restart packing of one node: y (12), R row-major (9), yt (12), ys (12).
-constexpr std::size_t kPackedNode = 45;
-void pack_node(const rod::RodNode& nd, double* o) {
-  for (int i = 0; i < 12; ++i) o[i] = nd.y(i);
-  for (int i = 0; i < 3; ++i)
-    for (int c = 0; c < 3; ++c) o[12 + 3 * i + c] = nd.R(i, c);
-  for (int i = 0; i < 12; ++i) o[21 + i] = nd.yt(i);
-  for (int i = 0; i < 12; ++i) o[33 + i] = nd.ys(i);
-}
-rod::RodNode unpack_node(const double* o) {
-  rod::RodNode nd;
-  for (int i = 0; i < 12; ++i) nd.y(i) = o[i];
-  for (int i = 0; i < 3; ++i)
-    for (int c = 0; c < 3; ++c) nd.R(i, c) = o[12 + 3 * i + c];
-  for (int i = 0; i < 12; ++i) nd.yt(i) = o[21 + i];
-  for (int i = 0; i < 12; ++i) nd.ys(i) = o[33 + i];
-  return nd;
-}
 
 /// The global nodes `wanted` of the distributed state, on every rank (each rank packs the
 /// ones it owns; one sum-reduction of wanted.size() nodes, as gather_state does for all).

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "interrupt.hpp"
+#include "restart.hpp"
 #include "progress.hpp"
 #include "rod_adaptive.hpp"
 #include "rod_quantities.hpp"
@@ -19,6 +20,7 @@
 #include "run.hpp"
 #include "run_beam_coupled.hpp"
 #include "run_rod_coupled.hpp"
+#include "traverse/output/restart.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/rod/coupled_mass_rod.hpp"
 #include "traverse/solver/coupled_rod_solve.hpp"
@@ -72,9 +74,9 @@ class CoupledRodOutputs {
   void declare(output::Writer& w) const;
   std::vector<std::string> probe_names() const;
   std::vector<std::string> field_names() const;
-  /// Evaluates the outputs at a state, checks them against a restart's file, writes them.
+  /// Evaluates the outputs at a state and writes them.
   void write(output::Writer& w, const rod::RodState& s, const std::vector<Vec3>& r, const rod::CoupledMassState& m,
-             const StepContact& c, const CoupledReplay& replay, MPI_Comm comm);
+             const StepContact& c);
 
  private:
   const scene::Scene& sc_;
@@ -133,8 +135,7 @@ void CoupledRodOutputs::declare(output::Writer& w) const {
 }
 
 void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const std::vector<Vec3>& r,
-                              const rod::CoupledMassState& m, const StepContact& c, const CoupledReplay& replay,
-                              MPI_Comm comm) {
+                              const rod::CoupledMassState& m, const StepContact& c) {
   probes_.clear();
   const int N = s.num_cells();
   auto view = [&](int j) { return node_view(s.nodes[static_cast<size_t>(j)], r[static_cast<size_t>(j)]); };
@@ -172,11 +173,8 @@ void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const s
       }
     }
   }
-  const std::size_t o = w.steps_written();
-  if (o < replay.kept()) replay.check(o, s.t, probes_);
   std::vector<output::DoubleView> views(fields_.begin(), fields_.end());
   w.write_step(s.t, {m.sigma}, probes_, views);
-  replay.written(w.steps_written(), comm);
 }
 
 /// The adaptive estimate's quantities of the rod's nodes, and of the mass: its speed as the rate
@@ -193,25 +191,45 @@ std::vector<rod::NodeLevel> mass_level(const rod::CoupledMassState& m) {
   return {y};
 }
 
+/// Restart points of a coupled rod run (docs/reliability.md "Restart"): per node the node
+/// (kPackedNode values), its point of the centreline (3) and with time.adaptive the rod
+/// controller's values (RodAdaptiveControl::kPerNode); `extra` holds the values below, then with
+/// time.adaptive the mass controller's per-node values, the count of the rod controller's
+/// scalars, those scalars and the mass controller's.
+namespace extra {
+enum : std::size_t {
+  dt, planar, sigma, speed, drive_work, dissipated, friction_work, stick, up_prev, up_time, normal,
+  tangential = normal + 3, steps, newton, coupling, written_t, event_count, event_time, event_position, event_reason,
+  fixed
+};
+}  // namespace extra
+const char* const kEventReasons[] = {"left_rod_at_0", "left_rod_at_L", "lift_off", "stick", "time_limit"};
+std::size_t coupled_restart_components(bool adaptive) {
+  return kPackedNode + 3 + (adaptive ? RodAdaptiveControl::kPerNode : 0);
+}
+
 /// The time loop of rod + coupled mass: the steps (fixed, or adaptive: time.adaptive), the
 /// contact and the events after each accepted step, the output steps and interrupts.
 class CoupledLoop {
  public:
+  /// `first`, `count`: this rank's nodes (the restart point's share); `planar`: the path.
   CoupledLoop(const scene::Scene& sc, rod::CoupledRodStepper& stepper, rod::RodState& state, rod::CoupledMassState& m,
-              CoupledRodOutputs& outputs, const CoupledReplay& replay, output::Writer& w, const RunOptions& opt,
-              MPI_Comm comm, Progress& progress)
-      : sc_(sc), load_(*coupled_load(sc)), stepper_(stepper), state_(state), m_(m), out_(outputs), replay_(replay), w_(w),
-        opt_(opt), comm_(comm), progress_(progress), r_(rod::centreline_in_space(state)) {}
+              CoupledRodOutputs& outputs, output::Writer& w, const RunOptions& opt, const TimeGrid& g, bool planar,
+              int first, int count, MPI_Comm comm, Progress& progress);
   void write() {  // once per time (a stick at the start of a step ends the run at a time already written)
     if (state_.t == written_t_) return;
     written_t_ = state_.t;
-    out_.write(w_, state_, r_, m_, contact_, replay_, comm_);
+    out_.write(w_, state_, r_, m_, contact_);
   }
-  void run_fixed(const TimeGrid& g);
-  void run_adaptive(const TimeGrid& g);
+  void run_fixed();
+  void run_adaptive();
+  /// Stores a restart point of the current state (collective).
+  void store();
+  /// Continues from a restart point: the state, the mass, the loop's own values.
+  void restore(const output::RestartPoint& point);
   std::vector<output::RunEvent> events;
   long newton = 0, coupling = 0, steps = 0;
-  std::string adaptive_summary;  ///< adaptive runs: the controller's summary
+  std::string adaptive_summary() const { return rc_ ? rc_->totals().summary() : std::string(); }
 
  private:
   /// One coupled solve of length h from the current state; false (state unchanged) when it fails.
@@ -219,18 +237,30 @@ class CoupledLoop {
     rod::CoupledStepReport rep;
     try {
       rep = stepper_.step(state_, m_, h);
-    } catch (const solver::PlanarityLost& e) {
-      fail(std::string(e.what()) + "; run the scene with scheme.planar: off");
+    } catch (const solver::PlanarityLost& e) {  // the state as at the start of the step
+      state_ = *step_old_;
+      m_ = *m_step_old_;
+      fail(std::string(e.what()) + "; traverse run --restart " + opt_.output +
+           " --set scheme.planar=off continues on the 3D path");
     }
     newton += rep.newton_iterations;
     coupling += rep.coupling_iterations;
     last_ = rep;
     return rep.converged;
   }
+  /// Ends the run with a numerical failure; the state is that before the failed step (its
+  /// restart point is stored).
   [[noreturn]] void fail(const std::string& why) {
     progress_.done();
-    w_.fail(why);
+    store();
+    w_.fail(why + " (traverse run --restart " + opt_.output + " --set ... continues from t = " +
+            scene::format_number(state_.t) + " s)");
     throw NumericsError(why);
+  }
+  /// A step starts from (old, m_old): the state a failure inside it returns to.
+  void starting(const rod::RodState& old, const rod::CoupledMassState& m_old) {
+    step_old_ = &old;
+    m_step_old_ = &m_old;
   }
   std::string failure(double t, double h) const {
     std::ostringstream os;
@@ -248,20 +278,31 @@ class CoupledLoop {
       progress_.done();
       const std::string msg = "interrupted at t = " + scene::format_number(state_.t) + " s (" + signal_name(sig) +
                               "); continue with traverse run --restart " + opt_.output;
+      store();
       w_.fail(msg);
       throw Interrupted(sig, opt_.output, msg, msg);
     }
   }
-  bool adaptive_step(double h, RodAdaptiveControl& rc, RodAdaptiveControl& mc);
+  bool adaptive_step(double h);
+  /// After an output step: a restart point when the interval has passed (rank 0's clock decides).
+  void store_if_due() {
+    int due = opt_.restart_interval <= 0.0 ||
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - stored_).count() >= opt_.restart_interval;
+    MPI_Bcast(&due, 1, MPI_INT, 0, comm_);
+    if (due) store();
+  }
+  std::vector<double> restart_extra() const;
   const scene::Scene& sc_;
   const scene::MovingLoadSpec& load_;
   rod::CoupledRodStepper& stepper_;
   rod::RodState& state_;
   rod::CoupledMassState& m_;
   CoupledRodOutputs& out_;
-  const CoupledReplay& replay_;
   output::Writer& w_;
   const RunOptions& opt_;
+  const TimeGrid& g_;
+  bool planar_;
+  int first_, count_;
   MPI_Comm comm_;
   Progress& progress_;
   std::vector<Vec3> r_;
@@ -269,7 +310,117 @@ class CoupledLoop {
   rod::CoupledStepReport last_;
   double up_prev_ = 0.0, up_time_ = 0.0;
   double written_t_ = std::numeric_limits<double>::quiet_NaN();
+  const rod::RodState* step_old_ = nullptr;
+  const rod::CoupledMassState* m_step_old_ = nullptr;
+  /// time.adaptive: the rod's controller and the mass's (its position only).
+  std::unique_ptr<RodAdaptiveControl> rc_, mc_;
+  output::RestartSlots slots_;
+  std::chrono::steady_clock::time_point stored_ = std::chrono::steady_clock::now();
 };
+
+CoupledLoop::CoupledLoop(const scene::Scene& sc, rod::CoupledRodStepper& stepper, rod::RodState& state,
+                         rod::CoupledMassState& m, CoupledRodOutputs& outputs, output::Writer& w, const RunOptions& opt,
+                         const TimeGrid& g, bool planar, int first, int count, MPI_Comm comm, Progress& progress)
+    : sc_(sc), load_(*coupled_load(sc)), stepper_(stepper), state_(state), m_(m), out_(outputs), w_(w), opt_(opt),
+      g_(g), planar_(planar), first_(first), count_(count), comm_(comm), progress_(progress),
+      r_(rod::centreline_in_space(state)),
+      slots_(comm, coupled_restart_components(sc.time.adaptive.enabled), static_cast<std::size_t>(first)) {
+  if (!sc.time.adaptive.enabled) return;
+  rc_ = std::make_unique<RodAdaptiveControl>(sc.time.adaptive, g.dt, stepper.model().alpha, sc.rod.length,
+                                             MPI_COMM_SELF);
+  scene::AdaptiveSpec mass_spec = sc.time.adaptive;  // the mass: its position only
+  mass_spec.controlled = {true, false, false, false, false};
+  mc_ = std::make_unique<RodAdaptiveControl>(mass_spec, g.dt, stepper.model().alpha, sc.rod.length, MPI_COMM_SELF);
+  rc_->start(rod_levels(state_));
+  mc_->start(mass_level(m_));
+}
+
+std::vector<double> CoupledLoop::restart_extra() const {
+  std::vector<double> x(extra::fixed, 0.0);
+  x[extra::dt] = g_.dt;
+  x[extra::planar] = planar_ ? 1.0 : 0.0;
+  x[extra::sigma] = m_.sigma;
+  x[extra::speed] = m_.speed;
+  x[extra::drive_work] = m_.drive_work;
+  x[extra::dissipated] = m_.dissipated;
+  x[extra::friction_work] = m_.friction_work;
+  x[extra::stick] = m_.stick_fraction;
+  x[extra::up_prev] = up_prev_;
+  x[extra::up_time] = up_time_;
+  for (int c = 0; c < 3; ++c) x[extra::normal + c] = contact_.normal(c);
+  x[extra::tangential] = contact_.tangential;
+  x[extra::steps] = double(steps);
+  x[extra::newton] = double(newton);
+  x[extra::coupling] = double(coupling);
+  x[extra::written_t] = written_t_;
+  x[extra::event_count] = double(events.size());
+  if (!events.empty()) {
+    x[extra::event_time] = events[0].time;
+    x[extra::event_position] = events[0].position;
+    const auto* r = std::find(std::begin(kEventReasons), std::end(kEventReasons), events[0].reason);
+    x[extra::event_reason] = double(r - std::begin(kEventReasons));
+  }
+  if (rc_) {
+    std::vector<double> mass_node(RodAdaptiveControl::kPerNode);
+    mc_->pack_node(0, mass_node.data());
+    const std::vector<double> a = rc_->pack_scalars(), b = mc_->pack_scalars();
+    x.insert(x.end(), mass_node.begin(), mass_node.end());
+    x.push_back(double(a.size()));
+    x.insert(x.end(), a.begin(), a.end());
+    x.insert(x.end(), b.begin(), b.end());
+  }
+  return x;
+}
+
+void CoupledLoop::store() {
+  const std::size_t comps = coupled_restart_components(rc_ != nullptr);
+  std::vector<double> local(comps * static_cast<std::size_t>(count_));
+  for (int k = 0; k < count_; ++k) {
+    const std::size_t j = static_cast<std::size_t>(first_ + k);
+    double* o = &local[comps * static_cast<std::size_t>(k)];
+    pack_node(state_.nodes[j], o);
+    for (int c = 0; c < 3; ++c) o[kPackedNode + c] = r_[j](c);
+    if (rc_) rc_->pack_node(first_ + k, o + kPackedNode + 3);
+  }
+  slots_.write(w_, state_.t, steps, restart_extra(), local);
+  stored_ = std::chrono::steady_clock::now();
+}
+
+void CoupledLoop::restore(const output::RestartPoint& point) {
+  const auto& x = point.extra;
+  const std::size_t comps = point.components, n = state_.nodes.size();
+  for (std::size_t j = 0; j < n; ++j)
+    for (int c = 0; c < 3; ++c) r_[j](c) = point.state[comps * j + kPackedNode + static_cast<std::size_t>(c)];
+  m_.sigma = x[extra::sigma];
+  m_.speed = x[extra::speed];
+  m_.drive_work = x[extra::drive_work];
+  m_.dissipated = x[extra::dissipated];
+  m_.friction_work = x[extra::friction_work];
+  m_.stick_fraction = x[extra::stick];
+  up_prev_ = x[extra::up_prev];
+  up_time_ = x[extra::up_time];
+  contact_.normal = Vec3(x[extra::normal], x[extra::normal + 1], x[extra::normal + 2]);
+  contact_.tangential = x[extra::tangential];
+  steps = static_cast<long>(x[extra::steps]);
+  newton = static_cast<long>(x[extra::newton]);
+  coupling = static_cast<long>(x[extra::coupling]);
+  written_t_ = x[extra::written_t];
+  events.clear();
+  if (x[extra::event_count] > 0.0)
+    events.push_back({x[extra::event_time], x[extra::event_position], load_.name,
+                      kEventReasons[static_cast<std::size_t>(x[extra::event_reason])]});
+  if (!rc_) return;
+  std::vector<double> per_node(RodAdaptiveControl::kPerNode * n);
+  for (std::size_t j = 0; j < n; ++j)
+    std::copy_n(&point.state[comps * j + kPackedNode + 3], RodAdaptiveControl::kPerNode,
+                &per_node[RodAdaptiveControl::kPerNode * j]);
+  const auto p = x.begin() + static_cast<std::ptrdiff_t>(extra::fixed);
+  const std::vector<double> mass_node(p, p + RodAdaptiveControl::kPerNode);
+  const auto q = p + RodAdaptiveControl::kPerNode;
+  const auto na = static_cast<std::ptrdiff_t>(*q);
+  rc_->restore(rod_levels(state_), per_node, std::vector<double>(q + 1, q + 1 + na));
+  mc_->restore(mass_level(m_), mass_node, std::vector<double>(q + 1 + na, x.end()));
+}
 
 // A step in which the friction stopped the mass (rod::CoupledMassState::stick_fraction): redone
 // from (old, m_old) with the step shortened to the stop (secant on the length for sigma' = 0,
@@ -297,6 +448,7 @@ double CoupledLoop::shorten_to_stop(const rod::RodState& old, const rod::Coupled
 
 // The centreline, the contact and the events of a step from (old, m_old) to the current state.
 void CoupledLoop::accepted(const rod::RodState& old, const rod::CoupledMassState& m_old, double h) {
+  starting(old, m_old);  // a shortened step starts here too
   ++steps;
   const bool stuck = m_.sticks();
   if (stuck) h = shorten_to_stop(old, m_old, h);
@@ -327,24 +479,30 @@ void CoupledLoop::step_events(const rod::RodState& old, const rod::CoupledMassSt
   contact_ = StepContact{c.normal, c.tangential};
 }
 
-void CoupledLoop::run_fixed(const TimeGrid& g) {
-  for (long i = 1; i <= g.steps && events.empty(); ++i) {
-    const double h = g.time(i) - state_.t;
+void CoupledLoop::run_fixed() {
+  for (long i = steps + 1; i <= g_.steps && events.empty(); ++i) {  // from the restart point's step
+    const double h = g_.time(i) - state_.t;
     const rod::RodState old = state_;
     const rod::CoupledMassState m_old = m_;
+    starting(old, m_old);
     if (!solve(h)) fail(failure(old.t, h) + "; reduce time.dt");
     accepted(old, m_old, h);
-    if (i % sc_.output.every == 0 || i == g.steps || !events.empty()) write();
+    if (i % sc_.output.every == 0 || i == g_.steps || !events.empty()) {
+      write();
+      store_if_due();
+    }
     progress_.update(state_.t, i);
-    check_interrupt(i < g.steps);
+    check_interrupt(i < g_.steps);
   }
 }
 
 // One adaptive attempt of length h (step doubling while the history is short): true when
 // accepted; otherwise the state is as before and rc.next_dt the step to try.
-bool CoupledLoop::adaptive_step(double h, RodAdaptiveControl& rc, RodAdaptiveControl& mc) {
+bool CoupledLoop::adaptive_step(double h) {
+  RodAdaptiveControl &rc = *rc_, &mc = *mc_;
   const rod::RodState old = state_;
   const rod::CoupledMassState m_old = m_;
+  starting(old, m_old);
   auto restore = [&] {
     state_ = old;
     m_ = m_old;
@@ -402,30 +560,61 @@ bool CoupledLoop::adaptive_step(double h, RodAdaptiveControl& rc, RodAdaptiveCon
   return true;
 }
 
-void CoupledLoop::run_adaptive(const TimeGrid& g) {
-  RodAdaptiveControl rc(sc_.time.adaptive, g.dt, stepper_.model().alpha, sc_.rod.length, MPI_COMM_SELF);
-  scene::AdaptiveSpec mass_spec = sc_.time.adaptive;  // the mass: its position only
-  mass_spec.controlled = {true, false, false, false, false};
-  RodAdaptiveControl mc(mass_spec, g.dt, stepper_.model().alpha, sc_.rod.length, MPI_COMM_SELF);
-  rc.start(rod_levels(state_));
-  mc.start(mass_level(m_));
-  const long every = sc_.output.every, outputs = (g.steps + every - 1) / every;
-  for (long k = 1; k <= outputs && events.empty();) {
-    const double target = g.time(std::min(k * every, g.steps)), remaining = target - state_.t, proposed = rc.next_dt;
+void CoupledLoop::run_adaptive() {
+  RodAdaptiveControl& rc = *rc_;
+  const long every = sc_.output.every, outputs = (g_.steps + every - 1) / every;
+  auto output_time = [&](long k) { return g_.time(std::min(k * every, g_.steps)); };
+  long k = 1;  // the first output time after the current one (a restart point's time may lie a rounding below it)
+  while (k <= outputs && output_time(k) - state_.t <= 1e-9 * g_.dt) ++k;
+  while (k <= outputs && events.empty()) {
+    const double target = output_time(k), remaining = target - state_.t, proposed = rc.next_dt;
     double h = proposed;
     if (h >= remaining * (1.0 - 1e-12)) h = remaining;
     else if (h > 0.5 * remaining) h = 0.5 * remaining;
-    if (!adaptive_step(h, rc, mc)) continue;
+    if (!adaptive_step(h)) continue;
     if (h < proposed) rc.next_dt = std::max(rc.next_dt, proposed);  // shortened only to land
     const bool landed = std::abs(target - state_.t) <= 1e-9 * h;
     if (landed) ++k;
-    if (landed || !events.empty()) write();
+    if (landed || !events.empty()) {
+      write();
+      store_if_due();
+    }
     char detail[96];
     std::snprintf(detail, sizeof detail, "dt = %.3g s, %ld rejected", rc.next_dt, rc.totals().rejected + rc.totals().failed);
     progress_.update(state_.t, steps, detail);
     check_interrupt(k <= outputs);
   }
-  adaptive_summary = rc.totals().summary();
+}
+
+}  // namespace
+
+namespace {
+
+/// The restart point a coupled run continues from (--restart): the newest of the source file;
+/// a point of the other kind (fixed dt / adaptive) or another time.dt is refused.
+output::RestartPoint read_coupled_restart(const scene::Scene& sc, const RunOptions& opt, const TimeGrid& g,
+                                          const std::string& source) {
+  const std::size_t nodes = static_cast<std::size_t>(sc.mesh.nodes);
+  const bool adaptive = sc.time.adaptive.enabled;
+  output::RestartPoint point;
+  try {
+    point = output::read_restart_point(source, nodes, coupled_restart_components(adaptive));
+  } catch (const output::RestartError&) {
+    try {
+      (void)output::read_restart_point(source, nodes, coupled_restart_components(!adaptive));
+    } catch (const output::RestartError&) {
+      throw;  // the first error, as it was
+    }
+    throw UsageError{"--restart " + opt.output + ": the run being restarted " +
+                     (adaptive ? "took fixed steps" : "was adaptive (time.adaptive)") + "; a restart keeps it " +
+                     (adaptive ? "so: no time.adaptive" : "so: keep time.adaptive")};
+  }
+  if (point.extra.size() < extra::fixed || point.extra[extra::dt] != g.dt)
+    throw UsageError{"--restart " + opt.output + ": time.dt = " + scene::format_number(g.dt) +
+                     " s differs from the run being restarted (" +
+                     (point.extra.empty() ? std::string("unknown") : scene::format_number(point.extra[extra::dt])) +
+                     " s); a restart keeps the time step"};
+  return point;
 }
 
 }  // namespace
@@ -436,8 +625,22 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   check_coupled_rod(sc, setup.model);
-  precheck_planar(sc, setup.model);
-  InitialState start = initial_state(sc, setup, comm);
+  if (!opt.restart) precheck_planar(sc, setup.model);
+  // The initial state, or the restart point's (the whole state on every rank).
+  InitialState start;
+  output::RestartPoint point;
+  std::string source;
+  if (opt.restart) {
+    source = output::restart_source(opt.output);
+    point = read_coupled_restart(sc, opt, grid, source);
+    start.description = "restart";
+    start.state.t = point.time;
+    start.state.ds = sc.mesh.ds;
+    for (std::size_t j = 0; j < static_cast<std::size_t>(sc.mesh.nodes); ++j)
+      start.state.nodes.push_back(unpack_node(&point.state[point.components * j]));
+  } else {
+    start = initial_state(sc, setup, comm);
+  }
   const rod::CoupledRodMass mass{load.mass, load.drive, load.resistance, load.friction};
   // The rod's steps on the distributed stepper, made from the model with the mass's loads.
   solver::DistributedCoupledRodSolve* rod_solve = nullptr;
@@ -452,47 +655,66 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   rod::RodState state = st.gather_state();  // whole, on every rank
   start.state = rod::RodState();
   // The mass's loads lie in the plane of a planar rod (its weight, its inertia along the rod
-  // and the resistance along d3): the path is chosen from the model without them.
-  const PathChoice path = choose_path(sc, setup.model, st, -1, comm);
+  // and the resistance along d3): the path is chosen from the model without them. A restart
+  // keeps the path of the run it continues.
+  const int stored_path = opt.restart ? (point.extra[extra::planar] != 0.0 ? 1 : 0) : -1;
+  const PathChoice path = choose_path(sc, setup.model, st, stored_path, comm);
   if (path.planar) st.set_planar(&path.symmetry);
   const std::string path_text = st.path_description() + "; " + path.detail;
   rod::CoupledMassState m{load.start, load.initial_velocity()};
-  CoupledRodOutputs outputs(sc, load, stepper.model(), st.first_owned_node(), st.num_owned_nodes());
-  const CoupledReplay replay(opt, outputs.probe_names(), outputs.field_names(), "the rod and its coupled mass", comm);
+  const int first = st.first_owned_node(), count = st.num_owned_nodes();
+  CoupledRodOutputs outputs(sc, load, stepper.model(), first, count);
+  if (opt.restart) {
+    output::check_restart_outputs(source, outputs.probe_names(), outputs.field_names());
+    source = output::move_aside_for_restart(opt.output, comm);
+  }
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod", {}};
   info.attributes = {{"rod_path", path.planar ? "planar" : "3D"}, {"rod_path_detail", path_text + " (coupled_mass)"}};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
   outputs.declare(writer);
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", grid.t_start, grid.t_end);
-  CoupledLoop loop(sc, stepper, state, m, outputs, replay, writer, opt, comm, progress);
-  loop.write();
-  if (rank == 0 && !opt.quiet)
+  CoupledLoop loop(sc, stepper, state, m, outputs, writer, opt, grid, path.planar, first, count, comm, progress);
+  if (opt.restart) {
+    output::copy_output_steps(source, writer, point.steps_written, outputs.probe_names(), outputs.field_names(),
+                              static_cast<std::size_t>(first), static_cast<std::size_t>(count));
+    loop.restore(point);
+    loop.store();
+    output::remove_restart_source(opt.output, comm);
+  } else {
+    loop.write();
+    loop.store();
+  }
+  if (rank == 0 && !opt.quiet) {
     std::printf("rod scene '%s': %d nodes, up to %ld steps of dt = %.6g s to t = %.6g s%s; initial state: %s; coupled "
                 "mass '%s' (partitioned iteration); linear solver: %s; Newton: %s; path: %s\n",
                 sc.file.c_str(), sc.mesh.nodes, grid.steps, grid.dt, grid.t_end,
                 sc.time.adaptive.enabled ? " (adaptive: the first step and the output spacing)" : "",
                 start.description.c_str(), load.name.c_str(), st.resolved_linear_solver().c_str(),
                 st.newton_implementation().c_str(), path_text.c_str());
+    if (opt.restart)
+      std::printf("restart from %s: time step %ld at t = %.9g s, %zu output steps kept\n", opt.output.c_str(),
+                  point.step, point.time, point.steps_written);
+  }
   const auto wall = std::chrono::steady_clock::now();
   if (sc.time.adaptive.enabled)
-    loop.run_adaptive(grid);
+    loop.run_adaptive();
   else
-    loop.run_fixed(grid);
+    loop.run_fixed();
   auto& events = loop.events;
-  const long i = loop.steps + 1, coupling = loop.coupling, newton = loop.newton;
   progress.done();
   add_time_limit_event(sc, events, state.t, m.sigma, opt.quiet || rank != 0);
+  loop.store();  // the end: a restart of the complete file continues nothing
   writer.write_events(events);
   writer.finish();
-  replay.finished(writer.steps_written(), comm);
   if (rank == 0 && !opt.quiet) {
-    std::printf("done: %ld steps, %ld coupling iterations, %ld Newton iterations", i - 1, coupling, newton);
+    std::printf("done: %ld steps, %ld coupling iterations, %ld Newton iterations", loop.steps, loop.coupling,
+                loop.newton);
     if (!events.empty())
       std::printf("; ended by the event %s at t = %.9g s%s", events[0].reason.c_str(), events[0].time,
                   events[0].reason.rfind("left_rod", 0) == 0 || events[0].reason == "lift_off" ? " (interpolated)" : "");
     std::printf("; %zu output steps -> %s; time stepping %.3f s (wall, output included)\n", writer.steps_written(),
                 opt.output.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count());
-    if (!loop.adaptive_summary.empty()) std::printf("adaptive: %s\n", loop.adaptive_summary.c_str());
+    if (!loop.adaptive_summary().empty()) std::printf("adaptive: %s\n", loop.adaptive_summary().c_str());
   }
 }
 

@@ -13,7 +13,7 @@ void check_coupled_rod(const scene::Scene& scene, const rod::RodModel& model);
 
 /// Runs a rod scene whose (only) load is a coupled_mass (box scheme; any ranks, the planar or
 /// the 3D path, any linear solver); what it does not support is refused with a SceneError
-/// naming the key; --restart replays from t = 0 (CoupledReplay). Same contract as run_rod
+/// naming the key; --restart continues from the newest restart point (the mass's state included). Same contract as run_rod
 /// otherwise.
 void run_rod_coupled(const scene::Scene& scene, const RodSetup& setup, const TimeGrid& grid, const RunOptions& options,
                      MPI_Comm comm);
