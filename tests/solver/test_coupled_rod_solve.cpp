@@ -26,19 +26,7 @@ void cable(int N, double M, double sigma0, rod::RodModel& m, rod::RodState& stat
   m.left = rod::EndCondition::make_clamped();
   m.right = rod::EndCondition::make_sliding(Vec3::UnitZ());
   m.loads.gravity = Vec3(0.0, -9.8, 0.0);
-  rod::StaticModel sm;
-  sm.props = m.props;
-  sm.num_cells = N;
-  sm.length = m.length;
-  sm.left.type = rod::EndCondition::Type::clamped;
-  sm.right.type = rod::EndCondition::Type::sliding;
-  sm.right.axis = Vec3::UnitZ();
-  sm.right.position = Vec3(0.0, 0.0, m.length);
-  sm.gravity = m.loads.gravity;
-  sm.point_forces.push_back({Vec3(0.0, -M * 9.8, 0.0), sigma0});
-  auto nodes = rod::straight_static_state(sm);
-  ASSERT_TRUE(rod::StaticSolver().solve_with_load_steps(sm, nodes).converged);
-  state = rod::dynamic_state_from_static(sm, nodes);
+  state = test::hanging_cable_equilibrium(m, Vec3(0.0, -M * 9.8, 0.0), sigma0);
 }
 
 TEST(CoupledRodSolve, DistributedTakesTheReferencesSteps) {

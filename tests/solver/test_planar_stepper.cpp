@@ -41,20 +41,7 @@ Problem hanging_cable(int N) {
   p.forces = {F};
   p.dt = m.ds() / v;
   p.steps = N;  // the whole crossing
-  rod::StaticModel sm;
-  sm.props = m.props;
-  sm.num_cells = N;
-  sm.length = m.length;
-  sm.left.type = rod::EndCondition::Type::clamped;
-  sm.right.type = rod::EndCondition::Type::sliding;
-  sm.right.axis = Vec3::UnitZ();
-  sm.right.position = Vec3(0.0, 0.0, m.length);
-  sm.gravity = m.loads.gravity;
-  sm.point_forces.push_back({F, 0.0});
-  auto nodes = rod::straight_static_state(sm);
-  const auto rep = rod::StaticSolver().solve_with_load_steps(sm, nodes);
-  EXPECT_TRUE(rep.converged) << rep.message;
-  p.initial = rod::dynamic_state_from_static(sm, nodes);
+  p.initial = test::hanging_cable_equilibrium(m, F, 0.0);
   return p;
 }
 
