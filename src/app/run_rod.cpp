@@ -292,12 +292,7 @@ class RodRestartPoints {
     last_ = std::chrono::steady_clock::now();
   }
   /// Whether the restart interval has passed since the last point (rank 0's clock decides).
-  bool due() const {
-    if (interval_ <= 0.0) return true;
-    int due = std::chrono::duration<double>(std::chrono::steady_clock::now() - last_).count() >= interval_;
-    MPI_Bcast(&due, 1, MPI_INT, 0, comm_);
-    return due != 0;
-  }
+  bool due() const { return restart_due(last_, interval_, comm_); }
 
  private:
   const solver::DistributedStepper& st_;
@@ -628,29 +623,9 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
   const int N = sc.mesh.nodes - 1;
   src.file = output::restart_source(opt.output);
   const std::size_t comps = restart_components(sc);
-  try {
-    src.point = output::read_restart_point(src.file, static_cast<std::size_t>(N + 1), comps);
-  } catch (const output::RestartError&) {
-    // A point of the other kind (adaptive or fixed dt) says what changed.
-    const bool adaptive = sc.time.adaptive.enabled;
-    const std::size_t other = adaptive ? kPackedNode : kPackedNode + RodAdaptiveControl::kPerNode;
-    bool other_kind = true;
-    try {
-      (void)output::read_restart_point(src.file, static_cast<std::size_t>(N + 1), other);
-    } catch (const output::RestartError&) {
-      other_kind = false;
-    }
-    if (!other_kind) throw;  // the first error, as it was
-    throw UsageError{"--restart " + opt.output + ": the run being restarted " +
-                     (adaptive ? "took fixed steps" : "was adaptive (time.adaptive)") +
-                     "; a restart keeps it " + (adaptive ? "so: no time.adaptive" : "so: keep time.adaptive")};
-  }
-  const auto& x = src.point.extra;
-  if (x.size() < 4 || x[3] != g.dt)
-    throw UsageError{"--restart " + opt.output + ": time.dt = " + scene::format_number(g.dt) +
-                     " s differs from the run being restarted (" +
-                     (x.size() < 4 ? std::string("unknown") : scene::format_number(x[3])) +
-                     " s); a restart keeps the time step"};
+  const std::size_t other = sc.time.adaptive.enabled ? kPackedNode : kPackedNode + RodAdaptiveControl::kPerNode;
+  src.point = read_rod_restart_point(opt.output, src.file, static_cast<std::size_t>(N + 1), comps, other,
+                                     sc.time.adaptive.enabled, g.dt, 3);
   state.t = src.point.time;
   state.ds = sc.rod.length / N;
   state.nodes.resize(static_cast<std::size_t>(N + 1));

@@ -286,10 +286,7 @@ class CoupledLoop {
   bool adaptive_step(double h);
   /// After an output step: a restart point when the interval has passed (rank 0's clock decides).
   void store_if_due() {
-    int due = opt_.restart_interval <= 0.0 ||
-              std::chrono::duration<double>(std::chrono::steady_clock::now() - stored_).count() >= opt_.restart_interval;
-    MPI_Bcast(&due, 1, MPI_INT, 0, comm_);
-    if (due) store();
+    if (restart_due(stored_, opt_.restart_interval, comm_)) store();
   }
   std::vector<double> restart_extra() const;
   const scene::Scene& sc_;
@@ -588,37 +585,6 @@ void CoupledLoop::run_adaptive() {
 
 }  // namespace
 
-namespace {
-
-/// The restart point a coupled run continues from (--restart): the newest of the source file;
-/// a point of the other kind (fixed dt / adaptive) or another time.dt is refused.
-output::RestartPoint read_coupled_restart(const scene::Scene& sc, const RunOptions& opt, const TimeGrid& g,
-                                          const std::string& source) {
-  const std::size_t nodes = static_cast<std::size_t>(sc.mesh.nodes);
-  const bool adaptive = sc.time.adaptive.enabled;
-  output::RestartPoint point;
-  try {
-    point = output::read_restart_point(source, nodes, coupled_restart_components(adaptive));
-  } catch (const output::RestartError&) {
-    try {
-      (void)output::read_restart_point(source, nodes, coupled_restart_components(!adaptive));
-    } catch (const output::RestartError&) {
-      throw;  // the first error, as it was
-    }
-    throw UsageError{"--restart " + opt.output + ": the run being restarted " +
-                     (adaptive ? "took fixed steps" : "was adaptive (time.adaptive)") + "; a restart keeps it " +
-                     (adaptive ? "so: no time.adaptive" : "so: keep time.adaptive")};
-  }
-  if (point.extra.size() < extra::fixed || point.extra[extra::dt] != g.dt)
-    throw UsageError{"--restart " + opt.output + ": time.dt = " + scene::format_number(g.dt) +
-                     " s differs from the run being restarted (" +
-                     (point.extra.empty() ? std::string("unknown") : scene::format_number(point.extra[extra::dt])) +
-                     " s); a restart keeps the time step"};
-  return point;
-}
-
-}  // namespace
-
 void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGrid& grid, const RunOptions& opt,
                      MPI_Comm comm) {
   const scene::MovingLoadSpec& load = *coupled_load(sc);
@@ -632,7 +598,10 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   std::string source;
   if (opt.restart) {
     source = output::restart_source(opt.output);
-    point = read_coupled_restart(sc, opt, grid, source);
+    const bool adaptive = sc.time.adaptive.enabled;
+    point = read_rod_restart_point(opt.output, source, static_cast<std::size_t>(sc.mesh.nodes),
+                                   coupled_restart_components(adaptive), coupled_restart_components(!adaptive),
+                                   adaptive, grid.dt, extra::dt);
     start.description = "restart";
     start.state.t = point.time;
     start.state.ds = sc.mesh.ds;

@@ -9,7 +9,6 @@
 #include <string>
 
 #include "traverse/rod/reference_stepper.hpp"
-#include "traverse/rod/static_solver.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
 
 namespace traverse::solver::test {
@@ -41,25 +40,6 @@ inline rod::RodModel cantilever(int N, bool moving_load = true) {
     m.loads.point_forces.push_back(
         {[](double) { return Vec3(0.0, -0.05, 0.0); }, [](double t) { return 0.1 + 2.0 * t; }});
   return m;
-}
-
-/// The static equilibrium of a hanging cable `m` (clamped at s = 0, sliding along k at s = L,
-/// its gravity) under the point force F at sigma, as a dynamic state (checked to converge).
-inline rod::RodState hanging_cable_equilibrium(const rod::RodModel& m, const Vec3& F, double sigma) {
-  rod::StaticModel sm;
-  sm.props = m.props;
-  sm.num_cells = m.num_cells;
-  sm.length = m.length;
-  sm.left.type = rod::EndCondition::Type::clamped;
-  sm.right.type = rod::EndCondition::Type::sliding;
-  sm.right.axis = Vec3::UnitZ();
-  sm.right.position = Vec3(0.0, 0.0, m.length);
-  sm.gravity = m.loads.gravity;
-  sm.point_forces.push_back({F, sigma});
-  auto nodes = rod::straight_static_state(sm);
-  const auto rep = rod::StaticSolver().solve_with_load_steps(sm, nodes);
-  EXPECT_TRUE(rep.converged) << rep.message;
-  return rod::dynamic_state_from_static(sm, nodes);
 }
 
 /// max |a - b| of the unknowns (y and ys) and of the orientations R over all nodes.

@@ -7,9 +7,9 @@
 #include <cmath>
 #include <vector>
 
+#include "hanging_cable.hpp"
 #include "rod_mpi_test_util.hpp"
 #include "traverse/rod/planar.hpp"
-#include "traverse/rod/static_solver.hpp"
 #include "traverse/solver/coupled_rod_solve.hpp"
 
 namespace traverse::solver {
@@ -17,23 +17,14 @@ namespace {
 
 using test::say;
 
-/// The hanging cable (scene rod, clamped / sliding along k, gravity -9.8 j), N cells, in static
-/// equilibrium under gravity and the mass's weight M g at sigma0.
-void cable(int N, double M, double sigma0, rod::RodModel& m, rod::RodState& state) {
-  m.props = rod::RodProperties::scene_rod();
-  m.num_cells = N;
-  m.length = 1.0;
-  m.left = rod::EndCondition::make_clamped();
-  m.right = rod::EndCondition::make_sliding(Vec3::UnitZ());
-  m.loads.gravity = Vec3(0.0, -9.8, 0.0);
-  state = test::hanging_cable_equilibrium(m, Vec3(0.0, -M * 9.8, 0.0), sigma0);
-}
-
 TEST(CoupledRodSolve, DistributedTakesTheReferencesSteps) {
-  rod::RodModel model;
-  rod::RodState initial;
-  const double M = 0.05, sigma0 = 0.4;
-  cable(40, M, sigma0, model, initial);
+  // The hanging cable (scene rod, 40 cells) in static equilibrium under the mass's weight at sigma0.
+  const double M = 0.05, sigma0 = 0.4, g = 9.8;
+  const rod::RodModel model = testing::hanging_cable_model(rod::RodProperties::scene_rod(), 40, 1.0, g);
+  bool converged = false;
+  const rod::RodState initial = testing::static_start(
+      testing::hanging_cable_statics(model.props, 40, 1.0, g, M * g, sigma0), converged);
+  ASSERT_TRUE(converged);
   const rod::CoupledRodMass mass{M, 0.2, 0.05, 0.0};  // drive 0.2 N, resistance 0.05 N s/m
   const double dt = 0.5 * model.ds() / 2.0;
   const int steps = 24;  // at about 2 m/s: from 0.4 m past 0.6 m

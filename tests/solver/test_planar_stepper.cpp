@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "hanging_cable.hpp"
 #include "rod_mpi_test_util.hpp"
 #include "traverse/rod/planar.hpp"
 #include "traverse/rod/static_solver.hpp"
@@ -28,20 +29,17 @@ struct Problem {
 /// static equilibrium with the 2 N force on its left end, the force moving at 0.5 v1.
 Problem hanging_cable(int N) {
   Problem p;
+  p.model = testing::hanging_cable_model(rod::RodProperties::scene_rod(), N, 1.0, 9.8);
   rod::RodModel& m = p.model;
-  m.props = rod::RodProperties::scene_rod();
-  m.num_cells = N;
-  m.length = 1.0;
-  m.left = rod::EndCondition::make_clamped();
-  m.right = rod::EndCondition::make_sliding(Vec3::UnitZ());
-  m.loads.gravity = Vec3(0.0, -9.8, 0.0);
   const Vec3 F(0.0, -2.0, 0.0);
   const double v = 0.5 * 7.2684;
   m.loads.point_forces.push_back({[F](double) { return F; }, [v](double t) { return v * t; }});
   p.forces = {F};
   p.dt = m.ds() / v;
   p.steps = N;  // the whole crossing
-  p.initial = test::hanging_cable_equilibrium(m, F, 0.0);
+  bool converged = false;
+  p.initial = testing::static_start(testing::hanging_cable_statics(m.props, N, m.length, 9.8, 2.0, 0.0), converged);
+  EXPECT_TRUE(converged);
   return p;
 }
 
