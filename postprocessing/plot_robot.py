@@ -2,7 +2,7 @@
 """Figure of a driven coupled mass on the rod (the inspection robot, docs/results.md): (a) its
 speed against its position, with the rigid level line's terminal speed D / c and the speed
 (D + M g sin theta) / c a rigid line at the cable's local slope under the robot would give
-(theta from the direction of the robot's velocity p'); (b) the cable's shape at a few times with
+(theta the downward slope of the cell of the cable that holds the robot); (b) the cable's shape at a few times with
 the robot marked; (c) the robot's height and the midspan height against time.
 
 Usage: plot_robot.py RUN.h5 --drive D --resistance C --mass M [-o FIGURE.png]
@@ -43,8 +43,11 @@ def main(argv=None):
     t = run.time
     sigma, v = run.probes[name + "_position"], run.probes[name + "_speed"]
     pv, pos = run.probes[name + "_fixed_velocity"], run.probes[name + "_fixed_position"]
-    speed = np.linalg.norm(pv, axis=1)
-    sin_down = np.where(speed > 0, -pv[:, 1] / np.where(speed > 0, speed, 1.0), np.nan)  # sin of the downward slope
+    s_nodes = run.s
+    cell = np.clip(np.searchsorted(s_nodes, sigma, side="right") - 1, 0, len(s_nodes) - 2)
+    steps = np.arange(len(t))
+    chord = r[steps, cell + 1, :] - r[steps, cell, :]
+    sin_down = -chord[:, 1] / np.linalg.norm(chord, axis=1)  # sin of the downward slope along +s
     local = (args.drive + args.mass * args.gravity * sin_down) / args.resistance
     fig, ax = plt.subplots(1, 3, figsize=(15, 4.6))
     ax[0].plot(sigma, v, label="coupled robot sigma'")

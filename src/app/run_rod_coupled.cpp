@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "interrupt.hpp"
+#include "mpi_session.hpp"
 #include "restart.hpp"
 #include "progress.hpp"
 #include "rod_adaptive.hpp"
@@ -583,13 +584,18 @@ void CoupledLoop::run_adaptive() {
   }
 }
 
+// The coupled mass of the rod's stepper, from its scene load.
+rod::CoupledRodMass rod_mass(const scene::MovingLoadSpec& load) {
+  return {load.mass, load.drive, load.resistance, load.friction,
+          load.resistance_through == scene::ResistanceThrough::structure};
+}
+
 }  // namespace
 
 void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGrid& grid, const RunOptions& opt,
                      MPI_Comm comm) {
   const scene::MovingLoadSpec& load = *coupled_load(sc);
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
+  const int rank = comm_rank(comm);
   check_coupled_rod(sc, setup.model);
   if (!opt.restart) precheck_planar(sc, setup.model);
   // The initial state, or the restart point's (the whole state on every rank).
@@ -610,7 +616,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   } else {
     start = initial_state(sc, setup, comm);
   }
-  const rod::CoupledRodMass mass{load.mass, load.drive, load.resistance, load.friction};
+  const rod::CoupledRodMass mass = rod_mass(load);
   // The rod's steps on the distributed stepper, made from the model with the mass's loads.
   solver::DistributedCoupledRodSolve* rod_solve = nullptr;
   rod::CoupledRodStepper stepper(setup.model, mass, [&](rod::RodModel with_mass) {

@@ -100,7 +100,7 @@ CoupledRodStepper::CoupledRodStepper(RodModel model, CoupledRodMass mass, const 
   mm.accel = [p](double) { return (p->v_new - p->v_old) / p->dt; };
   mm.inertia = true;
   model.loads.masses.push_back(mm);
-  if (mass_.resistance > 0.0) {
+  if (mass_.resistance > 0.0 && !mass_.resistance_through_rod) {
     const double c = mass_.resistance;
     PointForce f;
     f.sigma = mm.sigma;
@@ -203,15 +203,16 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   }
   if (!rep.converged) return rep;
   // The drive is a force pair between mass and rod: its net power is D sigma'. The resistance
-  // acts on the mass alone: its power is c sigma' d3 . p' (p' = U + sigma' d3 includes the
-  // rod's material velocity along d3), here at the step's midpoint.
+  // through the air acts on the mass alone: its power is c sigma' d3 . p' (p' = U + sigma' d3
+  // includes the rod's material velocity along d3), here at the step's midpoint; through the
+  // rod it is a pair like the drive, of power c sigma'^2.
   const double vm = 0.5 * (m.speed + p.v_new);
   RodState trial = solve_->solution();
   const RodPointKinematics kn = point_kinematics(trial, p.s_new);
   const Vec3 d3m = (ko.d3 + kn.d3).normalized();
   const Vec3 pm = 0.5 * (ko.U + m.speed * ko.d3 + kn.U + p.v_new * kn.d3);
   m.drive_work += dt * mass_.drive * vm;
-  m.dissipated += dt * mass_.resistance * vm * d3m.dot(pm);
+  m.dissipated += dt * mass_.resistance * vm * (mass_.resistance_through_rod ? vm : d3m.dot(pm));
   m.friction_work += speed.friction_work;
   m.stick_fraction = speed.stick_fraction;
   m.sigma = p.s_new;

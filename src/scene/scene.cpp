@@ -20,6 +20,7 @@ TRAVERSE_ENUM_NAMES(Supports, "simply-supported", "clamped-free", "clamped-clamp
 TRAVERSE_ENUM_NAMES(BeamIntegrator, "rk4", "newmark")
 TRAVERSE_ENUM_NAMES(LoadType, "moving_mass", "moving_force", "coupled_mass")
 TRAVERSE_ENUM_NAMES(Contact, "bilateral", "unilateral")
+TRAVERSE_ENUM_NAMES(ResistanceThrough, "air", "structure")
 TRAVERSE_ENUM_NAMES(Entry, "left", "right")
 TRAVERSE_ENUM_NAMES(PlanarMode, "auto", "on", "off")
 TRAVERSE_ENUM_NAMES(InitialStateType, "static", "rest", "file", "arch")
@@ -156,9 +157,17 @@ std::shared_ptr<TypeRegistry> load_types() {
            real("speed", "Initial velocity along +s (negative: towards s = 0)", "m/s").def(0.0),
            real("drive", "Constant drive force along the tangent d3 (a robot's traction; negative: towards s = 0)", "N")
                .def(0.0),
-           real("resistance", "Viscous resistance c: a force -c sigma' d3 (air, not through the structure)", "N s/m")
+           real("resistance", "Viscous resistance c: a force -c sigma' d3 on the mass", "N s/m")
                .non_negative()
                .def(0.0),
+           choice("resistance_through",
+                  "air: the resistance acts on the mass alone (spec section 4; its power c sigma' d3 . p' can "
+                  "turn negative where the structure moves along its tangent faster than the mass moves along it); "
+                  "structure: a force pair between mass and structure (wheels, a motor), the structure taking "
+                  "+c sigma' d3, its loss c sigma'^2 never negative (a beam's load is transverse: both act alike "
+                  "there)",
+                  enum_names<ResistanceThrough>())
+               .def("air"),
            real("friction", "Coulomb friction coefficient mu between the mass and the structure: a tangential contact "
                             "force -mu |C_perp| sign(sigma'); where the mass stops and the friction can hold it, it "
                             "sticks (the event stick)", "").non_negative().def(0.0),
@@ -552,6 +561,7 @@ MovingLoadSpec build_coupled_mass(const std::string& name, const ParameterList& 
   m.entry_time = 0.0;
   m.drive = l.get<double>("drive");
   m.resistance = l.get<double>("resistance");
+  m.resistance_through = enum_of<ResistanceThrough>(l.get<std::string>("resistance_through"));
   m.friction = l.get<double>("friction");
   m.contact = enum_of<Contact>(l.get<std::string>("contact"));
   return m;

@@ -428,33 +428,65 @@ TEST(Cli, CoupledMassAutoEndStopsAtItsLimit) {
   EXPECT_NEAR(fb.time().back(), 0.1, 1e-12);
 }
 
-// The inspection robot of the 20 N class (docs/results.md): its weight folds the soft cable, so
-// it drives down a steep leg faster than the rigid level line's D / c = 0.1 m/s: the mean speed
-// after 0.5 s lies between 1.4 and 2 times D / c (the speed (D + M g) / c of a vertical line is
-// 2 D / c here); the run ends at time.auto_limit = 1.7 s with the event time_limit; the energy
-// balance closes to 1 % of the dissipated work.
-TEST(Cli, CoupledRobotOfThe20NClassIsSpedUpByTheCablesFold) {
+// The inspection robot of the 20 N class (docs/results.md), at twice the scene's ds and dt: its
+// weight pulls the soft cable into a V that travels with it, so it first runs down into the V
+// faster than the rigid level line's D / c = 0.1 m/s and then climbs out of it for the rest of
+// the span at about a quarter of D / c (measured 0.246 D / c over [6, 12] s, asserted within
+// (0.2, 0.3)); it leaves at s = L after about 16 s (asserted in (15, 17) s; 16.02 s at the scene's
+// mesh); the energy balance closes to 1 % of the dissipated work.
+TEST(Cli, CoupledRobotOfThe20NClassClimbsOutOfItsOwnSag) {
   const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "coupled_inspection_robot_20N.yaml";
   const std::string out = (scratch("coupled_robot20") / "robot.h5").string();
-  const auto r = run("run " + scene.string() + " -o " + out + " -q");
+  const auto r = run("run " + scene.string() + " -o " + out + " -q --set mesh.ds=0.025 --set time.dt=0.005");
+  ASSERT_EQ(r.code, 0) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.attribute("end_reason"), "left_rod_at_L");
+  const auto t = f.time();
+  const auto sigma = f.probe("robot_position"), speed = f.probe("robot_speed");
+  auto at = [&](double time) {
+    size_t k = 0;
+    while (k + 1 < t.size() && t[k] < time) ++k;
+    return k;
+  };
+  const size_t k6 = at(6.0), k12 = at(12.0);
+  ASSERT_LT(k12 + 1, t.size());
+  const double terminal = 20.0 / 200.0, climb = (sigma.values[k12] - sigma.values[k6]) / (t[k12] - t[k6]);
+  const double fastest = *std::max_element(speed.values.begin(), speed.values.end());
+  const auto balance = f.probe("energy_balance"), loss = f.probe("work_dissipated");
+  const double drift = drift_of(balance.values);
+  std::printf("  robot 20 N class: fastest %.4f m/s = %.3f D / c; mean speed %.5f m/s over [%.2f, %.2f] s = %.3f D / c; "
+              "leaves at t = %.4f s; balance drift %.3e J of %.4f J dissipated\n", fastest, fastest / terminal, climb,
+              t[k6], t[k12], climb / terminal, t.back(), drift, loss.values.back());
+  EXPECT_GT(fastest, 1.5 * terminal);
+  EXPECT_GT(climb, 0.2 * terminal);
+  EXPECT_LT(climb, 0.3 * terminal);
+  EXPECT_GT(t.back(), 15.0);
+  EXPECT_LT(t.back(), 17.0);
+  EXPECT_LT(drift, 0.01 * loss.values.back());
+}
+
+// The same robot with its resistance through the air (the spec's form, acting on the robot
+// alone): where the cable's material moves backwards along its tangent under the robot faster
+// than the robot advances along it, that resistance's power c sigma' d3 . p' is negative and it
+// feeds energy in. Measured at the scene's mesh: work_dissipated rises to 8.1 J and then falls
+// by 40.8 J by t = 1.83 s, 5.6 times the drive's whole work; the energy balance still closes to
+// 0.04 J (the numerics follow the model's runaway; docs/rod.md "Coupled mass").
+TEST(Cli, CoupledRobotWithAirResistanceIsFedEnergyByIt) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "coupled_inspection_robot_20N.yaml";
+  const std::string out = (scratch("coupled_robot20_air") / "robot.h5").string();
+  const auto r = run("run " + scene.string() + " -o " + out + " -q --set loads.robot.resistance_through=air --set "
+                     "time.auto_limit=1.83");
   ASSERT_EQ(r.code, 0) << r.out;
   traverse::output::Reader f(out);
   EXPECT_EQ(f.attribute("end_reason"), "time_limit");
-  const auto t = f.time();
-  const auto sigma = f.probe("robot_position");
-  size_t k0 = 0;
-  while (k0 < t.size() && t[k0] < 0.5) ++k0;
-  ASSERT_LT(k0 + 1, t.size());
-  const double mean = (sigma.values.back() - sigma.values[k0]) / (t.back() - t[k0]), terminal = 20.0 / 200.0;
-  const auto balance = f.probe("energy_balance"), loss = f.probe("work_dissipated");
-  const double drift = drift_of(balance.values);
-  std::printf("  robot 20 N class: mean speed %.4f m/s over [%.2f, %.2f] s = %.3f D / c; sigma(end) = %.4f m; balance "
-              "drift %.3e J of %.4f J dissipated\n", mean, t[k0], t.back(), mean / terminal, sigma.values.back(), drift,
-              loss.values.back());
-  EXPECT_NEAR(t.back(), 1.7, 1e-12);
-  EXPECT_GT(mean, 1.4 * terminal);
-  EXPECT_LT(mean, 2.0 * terminal);
-  EXPECT_LT(drift, 0.01 * loss.values.back());
+  const auto loss = f.probe("work_dissipated").values, drive = f.probe("work_drive").values;
+  const double most = *std::max_element(loss.begin(), loss.end()), fed = most - loss.back();
+  const double drift = drift_of(f.probe("energy_balance").values);
+  std::printf("  air resistance: work_dissipated up to %.4f J, then %.4f J at t = %.3f s (fed in %.4f J; drive %.4f J); "
+              "balance drift %.3e J\n", most, loss.back(), f.time().back(), fed, drive.back(), drift);
+  EXPECT_GT(most, 5.0);
+  EXPECT_GT(fed, 2.0 * drive.back());
+  EXPECT_LT(drift, 0.01 * fed);
 }
 
 // Unilateral contact on the rod: inputs/rod/coupled_lift_off_arc.yaml at a coarse mesh and step

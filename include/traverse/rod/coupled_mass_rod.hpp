@@ -16,8 +16,12 @@ namespace traverse::rod {
 struct CoupledRodMass {
   double mass = 0.0;        ///< M [kg]
   double drive = 0.0;       ///< D [N] along d3 (a robot's traction)
-  double resistance = 0.0;  ///< c [N s/m]: the force -c sigma' d3 on the mass (air)
+  double resistance = 0.0;  ///< c [N s/m]: the force -c sigma' d3 on the mass
   double friction = 0.0;    ///< Coulomb coefficient mu >= 0: tangential contact force -mu |C_perp| sign(sigma')
+  /// false (air): the resistance acts on the mass alone, the rod's load is M (g - p'') - c sigma' d3
+  /// and the loss c sigma' d3 . p' (spec section 4). true: a force pair with the rod (wheels, a
+  /// motor), the rod taking +c sigma' d3: its load is M (g - p''), the loss c sigma'^2 >= 0.
+  bool resistance_through_rod = false;
 };
 
 /// The mass's state at a time level.
@@ -76,7 +80,7 @@ struct CoupledStepReport {
 /// Advances rod + mass by one step. The rod's model must not contain the coupled mass: the
 /// stepper adds it as a MovingMass (line-mass inertia and weight, rod_loads.hpp) whose path in
 /// the step runs linearly from (sigma_old, t_old) to (sigma_new, t_new) with the speed linear
-/// from v_old to v_new, plus the resistance's reaction -c v d3 as a point force. The mass's
+/// from v_old to v_new, plus (resistance through the air) -c v d3 as a point force. The mass's
 /// tangential equation, discretised by the midpoint rule in momentum form,
 ///     M (p'_new - p'_old) . d3m = dt [M g . d3m + D - c (v_old + v_new) / 2],
 ///     sigma_new = sigma_old + dt (v_old + v_new) / 2,     d3m = unit(d3_old + d3_new)

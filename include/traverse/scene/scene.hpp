@@ -27,6 +27,8 @@ enum class LoadType { moving_mass, moving_force, coupled_mass };
 /// How a coupled mass is held on the structure: threaded on it (bilateral) or resting on its
 /// +d2 side (unilateral: it may lift off).
 enum class Contact { bilateral, unilateral };
+/// What takes the reaction of a coupled mass's resistance: nothing (air) or the structure.
+enum class ResistanceThrough { air, structure };
 enum class Entry { left, right };
 enum class PlanarMode { automatic, on, off };
 enum class InitialStateType { static_equilibrium, rest, file, arch };
@@ -48,6 +50,7 @@ template <> const std::vector<std::string>& enum_names<EndType>();
 template <> const std::vector<std::string>& enum_names<LoadType>();
 template <> const std::vector<std::string>& enum_names<Entry>();
 template <> const std::vector<std::string>& enum_names<Contact>();
+template <> const std::vector<std::string>& enum_names<ResistanceThrough>();
 template <> const std::vector<std::string>& enum_names<PlanarMode>();
 template <> const std::vector<std::string>& enum_names<InitialStateType>();
 template <> const std::vector<std::string>& enum_names<ContinuationParameter>();
@@ -128,6 +131,7 @@ struct MovingLoadSpec {
   bool coupled = false;         ///< type coupled_mass
   double drive = 0.0;           ///< constant force along the tangent d3 [N] (a robot's traction)
   double resistance = 0.0;      ///< viscous resistance c >= 0: force -c sigma' d3 [N s/m]
+  ResistanceThrough resistance_through = ResistanceThrough::air;  ///< who takes its reaction
   double friction = 0.0;        ///< Coulomb friction coefficient mu >= 0
   Contact contact = Contact::bilateral;
   /// Initial velocity along +s [m/s] (coupled_mass).
