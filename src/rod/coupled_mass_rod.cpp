@@ -100,7 +100,7 @@ CoupledRodStepper::CoupledRodStepper(RodModel model, CoupledRodMass mass, const 
   mm.accel = [p](double) { return (p->v_new - p->v_old) / p->dt; };
   mm.inertia = true;
   model.loads.masses.push_back(mm);
-  if (mass_.resistance > 0.0 && !mass_.resistance_through_rod) {
+  if (air_resistance()) {
     const double c = mass_.resistance;
     PointForce f;
     f.sigma = mm.sigma;
@@ -175,9 +175,9 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   p.v_old = m.speed;
   p.v_new = m.speed;
   p.s_new = m.sigma + dt * m.speed;
-  p.d3 = point_kinematics(state, m.sigma).d3.normalized();
   const double ds = state.ds;
   const RodPointKinematics ko = point_kinematics(state, m.sigma);
+  p.d3 = ko.d3.normalized();
   CoupledStepReport rep;
   Speed speed;
   double omega = 1.0, r_prev = 0.0;  // Aitken's relaxation of the speed (a heavy mass: strong coupling)
@@ -194,7 +194,7 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
     rep.last_change = std::abs(r) * dt / ds;  // sigma's residual is half of it
     p.s_new = s;
     p.v_new = v;
-    p.d3 = solve_->point(s).d3.normalized();
+    if (air_resistance()) p.d3 = solve_->point(s).d3.normalized();  // only the point force reads it
     // converged; or at the round-off floor (a heavy mass: the change stalls a little above tol)
     if (rep.last_change <= tol || (k > 2 && rep.last_change <= 1e3 * tol && rep.last_change > 0.5 * previous)) {
       rep.converged = true;

@@ -116,6 +116,8 @@ class CoupledRodStepper {
   CoupledRodMass mass_;
   RodModel model_;
   std::unique_ptr<CoupledRodSolve> solve_;
+  /// The rod carries the point force -c v d3 (a resistance through the air), which reads the path's d3.
+  bool air_resistance() const { return mass_.resistance > 0.0 && !mass_.resistance_through_rod; }
   struct Speed;
   Speed new_speed(const RodPointKinematics& ko, const RodPointKinematics& kn, double v_old, double v_iterate,
                   double dt) const;
