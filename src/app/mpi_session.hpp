@@ -28,7 +28,8 @@ class MpiSession {
 
   /// Starts MPI. Outside a launcher (`launch.by_launcher` false) the Open MPI settings of a
   /// single process are set first, unless the environment sets them already: pml ob1 and
-  /// btl self (no UCX or network probing), ess_singleton_isolated (no orted daemon) with a
+  /// btl self (no UCX or network probing), no binding and no PCI discovery by hwloc
+  /// (HWLOC_COMPONENTS=-pci,-linuxio), ess_singleton_isolated (no orted daemon) with a
   /// session directory of its own (a fresh TMPDIR/traverse-mpi-XXXXXX, removed by finish).
   void start(int* argc, char*** argv, const Launch& launch);
   bool started() const { return started_; }

@@ -12,6 +12,9 @@
 #include "traverse/output/output_error.hpp"
 #include "traverse/rod/static_solver.hpp"
 #include "traverse/mesh/mesh.hpp"
+#include "mpi_session.hpp"
+#include "traverse/solver/block_stepper.hpp"
+#include "traverse/solver/distributed_stepper.hpp"
 #include "traverse/solver/static_start.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 
@@ -91,7 +94,8 @@ std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, c
 }
 
 // Equilibrium under gravity and the loads on the rod at t = 0 (Newton with load steps), over
-// the ranks; this rank's nodes first .. first + count - 1 of the dynamic state at rest.
+// the ranks or in one process; this rank's nodes first .. first + count - 1 of the dynamic
+// state at rest.
 InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
   const rod::RodModel& model = setup.model;
   const double L = sc.rod.length;
@@ -106,8 +110,11 @@ InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, M
     const double s0 = l.sigma(0.0);
     if (std::isfinite(s0) && s0 >= 0.0 && s0 <= L) sm.point_forces.push_back({l.force, s0});
   }
+  // In one process stepping on block storage, the start on block storage too (no Tpetra).
   const solver::StaticStart st =
-      solver::solve_static_start(sm, Teuchos::rcp(new Teuchos::MpiComm<int>(comm)), setup.solver);
+      steps_on_block_storage(setup, comm)
+          ? solver::solve_static_start_in_one_process(sm)
+          : solver::solve_static_start(sm, Teuchos::rcp(new Teuchos::MpiComm<int>(comm)), setup.solver);
   if (!st.report.converged) throw NumericsError(static_failure(sc, sm, st.report));
   InitialState out;
   out.state = solver::dynamic_state_piece(sm, st, out.first_node);
@@ -284,7 +291,7 @@ void precheck_planar(const scene::Scene& sc, const rod::RodModel& model) {
 namespace {
 
 // The global node j (held by the rank that owns it) on every rank.
-rod::RodNode node_everywhere(const solver::DistributedStepper& st, int j, MPI_Comm comm) {
+rod::RodNode node_everywhere(const solver::RodStepper& st, int j, MPI_Comm comm) {
   constexpr int n = 45;  // y, R, yt, ys
   double mine[n] = {}, all[n];
   const int k = j - st.first_owned_node();
@@ -307,7 +314,7 @@ rod::RodNode node_everywhere(const solver::DistributedStepper& st, int j, MPI_Co
 // Whether the stepper's state is planar: each rank sums up its owned nodes, the summaries are
 // merged in rank (= node) order.
 rod::PlanarCheck state_planarity(const scene::Scene& sc, const rod::RodModel& model,
-                                 const solver::DistributedStepper& st, MPI_Comm comm) {
+                                 const solver::RodStepper& st, MPI_Comm comm) {
   const rod::RodNode left = node_everywhere(st, 0, comm), right = node_everywhere(st, model.num_cells, comm);
   rod::RodState piece;
   piece.t = st.time();
@@ -325,7 +332,7 @@ rod::PlanarCheck state_planarity(const scene::Scene& sc, const rod::RodModel& mo
 
 }  // namespace
 
-PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const solver::DistributedStepper& stepper,
+PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const solver::RodStepper& stepper,
                        int stored, MPI_Comm comm) {
   PathChoice out;
   const scene::PlanarMode mode = sc.scheme.planar;
@@ -367,12 +374,24 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
   scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(ranks) + " rank(s)", e.what());
 }
 
-std::unique_ptr<solver::DistributedStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
-  auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
+bool steps_on_block_storage(const RodSetup& setup, MPI_Comm comm) {
+  return comm_size(comm) == 1 && solver::block_stepper_applies(setup.solver);
+}
+
+bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
+  using T = scene::InitialStateType;
+  const bool own_start = sc.initial_state.type == T::rest || sc.initial_state.type == T::static_equilibrium;
+  return !(own_start && steps_on_block_storage(setup, comm));
+}
+
+std::unique_ptr<solver::RodStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
+  const int ranks = comm_size(comm);
   try {
-    return std::make_unique<solver::DistributedStepper>(setup.model, tcomm, setup.solver);
+    if (steps_on_block_storage(setup, comm)) return std::make_unique<solver::BlockStepper>(setup.model, setup.solver);
+    return std::make_unique<solver::DistributedStepper>(setup.model, Teuchos::rcp(new Teuchos::MpiComm<int>(comm)),
+                                                        setup.solver);
   } catch (const std::invalid_argument& e) {
-    linear_solver_refused(sc, tcomm->getSize(), e);
+    linear_solver_refused(sc, ranks, e);
   }
 }
 

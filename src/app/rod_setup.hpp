@@ -17,7 +17,7 @@
 #include "traverse/rod/rod_state.hpp"
 #include "traverse/scene/scene.hpp"
 #include "traverse/solver/arch_formation.hpp"
-#include "traverse/solver/distributed_stepper.hpp"
+#include "traverse/solver/rod_stepper.hpp"
 
 namespace traverse::app {
 
@@ -102,14 +102,22 @@ void precheck_planar(const scene::Scene& sc, const rod::RodModel& model);
 /// rank sums up its own nodes: rod::summarize_planarity). `stored` is the path of the run
 /// being restarted (-1 none or unknown, 0 3D, 1 planar): with auto a restart keeps it (a
 /// stored planar path whose state is no longer planar throws SceneError). Collective.
-PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const solver::DistributedStepper& stepper,
+PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const solver::RodStepper& stepper,
                        int stored, MPI_Comm comm);
 
 /// SceneError located at `solver`: the scene's linear solver cannot run on `ranks` ranks.
 [[noreturn]] void linear_solver_refused(const scene::Scene& sc, int ranks, const std::invalid_argument& e);
 
-/// The time stepper of a scene's rod model (collective); a linear solver that cannot run on
-/// this many ranks is bad input (linear_solver_refused).
-std::unique_ptr<solver::DistributedStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);
+/// Whether the run steps in one process on block storage (solver::BlockStepper: one rank, the
+/// block-tridiagonal LU, BlockNewton), which needs no Tpetra.
+bool steps_on_block_storage(const RodSetup& setup, MPI_Comm comm);
+/// Whether a dynamic rod run needs Tpetra (and Kokkos): not when it steps on block storage
+/// from a rest or static initial state (both computed without Tpetra then).
+bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);
+
+/// The time stepper of a scene's rod model (collective): BlockStepper where
+/// steps_on_block_storage, DistributedStepper otherwise (the same steps where both apply); a
+/// linear solver that cannot run on this many ranks is bad input (linear_solver_refused).
+std::unique_ptr<solver::RodStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);
 
 }  // namespace traverse::app

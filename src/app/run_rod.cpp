@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "interrupt.hpp"
@@ -27,7 +28,7 @@
 #include "run_beam_coupled.hpp"
 #include "run_rod_coupled.hpp"
 #include "traverse/output/writer.hpp"
-#include "traverse/solver/distributed_stepper.hpp"
+#include "traverse/solver/rod_stepper.hpp"
 #include "traverse/solver/runtime.hpp"
 #include "traverse/version.hpp"
 
@@ -37,7 +38,7 @@ namespace {
 
 /// The global nodes `wanted` of the distributed state, on every rank (each rank packs the
 /// ones it owns; one sum-reduction of wanted.size() nodes, as gather_state does for all).
-std::vector<rod::RodNode> gather_nodes(const solver::DistributedStepper& st, const std::vector<int>& wanted,
+std::vector<rod::RodNode> gather_nodes(const solver::RodStepper& st, const std::vector<int>& wanted,
                                        MPI_Comm comm) {
   const int first = st.first_owned_node(), count = st.num_owned_nodes();
   std::vector<double> local(kPackedNode * wanted.size(), 0.0), all(local.size());
@@ -50,7 +51,7 @@ std::vector<rod::RodNode> gather_nodes(const solver::DistributedStepper& st, con
 }
 
 /// The adaptive estimate's quantities of this rank's owned nodes, now.
-std::vector<rod::NodeLevel> owned_levels(const solver::DistributedStepper& st) {
+std::vector<rod::NodeLevel> owned_levels(const solver::RodStepper& st) {
   std::vector<rod::NodeLevel> y(static_cast<size_t>(st.num_owned_nodes()));
   for (int k = 0; k < st.num_owned_nodes(); ++k) y[static_cast<size_t>(k)] = rod::node_level(st.owned_node(k));
   return y;
@@ -75,7 +76,7 @@ void warn_under_resolved_loads(const scene::Scene& sc, const TimeGrid& g) {
 /// from its velocity R^T u (trapezoidal, second order).
 class LeftEnd {
  public:
-  LeftEnd(const solver::DistributedStepper& st, bool moves, const Vec3& r0, MPI_Comm comm)
+  LeftEnd(const solver::RodStepper& st, bool moves, const Vec3& r0, MPI_Comm comm)
       : st_(st), moves_(moves), r0_(r0), comm_(comm) {}
   const Vec3& position() const { return r0_; }
   void set_position(const Vec3& r) { r0_ = r; }
@@ -96,7 +97,7 @@ class LeftEnd {
     MPI_Bcast(v.data(), 3, MPI_DOUBLE, root, comm_);
     return v;
   }
-  const solver::DistributedStepper& st_;
+  const solver::RodStepper& st_;
   bool moves_;
   Vec3 r0_, v_old_ = Vec3::Zero();
   MPI_Comm comm_;
@@ -106,7 +107,7 @@ class LeftEnd {
 /// declared in the output file and evaluated at an output step.
 class RodOutputs {
  public:
-  RodOutputs(const scene::Scene& sc, const rod::RodModel& model, const solver::DistributedStepper& st, MPI_Comm comm);
+  RodOutputs(const scene::Scene& sc, const rod::RodModel& model, const solver::RodStepper& st, MPI_Comm comm);
   /// Names as the output file holds them, in declaration order (a restart's copy).
   std::vector<std::string> probe_names() const;
   std::vector<std::string> field_names() const;
@@ -121,7 +122,7 @@ class RodOutputs {
   std::vector<Vec3> near_positions(const std::vector<Vec3>& r) const;
   const scene::Scene& sc_;
   const rod::RodModel& model_;
-  const solver::DistributedStepper& st_;
+  const solver::RodStepper& st_;
   MPI_Comm comm_;
   int num_cells_, first_, count_;
   rod::OutputNeeds needs_;
@@ -129,7 +130,7 @@ class RodOutputs {
   std::vector<double> sigma_;
 };
 
-RodOutputs::RodOutputs(const scene::Scene& sc, const rod::RodModel& model, const solver::DistributedStepper& st,
+RodOutputs::RodOutputs(const scene::Scene& sc, const rod::RodModel& model, const solver::RodStepper& st,
                        MPI_Comm comm)
     : sc_(sc), model_(model), st_(st), comm_(comm), num_cells_(sc.mesh.nodes - 1), first_(st.first_owned_node()),
       count_(st.num_owned_nodes()) {
@@ -270,7 +271,7 @@ std::size_t restart_components(const scene::Scene& sc) {
 /// time.adaptive the controller's scalars).
 class RodRestartPoints {
  public:
-  RodRestartPoints(const solver::DistributedStepper& st, output::Writer& w, double dt, bool planar, double interval,
+  RodRestartPoints(const solver::RodStepper& st, output::Writer& w, double dt, bool planar, double interval,
                    const RodAdaptiveControl* adaptive, MPI_Comm comm)
       : st_(st), w_(w), dt_(dt), planar_(planar), interval_(interval), adaptive_(adaptive), comm_(comm),
         components_(kPackedNode + (adaptive ? RodAdaptiveControl::kPerNode : 0)),
@@ -295,7 +296,7 @@ class RodRestartPoints {
   bool due() const { return restart_due(last_, interval_, comm_); }
 
  private:
-  const solver::DistributedStepper& st_;
+  const solver::RodStepper& st_;
   output::Writer& w_;
   double dt_;
   bool planar_;
@@ -319,7 +320,7 @@ struct LoopTotals {
 /// What both time loops work on, and their common ends: a stop on a signal and the planar
 /// path's loss (each stores a restart point, sets the file's status and throws).
 struct RodLoopParts {
-  solver::DistributedStepper& st;
+  solver::RodStepper& st;
   RodOutputs& out;
   output::Writer& w;
   RodRestartPoints& rp;
@@ -637,7 +638,7 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
 /// The adaptive controller of a run: from the restart point when restarting, else started
 /// at the current (initial) level.
 std::unique_ptr<RodAdaptiveControl> make_adaptive(const scene::Scene& sc, const rod::RodModel& model,
-                                                  const solver::DistributedStepper& st, const RestartSource& restart,
+                                                  const solver::RodStepper& st, const RestartSource& restart,
                                                   const TimeGrid& g, MPI_Comm comm) {
   auto ctl = std::make_unique<RodAdaptiveControl>(sc.time.adaptive, g.dt, model.alpha, model.length, comm);
   if (restart.file.empty()) {
@@ -667,7 +668,7 @@ void check_linear_solver(const scene::Scene& sc, const RodSetup& setup, MPI_Comm
 
 
 void print_start(const scene::Scene& sc, const TimeGrid& g, const std::string& initial,
-                 const solver::DistributedStepper& st, const std::string& path_text) {
+                 const solver::RodStepper& st, const std::string& path_text) {
   char steps[160];
   if (sc.time.adaptive.enabled)
     std::snprintf(steps, sizeof steps, "adaptive steps (tolerance %.3g, first dt = %.6g s, outputs every %.6g s)",
@@ -694,18 +695,23 @@ void finish_solver_runtime() { solver::finish_runtime(); }
 void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
-  // Kokkos lives from the first rod run of the process to its end (finish_solver_runtime),
-  // Tpetra for this run only (beam runs, check and the other commands never start them).
-  solver::start_runtime();
-  int no_argc = 0;
-  char** no_argv = nullptr;
-  Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);
+  const RodSetup setup = build_rod_model(sc);
+  // Kokkos lives from the first rod run of the process that needs it to the process's end
+  // (finish_solver_runtime), Tpetra for this run only: a run stepping in one process on block
+  // storage, from a static or rest state, needs neither (nor do beam runs and the other
+  // commands).
+  std::optional<Tpetra::ScopeGuard> tpetra;
+  if (needs_tpetra(sc, setup, comm)) {
+    solver::start_runtime();
+    int no_argc = 0;
+    char** no_argv = nullptr;
+    tpetra.emplace(&no_argc, &no_argv, comm);
+  }
 
   // Model, limits and stepper first: the limits (steps, memory, load ratio: run_limits.hpp),
   // the partition (ranks <= nodes), the linear solver and a required planar path are bad
   // input (exit 2), found before anything of the rod's size is allocated and before any
   // initial state is computed.
-  const RodSetup setup = build_rod_model(sc);
   const TimeGrid grid = check_rod_run(sc, setup.model, opt.limits, comm).grid;
   check_linear_solver(sc, setup, comm);
   if (coupled_load(sc)) {

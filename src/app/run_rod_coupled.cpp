@@ -1,6 +1,6 @@
 // A rod run with a coupled mass (issue 17, docs/rod.md "Coupled mass"): the mass's position an
 // unknown of each step (rod::CoupledRodStepper), the rod's step solved by
-// solver::DistributedStepper (any ranks, the planar or the 3D path, any linear solver), the whole
+// solver::RodStepper (any ranks, the planar or the 3D path, any linear solver), the whole
 // state kept on every rank between the steps. Outputs: the rod's probes and fields, the mass's probes (position, speed, fixed-frame position
 // and velocity, contact forces), the energies, and the events table (the run ends when the mass
 // leaves the rod).
@@ -625,7 +625,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
     rod_solve = made.get();
     return made;
   });
-  solver::DistributedStepper& st = rod_solve->stepper();
+  solver::RodStepper& st = rod_solve->stepper();
   st.set_state(start.state, start.first_node);
   rod::RodState state = st.gather_state();  // whole, on every rank
   start.state = rod::RodState();

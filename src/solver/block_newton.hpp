@@ -10,12 +10,16 @@
 // max|f| < residual tolerance and the WRMS update test (NOX's NormWRMS: weights rtol |x_old| +
 // atol) is below 1, failed at a non-finite residual or after the maximum of iterations.
 // Eigen and the rod kernels only.
+#include <Teuchos_ParameterList.hpp>
+
 #include <memory>
 #include <vector>
 
-#include "block_tridiagonal_factors.hpp"
+#include "block_system.hpp"
 #include "traverse/rod/step_assembly.hpp"
+#include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/solver/newton_report.hpp"
+#include "traverse/solver/rod_stepper.hpp"
 
 namespace traverse::solver {
 
@@ -31,6 +35,7 @@ class BlockNewton {
  public:
   /// `assembly` must cover the whole rod (one rank: every node owned) and outlive this object.
   BlockNewton(const rod::StepAssembly& assembly, BlockNewtonOptions options);
+  ~BlockNewton();
 
   /// Newton from x (in: initial guess, unknowns_per_node() per node; out: the last iterate, the
   /// solution when converged) on the assembly's current old level. An exception thrown inside
@@ -48,20 +53,21 @@ class BlockNewton {
   NewtonReport iterate(std::vector<double>& x);
   /// f and the blocks at x; returns max|f| (NaN when f is not finite).
   double evaluate(const std::vector<double>& x);
-  /// d = J^{-1} f with the residual check and refinements; returns max|f - J d| / max|f|
-  /// (nb = max|f|, from evaluate).
-  double solve_linear(double nb);
-  /// r = f - J d (block-tridiagonal product).
-  void residual_of(const std::vector<double>& d, std::vector<double>& r) const;
 
   const rod::StepAssembly& asm_;
   BlockNewtonOptions opt_;
-  int n_ = 0, b_ = 0;
-  std::vector<double> blocks_, f_, d_, r_, dx_, x_old_;
-  std::unique_ptr<BlockTridiagonalFactors> lu_;
+  std::unique_ptr<BlockSystem> sys_;
+  std::vector<double> d_, x_old_;
   double dropped_ = 0.0;
   int n_f_ = 0, n_lu_ = 0;
   double t_asm_ = 0.0, t_lu_ = 0.0;
 };
+
+/// The options of the time step's Newton from its parameters (`newton`: validated, with the
+/// planar path's update tolerances: RodStepper::newton_params) and the linear solver's tolerance.
+BlockNewtonOptions block_newton_options(const Teuchos::ParameterList& newton, const LinearSolverChoice& choice);
+
+/// Adds what `b` counted to the counters of a stepper.
+void add_block_newton_counters(const BlockNewton& b, ReuseCounters& c);
 
 }  // namespace traverse::solver

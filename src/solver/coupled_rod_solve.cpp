@@ -5,7 +5,7 @@
 
 namespace traverse::solver {
 
-DistributedCoupledRodSolve::DistributedCoupledRodSolve(std::unique_ptr<DistributedStepper> stepper, MPI_Comm comm)
+DistributedCoupledRodSolve::DistributedCoupledRodSolve(std::unique_ptr<RodStepper> stepper, MPI_Comm comm)
     : stepper_(std::move(stepper)), comm_(comm) {
   if (!stepper_) throw std::invalid_argument("DistributedCoupledRodSolve: null stepper");
 }
@@ -24,7 +24,7 @@ bool DistributedCoupledRodSolve::solve(const rod::RodState& old, double dt, bool
 }
 
 rod::RodPointKinematics DistributedCoupledRodSolve::point(double sigma) const {
-  const DistributedStepper& st = *stepper_;
+  const RodStepper& st = *stepper_;
   const int N = st.model().num_cells, first = st.first_owned_node(), owned = st.num_owned_nodes();
   const rod::NodeInterpolation at = rod::locate_on_nodes(sigma, st.model().ds(), N);
   const int nodes[2] = {at.j, std::min(at.j + 1, N)};

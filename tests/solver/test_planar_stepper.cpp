@@ -11,6 +11,7 @@
 #include "rod_mpi_test_util.hpp"
 #include "traverse/rod/planar.hpp"
 #include "traverse/rod/static_solver.hpp"
+#include "traverse/solver/block_stepper.hpp"
 
 namespace traverse::solver {
 namespace {
@@ -135,6 +136,8 @@ TEST(PlanarStepper, CarriedYsDampedArchWithMovingMassMatches3D) {
 // bit for bit; on the pinned arc (carried ys) the block LU's residual check asks for iterative
 // refinement, whose residual NOX's path forms with Tpetra's sparse product (another order of
 // the sums), so there the states agree to round-off (< 1e-10).
+// BlockStepper (one process, no Tpetra) takes DistributedStepper's BlockNewton steps bit for bit:
+// the same iterations, residual histories and states in every step.
 TEST(PlanarStepper, BlockNewtonTakesNoxsIterates) {
   if (test::ranks() != 1) GTEST_SKIP() << "BlockNewton is the single-rank path (2 ranks run NOX, tested above)";
   const Problem problems[2] = {hanging_cable(50), damped_arch(40)};
@@ -145,19 +148,23 @@ TEST(PlanarStepper, BlockNewtonTakesNoxsIterates) {
       Teuchos::ParameterList nox = test::solver_params("auto");
       nox.set("Newton Implementation", std::string("NOX"));
       DistributedStepper a(pb.model, test::comm(), test::solver_params("auto")), b(pb.model, test::comm(), nox);
+      BlockStepper c(pb.model, test::solver_params("auto"));  // the same Newton without Tpetra
       EXPECT_EQ(a.newton_implementation(), "block storage");
       EXPECT_EQ(b.newton_implementation(), "NOX");
-      a.set_state(pb.initial);
-      b.set_state(pb.initial);
-      if (planar) {
-        a.set_planar(&chk.symmetry);
-        b.set_planar(&chk.symmetry);
+      EXPECT_EQ(c.newton_implementation(), "block storage");
+      for (RodStepper* st : {static_cast<RodStepper*>(&a), static_cast<RodStepper*>(&b), static_cast<RodStepper*>(&c)}) {
+        st->set_state(pb.initial);
+        if (planar) st->set_planar(&chk.symmetry);
       }
+      EXPECT_EQ(c.path_description(), a.path_description());
       long its = 0;
       double worst = 0.0;
       for (int i = 0; i < pb.steps; ++i) {
-        const StepReport ra = a.step(pb.dt), rb = b.step(pb.dt);
+        const StepReport ra = a.step(pb.dt), rb = b.step(pb.dt), rc = c.step(pb.dt);
         ASSERT_EQ(ra.newton_iterations, rb.newton_iterations) << "step " << i;
+        ASSERT_EQ(rc.newton_iterations, ra.newton_iterations) << "step " << i;
+        ASSERT_EQ(rc.last.residual_history, ra.last.residual_history) << "step " << i;
+        ASSERT_EQ(test::max_difference(c.gather_state(), a.gather_state()), 0.0) << "step " << i;
         // Both histories: max|f| at the initial guess and after each iteration.
         ASSERT_EQ(ra.last.residual_history.size(), static_cast<size_t>(ra.newton_iterations) + 1) << "step " << i;
         ASSERT_EQ(rb.last.residual_history.size(), ra.last.residual_history.size()) << "step " << i;

@@ -122,6 +122,38 @@ TEST(StaticStart, PinnedLeftEndUsesTheStaticsSolver) {
   expect_halo(st, N);
 }
 
+// The start in one process without Tpetra (block_static_start.hpp) against the distributed
+// start on this many ranks: with a clamped left end both run the block LU on the same blocks,
+// so on 1 rank the nodes are equal bit for bit (on more, to rounding); with a pinned left end
+// the sparse LU against the statics solver (both direct: to rounding).
+TEST(StaticStart, InOneProcessIsTheDistributedStart) {
+  for (const auto left : {rod::EndCondition::Type::clamped, rod::EndCondition::Type::pinned}) {
+    const int N = 40;
+    const rod::StaticModel m = cable(N, left);
+    const StaticStart one = solve_static_start_in_one_process(m);
+    const StaticStart dist = solve_static_start(m, test::comm());
+    ASSERT_TRUE(one.report.converged) << one.report.message;
+    ASSERT_TRUE(dist.report.converged) << dist.report.message;
+    ASSERT_EQ(one.nodes.size(), static_cast<size_t>(N + 1));
+    EXPECT_EQ(one.first_node, 0);
+    EXPECT_EQ(one.report.load_steps, dist.report.load_steps);
+    EXPECT_EQ(one.report.iterations, dist.report.iterations);
+    const Agreement a = against_serial(dist, one.nodes);
+    const bool clamped = left == rod::EndCondition::Type::clamped;
+    say("  %s left end, %d rank(s): one process (%s) against distributed (%s): %d / %d Newton iterations, max |dr| "
+        "%.2e m, |dkappa| %.2e 1/m, |dn| %.2e N, |dR| %.2e\n",
+        clamped ? "clamped" : "pinned", test::ranks(), one.linear_solver.c_str(), dist.linear_solver.c_str(),
+        one.report.iterations, dist.report.iterations, a.r, a.kappa, a.n, a.frame);
+    EXPECT_EQ(one.linear_solver.find("block-tridiagonal LU") != std::string::npos, clamped) << one.linear_solver;
+    if (clamped && test::ranks() == 1) {
+      EXPECT_EQ(a.r + a.kappa + a.n + a.frame, 0.0);
+    } else {
+      EXPECT_LT(a.r, 1e-9);
+      EXPECT_LT(a.frame, 1e-9);
+    }
+  }
+}
+
 // A load the rod cannot carry: the same failure report on every rank, no nodes.
 TEST(StaticStart, AFailedSolveReportsHowFarTheLoadSteppingGot) {
   rod::StaticModel m = cable(20, rod::EndCondition::Type::clamped);

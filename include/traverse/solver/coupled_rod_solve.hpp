@@ -1,13 +1,13 @@
 #pragma once
 // The coupled mass's rod step (rod::CoupledRodStepper, docs/rod.md "Coupled mass") solved by
-// DistributedStepper: any ranks, the planar or the 3D path, any linear solver and either Newton
-// implementation. Only Teuchos and the rod kernels appear here (distributed_stepper.hpp).
+// a RodStepper: BlockStepper in one process, DistributedStepper on any ranks; the planar or the
+// 3D path, any linear solver and either Newton implementation. No Trilinos solver headers.
 #include <mpi.h>
 
 #include <memory>
 
 #include "traverse/rod/coupled_mass_rod.hpp"
-#include "traverse/solver/distributed_stepper.hpp"
+#include "traverse/solver/rod_stepper.hpp"
 
 namespace traverse::solver {
 
@@ -18,17 +18,17 @@ namespace traverse::solver {
 /// Every call is collective.
 class DistributedCoupledRodSolve final : public rod::CoupledRodSolve {
  public:
-  DistributedCoupledRodSolve(std::unique_ptr<DistributedStepper> stepper, MPI_Comm comm);
-  /// again: DistributedStepper::redo_step (Newton from the last solution); otherwise the old
-  /// state is set and DistributedStepper::try_step solves from it. Throws PlanarityLost as the
+  DistributedCoupledRodSolve(std::unique_ptr<RodStepper> stepper, MPI_Comm comm);
+  /// again: RodStepper::redo_step (Newton from the last solution); otherwise the old
+  /// state is set and RodStepper::try_step solves from it. Throws PlanarityLost as the
   /// stepper does.
   bool solve(const rod::RodState& old, double dt, bool again, int& newton_iterations) override;
   rod::RodPointKinematics point(double sigma) const override;
   rod::RodState solution() const override;
-  DistributedStepper& stepper() { return *stepper_; }
+  RodStepper& stepper() { return *stepper_; }
 
  private:
-  std::unique_ptr<DistributedStepper> stepper_;
+  std::unique_ptr<RodStepper> stepper_;
   MPI_Comm comm_;
 };
 
