@@ -6,11 +6,13 @@
 #include <iostream>
 
 #include "cli.hpp"
+#include "hand_over.hpp"
 #include "interrupt.hpp"
 #include "mpi_session.hpp"
 #include "restart.hpp"
 #include "run.hpp"
 #include "sweep.hpp"
+#include "trilinos_parts.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/output/sidecar.hpp"
 #include "traverse/scene/scene.hpp"
@@ -114,6 +116,7 @@ int main(int argc, char** argv) {
   };
   try {
     const app::CommandLine cl = app::parse_command_line(argc, argv);
+    if (!app::has_trilinos() && app::needs_trilinos(cl, launch)) app::hand_over_to_trilinos(argv);
     if (needs_mpi(cl.command, launch)) {
       mpi.start(&argc, &argv, launch);
       rank = mpi.rank();

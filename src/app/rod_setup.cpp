@@ -1,6 +1,5 @@
 #include "rod_setup.hpp"
 
-#include <Teuchos_DefaultMpiComm.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -14,8 +13,7 @@
 #include "traverse/mesh/mesh.hpp"
 #include "mpi_session.hpp"
 #include "traverse/solver/block_stepper.hpp"
-#include "traverse/solver/distributed_stepper.hpp"
-#include "traverse/solver/static_start.hpp"
+#include "trilinos_parts.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 
 namespace traverse::app {
@@ -114,7 +112,7 @@ InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, M
   const solver::StaticStart st =
       steps_on_block_storage(setup, comm)
           ? solver::solve_static_start_in_one_process(sm)
-          : solver::solve_static_start(sm, Teuchos::rcp(new Teuchos::MpiComm<int>(comm)), setup.solver);
+          : distributed_static_start(sm, setup.solver, comm);
   if (!st.report.converged) throw NumericsError(static_failure(sc, sm, st.report));
   InitialState out;
   out.state = solver::dynamic_state_piece(sm, st, out.first_node);
@@ -173,7 +171,8 @@ InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Co
     case T::file: {
       InitialState out;
       try {
-        out.state = static_start(sc, Teuchos::rcp(new Teuchos::MpiComm<int>(comm)), setup.solver, out.description);
+        out.state = sc.initial_state.type == T::arch ? arch_start(sc, setup.solver, comm, out.description)
+                                                     : file_start(sc, out.description);
       } catch (const std::runtime_error& e) {
         if (dynamic_cast<const scene::SceneError*>(&e)) throw;
         throw NumericsError(std::string("initial state: ") + e.what());
@@ -222,47 +221,43 @@ std::vector<rod::StaticNode> static_nodes(const output::NodalState& st, const sc
   return nodes;
 }
 
-solver::ArchFormation form_arch(const scene::Scene& sc, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                                const Teuchos::ParameterList& solver_params) {
-  solver::ArchOptions o;
-  o.length = sc.rod.length;
-  o.num_cells = sc.mesh.nodes - 1;
-  o.end_distance = sc.initial_state.end_to_end;
-  o.gravity = sc.gravity;
-  o.solver = solver_params;
-  solver::ArchFormation arch = solver::form_arch(rod_properties(sc.rod), o, comm);
-  if (!arch.ok) throw std::runtime_error("arch formation: " + arch.message);
-  return arch;
+rod::StaticProblem static_problem(const scene::Scene& sc) {
+  rod::StaticProblem p;
+  p.base.props = rod_properties(sc.rod);
+  p.base.num_cells = sc.mesh.nodes - 1;
+  p.base.length = sc.rod.length;
+  p.base.left = static_end(sc.left, 0.0);
+  p.base.right = static_end(sc.right, sc.rod.length);
+  p.gravity = Vec3(0.0, -sc.gravity, 0.0);
+  p.end_load_direction = -Vec3::UnitZ();
+  p.end_position_axis = Vec3::UnitZ();
+  p.value(rod::StaticParameter::gravity_factor) = 1.0;  // gravity = factor * the scene's g
+  // The right end's external load along -k: a roller's or sliding end's given force.
+  p.value(rod::StaticParameter::end_load) = -sc.right.axial_force;
+  p.value(rod::StaticParameter::end_position) = sc.rod.length;
+  if (sc.loads.size() == 1) {
+    const auto& l = sc.loads.front();
+    const double F = l.force.norm();
+    p.has_point_load = F > 0.0;
+    if (p.has_point_load) p.load_direction = l.force / F;
+    p.value(rod::StaticParameter::load_magnitude) = F;
+    p.value(rod::StaticParameter::load_position) = l.start;
+  } else if (!sc.loads.empty()) {
+    scene::fail_at(sc, "loads", "at most one load in a continuation scene", std::to_string(sc.loads.size()) + " loads");
+  }
+  return p;
 }
 
-std::string arch_summary(const solver::ArchFormation& arch) {
-  std::ostringstream os;
-  os << "arch formed: Euler load " << arch.euler_load << " N; end load " << arch.forming_load
-     << " N when the ends passed " << arch.problem.value(rod::StaticParameter::end_position)
-     << " m apart, pinned there; gravity raised to " << -arch.problem.gravity.y() << " m/s^2";
-  return os.str();
-}
-
-rod::RodState static_start(const scene::Scene& sc, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                           const Teuchos::ParameterList& solver, std::string& description) {
-  const rod::StaticProblem problem = static_problem(sc);
-  if (sc.initial_state.type == scene::InitialStateType::arch) {
-    const solver::ArchFormation arch = form_arch(sc, comm, solver);
-    description = arch_summary(arch);
-    return rod::dynamic_state_from_static(arch.problem.model(), arch.state);
+rod::RodState file_start(const scene::Scene& sc, std::string& description) {
+  std::vector<rod::StaticNode> nodes;
+  try {
+    nodes = static_nodes(output::read_state(sc.initial_state.file, sc.initial_state.state), sc, "initial_state.file");
+  } catch (const output::OutputError& e) {
+    scene::fail_at(sc, "initial_state.file", "a continuation file with the state '" + sc.initial_state.state + "'",
+                   e.what());
   }
-  if (sc.initial_state.type == scene::InitialStateType::file) {
-    std::vector<rod::StaticNode> nodes;
-    try {
-      nodes = static_nodes(output::read_state(sc.initial_state.file, sc.initial_state.state), sc, "initial_state.file");
-    } catch (const output::OutputError& e) {
-      scene::fail_at(sc, "initial_state.file", "a continuation file with the state '" + sc.initial_state.state + "'",
-                     e.what());
-    }
-    description = "state '" + sc.initial_state.state + "' of " + sc.initial_state.file + ", at rest";
-    return rod::dynamic_state_from_static(problem.model(), nodes);
-  }
-  throw std::logic_error("static_start: initial state " + scene::name_of(sc.initial_state.type));
+  description = "state '" + sc.initial_state.state + "' of " + sc.initial_state.file + ", at rest";
+  return rod::dynamic_state_from_static(static_problem(sc).model(), nodes);
 }
 
 std::vector<Vec3> point_force_vectors(const scene::Scene& sc) {
@@ -375,12 +370,16 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
 }
 
 bool steps_on_block_storage(const RodSetup& setup, MPI_Comm comm) {
-  return comm_size(comm) == 1 && solver::block_stepper_applies(setup.solver);
+  try {
+    return comm_size(comm) == 1 && solver::block_stepper_applies(setup.solver);
+  } catch (const std::invalid_argument&) {
+    return false;  // a linear solver the steppers refuse: make_stepper reports it
+  }
 }
 
 bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
   using T = scene::InitialStateType;
-  const bool own_start = sc.initial_state.type == T::rest || sc.initial_state.type == T::static_equilibrium;
+  const bool own_start = sc.initial_state.type != T::arch;  // rest, static, file: no Tpetra on block storage
   return !(own_start && steps_on_block_storage(setup, comm));
 }
 
@@ -388,8 +387,7 @@ std::unique_ptr<solver::RodStepper> make_stepper(const scene::Scene& sc, const R
   const int ranks = comm_size(comm);
   try {
     if (steps_on_block_storage(setup, comm)) return std::make_unique<solver::BlockStepper>(setup.model, setup.solver);
-    return std::make_unique<solver::DistributedStepper>(setup.model, Teuchos::rcp(new Teuchos::MpiComm<int>(comm)),
-                                                        setup.solver);
+    return distributed_stepper(setup.model, setup.solver, comm);
   } catch (const std::invalid_argument& e) {
     linear_solver_refused(sc, ranks, e);
   }

@@ -16,7 +16,6 @@
 #include "traverse/rod/static_problem.hpp"
 #include "traverse/rod/rod_state.hpp"
 #include "traverse/scene/scene.hpp"
-#include "traverse/solver/arch_formation.hpp"
 #include "traverse/solver/rod_stepper.hpp"
 
 namespace traverse::app {
@@ -63,18 +62,10 @@ std::vector<rod::StaticNode> static_nodes(const output::NodalState& st, const sc
 /// and position).
 rod::StaticProblem static_problem(const scene::Scene& sc);
 
-/// The scene's rod formed into an arch with end-to-end distance initial_state.end_to_end
-/// (solver::form_arch); throws std::runtime_error saying which stage failed.
-solver::ArchFormation form_arch(const scene::Scene& sc, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                                const Teuchos::ParameterList& solver);
-/// One line describing a formed arch, for the log.
-std::string arch_summary(const solver::ArchFormation& arch);
-
-/// The dynamic initial state of a rod scene whose initial_state is `arch` (formed here) or
-/// `file` (a state saved by a continuation run); `description` says what was done. Throws
-/// SceneError for a bad file and std::runtime_error when forming fails.
-rod::RodState static_start(const scene::Scene& sc, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                           const Teuchos::ParameterList& solver, std::string& description);
+/// initial_state: file: the state saved by a continuation run, at rest (every node on every
+/// rank); `description` says which. Throws SceneError (located at initial_state.file) for a
+/// bad file.
+rod::RodState file_start(const scene::Scene& sc, std::string& description);
 
 /// The fixed-frame vector of each point force of the scene's rod model, in model order (the
 /// loads without inertia; a moving mass's weight comes from gravity).
@@ -112,7 +103,7 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
 /// block-tridiagonal LU, BlockNewton), which needs no Tpetra.
 bool steps_on_block_storage(const RodSetup& setup, MPI_Comm comm);
 /// Whether a dynamic rod run needs Tpetra (and Kokkos): not when it steps on block storage
-/// from a rest or static initial state (both computed without Tpetra then).
+/// from a rest, static or file initial state (all three made without Tpetra then).
 bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);
 
 /// The time stepper of a scene's rod model (collective): BlockStepper where

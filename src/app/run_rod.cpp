@@ -5,9 +5,6 @@
 // Each stage is a function or a class of its own; run_rod only strings them together.
 #include <mpi.h>
 
-#include <Teuchos_DefaultMpiComm.hpp>
-#include <Tpetra_Core.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -29,8 +26,8 @@
 #include "run_rod_coupled.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/solver/rod_stepper.hpp"
-#include "traverse/solver/runtime.hpp"
 #include "traverse/version.hpp"
+#include "trilinos_parts.hpp"
 
 namespace traverse::app {
 
@@ -690,8 +687,6 @@ void check_rod(const scene::Scene& sc) {
   precheck_planar(sc, setup.model);
 }
 
-void finish_solver_runtime() { solver::finish_runtime(); }
-
 void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
@@ -700,13 +695,8 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   // (finish_solver_runtime), Tpetra for this run only: a run stepping in one process on block
   // storage, from a static or rest state, needs neither (nor do beam runs and the other
   // commands).
-  std::optional<Tpetra::ScopeGuard> tpetra;
-  if (needs_tpetra(sc, setup, comm)) {
-    solver::start_runtime();
-    int no_argc = 0;
-    char** no_argv = nullptr;
-    tpetra.emplace(&no_argc, &no_argv, comm);
-  }
+  std::optional<TpetraScope> tpetra;
+  if (needs_tpetra(sc, setup, comm)) tpetra.emplace(comm);
 
   // Model, limits and stepper first: the limits (steps, memory, load ratio: run_limits.hpp),
   // the partition (ranks <= nodes), the linear solver and a required planar path are bad

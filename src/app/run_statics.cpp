@@ -3,21 +3,21 @@
 #include <mpi.h>
 
 #include <Teuchos_DefaultMpiComm.hpp>
-#include <Tpetra_Core.hpp>
 
 #include <cmath>
 #include <sstream>
 
+#include "arch_start.hpp"
 #include "progress.hpp"
 #include "rod_quantities.hpp"
 #include "rod_setup.hpp"
 #include "run.hpp"
 #include "traverse/output/continuation_writer.hpp"
-#include "traverse/solver/runtime.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 #include "traverse/solver/static_continuation.hpp"
 #include "traverse/version.hpp"
+#include "trilinos_parts.hpp"
 
 namespace traverse::app {
 
@@ -58,33 +58,6 @@ StaticParameter static_parameter(scene::ContinuationParameter p) {
 }
 
 }  // namespace
-
-rod::StaticProblem static_problem(const scene::Scene& sc) {
-  rod::StaticProblem p;
-  p.base.props = rod_properties(sc.rod);
-  p.base.num_cells = sc.mesh.nodes - 1;
-  p.base.length = sc.rod.length;
-  p.base.left = static_end(sc.left, 0.0);
-  p.base.right = static_end(sc.right, sc.rod.length);
-  p.gravity = Vec3(0.0, -sc.gravity, 0.0);
-  p.end_load_direction = -Vec3::UnitZ();
-  p.end_position_axis = Vec3::UnitZ();
-  p.value(StaticParameter::gravity_factor) = 1.0;  // gravity = factor * the scene's g
-  // The right end's external load along -k: a roller's or sliding end's given force.
-  p.value(StaticParameter::end_load) = -sc.right.axial_force;
-  p.value(StaticParameter::end_position) = sc.rod.length;
-  if (sc.loads.size() == 1) {
-    const auto& l = sc.loads.front();
-    const double F = l.force.norm();
-    p.has_point_load = F > 0.0;
-    if (p.has_point_load) p.load_direction = l.force / F;
-    p.value(StaticParameter::load_magnitude) = F;
-    p.value(StaticParameter::load_position) = l.start;
-  } else if (!sc.loads.empty()) {
-    scene::fail_at(sc, "loads", "at most one load in a continuation scene", std::to_string(sc.loads.size()) + " loads");
-  }
-  return p;
-}
 
 namespace {
 
@@ -187,10 +160,7 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   int rank = 0;
   MPI_Comm_rank(comm, &rank);
   check_rod_run(sc, build_rod_model(sc).model, opt.limits, comm);  // memory, load ratio (run_limits.hpp)
-  solver::start_runtime();  // Kokkos until finish_solver_runtime (run.hpp), Tpetra for this run
-  int no_argc = 0;
-  char** no_argv = nullptr;
-  Tpetra::ScopeGuard tpetra(&no_argc, &no_argv, comm);
+  const TpetraScope tpetra(comm);  // Kokkos until finish_solver_runtime (run.hpp), Tpetra for this run
   auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
   const auto& cs = sc.continuation;
 

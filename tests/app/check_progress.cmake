@@ -2,7 +2,7 @@
 # (no carriage returns), with the steps per second and the time left.
 # Variables: EXE, SCENE, OUT (an output file).
 execute_process(COMMAND ${EXE} run ${SCENE} -o ${OUT} --overwrite --progress
-                        --set time.dt=1e-4 --set output.every=100
+                        --set time.dt=2.5e-5 --set output.every=400
                 RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
 set(failed 0)
 if(NOT rc EQUAL 0)

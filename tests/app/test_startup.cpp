@@ -98,3 +98,43 @@ TEST(Startup, SingleProcessRunRemovesItsSessionAndStaleOnes) {
   EXPECT_TRUE(fs::exists(live)) << "the directory of a live process was removed";
   EXPECT_EQ(left, std::vector<std::string>{"traverse-mpi-live00"}) << "the run left its own session directory";
 }
+
+// traverse links no Trilinos solver library and hands the runs that need one over to the
+// traverse-trilinos beside it (docs/developer.md, "Start-up"). The dynamic loader's own log
+// (glibc's LD_DEBUG=libs) says which libraries each process image loaded.
+TEST(Startup, OnlyRunsThatNeedTrilinosLoadIt) {
+  const fs::path dir = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / "startup-trilinos";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string tpetra = "libtrilinos_tpetra.so";
+  // The default scene, in one process: block storage, no Tpetra, no hand-over.
+  const auto lean = traverse::testing::run_command("LD_DEBUG=libs " + kExe + " run " + kScene.string() + " -o " +
+                                                   (dir / "lean.h5").string() + " --set mesh.ds=0.1 -q");
+  EXPECT_EQ(lean.code, 0) << lean.out.substr(0, 4000);
+  EXPECT_EQ(count(lean.out, tpetra), 0u) << "the default scene loaded Tpetra";
+  EXPECT_EQ(count(lean.out, "traverse-trilinos"), 0u);
+  EXPECT_TRUE(fs::exists(dir / "lean.h5"));
+  // A continuation run needs LOCA: handed over (the new image loads Tpetra), and it completes.
+  const fs::path statics = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "statics" / "euler_buckling.yaml";
+  const auto full = traverse::testing::run_command("LD_DEBUG=libs " + kExe + " run " + statics.string() + " -o " +
+                                                   (dir / "full.h5").string() + " -q");
+  EXPECT_EQ(full.code, 0) << full.out.substr(full.out.size() > 4000 ? full.out.size() - 4000 : 0);
+  EXPECT_GE(count(full.out, tpetra), 1u) << "the continuation run did not load Tpetra";
+  EXPECT_GE(count(full.out, "traverse-trilinos"), 1u);
+  EXPECT_TRUE(fs::exists(dir / "full.h5"));
+  // traverse alone (no traverse-trilinos beside it): what needs no Trilinos runs; what does is
+  // refused with a message naming the missing executable (exit 1, no output file).
+  const fs::path alone = dir / "alone";
+  fs::create_directories(alone);
+  fs::copy_file(kExe, alone / "traverse");
+  const std::string exe = (alone / "traverse").string();
+  const auto ok = traverse::testing::run_command(exe + " run " + kScene.string() + " -o " + (dir / "alone.h5").string() +
+                                                 " --set mesh.ds=0.1 -q");
+  EXPECT_EQ(ok.code, 0) << ok.out;
+  const auto refused = traverse::testing::run_command(exe + " run " + statics.string() + " -o " +
+                                                      (dir / "refused.h5").string() + " -q");
+  std::printf("statics without traverse-trilinos: exit %d: %s", refused.code, refused.out.c_str());
+  EXPECT_EQ(refused.code, 1) << refused.out;
+  EXPECT_NE(refused.out.find((alone / "traverse-trilinos").string()), std::string::npos) << refused.out;
+  EXPECT_FALSE(fs::exists(dir / "refused.h5"));
+}

@@ -1,0 +1,25 @@
+#pragma once
+// The executable traverse links no Trilinos solver library (trilinos_parts.hpp). A command
+// that needs one is handed over, before anything starts, to traverse-trilinos (the same
+// program with the Trilinos parts) in the same directory: the process image is replaced
+// (execv: the same pid, arguments, environment and standard streams), so the user sees one
+// run (docs/developer.md, "Start-up").
+#include <string>
+
+#include "cli.hpp"
+#include "mpi_session.hpp"
+
+namespace traverse::app {
+
+/// What needs Trilinos: a sweep; any run under an MPI launcher; a run of a rod scene with a
+/// continuation section, an arch initial state, or a solver section that asks for more than
+/// the block-tridiagonal LU with BlockNewton (rod_setup: needs_tpetra). --help, --version,
+/// check, xdmf and the beam never do. Loads the run's scene (as the run will): a bad scene
+/// throws here as it would there.
+bool needs_trilinos(const CommandLine& cl, const Launch& launch);
+
+/// Replaces this process by traverse-trilinos with the same arguments; returns only by
+/// throwing std::runtime_error (naming the executable) when that cannot start.
+[[noreturn]] void hand_over_to_trilinos(char** argv);
+
+}  // namespace traverse::app

@@ -1,0 +1,79 @@
+// The Trilinos parts of a run (trilinos_parts.hpp), in traverse-trilinos and the tests.
+#include "trilinos_parts.hpp"
+
+#include <Teuchos_DefaultMpiComm.hpp>
+#include <Tpetra_Core.hpp>
+
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+#include "arch_start.hpp"
+#include "rod_setup.hpp"
+#include "run.hpp"
+#include "traverse/solver/distributed_stepper.hpp"
+#include "traverse/solver/runtime.hpp"
+#include "traverse/solver/static_start.hpp"
+
+namespace traverse::app {
+
+namespace {
+Teuchos::RCP<const Teuchos::Comm<int>> teuchos_comm(MPI_Comm comm) { return Teuchos::rcp(new Teuchos::MpiComm<int>(comm)); }
+}  // namespace
+
+bool has_trilinos() { return true; }
+
+struct TpetraScope::Impl {
+  explicit Impl(MPI_Comm comm) {
+    solver::start_runtime();
+    guard.emplace(&no_argc, &no_argv, comm);
+  }
+  int no_argc = 0;
+  char** no_argv = nullptr;
+  std::optional<Tpetra::ScopeGuard> guard;
+};
+
+TpetraScope::TpetraScope(MPI_Comm comm) : impl_(std::make_unique<Impl>(comm)) {}
+TpetraScope::~TpetraScope() = default;
+
+void finish_solver_runtime() { solver::finish_runtime(); }
+
+std::unique_ptr<solver::RodStepper> distributed_stepper(const rod::RodModel& model, const Teuchos::ParameterList& solver,
+                                                        MPI_Comm comm) {
+  return std::make_unique<solver::DistributedStepper>(model, teuchos_comm(comm), solver);
+}
+
+solver::StaticStart distributed_static_start(const rod::StaticModel& m, const Teuchos::ParameterList& solver,
+                                             MPI_Comm comm) {
+  return solver::solve_static_start(m, teuchos_comm(comm), solver);
+}
+
+solver::ArchFormation form_arch(const scene::Scene& sc, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
+                                const Teuchos::ParameterList& solver_params) {
+  solver::ArchOptions o;
+  o.length = sc.rod.length;
+  o.num_cells = sc.mesh.nodes - 1;
+  o.end_distance = sc.initial_state.end_to_end;
+  o.gravity = sc.gravity;
+  o.solver = solver_params;
+  solver::ArchFormation arch = solver::form_arch(rod_properties(sc.rod), o, comm);
+  if (!arch.ok) throw std::runtime_error("arch formation: " + arch.message);
+  return arch;
+}
+
+std::string arch_summary(const solver::ArchFormation& arch) {
+  std::ostringstream os;
+  os << "arch formed: Euler load " << arch.euler_load << " N; end load " << arch.forming_load
+     << " N when the ends passed " << arch.problem.value(rod::StaticParameter::end_position)
+     << " m apart, pinned there; gravity raised to " << -arch.problem.gravity.y() << " m/s^2";
+  return os.str();
+}
+
+rod::RodState arch_start(const scene::Scene& sc, const Teuchos::ParameterList& solver, MPI_Comm comm,
+                         std::string& description) {
+  const solver::ArchFormation arch = form_arch(sc, teuchos_comm(comm), solver);
+  description = arch_summary(arch);
+  return rod::dynamic_state_from_static(arch.problem.model(), arch.state);
+}
+
+}  // namespace traverse::app
