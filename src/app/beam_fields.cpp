@@ -2,13 +2,13 @@
 
 #include <stdexcept>
 
+#include "traverse/core/comm.hpp"
+
 namespace traverse::app {
 
 BeamFields::BeamFields(const scene::Scene& sc, const beam::BeamProblem& p, const beam::ModeSet& modes, MPI_Comm comm)
     : EI_(p.EI) {
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &ranks);
+  const int rank = par::rank(comm), ranks = par::size(comm);
   const size_t n_nodes = static_cast<size_t>(sc.mesh.nodes);
   layout_.global_count = n_nodes;
   layout_.first = n_nodes * static_cast<size_t>(rank) / static_cast<size_t>(ranks);

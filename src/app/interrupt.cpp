@@ -3,6 +3,8 @@
 #include <csignal>
 #include <cstring>
 
+#include "traverse/core/comm.hpp"
+
 namespace traverse::app {
 
 namespace {
@@ -29,7 +31,7 @@ int local_interrupt_signal() { return static_cast<int>(g_signal); }
 
 int interrupt_requested(MPI_Comm comm) {
   int mine = local_interrupt_signal(), any = 0;
-  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm);
+  par::allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm);
   return any;
 }
 

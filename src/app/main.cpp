@@ -22,8 +22,10 @@ using namespace traverse;
 
 namespace {
 
-// Whether `command` needs MPI: the ones that run something always; check and xdmf only under
-// an MPI launcher (where every rank takes part); --help and --version never.
+// Whether `command` needs MPI: check and xdmf only under an MPI launcher (where every rank
+// takes part); --help and --version never; a run in traverse-trilinos always, in traverse only
+// under a launcher (traverse hands those to traverse-trilinos: what it runs itself runs in this
+// process alone, on MPI_COMM_NULL, without starting MPI); a sweep always.
 bool needs_mpi(app::CommandLine::Command command, const app::Launch& launch) {
   using Command = app::CommandLine::Command;
   switch (command) {
@@ -31,7 +33,7 @@ bool needs_mpi(app::CommandLine::Command command, const app::Launch& launch) {
     case Command::Version: return false;
     case Command::Check:
     case Command::Xdmf: return launch.by_launcher;
-    case Command::Run:
+    case Command::Run: return app::has_trilinos() || launch.by_launcher;  // traverse: this process alone
     case Command::Sweep: return true;
     default: throw std::logic_error("traverse: command not handled");
   }

@@ -11,6 +11,8 @@
 #include <system_error>
 #include <vector>
 
+#include "traverse/core/comm.hpp"
+
 namespace traverse::app {
 
 namespace {
@@ -106,16 +108,8 @@ void MpiSession::finish() {
   }
 }
 
-int comm_size(MPI_Comm comm) {
-  int n = 1;
-  if (comm != MPI_COMM_NULL) MPI_Comm_size(comm, &n);
-  return n;
-}
+int comm_size(MPI_Comm comm) { return par::size(comm); }
 
-int comm_rank(MPI_Comm comm) {
-  int r = 0;
-  if (comm != MPI_COMM_NULL) MPI_Comm_rank(comm, &r);
-  return r;
-}
+int comm_rank(MPI_Comm comm) { return par::rank(comm); }
 
 }  // namespace traverse::app

@@ -1,6 +1,7 @@
 #include "restart.hpp"
 
 #include "cli.hpp"
+#include "traverse/core/comm.hpp"
 
 namespace traverse::app {
 
@@ -50,7 +51,7 @@ output::RestartPoint read_rod_restart_point(const std::string& output, const std
 bool restart_due(std::chrono::steady_clock::time_point last, double interval, MPI_Comm comm) {
   if (interval <= 0.0) return true;
   int due = std::chrono::duration<double>(std::chrono::steady_clock::now() - last).count() >= interval;
-  MPI_Bcast(&due, 1, MPI_INT, 0, comm);
+  par::bcast(&due, 1, MPI_INT, 0, comm);
   return due != 0;
 }
 

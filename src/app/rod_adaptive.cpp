@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "traverse/core/comm.hpp"
+
 namespace traverse::app {
 
 RodAdaptiveControl::RodAdaptiveControl(const scene::AdaptiveSpec& spec, double first_dt,
@@ -19,7 +21,7 @@ double RodAdaptiveControl::reduce(const rod::TimeErrorParts& local) const {
     in[g] = local.error[g];
     in[G + g] = local.size[g];
   }
-  MPI_Allreduce(in, out, 2 * G, MPI_DOUBLE, MPI_MAX, comm_);
+  par::allreduce(in, out, 2 * G, MPI_DOUBLE, MPI_MAX, comm_);
   rod::TimeErrorParts all;
   for (int g = 0; g < G; ++g) {
     all.error[g] = out[g];

@@ -13,6 +13,7 @@
 #include "traverse/mesh/mesh.hpp"
 #include "mpi_session.hpp"
 #include "traverse/solver/block_stepper.hpp"
+#include "traverse/core/comm.hpp"
 #include "trilinos_parts.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 
@@ -152,9 +153,7 @@ InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Co
   switch (sc.initial_state.type) {
     case T::rest: {
       // This rank's nodes and their ghosts, as the stepper's mesh partitions the rod.
-      int rank = 0, ranks = 1;
-      MPI_Comm_rank(comm, &rank);
-      MPI_Comm_size(comm, &ranks);
+      const int rank = par::rank(comm), ranks = par::size(comm);
       const int N = setup.model.num_cells;
       const mesh::Partition part = mesh::partition_nodes(mesh::Mesh1D(setup.model.length, N + 1), ranks);
       const int owned = part.first[static_cast<size_t>(rank)], owned_count = part.count[static_cast<size_t>(rank)];
@@ -297,7 +296,7 @@ rod::RodNode node_everywhere(const solver::RodStepper& st, int j, MPI_Comm comm)
     std::copy(nd.yt.data(), nd.yt.data() + 12, mine + 21);
     std::copy(nd.ys.data(), nd.ys.data() + 12, mine + 33);
   }
-  MPI_Allreduce(mine, all, n, MPI_DOUBLE, MPI_SUM, comm);
+  par::allreduce(mine, all, n, MPI_DOUBLE, MPI_SUM, comm);
   rod::RodNode nd;
   std::copy(all, all + 12, nd.y.data());
   std::copy(all + 12, all + 21, nd.R.data());
@@ -315,10 +314,8 @@ rod::PlanarCheck state_planarity(const scene::Scene& sc, const rod::RodModel& mo
   piece.t = st.time();
   for (int k = 0; k < st.num_owned_nodes(); ++k) piece.nodes.push_back(st.owned_node(k));
   const rod::PlanarStateSummary mine = rod::summarize_planarity(piece, st.first_owned_node(), left.R);
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
-  std::vector<rod::PlanarStateSummary> all(static_cast<size_t>(ranks));
-  MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, comm);
+  std::vector<rod::PlanarStateSummary> all(static_cast<size_t>(par::size(comm)));
+  par::allgather_bytes(&mine, sizeof mine, all.data(), comm);
   std::sort(all.begin(), all.end(), [](const auto& a, const auto& b) { return a.first_node < b.first_node; });
   rod::PlanarStateSummary merged = all.front();
   for (size_t r = 1; r < all.size(); ++r) rod::merge(merged, all[r]);

@@ -18,6 +18,8 @@
 #include "traverse/output/writer.hpp"
 #include "traverse/version.hpp"
 
+#include "traverse/core/comm.hpp"
+
 namespace traverse::app {
 
 namespace {
@@ -202,8 +204,7 @@ void BeamObserver::operator()(const beam::BeamSnapshot& s) {
 }  // namespace
 
 void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
+  const int rank = par::rank(comm);
   // The limits (steps, memory, load ratio: run_limits.hpp) before anything of the beam's size
   // is allocated; the time grid (dt, end) comes from the same plan.
   const TimeGrid grid = check_beam_run(sc, opt.limits, comm).grid;

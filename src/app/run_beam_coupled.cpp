@@ -18,6 +18,8 @@
 #include "traverse/output/writer.hpp"
 #include "traverse/version.hpp"
 
+#include "traverse/core/comm.hpp"
+
 namespace traverse::app {
 
 namespace {
@@ -146,8 +148,7 @@ void add_time_limit_event(const scene::Scene& sc, std::vector<output::RunEvent>&
 
 void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, const RunOptions& opt, MPI_Comm comm) {
   const scene::MovingLoadSpec& load = *coupled_load(sc);
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
+  const int rank = par::rank(comm);
   beam::BeamProblem p = problem;
   p.loads.clear();
   beam::CoupledMassBeam sim(p, coupled_mass(load));

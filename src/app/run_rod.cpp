@@ -26,6 +26,7 @@
 #include "run_rod_coupled.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/solver/rod_stepper.hpp"
+#include "traverse/core/comm.hpp"
 #include "traverse/version.hpp"
 #include "trilinos_parts.hpp"
 
@@ -41,7 +42,7 @@ std::vector<rod::RodNode> gather_nodes(const solver::RodStepper& st, const std::
   std::vector<double> local(kPackedNode * wanted.size(), 0.0), all(local.size());
   for (size_t i = 0; i < wanted.size(); ++i)
     if (wanted[i] >= first && wanted[i] < first + count) pack_node(st.owned_node(wanted[i] - first), &local[kPackedNode * i]);
-  MPI_Allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, comm);
+  par::allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, comm);
   std::vector<rod::RodNode> out(wanted.size());
   for (size_t i = 0; i < wanted.size(); ++i) out[i] = unpack_node(&all[kPackedNode * i]);
   return out;
@@ -86,12 +87,11 @@ class LeftEnd {
  private:
   Vec3 velocity() const {  // R^T u at node 0, broadcast from its owner
     Vec3 v = Vec3::Zero();
-    int rank = 0, root = 0;
-    MPI_Comm_rank(comm_, &rank);
+    int root = 0;
     if (st_.first_owned_node() == 0) v = rod::fixed_velocity(st_.owned_node(0));
-    int owner = st_.first_owned_node() == 0 ? rank : 0;
-    MPI_Allreduce(&owner, &root, 1, MPI_INT, MPI_MAX, comm_);
-    MPI_Bcast(v.data(), 3, MPI_DOUBLE, root, comm_);
+    const int owner = st_.first_owned_node() == 0 ? par::rank(comm_) : 0;
+    par::allreduce(&owner, &root, 1, MPI_INT, MPI_MAX, comm_);
+    par::bcast(v.data(), 3, MPI_DOUBLE, root, comm_);
     return v;
   }
   const solver::RodStepper& st_;
@@ -216,11 +216,9 @@ std::vector<Vec3> RodOutputs::owned_centreline(const Vec3& r0) const {
   std::vector<Vec3> t(static_cast<size_t>(count_));
   for (int k = 0; k < count_; ++k) t[static_cast<size_t>(k)] = rod::tangent(st_.owned_node(k));
   const rod::CentrelinePiece mine = rod::centreline_piece(t, first_, model_.ds(), first_ == 0 ? r0 : Vec3::Zero());
-  int rank = 0, ranks = 1;
-  MPI_Comm_rank(comm_, &rank);
-  MPI_Comm_size(comm_, &ranks);
-  std::vector<rod::CentrelinePiece> all(static_cast<size_t>(ranks));
-  MPI_Allgather(&mine, sizeof mine, MPI_BYTE, all.data(), sizeof mine, MPI_BYTE, comm_);
+  const int rank = par::rank(comm_);
+  std::vector<rod::CentrelinePiece> all(static_cast<size_t>(par::size(comm_)));
+  par::allgather_bytes(&mine, sizeof mine, all.data(), comm_);
   return rod::centreline_from(t, model_.ds(), rod::centreline_starts(all, model_.ds(), r0)[static_cast<size_t>(rank)]);
 }
 
@@ -233,7 +231,7 @@ std::vector<Vec3> RodOutputs::near_positions(const std::vector<Vec3>& r) const {
       const Vec3& p = r[static_cast<size_t>(wanted[i] - first_)];
       std::copy(p.data(), p.data() + 3, &local[3 * i]);
     }
-  MPI_Allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  par::allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, comm_);
   std::vector<Vec3> out(wanted.size());
   for (size_t i = 0; i < wanted.size(); ++i) out[i] = Vec3(all[3 * i], all[3 * i + 1], all[3 * i + 2]);
   return out;
@@ -654,8 +652,7 @@ std::unique_ptr<RodAdaptiveControl> make_adaptive(const scene::Scene& sc, const 
 
 // What the stepper would refuse about its linear solver, found before anything is allocated.
 void check_linear_solver(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
+  const int ranks = par::size(comm);
   try {
     solver::LinearSolverChoice::resolve(setup.solver, ranks, solver::LinearSolverChoice::Use::time_step);
   } catch (const std::invalid_argument& e) {
@@ -688,8 +685,7 @@ void check_rod(const scene::Scene& sc) {
 }
 
 void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
+  const int rank = par::rank(comm);
   const RodSetup setup = build_rod_model(sc);
   // Kokkos lives from the first rod run of the process that needs it to the process's end
   // (finish_solver_runtime), Tpetra for this run only: a run stepping in one process on block

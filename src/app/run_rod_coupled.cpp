@@ -325,10 +325,10 @@ CoupledLoop::CoupledLoop(const scene::Scene& sc, rod::CoupledRodStepper& stepper
       slots_(comm, coupled_restart_components(sc.time.adaptive.enabled), static_cast<std::size_t>(first)) {
   if (!sc.time.adaptive.enabled) return;
   rc_ = std::make_unique<RodAdaptiveControl>(sc.time.adaptive, g.dt, stepper.model().alpha, sc.rod.length,
-                                             MPI_COMM_SELF);
+                                             MPI_COMM_NULL);
   scene::AdaptiveSpec mass_spec = sc.time.adaptive;  // the mass: its position only
   mass_spec.controlled = {true, false, false, false, false};
-  mc_ = std::make_unique<RodAdaptiveControl>(mass_spec, g.dt, stepper.model().alpha, sc.rod.length, MPI_COMM_SELF);
+  mc_ = std::make_unique<RodAdaptiveControl>(mass_spec, g.dt, stepper.model().alpha, sc.rod.length, MPI_COMM_NULL);
   rc_->start(rod_levels(state_));
   mc_->start(mass_level(m_));
 }

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "traverse/core/comm.hpp"
 #include "traverse/output/output_error.hpp"
 
 namespace traverse::output::detail {
@@ -14,18 +15,16 @@ namespace traverse::output::detail {
 namespace fs = std::filesystem;
 
 void agree(MPI_Comm comm, bool ok, const std::string& message) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  int failing = ok ? size : rank;
+  const int rank = par::rank(comm), size = par::size(comm);
+  const int failing = ok ? size : rank;
   int first_failing = size;
-  MPI_Allreduce(&failing, &first_failing, 1, MPI_INT, MPI_MIN, comm);
+  par::allreduce(&failing, &first_failing, 1, MPI_INT, MPI_MIN, comm);
   if (first_failing == size) return;
   std::string text = rank == first_failing ? message : std::string();
   unsigned long len = text.size();
-  MPI_Bcast(&len, 1, MPI_UNSIGNED_LONG, first_failing, comm);
+  par::bcast(&len, 1, MPI_UNSIGNED_LONG, first_failing, comm);
   text.resize(len);
-  MPI_Bcast(text.data(), static_cast<int>(len), MPI_CHAR, first_failing, comm);
+  par::bcast(text.data(), static_cast<int>(len), MPI_CHAR, first_failing, comm);
   throw OutputError(text);
 }
 

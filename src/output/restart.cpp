@@ -12,6 +12,8 @@
 #include <set>
 
 
+#include "traverse/core/comm.hpp"
+
 namespace traverse::output {
 
 namespace fs = std::filesystem;
@@ -61,12 +63,11 @@ std::string restart_source(const std::string& path) {
 }
 
 std::string move_aside_for_restart(const std::string& path, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
+  const int rank = par::rank(comm);
   const std::string backup = before_restart(path);
   // Every rank has finished reading the file (scene, restart point, outputs) before rank 0
   // renames it: a rank still opening `path` would otherwise fail alone and deadlock the rest.
-  MPI_Barrier(comm);
+  par::barrier(comm);
   int ok = 1;
   std::string err;
   if (rank == 0) {
@@ -79,26 +80,24 @@ std::string move_aside_for_restart(const std::string& path, MPI_Comm comm) {
       }
     }
   }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, comm);
+  par::bcast(&ok, 1, MPI_INT, 0, comm);
   if (!ok) throw RestartError(rank == 0 ? err : "--restart " + path + ": cannot move it aside");
   return backup;
 }
 
 void remove_restart_source(const std::string& path, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Barrier(comm);
+  const int rank = par::rank(comm);
+  par::barrier(comm);
   if (rank == 0) {
     std::error_code ec;
     fs::remove(before_restart(path), ec);
   }
-  MPI_Barrier(comm);
+  par::barrier(comm);
 }
 
 void set_file_status(const std::string& path, const std::string& status, MPI_Comm comm) {
-  int rank = 0;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Barrier(comm);
+  const int rank = par::rank(comm);
+  par::barrier(comm);
   if (rank == 0) {
     H5E_auto2_t old_func = nullptr;
     void* old_data = nullptr;
@@ -130,7 +129,7 @@ void set_file_status(const std::string& path, const std::string& status, MPI_Com
     H5Eset_auto2(H5E_DEFAULT, old_func, old_data);
     if (!done) std::cerr << "traverse: could not set the status of " << path << " to '" << status << "'\n";
   }
-  MPI_Barrier(comm);
+  par::barrier(comm);
 }
 
 RestartSlots::RestartSlots(MPI_Comm comm, std::size_t components, std::size_t first_node)
@@ -146,7 +145,7 @@ void RestartSlots::write(Writer& writer, double time, long step, const std::vect
   meta[3] = static_cast<double>(writer.steps_written());
   meta.insert(meta.end(), extra.begin(), extra.end());
   std::uint64_t mine = nodes_checksum(local.data(), local.size() / components_, components_, first_), sum = 0;
-  MPI_Allreduce(&mine, &sum, 1, MPI_UINT64_T, MPI_SUM, comm_);
+  par::allreduce(&mine, &sum, 1, MPI_UINT64_T, MPI_SUM, comm_);
   const std::uint64_t c = sum + meta_checksum(meta);
   meta[4] = static_cast<double>(c >> 32);
   meta[5] = static_cast<double>(c & 0xffffffffULL);

@@ -15,6 +15,7 @@
 
 #include "hdf5_handle.hpp"
 #include "location.hpp"
+#include "traverse/core/comm.hpp"
 #include "xdmf.hpp"
 
 namespace traverse::output {
@@ -186,21 +187,35 @@ struct Writer::Impl {
   // each flush the file is made longer than any EOA the next flush can record (a hole: no
   // disk space; HDF5 opens a file longer than its EOA), and cut back to the EOA before it is
   // closed. The EOA: a flush that changed it sets the file's size to it (the MPI-IO driver's
-  // truncate); one that did not leaves the padded size, and the EOA is the one padded from.
-  // Call right after a flush, collectively. `padded` false: exactly the EOA.
+  // truncate, or the POSIX driver's of a process without MPI); one that did not leaves the
+  // padded size, and the EOA is the one padded from. Call right after a flush, collectively.
+  // `padded` false: exactly the EOA.
   MPI_Offset eoa_known = -1, padded_size = -1;
   void set_file_size(bool padded) {
     void* handle = nullptr;
     if (H5Fget_vfd_handle(file.get(), H5P_DEFAULT, &handle) < 0 || !handle) return;
-    MPI_File fh = *static_cast<MPI_File*>(handle);
-    MPI_Offset size = 0;
-    if (rank == 0 && MPI_File_get_size(fh, &size) != MPI_SUCCESS) size = -1;
-    MPI_Bcast(&size, 1, MPI_OFFSET, 0, comm);
-    if (size < 0) return;
-    const MPI_Offset eoa = size == padded_size && eoa_known >= 0 ? eoa_known : size;
+    const bool posix = par::alone(comm);  // the sec2 driver: a file descriptor
+    MPI_Offset size = 0, eoa = 0;
+    if (posix) {
+      // The POSIX driver does not see the padding (it truncates only when its own idea of the
+      // end differs from the EOA): ask HDF5 for the EOA itself.
+      struct stat st {};
+      haddr_t a = 0;
+      if (fstat(*static_cast<int*>(handle), &st) != 0 || H5Fget_eoa(file.get(), &a) < 0) return;
+      size = static_cast<MPI_Offset>(st.st_size);
+      eoa = static_cast<MPI_Offset>(a);
+    } else {
+      if (rank == 0 && MPI_File_get_size(*static_cast<MPI_File*>(handle), &size) != MPI_SUCCESS) size = -1;
+      MPI_Bcast(&size, 1, MPI_OFFSET, 0, comm);
+      if (size < 0) return;
+      eoa = size == padded_size && eoa_known >= 0 ? eoa_known : size;
+    }
     const MPI_Offset grown = eoa_known >= 0 && eoa > eoa_known ? eoa - eoa_known : 0;
     const MPI_Offset target = padded ? eoa + std::max<MPI_Offset>(MPI_Offset(64) << 20, 4 * grown) : eoa;
-    if (target != size) MPI_File_set_size(fh, target);
+    if (target != size) {
+      if (posix) (void)!ftruncate(*static_cast<int*>(handle), static_cast<off_t>(target));
+      else MPI_File_set_size(*static_cast<MPI_File*>(handle), target);
+    }
     eoa_known = eoa;
     padded_size = target;
   }
@@ -273,9 +288,10 @@ void Writer::Impl::compute_load_points(std::size_t b) {
   std::vector<double> send(W * b), halo(W * b, 0.0);
   if (n > 0)
     for (std::size_t k = 0; k < b; ++k) node_row(k, 0, &send[W * k]);
-  MPI_Sendrecv(send.data(), static_cast<int>(W * b), MPI_DOUBLE, n > 0 ? prev_owner : MPI_PROC_NULL, 7101,
-               halo.data(), static_cast<int>(W * b), MPI_DOUBLE, n > 0 ? next_owner : MPI_PROC_NULL, 7101, comm,
-               MPI_STATUS_IGNORE);
+  if (!par::alone(comm))  // alone: no neighbours, the halo stays empty
+    MPI_Sendrecv(send.data(), static_cast<int>(W * b), MPI_DOUBLE, n > 0 ? prev_owner : MPI_PROC_NULL, 7101,
+                 halo.data(), static_cast<int>(W * b), MPI_DOUBLE, n > 0 ? next_owner : MPI_PROC_NULL, 7101, comm,
+                 MPI_STATUS_IGNORE);
   const bool has_halo = n > 0 && next_owner != MPI_PROC_NULL;
   std::vector<double> s(nodes.s), rows(W * (n + 1));
   if (has_halo) s.push_back(halo_s);
@@ -441,8 +457,7 @@ void Writer::Impl::check_layout(const NodeLayout& nodes, std::size_t moving_load
   agree(w.comm, bad.empty(), bad);
   std::vector<unsigned long long> ranges(2 * static_cast<std::size_t>(w.size));
   const unsigned long long mine[2] = {nodes.first, nodes.count};
-  MPI_Allgather(mine, 2, MPI_UNSIGNED_LONG_LONG, ranges.data(), 2, MPI_UNSIGNED_LONG_LONG,
-                w.comm);
+  par::allgather_bytes(mine, sizeof mine, ranges.data(), w.comm);
   std::vector<std::pair<unsigned long long, unsigned long long>> sorted;
   for (int r = 0; r < w.size; ++r)
     if (ranges[2 * r + 1] > 0) sorted.emplace_back(ranges[2 * r], ranges[2 * r + 1]);
@@ -478,21 +493,26 @@ void Writer::Impl::check_output_location(bool overwrite) {
   std::string location_error;
   if (w.rank == 0) location_error = check_location(path, w.xmf_path, overwrite);
   unsigned long len = location_error.size();
-  MPI_Bcast(&len, 1, MPI_UNSIGNED_LONG, 0, w.comm);
+  par::bcast(&len, 1, MPI_UNSIGNED_LONG, 0, w.comm);
   location_error.resize(len);
-  MPI_Bcast(location_error.data(), static_cast<int>(len), MPI_CHAR, 0, w.comm);
+  par::bcast(location_error.data(), static_cast<int>(len), MPI_CHAR, 0, w.comm);
   if (!location_error.empty()) throw OutputError(location_error);
 }
 
 void Writer::Impl::create_file(bool overwrite) {
   Impl& w = *this;
   const std::string& path = w.path;
-  // File access: MPI-IO, collective metadata, dense attribute storage for long attributes
-  // such as the scene text.
+  // File access: MPI-IO with collective metadata (a process without MPI: the POSIX driver),
+  // dense attribute storage for long attributes such as the scene text.
+  const bool posix = par::alone(w.comm);
   Handle fapl = detail::plist_handle(check_id(H5Pcreate(H5P_FILE_ACCESS), "H5Pcreate", path));
-  check(H5Pset_fapl_mpio(fapl.get(), w.comm, MPI_INFO_NULL), "H5Pset_fapl_mpio", path);
-  check(H5Pset_all_coll_metadata_ops(fapl.get(), 1), "H5Pset_all_coll_metadata_ops", path);
-  check(H5Pset_coll_metadata_write(fapl.get(), 1), "H5Pset_coll_metadata_write", path);
+  if (posix) {
+    check(H5Pset_fapl_sec2(fapl.get()), "H5Pset_fapl_sec2", path);
+  } else {
+    check(H5Pset_fapl_mpio(fapl.get(), w.comm, MPI_INFO_NULL), "H5Pset_fapl_mpio", path);
+    check(H5Pset_all_coll_metadata_ops(fapl.get(), 1), "H5Pset_all_coll_metadata_ops", path);
+    check(H5Pset_coll_metadata_write(fapl.get(), 1), "H5Pset_coll_metadata_write", path);
+  }
   // Objects in the 1.8 format, except the sidecar's views (virtual datasets need 1.10).
   check(H5Pset_libver_bounds(fapl.get(), H5F_LIBVER_V18, H5F_LIBVER_V110),
         "H5Pset_libver_bounds", path);
@@ -502,7 +522,7 @@ void Writer::Impl::create_file(bool overwrite) {
       H5Fcreate(path.c_str(), overwrite ? H5F_ACC_TRUNC : H5F_ACC_EXCL, fcpl.get(), fapl.get()),
       "H5Fcreate", path));
   w.dxpl = detail::plist_handle(check_id(H5Pcreate(H5P_DATASET_XFER), "H5Pcreate", path));
-  check(H5Pset_dxpl_mpio(w.dxpl.get(), H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio", path);
+  if (!posix) check(H5Pset_dxpl_mpio(w.dxpl.get(), H5FD_MPIO_COLLECTIVE), "H5Pset_dxpl_mpio", path);
 }
 
 void Writer::Impl::write_run_attributes(const RunInfo& info) {
@@ -583,8 +603,9 @@ void Writer::Impl::write_mesh() {
   // The arclength of the node after this rank's last one (for the loads' positions).
   {
     const double first_s = nodes.count > 0 ? nodes.s.front() : 0.0;
-    MPI_Sendrecv(&first_s, 1, MPI_DOUBLE, nodes.count > 0 ? w.prev_owner : MPI_PROC_NULL, 7100, &w.halo_s, 1,
-                 MPI_DOUBLE, nodes.count > 0 ? w.next_owner : MPI_PROC_NULL, 7100, w.comm, MPI_STATUS_IGNORE);
+    if (!par::alone(w.comm))
+      MPI_Sendrecv(&first_s, 1, MPI_DOUBLE, nodes.count > 0 ? w.prev_owner : MPI_PROC_NULL, 7100, &w.halo_s, 1,
+                   MPI_DOUBLE, nodes.count > 0 ? w.next_owner : MPI_PROC_NULL, 7100, w.comm, MPI_STATUS_IGNORE);
   }
 }
 
@@ -612,15 +633,16 @@ void Writer::Impl::create_groups() {
 Writer::Writer(MPI_Comm comm, const std::string& path, bool overwrite, const RunInfo& info,
                const NodeLayout& nodes, std::size_t moving_loads)
     : impl_(std::make_unique<Impl>()) {
-  int initialized = 0;
-  MPI_Initialized(&initialized);
-  if (!initialized) throw OutputError("traverse::output::Writer needs MPI to be initialised");
   detail::silence_hdf5_errors();
   Impl& w = *impl_;
-  if (MPI_Comm_dup(comm, &w.comm) != MPI_SUCCESS)
-    throw OutputError("output: MPI_Comm_dup failed for " + path);
-  MPI_Comm_rank(w.comm, &w.rank);
-  MPI_Comm_size(w.comm, &w.size);
+  if (!par::alone(comm)) {  // MPI_COMM_NULL: this process alone, without MPI
+    int initialized = 0;
+    MPI_Initialized(&initialized);
+    if (!initialized) throw OutputError("traverse::output::Writer needs MPI to be initialised for a communicator");
+    if (MPI_Comm_dup(comm, &w.comm) != MPI_SUCCESS) throw OutputError("output: MPI_Comm_dup failed for " + path);
+  }
+  w.rank = par::rank(w.comm);
+  w.size = par::size(w.comm);
   w.path = path;
   w.xmf_path = sidecar_path(path);
   w.nodes = nodes;
@@ -869,7 +891,7 @@ void Writer::write_restart(double time, const std::vector<RestartArray>& arrays)
   }
   agree(w.comm, bad.empty(), bad);
   unsigned long long count0 = arrays.size();
-  MPI_Bcast(&count0, 1, MPI_UNSIGNED_LONG_LONG, 0, w.comm);
+  par::bcast(&count0, 1, MPI_UNSIGNED_LONG_LONG, 0, w.comm);
   agree(w.comm, count0 == arrays.size(),
         "output: write_restart got " + std::to_string(arrays.size()) + " arrays on rank " +
             std::to_string(w.rank) + " but " + std::to_string(count0) + " on rank 0");
@@ -878,7 +900,7 @@ void Writer::write_restart(double time, const std::vector<RestartArray>& arrays)
   for (const auto& a : arrays) sizes.push_back(a.data.size);
   std::vector<unsigned long long> sizes0 = sizes;
   if (!sizes0.empty())
-    MPI_Bcast(sizes0.data(), static_cast<int>(sizes0.size()), MPI_UNSIGNED_LONG_LONG, 0, w.comm);
+    par::bcast(sizes0.data(), static_cast<int>(sizes0.size()), MPI_UNSIGNED_LONG_LONG, 0, w.comm);
   for (std::size_t i = 0; bad.empty() && i < arrays.size(); ++i)
     if (arrays[i].distribution == RestartDistribution::replicated && sizes[i] != sizes0[i])
       bad = "output: replicated restart array '" + arrays[i].name + "' has " +

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "traverse/core/comm.hpp"
+
 namespace traverse::solver {
 
 DistributedCoupledRodSolve::DistributedCoupledRodSolve(std::unique_ptr<RodStepper> stepper, MPI_Comm comm)
@@ -40,7 +42,7 @@ rod::RodPointKinematics DistributedCoupledRodSolve::point(double sigma) const {
       local[3 + c] += d3(c);
     }
   }
-  MPI_Allreduce(local, sum, 6, MPI_DOUBLE, MPI_SUM, comm_);
+  par::allreduce(local, sum, 6, MPI_DOUBLE, MPI_SUM, comm_);
   rod::RodPointKinematics p;
   p.U = Vec3(sum[0], sum[1], sum[2]);
   p.d3 = Vec3(sum[3], sum[4], sum[5]);

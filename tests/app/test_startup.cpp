@@ -1,6 +1,7 @@
 // Start-up pays only for what a command uses (docs/developer.md, "Start-up"): --help,
-// --version and check (outside an MPI launcher) never start MPI, so they work where MPI
-// cannot start at all; under mpiexec every rank takes part and one rank reports.
+// --version, check and a run in one process on block storage (outside an MPI launcher) never
+// start MPI, so they work where MPI cannot start at all; under mpiexec every rank takes part
+// and one rank reports.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -33,12 +34,22 @@ TEST(Startup, CommandsWithoutSolverWorkWhereMpiCannotStart) {
   const fs::path out = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / "startup" / "run.h5";
   fs::remove_all(out.parent_path());
   fs::create_directories(out.parent_path());
-  // The control: in this environment a run, which needs MPI, cannot start.
-  // (Its session directory, left behind by the failed MPI_Init, goes to the scratch folder.)
-  const auto run = traverse::testing::run_command("TMPDIR=" + out.parent_path().string() + " " + kBrokenMpi + kExe +
-                                                  " run " + kScene.string() + " -o " + out.string() + " --set mesh.ds=0.1 -q");
-  std::printf("run with a broken MPI setting: exit %d\n", run.code);
-  if (run.code == 0) GTEST_SKIP() << "this MPI ignores OMPI_MCA_pml; the environment does not break MPI_Init";
+  // The control: in this environment a run that needs MPI (a continuation, handed over to
+  // traverse-trilinos, which starts MPI) cannot start. (Its session directory, left behind by
+  // the failed MPI_Init, goes to the scratch folder.)
+  const fs::path statics = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "statics" / "euler_buckling.yaml";
+  const auto needs = traverse::testing::run_command("TMPDIR=" + out.parent_path().string() + " " + kBrokenMpi + kExe +
+                                                    " run " + statics.string() + " -o " + out.string() + " -q");
+  std::printf("continuation run with a broken MPI setting: exit %d\n", needs.code);
+  if (needs.code == 0) GTEST_SKIP() << "this MPI ignores OMPI_MCA_pml; the environment does not break MPI_Init";
+  fs::remove(out);
+  fs::remove(fs::path(out).replace_extension(".xmf"));
+
+  // A rod run in one process on block storage needs no MPI: it runs, and writes its file.
+  const auto run = traverse::testing::run_command(kBrokenMpi + kExe + " run " + kScene.string() + " -o " + out.string() +
+                                                  " --set mesh.ds=0.1 -q");
+  EXPECT_EQ(run.code, 0) << run.out;
+  EXPECT_TRUE(fs::exists(out));
 
   const auto version = traverse::testing::run_command(kBrokenMpi + kExe + " --version");
   EXPECT_EQ(version.code, 0) << version.out;
@@ -71,9 +82,10 @@ TEST(Startup, UnderMpiexecOneRankReports) {
 }
 
 TEST(Startup, SingleProcessRunRemovesItsSessionAndStaleOnes) {
-  // A run outside a launcher makes its own Open MPI session directory under TMPDIR and
-  // removes it at the end; it also removes the ones of processes that no longer exist
-  // (killed runs), and leaves a live process's alone.
+  // A run that starts MPI outside a launcher (traverse-trilinos's; traverse's own runs do not
+  // start MPI) makes its own Open MPI session directory under TMPDIR and removes it at the
+  // end; it also removes the ones of processes that no longer exist (killed runs), and leaves
+  // a live process's alone.
   const fs::path tmp = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / "startup-tmp";
   fs::remove_all(tmp);
   fs::create_directories(tmp);
@@ -87,8 +99,9 @@ TEST(Startup, SingleProcessRunRemovesItsSessionAndStaleOnes) {
     std::ofstream(dir / "owner") << pid << "\n";
   }
   const fs::path out = tmp / "run.h5";
-  const auto run = traverse::testing::run_command("TMPDIR=" + tmp.string() + " " + kExe + " run " + kScene.string() +
-                                                  " -o " + out.string() + " --set mesh.ds=0.1 -q");
+  const std::string trilinos = (fs::path(kExe).parent_path() / "traverse-trilinos").string();
+  const auto run = traverse::testing::run_command("TMPDIR=" + tmp.string() + " " + trilinos + " run " +
+                                                  kScene.string() + " -o " + out.string() + " --set mesh.ds=0.1 -q");
   ASSERT_EQ(run.code, 0) << run.out;
   std::vector<std::string> left;
   for (const auto& e : fs::directory_iterator(tmp))
