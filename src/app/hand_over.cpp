@@ -9,6 +9,7 @@
 
 #include "restart.hpp"
 #include "rod_setup.hpp"
+#include "sweep.hpp"
 #include "traverse/scene/scene.hpp"
 
 namespace traverse::app {
@@ -20,7 +21,7 @@ bool needs_trilinos(const CommandLine& cl, const Launch& launch) {
     case Command::Version:
     case Command::Check:
     case Command::Xdmf: return false;
-    case Command::Sweep: return true;
+    case Command::Sweep: return sweep_needs_trilinos(cl);  // each case in this process, on MPI_COMM_SELF
     case Command::Run: {
       if (launch.by_launcher) return true;
       const scene::Scene sc = cl.restart.empty() ? scene::load_scene(cl.scene, cl.overrides)

@@ -11,11 +11,12 @@
 
 namespace traverse::app {
 
-/// What needs Trilinos: a sweep; any run under an MPI launcher; a run of a rod scene with a
+/// What needs Trilinos: any run under an MPI launcher; a run of a rod scene with a
 /// continuation section, an arch initial state, or a solver section that asks for more than
-/// the block-tridiagonal LU with BlockNewton (rod_setup: needs_tpetra). --help, --version,
-/// check, xdmf and the beam never do. Loads the run's scene (as the run will): a bad scene
-/// throws here as it would there.
+/// the block-tridiagonal LU with BlockNewton (rod_setup: needs_tpetra); a sweep with such a
+/// case (each case runs on one rank). --help, --version, check, xdmf and the beam never do.
+/// Loads the run's scene, or the sweep's cases (as they will): a bad scene or sweep throws
+/// here as it would there.
 bool needs_trilinos(const CommandLine& cl, const Launch& launch);
 
 /// Replaces this process by traverse-trilinos with the same arguments; returns only by

@@ -25,7 +25,8 @@ namespace {
 // Whether `command` needs MPI: check and xdmf only under an MPI launcher (where every rank
 // takes part); --help and --version never; a run in traverse-trilinos always, in traverse only
 // under a launcher (traverse hands those to traverse-trilinos: what it runs itself runs in this
-// process alone, on MPI_COMM_NULL, without starting MPI); a sweep always.
+// process alone, on MPI_COMM_NULL, without starting MPI); a sweep always (its cases spread
+// over the ranks).
 bool needs_mpi(app::CommandLine::Command command, const app::Launch& launch) {
   using Command = app::CommandLine::Command;
   switch (command) {

@@ -68,6 +68,15 @@ Launch launch_from_environment() {
   return l;
 }
 
+namespace {
+/// Open MPI's launcher says how many ranks it started in all and on this host.
+bool all_ranks_on_this_host() {
+  const char* all = std::getenv("OMPI_COMM_WORLD_SIZE");
+  const char* here = std::getenv("OMPI_COMM_WORLD_LOCAL_SIZE");
+  return all && here && std::string(all) == here;
+}
+}  // namespace
+
 void MpiSession::start(int* argc, char*** argv, const Launch& launch) {
   if (started_) return;
   if (!launch.by_launcher) {
@@ -88,6 +97,11 @@ void MpiSession::start(int* argc, char*** argv, const Launch& launch) {
         setenv("OMPI_MCA_ess_singleton_isolated", "1", 1);
       }
     }
+  }
+  if (launch.by_launcher && all_ranks_on_this_host()) {
+    // Open MPI's ranks all on one host: they talk through shared memory (pml ob1 with the
+    // vader BTL), so no UCX network probing (about 0.3 s of each launch here).
+    setenv("OMPI_MCA_pml", "ob1", 0);
   }
   MPI_Init(argc, argv);
   started_ = true;

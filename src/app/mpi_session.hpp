@@ -31,6 +31,8 @@ class MpiSession {
   /// btl self (no UCX or network probing), no binding and no PCI discovery by hwloc
   /// (HWLOC_COMPONENTS=-pci,-linuxio), ess_singleton_isolated (no orted daemon) with a
   /// session directory of its own (a fresh TMPDIR/traverse-mpi-XXXXXX, removed by finish).
+  /// Under Open MPI's launcher with every rank on this host: pml ob1 (shared memory, no UCX
+  /// network probing), unless the environment sets a pml.
   void start(int* argc, char*** argv, const Launch& launch);
   bool started() const { return started_; }
   /// MPI_COMM_WORLD once started; MPI_COMM_NULL (this process alone, no MPI) before.

@@ -14,6 +14,7 @@
 #include "interrupt.hpp"
 #include "memory_limit.hpp"
 #include "mpi_session.hpp"
+#include "rod_setup.hpp"
 #include "run.hpp"
 #include "run_limits.hpp"
 #include "traverse/output/output_error.hpp"
@@ -310,6 +311,21 @@ RunLimits sweep_limits(const RunLimits& given, MPI_Comm comm) {
 }
 
 }  // namespace
+
+bool sweep_needs_trilinos(const CommandLine& cl) {
+  for (const SweepCase& c : plan_sweep(cl)) {
+    std::vector<std::string> overrides = cl.overrides;
+    overrides.insert(overrides.end(), c.assignments.begin(), c.assignments.end());
+    try {
+      const scene::Scene sc = scene::load_scene(cl.scene, overrides);
+      if (sc.model != scene::Model::Rod) continue;
+      if (sc.continuation.enabled || needs_tpetra(sc, build_rod_model(sc), MPI_COMM_NULL)) return true;
+    } catch (const scene::SceneError&) {
+      // recorded as that case's failure when it runs
+    }
+  }
+  return false;
+}
 
 int run_sweep(const CommandLine& cl, MPI_Comm comm) {
   const std::vector<SweepCase> cases = plan_sweep(cl);

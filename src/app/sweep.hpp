@@ -14,4 +14,9 @@ namespace traverse::app {
 /// exit code of the first case (in case order) that did not. Collective over `comm`.
 int run_sweep(const CommandLine& cl, MPI_Comm comm);
 
+/// Whether a case of the sweep needs Trilinos (hand_over.hpp: a continuation, or a rod run
+/// that does not step on block storage in one process; a case whose scene is bad input needs
+/// nothing). Checks the sweep as run_sweep does first (UsageError, SceneError).
+bool sweep_needs_trilinos(const CommandLine& cl);
+
 }  // namespace traverse::app

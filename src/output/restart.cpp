@@ -176,8 +176,14 @@ RestartPoint read_restart_point(const std::string& source, std::size_t nodes, st
       if (std::find(names.begin(), names.end(), s + ".meta") == names.end() ||
           std::find(names.begin(), names.end(), s + ".state") == names.end())
         continue;
-      const Series meta = r.restart(s + ".meta");
-      const Series state = r.restart(s + ".state");
+      Series meta, state;
+      try {
+        meta = r.restart(s + ".meta");
+        state = r.restart(s + ".state");
+      } catch (const OutputError& e) {  // a kill -9 inside its write can leave a slot unreadable
+        why = "restart slot " + s + " cannot be read (" + e.what() + ")";
+        continue;
+      }
       if (meta.values.size() < kMetaFixed || meta.values[0] != kFormat) {
         why = "restart slot " + s + " has an unknown format";
         continue;

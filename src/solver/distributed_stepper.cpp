@@ -1,10 +1,6 @@
 #include "traverse/solver/distributed_stepper.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
-#include <algorithm>
-#include <cmath>
-#include <iostream>
-#include <sstream>
 #include <stdexcept>
 
 #include "block_newton.hpp"
@@ -14,7 +10,6 @@
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/solver/newton_solver.hpp"
 #include "traverse/solver/rod_step_model.hpp"
-#include "traverse/solver/solver_parameters.hpp"
 
 namespace traverse::solver {
 

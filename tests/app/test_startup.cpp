@@ -135,6 +135,19 @@ TEST(Startup, OnlyRunsThatNeedTrilinosLoadIt) {
   EXPECT_GE(count(full.out, tpetra), 1u) << "the continuation run did not load Tpetra";
   EXPECT_GE(count(full.out, "traverse-trilinos"), 1u);
   EXPECT_TRUE(fs::exists(dir / "full.h5"));
+  // A sweep whose cases all step on block storage runs in traverse; one with a case on
+  // another linear solver is handed over.
+  const std::string sweep = " sweep " + kScene.string() + " --set mesh.ds=0.1 --set output.fields=[] -q --vary ";
+  const auto lean_sweep = traverse::testing::run_command("LD_DEBUG=libs " + kExe + sweep + "loads.F.speed=2,3 -o " +
+                                                         (dir / "sweep-lean").string());
+  EXPECT_EQ(lean_sweep.code, 0) << lean_sweep.out.substr(0, 4000);
+  EXPECT_EQ(count(lean_sweep.out, tpetra), 0u) << "a sweep on block storage loaded Tpetra";
+  const auto full_sweep = traverse::testing::run_command("LD_DEBUG=libs " + kExe + sweep +
+                                                         "'solver.Linear Solver=auto,KLU2' -o " +
+                                                         (dir / "sweep-full").string());
+  EXPECT_EQ(full_sweep.code, 0) << full_sweep.out.substr(full_sweep.out.size() > 4000 ? full_sweep.out.size() - 4000 : 0);
+  EXPECT_GE(count(full_sweep.out, tpetra), 1u) << "a sweep with a KLU2 case did not load Tpetra";
+  EXPECT_TRUE(fs::exists(dir / "sweep-full" / "index.csv"));
   // traverse alone (no traverse-trilinos beside it): what needs no Trilinos runs; what does is
   // refused with a message naming the missing executable (exit 1, no output file).
   const fs::path alone = dir / "alone";
