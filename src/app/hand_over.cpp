@@ -26,12 +26,15 @@ bool needs_trilinos(const CommandLine& cl, const Launch& launch) {
       if (launch.by_launcher) return true;
       const scene::Scene sc = cl.restart.empty() ? scene::load_scene(cl.scene, cl.overrides)
                                                  : restart_scene(cl.restart, cl.scene, cl.overrides);
-      if (sc.model != scene::Model::Rod) return false;
-      if (sc.continuation.enabled) return true;
-      return needs_tpetra(sc, build_rod_model(sc), MPI_COMM_NULL);
+      return scene_needs_trilinos(sc);
     }
     default: throw std::logic_error("needs_trilinos: command not handled");
   }
+}
+
+bool scene_needs_trilinos(const scene::Scene& sc) {
+  if (sc.model != scene::Model::Rod) return false;
+  return sc.continuation.enabled || needs_tpetra(sc, build_rod_model(sc), MPI_COMM_NULL);
 }
 
 void hand_over_to_trilinos(char** argv) {

@@ -8,6 +8,7 @@
 
 #include "cli.hpp"
 #include "mpi_session.hpp"
+#include "traverse/scene/scene.hpp"
 
 namespace traverse::app {
 
@@ -18,6 +19,10 @@ namespace traverse::app {
 /// Loads the run's scene, or the sweep's cases (as they will): a bad scene or sweep throws
 /// here as it would there.
 bool needs_trilinos(const CommandLine& cl, const Launch& launch);
+
+/// Whether a run of `sc` in one process needs Trilinos (a continuation, or a rod run that does
+/// not step on block storage: rod_setup's needs_tpetra). Throws SceneError for a bad model.
+bool scene_needs_trilinos(const scene::Scene& sc);
 
 /// Replaces this process by traverse-trilinos with the same arguments; returns only by
 /// throwing std::runtime_error (naming the executable) when that cannot start.

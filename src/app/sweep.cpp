@@ -14,7 +14,7 @@
 #include "interrupt.hpp"
 #include "memory_limit.hpp"
 #include "mpi_session.hpp"
-#include "rod_setup.hpp"
+#include "hand_over.hpp"
 #include "run.hpp"
 #include "run_limits.hpp"
 #include "traverse/output/output_error.hpp"
@@ -317,9 +317,7 @@ bool sweep_needs_trilinos(const CommandLine& cl) {
     std::vector<std::string> overrides = cl.overrides;
     overrides.insert(overrides.end(), c.assignments.begin(), c.assignments.end());
     try {
-      const scene::Scene sc = scene::load_scene(cl.scene, overrides);
-      if (sc.model != scene::Model::Rod) continue;
-      if (sc.continuation.enabled || needs_tpetra(sc, build_rod_model(sc), MPI_COMM_NULL)) return true;
+      if (scene_needs_trilinos(scene::load_scene(cl.scene, overrides))) return true;
     } catch (const scene::SceneError&) {
       // recorded as that case's failure when it runs
     }
