@@ -111,7 +111,7 @@ InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, M
   }
   // In one process stepping on block storage, the start on block storage too (no Tpetra).
   const solver::StaticStart st =
-      steps_on_block_storage(setup, comm)
+      steps_on_block_storage(setup.solver, comm_size(comm))
           ? solver::solve_static_start_in_one_process(sm)
           : distributed_static_start(sm, setup.solver, comm);
   if (!st.report.converged) throw NumericsError(static_failure(sc, sm, st.report));
@@ -366,9 +366,9 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
   scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(ranks) + " rank(s)", e.what());
 }
 
-bool steps_on_block_storage(const RodSetup& setup, MPI_Comm comm) {
+bool steps_on_block_storage(const Teuchos::ParameterList& solver, int ranks) {
   try {
-    return comm_size(comm) == 1 && solver::block_stepper_applies(setup.solver);
+    return ranks == 1 && solver::block_stepper_applies(solver);
   } catch (const std::invalid_argument&) {
     return false;  // a linear solver the steppers refuse: make_stepper reports it
   }
@@ -377,13 +377,13 @@ bool steps_on_block_storage(const RodSetup& setup, MPI_Comm comm) {
 bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
   using T = scene::InitialStateType;
   const bool own_start = sc.initial_state.type != T::arch;  // rest, static, file: no Tpetra on block storage
-  return !(own_start && steps_on_block_storage(setup, comm));
+  return !(own_start && steps_on_block_storage(setup.solver, comm_size(comm)));
 }
 
 std::unique_ptr<solver::RodStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
   const int ranks = comm_size(comm);
   try {
-    if (steps_on_block_storage(setup, comm)) return std::make_unique<solver::BlockStepper>(setup.model, setup.solver);
+    if (steps_on_block_storage(setup.solver, ranks)) return std::make_unique<solver::BlockStepper>(setup.model, setup.solver);
     return distributed_stepper(setup.model, setup.solver, comm);
   } catch (const std::invalid_argument& e) {
     linear_solver_refused(sc, ranks, e);

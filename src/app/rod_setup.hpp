@@ -99,9 +99,10 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
 /// SceneError located at `solver`: the scene's linear solver cannot run on `ranks` ranks.
 [[noreturn]] void linear_solver_refused(const scene::Scene& sc, int ranks, const std::invalid_argument& e);
 
-/// Whether the run steps in one process on block storage (solver::BlockStepper: one rank, the
-/// block-tridiagonal LU, BlockNewton), which needs no Tpetra.
-bool steps_on_block_storage(const RodSetup& setup, MPI_Comm comm);
+/// Whether a run with these solver parameters on `ranks` ranks steps in one process on block
+/// storage (solver::BlockStepper: one rank, the block-tridiagonal LU, BlockNewton), which needs
+/// no Tpetra; false for parameters the steppers refuse (make_stepper reports them).
+bool steps_on_block_storage(const Teuchos::ParameterList& solver, int ranks);
 /// Whether a dynamic rod run needs Tpetra (and Kokkos): not when it steps on block storage
 /// from a rest, static or file initial state (all three made without Tpetra then).
 bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);

@@ -1,6 +1,6 @@
 #include "run_limits.hpp"
 
-#include "traverse/solver/block_stepper.hpp"
+#include "rod_setup.hpp"
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 
@@ -125,15 +125,6 @@ double block_stepper_bytes(int unknowns_3d, bool planar) {
   return planar ? 15600.0 : 26500.0;
 }
 constexpr double kBlockStaticStart = 5800.0;
-
-// Whether a run on `ranks` ranks steps on block storage (app::steps_on_block_storage).
-bool on_block_storage(const scene::Scene& sc, int ranks) {
-  try {
-    return ranks == 1 && solver::block_stepper_applies(sc.solver_parameters());
-  } catch (const std::invalid_argument&) {
-    return false;  // refused parameters: the run itself reports them (exit 2)
-  }
-}
 
 // The linear solver of the time steps and its memory relative to auto (the block-tridiagonal
 // LU): a direct KLU2 on one rank 1.07, a Krylov method with another preconditioner 1.4.
@@ -340,7 +331,7 @@ MemoryPlan rod_memory(const scene::Scene& sc, const RodPathGuess& path) {
   const int u3 = rod_unknowns_3d(sc), u = path.planar ? u3 / 2 : u3;
   std::string solver;
   const double factor = rod_solver_factor(sc, path.ranks, solver);
-  const bool block = on_block_storage(sc, path.ranks);
+  const bool block = steps_on_block_storage(sc.solver_parameters(), path.ranks);
   const double stepper = block ? block_stepper_bytes(u3, path.planar) : factor * rod_stepper_bytes(u);
   if (block) solver += " on block storage, one process";
   const bool static_start = sc.initial_state.type == scene::InitialStateType::static_equilibrium;

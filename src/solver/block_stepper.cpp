@@ -70,8 +70,6 @@ NewtonReport BlockStepper::solve_level(std::vector<VecX>& xg, bool warm, StepRep
 
 double BlockStepper::dropped_residual_everywhere() const { return impl_->newton->last_dropped_residual(); }
 
-int BlockStepper::system_unknowns_per_node() const { return impl_->assembly->unknowns_per_node(); }
-
 rod::RodState BlockStepper::gather_state() const { return ghosted_piece(); }
 
 ReuseCounters BlockStepper::reuse_counters() const {

@@ -174,8 +174,6 @@ double DistributedStepper::dropped_residual_everywhere() const {
   return d;
 }
 
-int DistributedStepper::system_unknowns_per_node() const { return impl_->me->unknowns_per_node(); }
-
 rod::RodState DistributedStepper::gather_state() const {
   const Impl& m = *impl_;
   const int nodes = model().num_cells + 1;

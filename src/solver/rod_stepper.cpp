@@ -78,10 +78,8 @@ void RodStepper::set_planar(const rod::PlanarSymmetry* symmetry) {
   rebuild();
 }
 
-int RodStepper::unknowns_per_node() const { return system_unknowns_per_node(); }
-
 std::string RodStepper::path_description() const {
-  const int p = system_unknowns_per_node();
+  const int p = unknowns_per_node();
   if (planar_) return "planar (" + std::to_string(p) + " unknowns per node, " + planar_->symmetry().describe() + ")";
   return "3D (" + std::to_string(p) + " unknowns per node)";
 }

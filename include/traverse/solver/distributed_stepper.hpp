@@ -42,7 +42,6 @@ class DistributedStepper : public RodStepper {
   const std::vector<rod::RodNode>& old_level() const override;
   NewtonReport solve_level(std::vector<VecX>& xg, bool warm, StepReport& sr) override;
   double dropped_residual_everywhere() const override;
-  int system_unknowns_per_node() const override;
 
  private:
   struct Impl;

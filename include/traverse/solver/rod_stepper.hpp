@@ -102,7 +102,9 @@ class RodStepper {
   /// The symmetry in use (null on the 3D path).
   const rod::PlanarSymmetry* planar_symmetry() const { return planar_ ? &planar_->symmetry() : nullptr; }
   /// Unknowns per node of the system solved (12 or 24 in 3D, 6 or 12 planar).
-  int unknowns_per_node() const;
+  int unknowns_per_node() const {
+    return planar_ ? planar_->unknowns_per_node() : model_->unknowns_per_node();
+  }
   /// e.g. "planar (6 unknowns per node, plane normal (1, 0, 0) = d1)" or "3D (12 unknowns per node)".
   std::string path_description() const;
 
@@ -166,7 +168,6 @@ class RodStepper {
   virtual NewtonReport solve_level(std::vector<VecX>& xg, bool warm, StepReport& sr) = 0;
   /// The largest dropped (out-of-plane) residual of the last solve, over all ranks (collective).
   virtual double dropped_residual_everywhere() const = 0;
-  virtual int system_unknowns_per_node() const = 0;
 
  private:
   void check_planarity(double t0, double dt) const;
