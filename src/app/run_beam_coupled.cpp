@@ -165,8 +165,8 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
     if (!s.Y().allFinite() || !s.Ydot().allFinite() || !std::isfinite(s.position()) || !std::isfinite(s.speed())) {
       std::ostringstream os;
       os << "beam solver: the state of the beam and coupled mass '" << load.name << "' is not finite at t = " << s.time()
-         << " s (after " << s.steps_taken() << " steps of dt = " << p.dt << " s with " << integrator
-         << "); reduce time.dt";
+         << " s (after " << s.steps_taken() << " steps of " << (p.adaptive ? "adaptive dt, first " : "dt = ") << p.dt
+         << " s with " << integrator << "); " << (p.adaptive ? "reduce time.adaptive.tolerance" : "reduce time.dt");
       progress.done();
       writer.fail(os.str());
       throw NumericsError(os.str());
@@ -192,11 +192,14 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   };
   try {
     sim.run(observe);
-  } catch (const std::runtime_error& e) {  // the Newmark iteration (NumericsError, Interrupted pass)
+  } catch (const std::runtime_error& e) {  // the Newmark iteration, dt_min (NumericsError, Interrupted pass)
     if (dynamic_cast<const NumericsError*>(&e) || dynamic_cast<const Interrupted*>(&e)) throw;
     progress.done();
-    writer.fail(e.what());
-    throw NumericsError(e.what());
+    const std::string msg = dynamic_cast<const beam::StepSizeUnderflow*>(&e)
+                                ? std::string(e.what()) + "; try a larger time.adaptive.tolerance or dt_min"
+                                : std::string(e.what());
+    writer.fail(msg);
+    throw NumericsError(msg);
   }
   progress.done();
   std::vector<output::RunEvent> events;
@@ -207,14 +210,16 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   writer.finish();
   replay.finished(static_cast<std::size_t>(written), comm);
   if (rank == 0 && !opt.quiet) {
-    std::printf("beam scene '%s': %d modes, coupled mass '%s', %ld steps of dt = %.4g s (%s) to t = %.9g s", sc.file.c_str(),
-                sc.beam.modes, load.name.c_str(), sim.steps_taken(), p.dt, integrator.c_str(), sim.time());
+    std::printf("beam scene '%s': %d modes, coupled mass '%s', %ld steps of %s%.4g s (%s) to t = %.9g s", sc.file.c_str(),
+                sc.beam.modes, load.name.c_str(), sim.steps_taken(), p.adaptive ? "adaptive dt, first " : "dt = ", p.dt,
+                integrator.c_str(), sim.time());
     if (event)
       std::printf(", ended by the event %s at x = %.9g m", beam::coupled_end_name(sim.end_reason()).c_str(),
                   sim.position());
     std::printf("; %ld output steps -> %s; time stepping %.3f s (wall, output included)\n", written, opt.output.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
   }
+  if (rank == 0 && !opt.quiet && p.adaptive) std::printf("adaptive: %s\n", sim.adaptive_totals().summary().c_str());
 }
 
 }  // namespace traverse::app

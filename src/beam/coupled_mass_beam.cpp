@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "traverse/beam/beam_simulation.hpp"
 #include "traverse/core/time_grid.hpp"
 
 namespace traverse::beam {
@@ -61,6 +62,7 @@ struct CoupledMassBeam::State {
 struct CoupledMassBeam::Work {
   mutable VecX phi, dphi, ddphi, r0, zY, uY, A;
   State k[4], stage, s0, s1, trial;
+  State mid, full;  ///< adaptive: the state after the first half step, the full step
   mutable double h_cache[2] = {0.0, 0.0};
   mutable MatX B_inv[2];  ///< (Mb + h^2/4 Kb)^{-1} for two step lengths (Newmark)
   mutable int next_slot = 0;
@@ -96,13 +98,16 @@ CoupledMassBeam::CoupledMassBeam(BeamProblem problem, CoupledMass mass) : proble
   const SectionFunction ra = p.rhoA_of_x ? p.rhoA_of_x : SectionFunction([rhoA](double) { return rhoA; });
   mats_ = assemble_galerkin(*modes_, nodes, ra, ei, p.self_weight ? p.gravity : 0.0, p.gauss_points);
   Mb_inv_ = mats_.Mb.ldlt().solve(MatX::Identity(n, n));
+  if (problem_.adaptive) problem_.control.order = problem_.integrator == Integrator::RK4 ? 4 : 2;
   w_ = std::make_unique<Work>();
   for (VecX* v : {&w_->phi, &w_->dphi, &w_->ddphi, &w_->r0, &w_->zY, &w_->uY, &w_->A}) v->setZero(n);
-  for (State* s : {&w_->k[0], &w_->k[1], &w_->k[2], &w_->k[3], &w_->stage, &w_->s0, &w_->s1, &w_->trial})
+  for (State* s : {&w_->k[0], &w_->k[1], &w_->k[2], &w_->k[3], &w_->stage, &w_->s0, &w_->s1, &w_->trial, &w_->mid,
+                   &w_->full})
     s->resize(n);
   Y_.setZero(n);
   A_.setZero(n);
   V_.setZero(n);
+  if (problem_.adaptive) set_adaptive_floors();
   reset();
 }
 
@@ -268,7 +273,7 @@ bool CoupledMassBeam::locate_event(const State& s0, double t0, double h, State& 
     for (int it = 0; it < 100 && b - a > 1e-14 * h; ++it) {
       const double c = ga > 0.0 ? (a * gb - b * ga) / (gb - ga) : a;
       if (c <= a || c >= b) break;
-      step(s0, c, w_->trial);
+      advance(s0, c, w_->trial);
       const double gc = event_value(e, w_->trial);
       if (std::abs(gc) < 1e-15) {
         b = c;
@@ -292,7 +297,7 @@ bool CoupledMassBeam::locate_event(const State& s0, double t0, double h, State& 
     }
   }
   if (first == CoupledEnd::EndTime) return false;
-  if (tau_first < h) step(s0, tau_first, s1);
+  if (tau_first < h) advance(s0, tau_first, s1);
   end_ = first;
   t_ = t0 + tau_first;
   return true;
@@ -357,6 +362,10 @@ void CoupledMassBeam::reset() {
     }
     default: throw std::invalid_argument("CoupledMassBeam: unknown initial state");
   }
+  totals_ = StepControlTotals();
+  next_dt_ = p.adaptive ? StepController(p.control).clamp(p.dt) : p.dt;
+  peak_Y_ = peak_V_ = peak_dx_ = peak_v_ = 0.0;
+  after_rejection_ = false;
   dir_ = v_ < 0.0 ? -1.0 : 1.0;
   if (mass_.friction > 0.0 && v_ == 0.0) {  // from rest: stuck, or sliding where the forces push it
     State s;
@@ -369,22 +378,138 @@ void CoupledMassBeam::reset() {
 
 // One grid step from t_ to t_target, split where the friction reverses the mass; true at an event
 // that ends the run (the state and t_ there).
+void CoupledMassBeam::advance(const State& s0, double h, State& s1) const {
+  if (!problem_.adaptive) {
+    step(s0, h, s1);
+    return;
+  }
+  step(s0, 0.5 * h, w_->mid);
+  step(w_->mid, 0.5 * h, s1);
+}
+
+// Adaptive: the floors of the groups' scales, so that a start from rest is not held to the
+// relative accuracy of an infinitesimal motion: 1e-3 of the static modal response to the self
+// weight and the mass's weight at midspan (Y), times the first modal frequency (Y'); 1e-3 of
+// the beam's length (the mass's travel x - x(t_start)), times the first modal frequency (x').
+void CoupledMassBeam::set_adaptive_floors() {
+  const BeamProblem& p = problem_;
+  const auto K = mats_.Kb.ldlt();
+  Work& w = *w_;
+  modes_->evaluate(0.5 * p.length, w.phi, w.dphi, w.ddphi);
+  const double y = K.solve(mats_.Pb).lpNorm<Eigen::Infinity>() +
+                   mass_.mass * p.gravity * K.solve(w.phi).lpNorm<Eigen::Infinity>();
+  const double omega1 = std::sqrt(mats_.Kb(0, 0) / mats_.Mb(0, 0));
+  floor_Y_ = 1e-3 * y;
+  floor_V_ = floor_Y_ * omega1;
+  floor_x_ = 1e-3 * p.length;
+  floor_v_ = floor_x_ * omega1;
+}
+
+double CoupledMassBeam::doubling_error(const State& half, const State& full) const {
+  const StepControlParameters& c = problem_.control;
+  const double d = std::pow(2.0, c.order) - 1.0;
+  const double e[4] = {(half.Y - full.Y).lpNorm<Eigen::Infinity>() / d, (half.V - full.V).lpNorm<Eigen::Infinity>() / d,
+                       std::abs(half.x - full.x) / d, std::abs(half.v - full.v) / d};
+  const double scale[4] = {std::max({half.Y.lpNorm<Eigen::Infinity>(), peak_Y_, floor_Y_}),
+                           std::max({half.V.lpNorm<Eigen::Infinity>(), peak_V_, floor_V_}),
+                           std::max({std::abs(half.x - mass_.start), peak_dx_, floor_x_}),
+                           std::max({std::abs(half.v), peak_v_, floor_v_})};
+  double err = 0.0;
+  for (int g = 0; g < 4; ++g) {
+    if (!std::isfinite(e[g])) return HUGE_VAL;
+    err = std::max(err, e[g] / (c.relative * scale[g]));
+  }
+  return err;
+}
+
+// From t_ to t_target in steps chosen by step doubling (the elementary controller of
+// core/step_controller.hpp); a step that would pass t_target is shortened to end on it, one
+// that would leave less than itself before it is split in two. The events are located in an
+// accepted step by the same pair of half steps; returns whether the run ends at one.
+bool CoupledMassBeam::adaptive_advance_to(double t_target) {
+  Work& w = *w_;
+  const StepControlParameters& c = problem_.control;
+  StepController ctl(c);
+  const double tol = 1e-12 * std::max(std::abs(t_target), 1.0);
+  while (t_ < t_target - tol) {
+    const double t0 = t_, remaining = t_target - t0, proposed = next_dt_;
+    double h = proposed;
+    if (h >= remaining * (1.0 - 1e-12)) h = remaining;
+    else if (h > 0.5 * remaining) h = 0.5 * remaining;
+    current_state(w.s0);
+    auto at_dt_min = [&](const std::string& what) {
+      if (h > c.dt_min * (1.0 + 1e-12)) return;
+      throw StepSizeUnderflow("adaptive time stepping (time.adaptive): " + what + " at t = " + std::to_string(t0) +
+                              " s at the smallest step, time.adaptive.dt_min = " + std::to_string(c.dt_min) + " s");
+    };
+    double err = 0.0;
+    try {
+      step(w.s0, h, w.full);
+      advance(w.s0, h, w.s1);
+      err = doubling_error(w.s1, w.full);
+    } catch (const std::runtime_error& e) {  // the Newmark iteration did not converge
+      ++totals_.failed;
+      at_dt_min(std::string("the step failed (") + e.what() + ")");
+      ctl.set_after_rejection(true);
+      after_rejection_ = true;
+      next_dt_ = ctl.after_failure(h);
+      continue;
+    }
+    ctl.set_after_rejection(after_rejection_);
+    const StepDecision dec = ctl.decide(h, err, 0);
+    after_rejection_ = ctl.after_rejection();
+    if (!dec.accept) {
+      ++totals_.rejected;
+      at_dt_min("the error estimate is " + std::to_string(err) + " times the tolerance");
+      next_dt_ = std::min(dec.next_dt, h);
+      continue;
+    }
+    const bool event = locate_event(w.s0, t0, h, w.s1);  // on an event: t_ at it, the step shortened
+    load_state(w.s1);
+    const double taken = event ? t_ - t0 : h;
+    if (taken > 0.0) {
+      totals_.record_accepted(0.5 * taken);
+      totals_.record_accepted(0.5 * taken);
+      steps_ += 2;
+    }
+    peak_Y_ = std::max(peak_Y_, Y_.lpNorm<Eigen::Infinity>());
+    peak_V_ = std::max(peak_V_, V_.lpNorm<Eigen::Infinity>());
+    peak_dx_ = std::max(peak_dx_, std::abs(x_ - mass_.start));
+    peak_v_ = std::max(peak_v_, std::abs(v_));
+    next_dt_ = h < proposed ? std::max(dec.next_dt, proposed) : dec.next_dt;  // shortened only to land
+    if (!event) {
+      t_ = t0 + h;
+      continue;
+    }
+    if (end_ != CoupledEnd::Stick || holds(w.s1, dir_)) return true;
+    end_ = CoupledEnd::EndTime;  // x' = 0 with the demand above mu |N|: reverses (dir_ flipped by holds)
+    refresh_accelerations();
+  }
+  t_ = t_target;
+  return false;
+}
+
+void CoupledMassBeam::current_state(State& s) const {
+  s.Y = Y_;
+  s.V = V_;
+  s.x = x_;
+  s.v = v_;
+  s.drive = work_drive_;
+  s.loss = work_loss_;
+  s.friction = work_friction_;
+  s.A = A_;
+  s.a = a_;
+  s.n = n_;
+}
+
 bool CoupledMassBeam::advance_to(double t_target) {
+  if (problem_.adaptive) return adaptive_advance_to(t_target);
   Work& w = *w_;
   ++steps_;
   for (int part = 0; part < 100; ++part) {
     const double t0 = t_, h = t_target - t0;
     if (h <= 1e-12 * problem_.dt) break;  // reversed at the step's end
-    w.s0.Y = Y_;
-    w.s0.V = V_;
-    w.s0.x = x_;
-    w.s0.v = v_;
-    w.s0.drive = work_drive_;
-    w.s0.loss = work_loss_;
-    w.s0.friction = work_friction_;
-    w.s0.A = A_;
-    w.s0.a = a_;
-    w.s0.n = n_;
+    current_state(w.s0);
     step(w.s0, h, w.s1);
     const bool event = locate_event(w.s0, t0, h, w.s1);
     load_state(w.s1);
@@ -403,12 +528,14 @@ void CoupledMassBeam::run(const Observer& observer) {
   if (observer) observer(*this);
   if (end_ != CoupledEnd::EndTime) return;  // stuck at the start
   const TimeGrid grid = make_time_grid(p.t_start, p.t_end, p.dt, 1e-9).grid;
-  for (long k = 1; k <= grid.steps; ++k) {
+  // Adaptive: the steps go from output time to output time (every output_every grid steps).
+  const long N = grid.steps, stride = p.adaptive ? std::max(1, p.output_every) : 1;
+  for (long k = std::min(stride, N); k <= N; k = k == N ? N + 1 : std::min(N, k + stride)) {
     if (advance_to(grid.time(k))) {
       if (observer) observer(*this);
       return;
     }
-    if (observer && (k % p.output_every == 0 || k == grid.steps)) observer(*this);
+    if (observer && (k % p.output_every == 0 || k == N)) observer(*this);
   }
 }
 

@@ -758,9 +758,6 @@ void check_coupled_masses(Scene& sc) {
     coupled = &l;
   }
   if (!coupled) return;
-  if (sc.model == Model::Beam && sc.tree.params.sublist("time").isSublist("adaptive"))
-    fail_at(sc, "time.adaptive", "no time.adaptive with a coupled_mass on the beam (not yet supported: fixed dt only; "
-            "the rod's coupled mass takes it)", "a section");
   if (sc.loads.size() > 1)
     fail_at(sc, "loads." + coupled->name + ".type",
             "a coupled_mass as the only load of its scene (not yet supported: together with other loads)",

@@ -2,7 +2,8 @@
 // controls refused with exit 2 naming the key; the output times of an adaptive run are those
 // of the fixed-dt run and its error against a refined fixed-dt run falls with the tolerance;
 // 1 and 2 ranks take the same steps; a snap through of the undamped shallow arch is passed with
-// rejected steps; the beam's integrators and the rod's coupled mass follow the tolerance.
+// rejected steps; the beam's integrators and the rod's and the beam's coupled mass follow the
+// tolerance.
 // (Restart of an adaptive run: test_interrupt_restart.)
 #include <gtest/gtest.h>
 
@@ -227,6 +228,50 @@ TEST(AdaptiveCli, CoupledMassRunsEndAtTheConvergedEvent) {
   std::printf("  against 1e-4: fixed %.3e s, 1e-2 %.3e s, 1e-3 %.3e s\n", e_fixed, e2, e3);
   EXPECT_LT(e2, e_fixed);
   EXPECT_LT(e3, 0.3 * e2);
+}
+
+// The beam's coupled mass (inputs/beam/coupled_bead.yaml, RK4 by step doubling): the output
+// times are the fixed run's, the bead's position and the deflection under it against a fixed
+// run at dt / 64 fall with the tolerance (measured 1.98e-7, 2.28e-8, 6.5e-10 m at 1e-4, 1e-6,
+// 1e-8), and the bead leaves at x = L at the reference's time (9.0e-11, 5e-12, 1e-13 s off).
+TEST(AdaptiveCli, BeamCoupledMassFollowsTheTolerance) {
+  const fs::path d = scratch("adaptive-beam-coupled");
+  const std::string scene = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/beam/coupled_bead.yaml";
+  const std::string base = kExe + " run " + scene + " --overwrite --set time.dt=2.5e-4 ";
+  const std::string ref = (d / "ref.h5").string();
+  ASSERT_EQ(run_command(base + "-o " + ref + " -q --set time.dt=3.90625e-6 --set output.every=640").code, 0);
+  const Reader r(ref);
+  const auto tr = r.time();
+  const auto xr = r.probe("bead_position"), wr = r.probe("bead_deflection");
+  const double te = r.events().at(0).time;
+  std::vector<double> errors, event_errors;
+  for (const char* tol : {"1e-4", "1e-6", "1e-8"}) {
+    const std::string out = (d / (std::string("bead") + tol + ".h5")).string();
+    const RunResult run = run_command(base + "-o " + out + " --set time.adaptive.tolerance=" + tol);
+    ASSERT_EQ(run.code, 0) << run.out;
+    EXPECT_GT(counts(run.out).accepted, 0) << run.out;
+    const Reader a(out);
+    const auto t = a.time();
+    const auto x = a.probe("bead_position"), w = a.probe("bead_deflection");
+    ASSERT_EQ(t.size(), tr.size()) << out;
+    double e = 0.0, et = 0.0;
+    for (size_t i = 0; i + 1 < t.size(); ++i) {  // the last row is the event, at its own time
+      et = std::max(et, std::abs(t[i] - tr[i]));
+      e = std::max({e, std::abs(x.values[i] - xr.values[i]), std::abs(w.values[i] - wr.values[i])});
+    }
+    const auto ev = a.events();
+    ASSERT_EQ(ev.size(), 1u) << out;
+    EXPECT_EQ(ev[0].reason, "left_beam_at_L");
+    errors.push_back(e);
+    event_errors.push_back(std::abs(ev[0].time - te));
+    std::printf("  tolerance %s: %ld steps, max error %.3e m, output times differ by %.1e s, leaves %.2e s off\n", tol,
+                counts(run.out).accepted, e, et, event_errors.back());
+    EXPECT_LT(et, 1e-12);
+  }
+  EXPECT_LT(errors[1], 0.3 * errors[0]);
+  EXPECT_LT(errors[2], 0.3 * errors[1]);
+  EXPECT_LT(errors[2], 1e-8);
+  EXPECT_LT(event_errors[2], 1e-9);
 }
 
 }  // namespace

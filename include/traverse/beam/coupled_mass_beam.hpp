@@ -62,6 +62,11 @@ struct CoupledEnergies {
 /// iteration; the works by the trapezoidal rule) at fixed steps; a step
 /// in which an event happens (the mass leaves at either end, unilateral lift-off) is
 /// shortened to end at the event (secant on the step length), and the run ends there.
+/// With problem().adaptive (time.adaptive, docs/adaptive.md) the steps are chosen by step
+/// doubling instead: each step is two half steps checked against one full step, the error
+/// (half - full) / (2^p - 1) weighed per group (Y, Y', the mass's x and x') against the
+/// tolerance; the steps land on the output times, and an event is located as at fixed steps
+/// (by the same pair of half steps).
 /// Coulomb friction (docs/beam.md "Coupled mass"): the generalised force -mu |N| s on x (s the
 /// sliding direction, fixed while sliding; N = M (g + w_tt + 2 x' w_xt + x'^2 w_xx) + w_x (D - c x')
 /// the normal force to first order in the slope, linear in the beam's accelerations, so the
@@ -109,7 +114,10 @@ class CoupledMassBeam {
   /// to the model's order (the drive acts along the axis), evaluated from the state.
   double tangential_force() const;
   CoupledEnergies energies() const;
+  /// Steps taken (adaptive: the accepted half steps).
   long steps_taken() const { return steps_; }
+  /// Adaptive runs: accepted, rejected and failed steps, the range of dt.
+  const StepControlTotals& adaptive_totals() const { return totals_; }
   CoupledEnd end_reason() const { return end_; }
 
  private:
@@ -121,6 +129,13 @@ class CoupledMassBeam {
   void rk4(const State& s0, double h, State& s1) const;
   void newmark(const State& s0, double h, State& s1) const;
   void step(const State& s0, double h, State& s1) const;
+  /// The step that is kept: step(), or with adaptive steps two half steps.
+  void advance(const State& s0, double h, State& s1) const;
+  /// Adaptive: (half - full) / (2^p - 1) over absolute + relative scale, the largest group.
+  double doubling_error(const State& half, const State& full) const;
+  bool adaptive_advance_to(double t_target);
+  void set_adaptive_floors();
+  void current_state(State& s) const;
   const MatX& newmark_inverse(double h) const;
   double event_value(CoupledEnd e, const State& s) const;
   bool locate_event(const State& s0, double t0, double h, State& s1);
@@ -145,6 +160,11 @@ class CoupledMassBeam {
   double a_ = 0.0;
   double x_ = 0.0, v_ = 0.0, work_drive_ = 0.0, work_loss_ = 0.0, work_friction_ = 0.0, n_ = 0.0;
   double dir_ = 1.0;  ///< sliding direction (friction)
+  // Adaptive stepping: totals, the proposed step, the peaks and floors of the groups' scales.
+  StepControlTotals totals_;
+  double next_dt_ = 0.0, peak_Y_ = 0.0, peak_V_ = 0.0, peak_dx_ = 0.0, peak_v_ = 0.0;
+  double floor_Y_ = 0.0, floor_V_ = 0.0, floor_x_ = 0.0, floor_v_ = 0.0;
+  bool after_rejection_ = false;
   CoupledEnd end_ = CoupledEnd::EndTime;
 };
 
