@@ -444,7 +444,10 @@ LoopTotals RodTimeLoop::run(long first_step, bool show_progress) {
 /// needs, is checked by step doubling.
 class RodAdaptiveLoop {
  public:
-  RodAdaptiveLoop(const RodLoopParts& parts, RodAdaptiveControl& ctl) : p_(parts), ctl_(ctl) {}
+  /// `loads`: the scene's; the steps land on their node crossings (next_node_crossing).
+  RodAdaptiveLoop(const RodLoopParts& parts, RodAdaptiveControl& ctl, const std::vector<scene::MovingLoadSpec>& loads,
+                  bool land_on_nodes)
+      : p_(parts), ctl_(ctl), loads_(loads), land_(land_on_nodes) {}
   LoopTotals run(bool show_progress);
 
  private:
@@ -459,6 +462,8 @@ class RodAdaptiveLoop {
   [[noreturn]] void fail(const std::string& why, Progress& progress);
   RodLoopParts p_;
   RodAdaptiveControl& ctl_;
+  const std::vector<scene::MovingLoadSpec>& loads_;
+  bool land_;
   LoopTotals tot_;
   std::string failure_;  ///< why the last try_step failed
 };
@@ -582,8 +587,13 @@ LoopTotals RodAdaptiveLoop::run(bool show_progress) {
   // (A restart point at an output time may lie a rounding below it: the landing tolerance.)
   while (k <= outputs && output_time(k) - p_.st.time() <= 1e-9 * p_.g.dt) ++k;
   while (k <= outputs) {
-    const double target = output_time(k), remaining = target - p_.st.time();
-    // Land on the output time; a step that would leave less than itself is split in two.
+    const double t_out = output_time(k), now = p_.st.time();
+    // Land on the output time, and on a node crossing of a moving load before it; a step
+    // that would leave less than itself is split in two.
+    const double crossing = land_ ? next_node_crossing(loads_, now + 1e-9 * ctl_.next_dt, p_.st.model().ds(),
+                                                       p_.st.model().length)
+                                  : HUGE_VAL;
+    const double target = crossing < t_out - 1e-9 * ctl_.next_dt ? crossing : t_out, remaining = target - now;
     const double proposed = ctl_.next_dt;
     double h = proposed;
     if (h >= remaining * (1.0 - 1e-12)) h = remaining;
@@ -592,7 +602,7 @@ LoopTotals RodAdaptiveLoop::run(bool show_progress) {
     if (!accepted) continue;
     if (h < proposed) ctl_.next_dt = std::max(ctl_.next_dt, proposed);  // shortened only to land
     tot_.last_step = ctl_.totals().accepted;
-    if (std::abs(target - p_.st.time()) <= 1e-9 * h) {
+    if (std::abs(t_out - p_.st.time()) <= 1e-9 * h) {
       p_.out.write(p_.w, p_.st.time(), p_.left.position());
       if (p_.rp.due()) p_.rp.store(tot_.last_step, p_.left.position());
       ++k;
@@ -765,7 +775,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   const RodLoopParts parts{*stepper, outputs, writer, points, left, grid, sc.output.every, opt, comm};
   LoopTotals tot;
   if (adaptive) {
-    RodAdaptiveLoop loop(parts, *adaptive);
+    RodAdaptiveLoop loop(parts, *adaptive, sc.loads, sc.time.adaptive.land_on_nodes);
     tot = loop.run(progress);
   } else {
     RodTimeLoop loop(parts, load_ratio(sc));

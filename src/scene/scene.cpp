@@ -284,6 +284,8 @@ Param adaptive_section() {
   a.add(real("safety", "Factor on the step the error estimate calls optimal", "").positive().at_most(1.0).def(0.9));
   a.add(integer("newton_target", "Rod: after a step that needed more Newton iterations than this, the next step "
                                  "does not grow").at_least(1).def(6.0));
+  a.add(boolean("land_on_nodes", "Rod: the steps also end where a moving load (not a coupled mass) enters the rod "
+                                 "or reaches a node, where its force on the nodes has a kink in time").def("true"));
   a.check([](const ParameterList& s, const CheckContext& ctx) {
     if (s.isParameter("dt_min") && s.isParameter("dt_max") && s.get<double>("dt_min") > s.get<double>("dt_max"))
       ctx.fail("dt_min", "at most dt_max = " + format_number(s.get<double>("dt_max")) + " s",
@@ -605,7 +607,10 @@ double MovingLoadSpec::sigma(double t) const {
 double MovingLoadSpec::velocity(double t) const { return direction() * (speed + acceleration * (t - entry_time)); }
 
 double MovingLoadSpec::exit_time(double length) const {
-  const double d = direction() > 0 ? length - start : start;  // distance to the far end
+  return travel_time(direction() > 0 ? length - start : start);  // the distance to the far end
+}
+
+double MovingLoadSpec::travel_time(double d) const {
   const double v = speed, a = acceleration;
   if (!(d > 0.0)) return entry_time;
   if (a == 0.0) return v > 0.0 ? entry_time + d / v : std::numeric_limits<double>::infinity();
@@ -789,6 +794,7 @@ void read_adaptive(const ParameterList& t, Scene& sc) {
   s.shrink = a.get<double>("shrink");
   s.safety = a.get<double>("safety");
   s.newton_target = a.get<int>("newton_target");
+  s.land_on_nodes = a.get<bool>("land_on_nodes");
   if (sc.continuation.enabled)
     fail_at(sc, "time.adaptive", "no adaptive time stepping in a continuation run (it has no time steps)", "a section");
 }

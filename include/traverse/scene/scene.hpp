@@ -142,6 +142,9 @@ struct MovingLoadSpec {
   double velocity(double t) const;  ///< signed [m/s]
   /// Time at which the load reaches the far end of a structure of length L, or +inf.
   double exit_time(double length) const;
+  /// Time at which the load has travelled the distance d >= 0 from `start` along its
+  /// direction, or +inf if it never does (it stops before).
+  double travel_time(double d) const;
   /// Where the load is at time t: position(t) once it has started, NaN before entry_time
   /// (it may lie beyond the ends; the models take it as off the structure there).
   double sigma(double t) const;
@@ -164,6 +167,7 @@ struct AdaptiveSpec {
   double dt_max = 0.0;  ///< [s] 0: no bound but the output interval
   double growth = 2.0, shrink = 0.2, safety = 0.9;
   int newton_target = 6;
+  bool land_on_nodes = true;  ///< rod: steps end at the node crossings of prescribed moving loads
 };
 
 struct TimeSpec {
