@@ -60,6 +60,39 @@ double max_drift(const std::vector<double>& v) {
   return d;
 }
 
+// The driven mass of FrictionReversesADrivenMass: launched against the drive, stopped by drive
+// and friction, driven back; exact x(t) piecewise quadratic on the stiff level beam.
+struct Reversal {
+  double M = 0.1, x0 = 0.6, v0 = -1.0, D = 0.5, mu = 0.2, g = 9.8, T = 0.5;
+  double a1() const { return D / M + mu * g; }
+  double a2() const { return D / M - mu * g; }
+  double t1() const { return -v0 / a1(); }
+  double x1() const { return x0 - v0 * v0 / (2 * a1()); }
+  CoupledMass mass() const {
+    CoupledMass m{M, x0, v0, D, 0.0, false};
+    m.friction = mu;
+    return m;
+  }
+  /// Largest |x - x_exact| over a trace's outputs.
+  double error(const Trace& r) const {
+    double err = 0.0;
+    for (size_t i = 0; i < r.t.size(); ++i) {
+      const double t = r.t[i];
+      const double x = t < t1() ? x0 + v0 * t + 0.5 * a1() * t * t : x1() + 0.5 * a2() * (t - t1()) * (t - t1());
+      err = std::max(err, std::abs(r.x[i] - x));
+    }
+    return err;
+  }
+};
+
+// Adaptive steps at `tolerance` (dt_min 1e-9 s): p.dt becomes the first step and the output spacing.
+BeamProblem adaptive(BeamProblem p, double tolerance) {
+  p.adaptive = true;
+  p.control.relative = tolerance;
+  p.control.dt_min = 1e-9;
+  return p;
+}
+
 }  // namespace
 
 // Without gravity the beam stays straight and the mass moves exactly as x0 + v0 t + D t^2/(2M).
@@ -268,20 +301,12 @@ TEST(CoupledMassBeam, FrictionStopsAMassOnAStiffBeam) {
 // stiff level beam decelerates at D/M + mu g, stops at t1 = v0 / (D/M + mu g), and is driven back
 // at D/M - mu g: x(t) piecewise quadratic; no stick.
 TEST(CoupledMassBeam, FrictionReversesADrivenMass) {
-  const double M = 0.1, x0 = 0.6, v0 = -1.0, D = 0.5, mu = 0.2, g = 9.8, T = 0.5;
-  const BeamProblem p = make_beam(Support::SimplySupported, 1.0, 1e5, 1.0, 5, 2e-5, T);
-  CoupledMass m{M, x0, v0, D, 0.0, false};
-  m.friction = mu;
-  const Trace r = trace(p, m);
-  const double a1 = D / M + mu * g, a2 = D / M - mu * g, t1 = -v0 / a1, x1 = x0 - v0 * v0 / (2 * a1);
-  double err = 0.0;
-  for (size_t i = 0; i < r.t.size(); ++i) {
-    const double t = r.t[i];
-    const double x = t < t1 ? x0 + v0 * t + 0.5 * a1 * t * t : x1 + 0.5 * a2 * (t - t1) * (t - t1);
-    err = std::max(err, std::abs(r.x[i] - x));
-  }
-  std::printf("reversal at t1 = %.6f s, x1 = %.6f m; max |x - x_exact| = %.3e m; ends %s at x = %.6f m\n", t1, x1, err,
-              coupled_end_name(r.reason).c_str(), r.x_end);
+  const Reversal rev;
+  const BeamProblem p = make_beam(Support::SimplySupported, 1.0, 1e5, 1.0, 5, 2e-5, rev.T);
+  const Trace r = trace(p, rev.mass());
+  const double err = rev.error(r);
+  std::printf("reversal at t1 = %.6f s, x1 = %.6f m; max |x - x_exact| = %.3e m; ends %s at x = %.6f m\n", rev.t1(),
+              rev.x1(), err, coupled_end_name(r.reason).c_str(), r.x_end);
   EXPECT_EQ(r.reason, CoupledEnd::EndTime);
   EXPECT_LT(err, 1e-5);
   EXPECT_LT(max_drift(r.balance), 1e-8);
@@ -426,12 +451,9 @@ TEST(CoupledMassBeam, AdaptiveErrorFollowsTheTolerance) {
     std::vector<long> steps;
     const bool rk4 = integrator == Integrator::RK4;
     for (double tol : rk4 ? std::vector<double>{1e-4, 1e-6, 1e-8} : std::vector<double>{1e-3, 1e-4, 1e-5}) {
-      BeamProblem p = make_beam(Support::SimplySupported, 2.0, 100.0, 1.0, 8, 1e-3, 0.5);
+      BeamProblem p = adaptive(make_beam(Support::SimplySupported, 2.0, 100.0, 1.0, 8, 1e-3, 0.5), tol);
       p.output_every = 10;
       p.integrator = integrator;
-      p.adaptive = true;
-      p.control.relative = tol;
-      p.control.dt_min = 1e-9;
       std::vector<double> t, x, w;
       const StepControlTotals tot = history(p, t, x, w);
       ASSERT_EQ(t.size(), tr.size());
@@ -468,46 +490,26 @@ TEST(CoupledMassBeam, AdaptiveLocatesEvents) {
   fixed.output_every = 40;
   const CoupledMass leaving{0.2, 0.6, -2.0, 0.0, 0.0, false};
   const Trace f = trace(fixed, leaving);
-  BeamProblem p = make_beam(Support::ClampedClamped, 1.0, 50.0, 1.0, 6, 1e-3, 3.0);
-  p.adaptive = true;
-  p.control.relative = 1e-6;
-  p.control.dt_min = 1e-9;
-  const Trace a = trace(p, leaving);
+  const Trace a = trace(adaptive(make_beam(Support::ClampedClamped, 1.0, 50.0, 1.0, 6, 1e-3, 3.0), 1e-6), leaving);
   std::printf("leaving: fixed dt = 2.5e-5 s at t = %.12f s, adaptive 1e-6 at t = %.12f s (x = %.2e m)\n", f.t_end, a.t_end,
               a.x_end);
   EXPECT_EQ(a.reason, CoupledEnd::LeftLeft);
   EXPECT_NEAR(a.x_end, 0.0, 1e-10);
   EXPECT_NEAR(a.t_end, f.t_end, 1e-6);
 
-  const double M = 0.1, x0 = 0.6, v0 = -1.0, D = 0.5, mu = 0.2, g = 9.8, T = 0.5;
-  BeamProblem q = make_beam(Support::SimplySupported, 1.0, 1e5, 1.0, 5, 1e-3, T);
-  q.adaptive = true;
-  q.control.relative = 1e-6;
-  q.control.dt_min = 1e-9;
-  CoupledMass driven{M, x0, v0, D, 0.0, false};
-  driven.friction = mu;
-  const Trace r = trace(q, driven);
-  const double a1 = D / M + mu * g, a2 = D / M - mu * g, t1 = -v0 / a1, x1 = x0 - v0 * v0 / (2 * a1);
-  double err = 0.0;
-  for (size_t i = 0; i < r.t.size(); ++i) {
-    const double t = r.t[i];
-    const double x = t < t1 ? x0 + v0 * t + 0.5 * a1 * t * t : x1 + 0.5 * a2 * (t - t1) * (t - t1);
-    err = std::max(err, std::abs(r.x[i] - x));
-  }
+  const Reversal rev;
+  const Trace r = trace(adaptive(make_beam(Support::SimplySupported, 1.0, 1e5, 1.0, 5, 1e-3, rev.T), 1e-6), rev.mass());
+  const double err = rev.error(r);
   std::printf("reversal (adaptive 1e-6): max |x - x_exact| = %.3e m over %zu outputs; ends %s\n", err, r.t.size(),
               coupled_end_name(r.reason).c_str());
   EXPECT_EQ(r.reason, CoupledEnd::EndTime);
   EXPECT_EQ(r.t.size(), 501u);
   EXPECT_LT(err, 1e-5);
 
-  CoupledMass braked{M, 0.1, 1.0, 0.0, 0.0, false};
-  braked.friction = mu;
-  BeamProblem s = make_beam(Support::SimplySupported, 1.0, 1e5, 1.0, 5, 1e-3, 2.0);
-  s.adaptive = true;
-  s.control.relative = 1e-6;
-  s.control.dt_min = 1e-9;
-  const Trace st = trace(s, braked);
-  const double t_exact = 1.0 / (mu * g);
+  CoupledMass braked{rev.M, 0.1, 1.0, 0.0, 0.0, false};
+  braked.friction = rev.mu;
+  const Trace st = trace(adaptive(make_beam(Support::SimplySupported, 1.0, 1e5, 1.0, 5, 1e-3, 2.0), 1e-6), braked);
+  const double t_exact = 1.0 / (rev.mu * rev.g);
   std::printf("stick (adaptive 1e-6): at t = %.8f s (v0 / (mu g) = %.8f s)\n", st.t_end, t_exact);
   EXPECT_EQ(st.reason, CoupledEnd::Stick);
   EXPECT_NEAR(st.t_end, t_exact, 0.1 * 1e-3 * t_exact);
