@@ -296,6 +296,20 @@ TEST(InterruptRestart, CoupledBeamSigintThenRestart) {
   EXPECT_EQ(ev[0].reason, "left_beam_at_L");
 }
 
+// The same with adaptive steps (docs/adaptive.md "Beam module"): the replay takes the same
+// steps, so the restarted run equals the uninterrupted one bit for bit.
+TEST(InterruptRestart, CoupledBeamAdaptiveSigintThenRestart) {
+  setenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL", "0", 1);
+  const std::string scene = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/beam/coupled_bead.yaml";
+  stop_and_restart("coupled-beam-adaptive-sigint", 1, scene,
+                   " --set time.dt=1e-4 --set output.every=5 --set time.adaptive.tolerance=1e-10 -q", 5, 1000,
+                   Stop::sigint_process, 0.0);
+  unsetenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL");
+  const auto ev = Reader(std::string(TRAVERSE_BINARY_DIR) + "/test-scratch/coupled-beam-adaptive-sigint/run.h5").events();
+  ASSERT_EQ(ev.size(), 1u);
+  EXPECT_EQ(ev[0].reason, "left_beam_at_L");
+}
+
 // A rod run with a coupled mass (docs/rod.md "Coupled mass"): the restart point holds the mass's
 // state (position, speed, works), the centreline, the last contact and, adaptive, both
 // controllers, so the restarted run continues from it and equals the uninterrupted one bit for
