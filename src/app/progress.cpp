@@ -38,6 +38,12 @@ void Progress::update(double current, long steps, const char* detail) {
   printed_ = true;
 }
 
+std::string adaptive_detail(double proposed_dt, const StepControlTotals& totals) {
+  char detail[96];
+  std::snprintf(detail, sizeof detail, "dt = %.3g s, %ld rejected", proposed_dt, totals.rejected + totals.failed);
+  return detail;
+}
+
 void Progress::done() {
   if (enabled_ && printed_ && tty_) std::fprintf(stderr, "\n");
   printed_ = false;

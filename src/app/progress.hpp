@@ -7,6 +7,8 @@
 #include <deque>
 #include <string>
 
+#include "traverse/core/step_controller.hpp"
+
 namespace traverse::app {
 
 class Progress {
@@ -32,6 +34,10 @@ class Progress {
   std::deque<Sample> recent_;  ///< reports of the last 10 s (and the one before them)
   bool printed_ = false;
 };
+
+/// The detail of an adaptive run's progress line: "dt = <the proposed step> s, <N> rejected"
+/// (rejected by the error estimate or failed).
+std::string adaptive_detail(double proposed_dt, const StepControlTotals& totals);
 
 /// Whether progress should be shown: --progress, or stderr is a terminal; never with -q.
 bool progress_wanted(bool quiet, bool forced);

@@ -607,10 +607,7 @@ LoopTotals RodAdaptiveLoop::run(bool show_progress) {
       if (p_.rp.due()) p_.rp.store(tot_.last_step, p_.left.position());
       ++k;
     }
-    char detail[96];
-    std::snprintf(detail, sizeof detail, "dt = %.3g s, %ld rejected", ctl_.next_dt,
-                  ctl_.totals().rejected + ctl_.totals().failed);
-    progress.update(p_.st.time(), tot_.last_step, detail);
+    progress.update(p_.st.time(), tot_.last_step, adaptive_detail(ctl_.next_dt, ctl_.totals()).c_str());
     if (const int sig = k <= outputs ? interrupt_requested(p_.comm) : 0)
       p_.interrupt(tot_.last_step, "adaptive step " + std::to_string(tot_.last_step), sig, progress);
   }

@@ -577,9 +577,7 @@ void CoupledLoop::run_adaptive() {
       write();
       store_if_due();
     }
-    char detail[96];
-    std::snprintf(detail, sizeof detail, "dt = %.3g s, %ld rejected", rc.next_dt, rc.totals().rejected + rc.totals().failed);
-    progress_.update(state_.t, steps, detail);
+    progress_.update(state_.t, steps, adaptive_detail(rc.next_dt, rc.totals()).c_str());
     check_interrupt(k <= outputs);
   }
 }

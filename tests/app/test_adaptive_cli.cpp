@@ -344,4 +344,20 @@ TEST(AdaptiveCli, BeamCoupledMassFollowsTheTolerance) {
   EXPECT_LT(event_errors[2], 1e-9);
 }
 
+// The progress line of an adaptive run shows the proposed step and the rejections: the beam's
+// coupled mass (a bead crawling at 0.1 m/s, tolerance 1e-12: about 2.5 million steps, a few
+// seconds of wall time, so at least one report).
+TEST(AdaptiveCli, ProgressShowsTheStepAndTheRejections) {
+  const fs::path d = scratch("adaptive-progress");
+  const std::string scene = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/beam/coupled_bead.yaml";
+  const RunResult r = run_command(kExe + " run " + scene + " -o " + (d / "bead.h5").string() +
+                                  " --overwrite --progress --set time.adaptive.tolerance=1e-12"
+                                  " --set loads.bead.speed=0.1 --set time.end=100 --set output.every=1000");
+  ASSERT_EQ(r.code, 0) << r.out;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex("  t = [^\n]* steps/s, dt = [0-9.e+-]+ s, ([0-9]+) rejected, about")))
+      << r.out;
+  std::cout << "  " << m[0] << "\n";
+}
+
 }  // namespace

@@ -76,6 +76,8 @@ class BeamSimulation {
   long steps_taken() const { return steps_; }
   /// Adaptive runs: accepted and rejected steps, the range of dt.
   const StepControlTotals& adaptive_totals() const { return totals_; }
+  /// Adaptive runs: the step the controller proposes next [s].
+  double proposed_dt() const { return next_dt_; }
   /// w(x) [m] of the current state.
   double deflection(double x) const;
 

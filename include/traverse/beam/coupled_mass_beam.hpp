@@ -118,6 +118,8 @@ class CoupledMassBeam {
   long steps_taken() const { return steps_; }
   /// Adaptive runs: accepted, rejected and failed steps, the range of dt.
   const StepControlTotals& adaptive_totals() const { return totals_; }
+  /// Adaptive runs: the step the controller proposes next [s].
+  double proposed_dt() const { return next_dt_; }
   CoupledEnd end_reason() const { return end_; }
 
  private:
