@@ -593,14 +593,11 @@ LoopTotals RodAdaptiveLoop::run(bool show_progress) {
     const double crossing = land_ ? next_node_crossing(loads_, now + 1e-9 * ctl_.next_dt, p_.st.model().ds(),
                                                        p_.st.model().length)
                                   : HUGE_VAL;
-    const double target = crossing < t_out - 1e-9 * ctl_.next_dt ? crossing : t_out, remaining = target - now;
-    const double proposed = ctl_.next_dt;
-    double h = proposed;
-    if (h >= remaining * (1.0 - 1e-12)) h = remaining;
-    else if (h > 0.5 * remaining) h = 0.5 * remaining;
+    const double target = crossing < t_out - 1e-9 * ctl_.next_dt ? crossing : t_out;
+    const double proposed = ctl_.next_dt, h = StepController::landing_step(proposed, target - now);
     const bool accepted = ctl_.has_history() ? extrapolated_step(h, progress) : doubled_step(h, progress);
     if (!accepted) continue;
-    if (h < proposed) ctl_.next_dt = std::max(ctl_.next_dt, proposed);  // shortened only to land
+    ctl_.next_dt = StepController::after_landing(h, proposed, ctl_.next_dt);
     tot_.last_step = ctl_.totals().accepted;
     if (std::abs(t_out - p_.st.time()) <= 1e-9 * h) {
       p_.out.write(p_.w, p_.st.time(), p_.left.position());

@@ -565,12 +565,10 @@ void CoupledLoop::run_adaptive() {
   long k = 1;  // the first output time after the current one (a restart point's time may lie a rounding below it)
   while (k <= outputs && output_time(k) - state_.t <= 1e-9 * g_.dt) ++k;
   while (k <= outputs && events.empty()) {
-    const double target = output_time(k), remaining = target - state_.t, proposed = rc.next_dt;
-    double h = proposed;
-    if (h >= remaining * (1.0 - 1e-12)) h = remaining;
-    else if (h > 0.5 * remaining) h = 0.5 * remaining;
+    const double target = output_time(k), proposed = rc.next_dt;
+    const double h = StepController::landing_step(proposed, target - state_.t);
     if (!adaptive_step(h)) continue;
-    if (h < proposed) rc.next_dt = std::max(rc.next_dt, proposed);  // shortened only to land
+    rc.next_dt = StepController::after_landing(h, proposed, rc.next_dt);
     const bool landed = std::abs(target - state_.t) <= 1e-9 * h;
     if (landed) ++k;
     if (landed || !events.empty()) {

@@ -117,19 +117,15 @@ BeamSimulation::BeamSimulation(BeamProblem problem) : problem_(std::move(problem
   reset();
 }
 
-// Adaptive: the floors of the relative scales, so that a start from rest is not held to the
-// relative accuracy of an infinitesimal motion: 1e-3 of the static modal response to the
-// self weight and the loads' forces at midspan (Y), times the first modal frequency (Y').
+// Adaptive: the floors of the relative scales (modal_scale_floors), with the loads' forces at midspan.
 void BeamSimulation::set_adaptive_floors() {
   if (!problem_.adaptive) return;
   problem_.control.order = problem_.integrator == Integrator::RK4 ? 4 : 2;
-  const auto K = mats_.Kb.ldlt();
-  evaluate_modes(0.5 * problem_.length);
   double loads = 0.0;
   for (const double f : force_) loads += std::abs(f);
-  const double y = K.solve(mats_.Pb).lpNorm<Eigen::Infinity>() + loads * K.solve(w_->sphi).lpNorm<Eigen::Infinity>();
-  floor_Y_ = 1e-3 * y;
-  floor_V_ = floor_Y_ * std::sqrt(mats_.Kb(0, 0) / mats_.Mb(0, 0));
+  const ModalFloors f = modal_scale_floors(mats_, *modes_, problem_.length, loads);
+  floor_Y_ = f.Y;
+  floor_V_ = f.V;
 }
 
 void BeamSimulation::prepare_status(double ta, double tb) {
@@ -408,10 +404,7 @@ void BeamSimulation::adaptive_advance(double ta, double tb) {
   StepController ctl(problem_.control);
   const double tol = 1e-12 * std::max(std::abs(tb), 1.0);
   while (ta < tb - tol) {
-    const double remaining = tb - ta, proposed = next_dt_;
-    double h = proposed;
-    if (h >= remaining * (1.0 - 1e-12)) h = remaining;
-    else if (h > 0.5 * remaining) h = 0.5 * remaining;
+    const double proposed = next_dt_, h = StepController::landing_step(proposed, tb - ta);
     const VecX Y0 = Y_, V0 = V_, A0 = A_;
     const bool A0_valid = A_valid_;
     const long steps0 = steps_;
@@ -446,7 +439,7 @@ void BeamSimulation::adaptive_advance(double ta, double tb) {
     totals_.record_accepted(0.5 * h);
     peak_Y_ = std::max(peak_Y_, Y_.lpNorm<Eigen::Infinity>());
     peak_V_ = std::max(peak_V_, V_.lpNorm<Eigen::Infinity>());
-    next_dt_ = h < proposed ? std::max(dec.next_dt, proposed) : dec.next_dt;  // shortened only to land
+    next_dt_ = StepController::after_landing(h, proposed, dec.next_dt);
     ta += h;
   }
 }

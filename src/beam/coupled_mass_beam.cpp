@@ -376,8 +376,6 @@ void CoupledMassBeam::reset() {
   refresh_accelerations();
 }
 
-// One grid step from t_ to t_target, split where the friction reverses the mass; true at an event
-// that ends the run (the state and t_ there).
 void CoupledMassBeam::advance(const State& s0, double h, State& s1) const {
   if (!problem_.adaptive) {
     step(s0, h, s1);
@@ -387,22 +385,15 @@ void CoupledMassBeam::advance(const State& s0, double h, State& s1) const {
   step(w_->mid, 0.5 * h, s1);
 }
 
-// Adaptive: the floors of the groups' scales, so that a start from rest is not held to the
-// relative accuracy of an infinitesimal motion: 1e-3 of the static modal response to the self
-// weight and the mass's weight at midspan (Y), times the first modal frequency (Y'); 1e-3 of
-// the beam's length (the mass's travel x - x(t_start)), times the first modal frequency (x').
+// Adaptive: the floors of the groups' scales: the modal ones (modal_scale_floors) with the
+// mass's weight at midspan; 1e-3 of the beam's length for the mass's travel x - x(t_start),
+// times the first modal frequency (V's floor over Y's) for its speed x'.
 void CoupledMassBeam::set_adaptive_floors() {
-  const BeamProblem& p = problem_;
-  const auto K = mats_.Kb.ldlt();
-  Work& w = *w_;
-  modes_->evaluate(0.5 * p.length, w.phi, w.dphi, w.ddphi);
-  const double y = K.solve(mats_.Pb).lpNorm<Eigen::Infinity>() +
-                   mass_.mass * p.gravity * K.solve(w.phi).lpNorm<Eigen::Infinity>();
-  const double omega1 = std::sqrt(mats_.Kb(0, 0) / mats_.Mb(0, 0));
-  floor_Y_ = 1e-3 * y;
-  floor_V_ = floor_Y_ * omega1;
-  floor_x_ = 1e-3 * p.length;
-  floor_v_ = floor_x_ * omega1;
+  const ModalFloors f = modal_scale_floors(mats_, *modes_, problem_.length, mass_.mass * problem_.gravity);
+  floor_Y_ = f.Y;
+  floor_V_ = f.V;
+  floor_x_ = 1e-3 * problem_.length;
+  floor_v_ = floor_x_ * std::sqrt(mats_.Kb(0, 0) / mats_.Mb(0, 0));
 }
 
 double CoupledMassBeam::doubling_error(const State& half, const State& full) const {
@@ -432,10 +423,7 @@ bool CoupledMassBeam::adaptive_advance_to(double t_target) {
   StepController ctl(c);
   const double tol = 1e-12 * std::max(std::abs(t_target), 1.0);
   while (t_ < t_target - tol) {
-    const double t0 = t_, remaining = t_target - t0, proposed = next_dt_;
-    double h = proposed;
-    if (h >= remaining * (1.0 - 1e-12)) h = remaining;
-    else if (h > 0.5 * remaining) h = 0.5 * remaining;
+    const double t0 = t_, proposed = next_dt_, h = StepController::landing_step(proposed, t_target - t0);
     current_state(w.s0);
     auto at_dt_min = [&](const std::string& what) {
       if (h > c.dt_min * (1.0 + 1e-12)) return;
@@ -476,7 +464,7 @@ bool CoupledMassBeam::adaptive_advance_to(double t_target) {
     peak_V_ = std::max(peak_V_, V_.lpNorm<Eigen::Infinity>());
     peak_dx_ = std::max(peak_dx_, std::abs(x_ - mass_.start));
     peak_v_ = std::max(peak_v_, std::abs(v_));
-    next_dt_ = h < proposed ? std::max(dec.next_dt, proposed) : dec.next_dt;  // shortened only to land
+    next_dt_ = StepController::after_landing(h, proposed, dec.next_dt);
     if (!event) {
       t_ = t0 + h;
       continue;
@@ -502,6 +490,8 @@ void CoupledMassBeam::current_state(State& s) const {
   s.n = n_;
 }
 
+// One grid step (adaptive: adaptive_advance_to) from t_ to t_target, split where the friction reverses the mass; true at an event
+// that ends the run (the state and t_ there).
 bool CoupledMassBeam::advance_to(double t_target) {
   if (problem_.adaptive) return adaptive_advance_to(t_target);
   Work& w = *w_;

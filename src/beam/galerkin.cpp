@@ -49,4 +49,15 @@ GalerkinMatrices assemble_galerkin(const ModeSet& modes, const std::vector<doubl
   return m;
 }
 
+ModalFloors modal_scale_floors(const GalerkinMatrices& m, const ModeSet& modes, double length, double point_load) {
+  const Eigen::Index n = modes.size();
+  VecX phi(n), dphi(n), ddphi(n);
+  modes.evaluate(0.5 * length, phi, dphi, ddphi);
+  const auto K = m.Kb.ldlt();
+  ModalFloors f;
+  f.Y = 1e-3 * (K.solve(m.Pb).lpNorm<Eigen::Infinity>() + point_load * K.solve(phi).lpNorm<Eigen::Infinity>());
+  f.V = f.Y * std::sqrt(m.Kb(0, 0) / m.Mb(0, 0));
+  return f;
+}
+
 }  // namespace traverse::beam

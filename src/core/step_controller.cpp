@@ -7,6 +7,12 @@
 
 namespace traverse {
 
+double StepController::landing_step(double proposed, double remaining) {
+  if (proposed >= remaining * (1.0 - 1e-12)) return remaining;
+  if (proposed > 0.5 * remaining) return 0.5 * remaining;
+  return proposed;
+}
+
 double StepController::clamp(double dt) const {
   double h = std::max(dt, p_.dt_min);
   if (p_.dt_max > 0.0) h = std::min(h, p_.dt_max);

@@ -82,5 +82,19 @@ TEST(StepController, TotalsRecordTheRange) {
   EXPECT_NE(t.summary().find("3 steps accepted"), std::string::npos);
 }
 
+// Landing on a time the steps must reach (an output time, a node crossing): the proposed step,
+// the remainder, or half of it rather than a sliver; a step shortened only to land does not
+// shrink the next proposal.
+TEST(StepController, LandingStep) {
+  EXPECT_DOUBLE_EQ(StepController::landing_step(0.1, 1.0), 0.1);
+  EXPECT_DOUBLE_EQ(StepController::landing_step(2.0, 1.0), 1.0);
+  EXPECT_DOUBLE_EQ(StepController::landing_step(1.0 - 1e-14, 1.0), 1.0);
+  EXPECT_DOUBLE_EQ(StepController::landing_step(0.7, 1.0), 0.5);
+  EXPECT_DOUBLE_EQ(StepController::landing_step(0.5, 1.0), 0.5);
+  EXPECT_DOUBLE_EQ(StepController::after_landing(0.5, 0.7, 0.6), 0.7);  // shortened: keep the proposal
+  EXPECT_DOUBLE_EQ(StepController::after_landing(0.5, 0.7, 0.9), 0.9);
+  EXPECT_DOUBLE_EQ(StepController::after_landing(0.1, 0.1, 0.05), 0.05);  // not shortened: the controller's
+}
+
 }  // namespace
 }  // namespace traverse

@@ -28,4 +28,13 @@ GalerkinMatrices assemble_galerkin(const ModeSet& modes, const std::vector<doubl
                                    const SectionFunction& rhoA, const SectionFunction& EI,
                                    double g, int gauss_points = 8);
 
+/// The floors of the modal scales of adaptive steps (docs/adaptive.md "Beam module"), so that a
+/// start from rest is not held to the relative accuracy of an infinitesimal motion: Y, 1e-3 of
+/// the largest static modal response to the self weight and a force `point_load` [N] at
+/// midspan; V, that times the first modal frequency.
+struct ModalFloors {
+  double Y = 0.0, V = 0.0;
+};
+ModalFloors modal_scale_floors(const GalerkinMatrices& m, const ModeSet& modes, double length, double point_load);
+
 }  // namespace traverse::beam

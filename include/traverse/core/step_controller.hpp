@@ -4,6 +4,7 @@
 // largest step, no growth right after a rejection, and the Newton iteration count as a second
 // signal. Shared by the rod's generalised-alpha step and the beam's integrators; it holds no
 // model and no solver, only the numbers that decide the next step.
+#include <algorithm>
 #include <string>
 
 namespace traverse {
@@ -37,6 +38,15 @@ class StepController {
   double after_failure(double dt);
   /// dt clamped to [dt_min, dt_max].
   double clamp(double dt) const;
+  /// The step to take towards a time `remaining` [s] ahead that the steps must land on: the
+  /// proposed step, or the remainder when it would reach or pass it, or half the remainder
+  /// when it would leave less than itself (no sliver step).
+  static double landing_step(double proposed, double remaining);
+  /// The step to propose after an accepted step h that was `proposed` before landing and for
+  /// which the controller proposes `next`: a step shortened only to land does not shrink the next.
+  static double after_landing(double h, double proposed, double next) {
+    return h < proposed ? std::max(next, proposed) : next;
+  }
   const StepControlParameters& parameters() const { return p_; }
   /// Whether the last decision was a rejection (or a failure): the next accepted step may not grow.
   bool after_rejection() const { return rejected_last_; }
