@@ -38,10 +38,13 @@ void Progress::update(double current, long steps, const char* detail) {
   printed_ = true;
 }
 
-std::string adaptive_detail(double proposed_dt, const StepControlTotals& totals) {
+bool Progress::due() const { return enabled_ && std::chrono::steady_clock::now() - last_ >= std::chrono::seconds(1); }
+
+void Progress::update(double current, long steps, double proposed_dt, const StepControlTotals& totals) {
+  if (!due()) return;
   char detail[96];
   std::snprintf(detail, sizeof detail, "dt = %.3g s, %ld rejected", proposed_dt, totals.rejected + totals.failed);
-  return detail;
+  update(current, steps, detail);
 }
 
 void Progress::done() {

@@ -18,10 +18,14 @@ class Progress {
   /// Reports `current` after `steps` steps if a second has passed since the last report;
   /// `detail` (e.g. the step size) is shown after the rate.
   void update(double current, long steps, const char* detail = nullptr);
+  /// The same for an adaptive run, with the detail "dt = <proposed_dt> s, <N> rejected"
+  /// (rejected by the error estimate or failed), formatted only when a report is due.
+  void update(double current, long steps, double proposed_dt, const StepControlTotals& totals);
   /// Ends the progress line.
   void done();
 
  private:
+  bool due() const;  ///< enabled, and a second since the last report
   struct Sample {
     std::chrono::steady_clock::time_point when;
     double current;
@@ -34,10 +38,6 @@ class Progress {
   std::deque<Sample> recent_;  ///< reports of the last 10 s (and the one before them)
   bool printed_ = false;
 };
-
-/// The detail of an adaptive run's progress line: "dt = <the proposed step> s, <N> rejected"
-/// (rejected by the error estimate or failed).
-std::string adaptive_detail(double proposed_dt, const StepControlTotals& totals);
 
 /// Whether progress should be shown: --progress, or stderr is a terminal; never with -q.
 bool progress_wanted(bool quiet, bool forced);

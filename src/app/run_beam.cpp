@@ -187,8 +187,10 @@ void BeamObserver::operator()(const beam::BeamSnapshot& s) {
   restart_state_.assign(s.Y.data(), s.Y.data() + s.Y.size());
   restart_state_.insert(restart_state_.end(), s.Ydot.data(), s.Ydot.data() + s.Ydot.size());
   restart_meta_ = {s.t, static_cast<double>(sim_.steps_taken()), static_cast<double>(outputs_)};
-  progress_.update(s.t, sim_.steps_taken(),
-                   p_.adaptive ? adaptive_detail(sim_.proposed_dt(), sim_.adaptive_totals()).c_str() : nullptr);
+  if (p_.adaptive)
+    progress_.update(s.t, sim_.steps_taken(), sim_.proposed_dt(), sim_.adaptive_totals());
+  else
+    progress_.update(s.t, sim_.steps_taken());
   if (s.t >= p_.t_end) return;
   if (const int sig = interrupt_requested(comm_)) {
     progress_.done();

@@ -177,8 +177,10 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
     outputs.write(writer, s.time());
     ++written;
     replay.written(static_cast<std::size_t>(written), comm);
-    progress.update(s.time(), s.steps_taken(),
-                    p.adaptive ? adaptive_detail(s.proposed_dt(), s.adaptive_totals()).c_str() : nullptr);
+    if (p.adaptive)
+      progress.update(s.time(), s.steps_taken(), s.proposed_dt(), s.adaptive_totals());
+    else
+      progress.update(s.time(), s.steps_taken());
     if (s.time() >= p.t_end || s.end_reason() != beam::CoupledEnd::EndTime) return;
     if (const int sig = interrupt_requested(comm)) {
       progress.done();

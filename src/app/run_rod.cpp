@@ -604,7 +604,7 @@ LoopTotals RodAdaptiveLoop::run(bool show_progress) {
       if (p_.rp.due()) p_.rp.store(tot_.last_step, p_.left.position());
       ++k;
     }
-    progress.update(p_.st.time(), tot_.last_step, adaptive_detail(ctl_.next_dt, ctl_.totals()).c_str());
+    progress.update(p_.st.time(), tot_.last_step, ctl_.next_dt, ctl_.totals());
     if (const int sig = k <= outputs ? interrupt_requested(p_.comm) : 0)
       p_.interrupt(tot_.last_step, "adaptive step " + std::to_string(tot_.last_step), sig, progress);
   }

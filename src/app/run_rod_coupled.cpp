@@ -575,7 +575,7 @@ void CoupledLoop::run_adaptive() {
       write();
       store_if_due();
     }
-    progress_.update(state_.t, steps, adaptive_detail(rc.next_dt, rc.totals()).c_str());
+    progress_.update(state_.t, steps, rc.next_dt, rc.totals());
     check_interrupt(k <= outputs);
   }
 }
