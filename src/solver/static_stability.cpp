@@ -22,8 +22,11 @@ using OP = Tpetra::Operator<double>;
 
 class ShiftInvert : public OP {
  public:
+  // A is factorised (or its preconditioner set up) once, here; every apply only solves.
   ShiftInvert(const StaticContext& ctx, Teuchos::RCP<Matrix> A, Teuchos::RCP<Matrix> M)
-      : ctx_(ctx), A_(std::move(A)), M_(std::move(M)) {}
+      : ctx_(ctx), A_(std::move(A)), M_(std::move(M)) {
+    failed_ = !ctx_.linear.set_up(ctx_.model->get_x_space(), *A_);
+  }
   Teuchos::RCP<const Tpetra::Map<>> getDomainMap() const override { return M_->getDomainMap(); }
   Teuchos::RCP<const Tpetra::Map<>> getRangeMap() const override { return M_->getRangeMap(); }
   void apply(const MV& X, MV& Y, Teuchos::ETransp mode = Teuchos::NO_TRANS, double alpha = 1.0,
@@ -33,7 +36,10 @@ class ShiftInvert : public OP {
     for (size_t k = 0; k < X.getNumVectors(); ++k) {
       M_->apply(*X.getVector(k), b);
       y.putScalar(0.0);
-      if (!ctx_.solve(*A_, b, y)) failed_ = true;
+      if (failed_ || !ctx_.linear.solve(b, y)) {
+        failed_ = true;
+        y.putScalar(0.0);
+      }
       Y.getVectorNonConst(k)->update(alpha, y, beta);
     }
   }
