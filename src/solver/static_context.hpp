@@ -33,6 +33,8 @@ class StaticLinearSolver {
   /// y is not finite) on any.
   bool solve(const StaticRodModel::Vector& b, StaticRodModel::Vector& y) const;
   const LinearSolverChoice& choice() const { return choice_; }
+  long set_up_count() const { return set_ups_; }  ///< calls of set_up so far
+  long solve_count() const { return solves_; }    ///< calls of solve so far
   const Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>>& factory() const { return lows_; }
 
  private:
@@ -42,6 +44,7 @@ class StaticLinearSolver {
   Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> lows_;
   mutable Teuchos::RCP<const Thyra::VectorSpaceBase<double>> space_;  // of the last set-up
   mutable Teuchos::RCP<Thyra::LinearOpWithSolveBase<double>> op_;
+  mutable long set_ups_ = 0, solves_ = 0;
 };
 
 struct StaticContext {
@@ -53,8 +56,6 @@ struct StaticContext {
   /// Frames of `state` become the model's references (state should be rebased).
   StaticContext(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state, const Comm& comm,
                 const Teuchos::ParameterList& solver);
-  /// Solves W y = b (set-up and solve); false on every rank when either fails on any.
-  bool solve(const StaticRodModel::Matrix& W, const StaticRodModel::Vector& b, StaticRodModel::Vector& y) const;
 };
 
 /// Newton on F(x, p) = 0 with, when iparam >= 0, the parameter p[iparam] free and the extra

@@ -98,6 +98,7 @@ bool StaticLinearSolver::everywhere(bool local) const {
 
 bool StaticLinearSolver::set_up(const Teuchos::RCP<const Thyra::VectorSpaceBase<double>>& space, const Matrix& W) const {
   const bool debug = std::getenv("TRAVERSE_STATICS_DEBUG") != nullptr;
+  ++set_ups_;
   space_ = space;
   auto Wc = Teuchos::rcp_const_cast<Matrix>(Teuchos::rcpFromRef(W));
   auto op = Thyra::tpetraLinearOp<double, LO, GO, Node>(space, space, Wc);
@@ -114,6 +115,7 @@ bool StaticLinearSolver::set_up(const Teuchos::RCP<const Thyra::VectorSpaceBase<
 
 bool StaticLinearSolver::solve(const Vector& b, Vector& y) const {
   if (op_.is_null()) throw std::logic_error("StaticLinearSolver::solve: no successful set_up");
+  ++solves_;
   const bool debug = std::getenv("TRAVERSE_STATICS_DEBUG") != nullptr;
   auto bt = Thyra::createConstVector(Teuchos::rcpFromRef(b), space_);
   auto yt = Thyra::createVector(Teuchos::rcpFromRef(y), space_);
@@ -142,10 +144,6 @@ StaticContext::StaticContext(const rod::StaticProblem& problem, const std::vecto
   model = Teuchos::rcp(new StaticRodModel(problem, mesh));
   model->set_state(state);
   model->set_W_factory(linear.factory());
-}
-
-bool StaticContext::solve(const Matrix& W, const Vector& b, Vector& y) const {
-  return linear.set_up(model->get_x_space(), W) && linear.solve(b, y);
 }
 
 StaticSolveReport bordered_newton(const StaticContext& ctx, Vector& x, Params& p, int iparam, const Vector* a,

@@ -152,6 +152,7 @@ Stability compute_stability(const StaticContext& ctx, const Vector& x, const Par
   auto M = model.new_matrix();
   model.fill_mass(x, *M);
   auto A = shifted_stiffness(model, x, p, sigma, *M);
+  const long set_ups = ctx.linear.set_up_count(), solves = ctx.linear.solve_count();
   auto op = Teuchos::rcp(new ShiftInvert(ctx, A, M));
   auto init = Teuchos::rcp(new MV(M->getRowMap(), 1));
   op->apply(*start_vector(M->getRowMap()), *init);
@@ -163,6 +164,8 @@ Stability compute_stability(const StaticContext& ctx, const Vector& x, const Par
   const Anasazi::ReturnType ret = solve_eigenproblem(problem, nev, options.tolerance);
   const auto& sol = problem->getSolution();
   out.converged = ret == Anasazi::Converged && !op->failed() && sol.numVecs >= nev;
+  out.factorisations = static_cast<int>(ctx.linear.set_up_count() - set_ups);
+  out.solves = static_cast<int>(ctx.linear.solve_count() - solves);
   const int best_col = sort_eigenvalues(sol, sigma, out);
   if (best_col >= 0) {
     Vector phi(M->getRowMap());

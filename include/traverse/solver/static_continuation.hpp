@@ -44,6 +44,8 @@ struct Stability {
   /// The computed eigenvalue closest to zero (the bifurcation test function) [1/s^2].
   double critical = std::numeric_limits<double>::quiet_NaN();
   std::vector<Vec12> critical_mode;  ///< its eigenvector per node (real part), max |r| = 1
+  int factorisations = 0;  ///< set-ups of the linear solver for K_s - s M_s in this solve (1)
+  int solves = 0;          ///< solves with it (one per Krylov-Schur operator application)
 };
 
 /// One accepted continuation point.
