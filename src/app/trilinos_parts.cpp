@@ -4,6 +4,7 @@
 #include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_Core.hpp>
 
+#include <cmath>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -71,9 +72,37 @@ std::string arch_summary(const solver::ArchFormation& arch) {
 
 rod::RodState arch_start(const scene::Scene& sc, const Teuchos::ParameterList& solver, MPI_Comm comm,
                          std::string& description) {
-  const solver::ArchFormation arch = form_arch(sc, teuchos_comm(comm), solver);
+  const auto tcomm = teuchos_comm(comm);
+  const solver::ArchFormation arch = form_arch(sc, tcomm, solver);
   description = arch_summary(arch);
-  return rod::dynamic_state_from_static(arch.problem.model(), arch.state);
+  // initial_state.loaded: the start in equilibrium with the prescribed load on the arch at
+  // t = 0 (as a static start is). Without it a load entering at a pinned end puts its force
+  // into the first cell at once, a step that excites grid-scale waves the undamped scheme keeps.
+  if (!sc.initial_state.loaded) return rod::dynamic_state_from_static(arch.problem.model(), arch.state);
+  const scene::MovingLoadSpec* on = nullptr;
+  int count = 0;
+  for (const auto& l : sc.loads) {
+    const double s0 = l.sigma(0.0);
+    if (l.coupled || !(l.force.norm() > 0.0) || !std::isfinite(s0) || s0 < 0.0 || s0 > sc.rod.length) continue;
+    on = &l;
+    ++count;
+  }
+  if (count != 1)
+    scene::fail_at(sc, "initial_state.loaded",
+                   "exactly one prescribed load on the arch at t = 0 (a moving force or mass, not coupled)",
+                   std::to_string(count) + " such loads");
+  rod::StaticProblem pr = arch.problem;
+  pr.has_point_load = true;
+  pr.load_direction = on->force / on->force.norm();
+  pr.value(rod::StaticParameter::load_magnitude) = on->force.norm();
+  pr.value(rod::StaticParameter::load_position) = on->sigma(0.0);
+  std::vector<rod::StaticNode> state = arch.state;
+  const solver::StaticSolveReport r = solver::static_solve(pr, state, tcomm, solver);
+  if (!r.converged) throw std::runtime_error("arch formation: the equilibrium with the load at t = 0: " + r.message);
+  std::ostringstream os;
+  os << "; in equilibrium with the load at s = " << on->sigma(0.0) << " m (" << r.iterations << " Newton iterations)";
+  description += os.str();
+  return rod::dynamic_state_from_static(pr.model(), state);
 }
 
 }  // namespace traverse::app

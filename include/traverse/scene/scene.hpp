@@ -199,6 +199,7 @@ struct InitialStateSpec {
   std::string file;         ///< type file: the continuation output file
   std::string state;        ///< type file: the state's name in it (default "final")
   double end_to_end = 0.0;  ///< type arch: end-to-end distance dz [m]
+  bool loaded = false;      ///< type arch: in equilibrium with the load on the arch at t = 0
 };
 
 /// A scalar measured on each static state of a continuation run.
