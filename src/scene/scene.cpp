@@ -888,6 +888,9 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
     sc.loads.push_back(build_load(loads.name(it), loads.sublist(loads.name(it)), structure_mass, sc.length(), sc.gravity));
   check_coupled_masses(sc);
   if (sc.model == Model::Rod && sc.initial_state.loaded) {
+    if (sc.continuation.enabled)
+      fail_at(sc, "initial_state.loaded", "false in a continuation scene (the statics start from the unloaded arch "
+              "and continue in the load)", "true");
     int on = 0;
     for (const auto& l : sc.loads) {
       const double s0 = l.sigma(0.0);

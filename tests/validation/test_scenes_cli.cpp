@@ -140,6 +140,11 @@ TEST(ScenesCli, LoadedArchStartsInEquilibriumWithTheLoad) {
   EXPECT_NE(log.find("initial_state.loaded"), std::string::npos) << log;
   EXPECT_EQ(run("check " + scene + " --set initial_state.loaded=true --set loads.F.entry_time=1", &log), 2);
   EXPECT_NE(log.find("initial_state.loaded"), std::string::npos) << log;
+  EXPECT_EQ(run("check " + (kInputs / "statics" / "shallow_arch_sigma.yaml").string() +
+                    " --set initial_state.loaded=true",
+                &log),
+            2);
+  EXPECT_NE(log.find("initial_state.loaded"), std::string::npos) << log;
 }
 
 TEST(ScenesCli, DynamicsStartFromAStateSavedByAContinuationRun) {
