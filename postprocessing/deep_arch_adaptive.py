@@ -5,11 +5,16 @@ several meshes (mesh.ds, down to the scenes' own) and tolerances (time.adaptive.
 rho_inf = 1 (the scenes'), outputs every 0.125 s (v = 0.01) and 0.25 s (v = 0.005).
 
 For each run it prints the events of the motion: where the arch flops sideways (|x| first
-passes 1 cm), how many excursions about the out-of-plane state follow (maxima of x before the
-crossing), the range of x between the first and the last of them, where x first passes -1 cm (the crossing to the other side),
-its minimum, and the amplitude of the oscillation about the planar state after sigma = 0.7 m.
+passes 1 cm), how many excursions about the out-of-plane state follow (maxima of x above 1 cm
+before the crossing), the range of x between the first and the last of them, where x comes back
+below 1 cm after the last one (the return towards the planar state), where x first passes -1 cm
+(the crossing to the other side), its minimum, and the amplitude of the oscillation about the
+planar state after sigma = 0.7 m.
 
-Usage: deep_arch_adaptive.py --traverse BUILD/traverse [--out DIR] [--plot-only]
+--loaded runs every case with initial_state.loaded = true (the arch starts in equilibrium with
+the load at s = 0, so its entry is no step; files named *_loaded.h5).
+
+Usage: deep_arch_adaptive.py --traverse BUILD/traverse [--out DIR] [--plot-only] [--loaded]
                              [--runs v:ds:tol ...]
 (The twelve default runs take about 25 min of CPU here, most of it the 1e-3 runs.)
 Writes DIR/deep_v<v>_ds<ds>_<tol>.h5 per run (an existing complete file is reused),
@@ -37,12 +42,12 @@ DEFAULT_RUNS = [
 ]
 
 
-def name(v, ds, tol):
-    return f"deep_v{v:g}_ds{ds:g}_{tol:g}.h5"
+def name(v, ds, tol, loaded=False):
+    return f"deep_v{v:g}_ds{ds:g}_{tol:g}" + ("_loaded" if loaded else "") + ".h5"
 
 
-def run(exe, v, ds, tol, out_dir):
-    path = os.path.join(out_dir, name(v, ds, tol))
+def run(exe, v, ds, tol, out_dir, loaded=False):
+    path = os.path.join(out_dir, name(v, ds, tol, loaded))
     if os.path.exists(path):
         try:
             traverse_io.load(path)
@@ -54,6 +59,8 @@ def run(exe, v, ds, tol, out_dir):
     cmd = [exe, "run", scene, "-o", path, "--overwrite", "--set", f"mesh.ds={ds:g}",
            "--set", f"time.dt={interval / 2:.17g}", "--set", "output.every=2",
            "--set", f"time.adaptive.tolerance={tol:g}", "--set", "output.fields=[]"]
+    if loaded:
+        cmd += ["--set", "initial_state.loaded=true"]
     print(" ".join(cmd), flush=True)
     res = subprocess.run(cmd, capture_output=True, text=True)
     if res.returncode != 0:
@@ -70,12 +77,14 @@ def events(path):
     x = np.asarray(out.probes["midpoint"], dtype=float)[:, 0]
     nan = float("nan")
     if not (np.abs(x) > 0.01).any():  # no flop
-        return {"flop_sigma": nan, "excursions": 0, "x_min_before": nan, "x_max_before": nan, "cross_sigma": nan,
-                "x_min": float(x.min()), "late_amplitude": float(np.abs(x[sigma > 0.7]).max())}, sigma, x
+        return {"flop_sigma": nan, "excursions": 0, "x_min_before": nan, "x_max_before": nan, "return_sigma": nan,
+                "cross_sigma": nan, "x_min": float(x.min()),
+                "late_amplitude": float(np.abs(x[sigma > 0.7]).max())}, sigma, x
     i = int(np.argmax(np.abs(x) > 0.01))
     j = int(np.argmax(x < -0.01)) if (x < -0.01).any() else len(x)
     seg = x[i:j]
-    maxima = [k for k in range(1, len(seg) - 1) if seg[k] > seg[k - 1] and seg[k] >= seg[k + 1]]
+    maxima = [k for k in range(1, len(seg) - 1) if seg[k] > seg[k - 1] and seg[k] >= seg[k + 1] and seg[k] > 0.01]
+    back = np.nonzero(seg[maxima[-1]:] < 0.01)[0] if maxima else np.array([], dtype=int)
     # The troughs between the excursions: the lowest x between the first and the last maximum.
     troughs = seg[maxima[0]:maxima[-1] + 1] if len(maxima) > 1 else np.array([np.nan])
     late = np.abs(x[sigma > 0.7])
@@ -83,6 +92,7 @@ def events(path):
         "flop_sigma": float(sigma[i]), "excursions": len(maxima),
         "x_min_before": float(troughs.min()),
         "x_max_before": float(seg.max()) if len(seg) else float("nan"),
+        "return_sigma": float(sigma[i + maxima[-1] + back[0]]) if back.size else float("nan"),
         "cross_sigma": float(sigma[j]) if j < len(x) else float("nan"), "x_min": float(x.min()),
         "late_amplitude": float(late.max()) if late.size else float("nan"),
     }, sigma, x
@@ -94,6 +104,7 @@ def main(argv=None):
     ap.add_argument("--out", default="deep_arch_adaptive")
     ap.add_argument("--plot-only", action="store_true")
     ap.add_argument("--runs", nargs="*", help="v:ds:tol triples (default: the twelve of docs/adaptive.md)")
+    ap.add_argument("--loaded", action="store_true", help="initial_state.loaded = true in every run")
     a = ap.parse_args(argv)
     runs = [tuple(float(p) for p in r.split(":")) for r in a.runs] if a.runs else DEFAULT_RUNS
     if not a.plot_only and not a.traverse:
@@ -101,8 +112,8 @@ def main(argv=None):
     os.makedirs(a.out, exist_ok=True)
     rows, traces = [], {}
     for v, ds, tol in runs:
-        path = os.path.join(a.out, name(v, ds, tol)) if a.plot_only else run(os.path.abspath(a.traverse), v, ds, tol,
-                                                                            a.out)
+        path = (os.path.join(a.out, name(v, ds, tol, a.loaded)) if a.plot_only
+                else run(os.path.abspath(a.traverse), v, ds, tol, a.out, a.loaded))
         if not os.path.exists(path):
             print(f"deep_arch_adaptive.py: {path} missing, skipped", file=sys.stderr)
             continue
@@ -114,9 +125,11 @@ def main(argv=None):
             continue
         print(f"v = {v:g} m/s, ds = {ds:g} m, tolerance {tol:g}: flops at sigma = {e['flop_sigma']:.4f} m, "
               f"{e['excursions']} excursions, x in [{e['x_min_before']:.3f}, {e['x_max_before']:.3f}] m between them, "
+              f"back below 1 cm at sigma = {e['return_sigma']:.4f} m, "
               f"crosses at sigma = {e['cross_sigma']:.4f} m (min x {e['x_min']:.4f} m), "
               f"|x| <= {e['late_amplitude']:.4f} m after sigma = 0.7 m", flush=True)
-    with open(os.path.join(a.out, "deep_arch_adaptive.csv"), "w", newline="") as f:
+    csv_path = os.path.join(a.out, "deep_arch_adaptive" + ("_loaded" if a.loaded else "") + ".csv")
+    with open(csv_path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
@@ -135,7 +148,8 @@ def main(argv=None):
             row[0].plot(sigma, x, lw=0.8, label=label)
             zoom = (sigma > 0.44) & (sigma < 0.6)
             row[1].plot(sigma[zoom], x[zoom], lw=0.9, label=label)
-        row[0].set_title(f"deep arch, v = {v:g} m/s (rho_inf = 1, error controlled)")
+        row[0].set_title(f"deep arch, v = {v:g} m/s (rho_inf = 1, error controlled"
+                         + (", start in equilibrium with the load)" if a.loaded else ")"))
         row[1].set_title("flop, excursions, crossing (zoom)")
         for ax in row:
             ax.set_ylabel("midpoint x (lateral) [m]")
@@ -144,9 +158,9 @@ def main(argv=None):
     for ax in axes[-1]:
         ax.set_xlabel("load position sigma [m]")
     fig.tight_layout()
-    png = os.path.join(a.out, "adaptive_deep_arch.png")
+    png = os.path.join(a.out, "adaptive_deep_arch" + ("_loaded" if a.loaded else "") + ".png")
     fig.savefig(png, dpi=110)
-    print(f"wrote {png} and {os.path.join(a.out, 'deep_arch_adaptive.csv')}")
+    print(f"wrote {png} and {csv_path}")
 
 
 if __name__ == "__main__":

@@ -15,10 +15,13 @@ Studies (--study):
            right end has turned through half its initial inclination, interpolated between output
            steps every 0.0625 s, or every step when dt is longer); reference: fixed dt / 256,
            output every step.
-  arch-undamped  the same at rho_inf = 1 and v = 0.5 m/s (ds = 0.01, the whole crossing).
+  arch-undamped  the same at rho_inf = 1 and v = 0.5 m/s (ds = 0.01, the whole crossing): the
+           midpoint trace; reference: fixed dt = ds / (256 v).
+  arch-undamped-snap  the same scene to t = 1.2 s: the snap position (as in arch, outputs every
+           0.0025 s = 1.25 mm of load travel); reference: fixed dt = ds / (256 v), output every step.
 
-Usage: work_precision.py --traverse BUILD/traverse --study cable|arch|arch-undamped [--out DIR]
-       [--plot-only]
+Usage: work_precision.py --traverse BUILD/traverse --study cable|arch|arch-undamped|arch-undamped-snap [--out DIR]
+       [--loaded] [--plot-only]
 Writes DIR/<study>.csv (method, parameter, cpu_s, steps, error) and DIR/<study>.png.
 """
 import argparse
@@ -65,7 +68,20 @@ STUDIES = {
         "tolerances": [1e-2, 1e-3, 1e-4, 1e-5],
         "reference": ("fixed", 256),
     },
+    "arch-undamped-snap": {
+        "scene": os.path.join(INPUTS, "arch", "shallow_arch_v0.5.yaml"),
+        "sets": ["scheme.rho_inf=1", "output.fields=[]", "time.end=1.2"],
+        "dt": 0.02,
+        "metric": "snap",
+        "output_interval": 0.0025,
+        "refine": [1, 4, 16, 64],
+        "tolerances": [1e-2, 1e-3, 1e-4, 1e-5],
+        "reference": ("fixed", 256),
+    },
 }
+
+
+LOADED = []  # --loaded: ["initial_state.loaded=true"] (the arch starts in equilibrium with the load)
 
 
 def run(exe, study, method, param, out_dir):
@@ -74,7 +90,7 @@ def run(exe, study, method, param, out_dir):
     name = f"{study}_{method}_{param:g}.h5"
     path = os.path.join(out_dir, name)
     cmd = [exe, "run", s["scene"], "-o", path, "--overwrite"]
-    for kv in s["sets"]:
+    for kv in s["sets"] + LOADED:
         cmd += ["--set", kv]
     interval = s.get("output_interval", s["dt"])  # the output times (snap metric: denser than dt)
     if method == "fixed":
@@ -175,7 +191,7 @@ def plot(rows, study, path):
     ax.set_xlabel("CPU time of the whole process [s]")
     ax.set_ylabel("|error| of the snap position sigma [m]" if STUDIES[study].get("metric") == "snap"
                   else f"max |error| of the {STUDIES[study]['probe']} trace [m]")
-    ax.set_title(f"work-precision: {study}")
+    ax.set_title(f"work-precision: {study}" + (" (start loaded)" if LOADED else ""))
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
@@ -188,7 +204,13 @@ def main(argv=None):
     ap.add_argument("--study", choices=sorted(STUDIES), required=True)
     ap.add_argument("--out", default="work_precision")
     ap.add_argument("--plot-only", action="store_true")
+    ap.add_argument("--loaded", action="store_true",
+                    help="arch studies: initial_state.loaded=true (the start in equilibrium with the load at t = 0)")
     a = ap.parse_args(argv)
+    if a.loaded:
+        if not a.study.startswith("arch"):
+            sys.exit("work_precision.py: --loaded applies to the arch studies")
+        LOADED.append("initial_state.loaded=true")
     os.makedirs(a.out, exist_ok=True)
     csv_path = os.path.join(a.out, f"{a.study}.csv")
     rows = read_csv(csv_path) if a.plot_only else study_rows(os.path.abspath(a.traverse), a.study, a.out)
