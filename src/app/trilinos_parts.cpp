@@ -4,7 +4,6 @@
 #include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_Core.hpp>
 
-#include <cmath>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -79,18 +78,9 @@ rod::RodState arch_start(const scene::Scene& sc, const Teuchos::ParameterList& s
   // t = 0 (as a static start is). Without it a load entering at a pinned end puts its force
   // into the first cell at once, a step that excites grid-scale waves the undamped scheme keeps.
   if (!sc.initial_state.loaded) return rod::dynamic_state_from_static(arch.problem.model(), arch.state);
-  const scene::MovingLoadSpec* on = nullptr;
-  int count = 0;
-  for (const auto& l : sc.loads) {
-    const double s0 = l.sigma(0.0);
-    if (l.coupled || !(l.force.norm() > 0.0) || !std::isfinite(s0) || s0 < 0.0 || s0 > sc.rod.length) continue;
-    on = &l;
-    ++count;
-  }
-  if (count != 1)
-    scene::fail_at(sc, "initial_state.loaded",
-                   "exactly one prescribed load on the arch at t = 0 (a moving force or mass, not coupled)",
-                   std::to_string(count) + " such loads");
+  const auto loads = scene::prescribed_loads_at_start(sc);
+  if (loads.size() != 1) throw std::logic_error("initial_state.loaded: the scene has not exactly one load at t = 0");
+  const scene::MovingLoadSpec* on = loads.front();
   rod::StaticProblem pr = arch.problem;
   pr.has_point_load = true;
   pr.load_direction = on->force / on->force.norm();

@@ -608,6 +608,15 @@ double MovingLoadSpec::position(double t) const {
   return start + direction() * (speed * tau + 0.5 * acceleration * tau * tau);
 }
 
+std::vector<const MovingLoadSpec*> prescribed_loads_at_start(const Scene& sc) {
+  std::vector<const MovingLoadSpec*> on;
+  for (const auto& l : sc.loads) {
+    const double s0 = l.sigma(0.0);
+    if (!l.coupled && l.force.norm() > 0.0 && std::isfinite(s0) && s0 >= 0.0 && s0 <= sc.length()) on.push_back(&l);
+  }
+  return on;
+}
+
 double MovingLoadSpec::sigma(double t) const {
   return t < entry_time ? std::numeric_limits<double>::quiet_NaN() : position(t);
 }
@@ -891,11 +900,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
     if (sc.continuation.enabled)
       fail_at(sc, "initial_state.loaded", "false in a continuation scene (the statics start from the unloaded arch "
               "and continue in the load)", "true");
-    int on = 0;
-    for (const auto& l : sc.loads) {
-      const double s0 = l.sigma(0.0);
-      if (!l.coupled && l.force.norm() > 0.0 && std::isfinite(s0) && s0 >= 0.0 && s0 <= sc.length()) ++on;
-    }
+    const size_t on = prescribed_loads_at_start(sc).size();
     if (on != 1)
       fail_at(sc, "initial_state.loaded",
               "exactly one prescribed load (a moving force or mass, not coupled) on the arch at t = 0",

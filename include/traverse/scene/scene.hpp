@@ -286,6 +286,10 @@ std::string describe_scene(const Scene& scene, bool with_comments = true);
 /// Documentation of every registered type (end conditions, loads, probes, sections).
 std::string describe_types();
 
+/// The prescribed loads (moving forces and masses, not coupled ones) that are on the structure
+/// at t = 0 with a non-zero force (what initial_state.loaded puts into the arch's start).
+std::vector<const MovingLoadSpec*> prescribed_loads_at_start(const Scene& scene);
+
 /// Throws SceneError located at `key_path` of the scene ("<file>:<line>:<col>: <key>:
 /// expected <expected>, found <found>"), for problems found after validation.
 [[noreturn]] void fail_at(const Scene& scene, const std::string& key_path, const std::string& expected,
