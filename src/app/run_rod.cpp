@@ -738,7 +738,8 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     restart.file = output::move_aside_for_restart(opt.output, comm);
   }
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod", {}};
-  info.attributes = {{"rod_path", path.planar ? "planar" : "3D"}, {"rod_path_detail", path_text}};
+  info.attributes = {{"rod_path", path.planar ? "planar" : "3D"}, {"rod_path_detail", path_text},
+                     {"initial_state", start.description}};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(),
                         std::max<size_t>(1, sc.loads.size()));
   outputs.declare(writer);

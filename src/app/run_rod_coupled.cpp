@@ -640,7 +640,8 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
     source = output::move_aside_for_restart(opt.output, comm);
   }
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod", {}};
-  info.attributes = {{"rod_path", path.planar ? "planar" : "3D"}, {"rod_path_detail", path_text + " (coupled_mass)"}};
+  info.attributes = {{"rod_path", path.planar ? "planar" : "3D"}, {"rod_path_detail", path_text + " (coupled_mass)"},
+                     {"initial_state", start.description}};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
   outputs.declare(writer);
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", grid.t_start, grid.t_end);

@@ -170,6 +170,31 @@ TEST(ScenesCli, LoadedArchStartSparesTheAdaptiveSteps) {
   EXPECT_GT(steps[0], 10 * steps[1]);
 }
 
+// A sweep whose cases form the same arch forms it once: the later cases reuse it (root
+// attribute initial_state says so) and give the same output, bit for bit, as separate runs.
+TEST(ScenesCli, SweepOfArchScenesFormsTheArchOnce) {
+  const std::string scene = (kInputs / "arch" / "shallow_arch_v2.0.yaml").string();
+  const std::string common = " --set mesh.ds=0.05 --set time.end=0.05 --set output.fields=[]";
+  const fs::path dir = scratch() / "arch_sweep";
+  std::string log;
+  ASSERT_EQ(run("sweep " + scene + " -o " + dir.string() + " --overwrite -q" + common + " --vary loads.F.speed=1,2",
+                &log),
+            0)
+      << log;
+  const std::string first = traverse::output::Reader((dir / "case_0000.h5").string()).attribute("initial_state");
+  const std::string second = traverse::output::Reader((dir / "case_0001.h5").string()).attribute("initial_state");
+  EXPECT_NE(first.find("arch formed"), std::string::npos) << first;
+  EXPECT_EQ(first.find("reused"), std::string::npos) << first;
+  EXPECT_NE(second.find("formed earlier in this process, reused"), std::string::npos) << second;
+  const std::string alone = (scratch() / "arch_sweep_alone.h5").string();
+  ASSERT_EQ(run("run " + scene + " -o " + alone + " --overwrite -q" + common + " --set loads.F.speed=2", &log), 0)
+      << log;
+  const auto a = traverse::output::Reader((dir / "case_0001.h5").string()).probe("midpoint").values;
+  const auto b = traverse::output::Reader(alone).probe("midpoint").values;
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t k = 0; k < a.size(); ++k) EXPECT_EQ(a[k], b[k]) << k;
+}
+
 TEST(ScenesCli, DynamicsStartFromAStateSavedByAContinuationRun) {
   const std::string statics = (scratch() / "sag.h5").string();
   std::string log;
