@@ -170,7 +170,10 @@ InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Co
     case T::file: {
       InitialState out;
       try {
-        out.state = sc.initial_state.type == T::arch ? arch_start(sc, setup.solver, comm, out.description)
+        // The arch's statics get the scene's solver section unfilled, as a statics run does:
+        // their 2-rank default (GMRES + ILUT) applies only when no preconditioner is given
+        // (docs/statics.md, "Linear solves"); the filled defaults' SCHWARZ fails there.
+        out.state = sc.initial_state.type == T::arch ? arch_start(sc, sc.solver_parameters(), comm, out.description)
                                                      : file_start(sc, out.description);
       } catch (const std::runtime_error& e) {
         if (dynamic_cast<const scene::SceneError*>(&e)) throw;

@@ -146,6 +146,29 @@ TEST(AdaptiveCli, OneAndTwoRanksTakeTheSameSteps) {
   EXPECT_LE(diff, 1e-9) << why;
 }
 
+// An arch scene on 2 ranks: the formation's statics take the 2-rank default (GMRES + ILUT; the
+// filled-in SCHWARZ default failed there, "no Euler pitchfork found"), the start loaded with the
+// load, adaptive steps: the same steps and outputs as on 1 rank.
+TEST(AdaptiveCli, LoadedArchOnOneAndTwoRanks) {
+  const fs::path d = scratch("adaptive-arch-ranks");
+  const std::string a = (d / "np1.h5").string(), b = (d / "np2.h5").string();
+  const std::string args = " run " + kArch + " --overwrite --set mesh.ds=0.05 --set scheme.rho_inf=1 --set time.end=0.2"
+                           " --set time.dt=0.01 --set time.adaptive.tolerance=1e-3 --set initial_state.loaded=true"
+                           " --set output.fields=[r,n] -o ";
+  const RunResult r1 = run_command(kExe + args + a), r2 = run_command(kMpi + kExe + args + b);
+  ASSERT_EQ(r1.code, 0) << r1.out;
+  ASSERT_EQ(r2.code, 0) << r2.out;
+  EXPECT_NE(r2.out.find("in equilibrium with the load"), std::string::npos) << r2.out;
+  const Counts c1 = counts(r1.out), c2 = counts(r2.out);
+  EXPECT_EQ(c1.accepted, c2.accepted);
+  EXPECT_EQ(c1.rejected, c2.rejected);
+  std::string why;
+  const double diff = max_file_difference(a, b, why);
+  std::cout << "  arch, 1 vs 2 ranks: " << c1.accepted << " and " << c2.accepted << " steps, max |difference| = " << diff
+            << " (" << why << ")\n";
+  EXPECT_LE(diff, 1e-9) << why;
+}
+
 // The undamped shallow arch at v = 0.5 m/s (ds = 0.02): the snap through is passed (exit 0),
 // with rejected steps, and the right end turns through its initial inclination.
 TEST(AdaptiveCli, UndampedSnapThroughIsPassedWithRejectedSteps) {
