@@ -28,7 +28,7 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import traverse_io  # noqa: E402
+from work_precision import trace  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCENE = os.path.join(HERE, "..", "inputs", "arch", "shallow_arch_v0.02.yaml")
@@ -54,11 +54,6 @@ def run(exe, name, k, eps, end, ds, out_dir):
     if res.returncode != 0:
         sys.exit(f"arch_sensitivity.py: {' '.join(cmd)} failed ({res.returncode}):\n{res.stdout}{res.stderr}")
     return path, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
-
-
-def midpoint(path):
-    out = traverse_io.load(path)
-    return np.asarray(out.time, dtype=float), np.asarray(out.probes["midpoint"], dtype=float)
 
 
 def snap_time(t, r):
@@ -141,7 +136,7 @@ def main(argv=None):
                 sys.exit("arch_sensitivity.py: --traverse is required unless --plot-only")
             path, cpu[name] = run(args.traverse, name, k, eps, args.end, args.ds, args.out)
             print(f"{name}: dt = {args.ds / SPEED / k:.6g} s, force x (1 + {eps:g}), CPU {cpu[name]:.2f} s", flush=True)
-        data[name] = midpoint(path)
+        data[name] = trace(path, "midpoint")
     t_snap = snap_time(*data["k512"])
     window = t_snap + 1.0
     rows = []

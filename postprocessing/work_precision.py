@@ -68,16 +68,13 @@ STUDIES = {
         "tolerances": [1e-2, 1e-3, 1e-4, 1e-5],
         "reference": ("fixed", 256),
     },
-    "arch-undamped-snap": {
-        "scene": os.path.join(INPUTS, "arch", "shallow_arch_v0.5.yaml"),
-        "sets": ["scheme.rho_inf=1", "output.fields=[]", "time.end=1.2"],
-        "dt": 0.02,
-        "metric": "snap",
-        "output_interval": 0.0025,
-        "refine": [1, 4, 16, 64],
-        "tolerances": [1e-2, 1e-3, 1e-4, 1e-5],
-        "reference": ("fixed", 256),
-    },
+}
+# The undamped arch to just after the snap, the snap position as metric (outputs 1.25 mm of load travel apart).
+STUDIES["arch-undamped-snap"] = {
+    **{k: v for k, v in STUDIES["arch-undamped"].items() if k != "probe"},
+    "sets": STUDIES["arch-undamped"]["sets"] + ["time.end=1.2"],
+    "metric": "snap",
+    "output_interval": 0.0025,
 }
 
 

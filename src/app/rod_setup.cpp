@@ -238,12 +238,7 @@ rod::StaticProblem static_problem(const scene::Scene& sc) {
   p.value(rod::StaticParameter::end_load) = -sc.right.axial_force;
   p.value(rod::StaticParameter::end_position) = sc.rod.length;
   if (sc.loads.size() == 1) {
-    const auto& l = sc.loads.front();
-    const double F = l.force.norm();
-    p.has_point_load = F > 0.0;
-    if (p.has_point_load) p.load_direction = l.force / F;
-    p.value(rod::StaticParameter::load_magnitude) = F;
-    p.value(rod::StaticParameter::load_position) = l.start;
+    p.set_point_load(sc.loads.front().force, sc.loads.front().start);
   } else if (!sc.loads.empty()) {
     scene::fail_at(sc, "loads", "at most one load in a continuation scene", std::to_string(sc.loads.size()) + " loads");
   }

@@ -117,10 +117,7 @@ rod::RodState arch_start(const scene::Scene& sc, const Teuchos::ParameterList& s
   if (loads.size() != 1) throw std::logic_error("initial_state.loaded: the scene has not exactly one load at t = 0");
   const scene::MovingLoadSpec* on = loads.front();
   rod::StaticProblem pr = arch.problem;
-  pr.has_point_load = true;
-  pr.load_direction = on->force / on->force.norm();
-  pr.value(rod::StaticParameter::load_magnitude) = on->force.norm();
-  pr.value(rod::StaticParameter::load_position) = on->sigma(0.0);
+  pr.set_point_load(on->force, on->sigma(0.0));
   std::vector<rod::StaticNode> state = arch.state;
   const solver::StaticSolveReport r = solver::static_solve(pr, state, tcomm, solver);
   if (!r.converged) throw std::runtime_error("arch formation: the equilibrium with the load at t = 0: " + r.message);

@@ -44,6 +44,15 @@ struct StaticProblem {
 
   double value(StaticParameter p) const { return values[static_cast<size_t>(p)]; }
   double& value(StaticParameter p) { return values[static_cast<size_t>(p)]; }
+  /// The point force `force` [N] (fixed frame) at `position` [m]: its direction, magnitude and
+  /// position (no point force when it is zero).
+  void set_point_load(const Vec3& force, double position) {
+    const double F = force.norm();
+    has_point_load = F > 0.0;
+    if (has_point_load) load_direction = force / F;
+    value(StaticParameter::load_magnitude) = F;
+    value(StaticParameter::load_position) = position;
+  }
   /// The base model with the parameters applied (see StaticParameter).
   StaticModel model() const;
   /// The same with `vals` in place of `values`.
