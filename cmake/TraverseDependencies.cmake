@@ -34,6 +34,52 @@ target_include_directories(traverse_hdf5 SYSTEM INTERFACE ${HDF5_C_INCLUDE_DIRS}
 target_link_libraries(traverse_hdf5 INTERFACE ${HDF5_C_LIBRARIES} MPI::MPI_C)
 target_compile_definitions(traverse_hdf5 INTERFACE ${HDF5_C_DEFINITIONS})
 
+# The same HDF5 as a static archive, for the executable traverse only (docs/developer.md,
+# "Start-up"): Debian's shared libhdf5 loads libcurl and its TLS, Kerberos and LDAP chain
+# (about 30 libraries, two thirds of an empty program's start here) for a remote-file
+# driver traverse never uses; linked statically only the objects traverse calls come in.
+# Falls back to the shared library when the archive is absent or does not link.
+set(TRAVERSE_HDF5_LEAN traverse_hdf5)
+set(_traverse_h5_archive "")
+foreach(_lib IN LISTS HDF5_C_LIBRARIES)
+  if(_lib MATCHES "libhdf5[^/]*\\.so$" AND NOT _lib MATCHES "_hl")
+    string(REGEX REPLACE "\\.so$" ".a" _a "${_lib}")
+    if(EXISTS "${_a}")
+      set(_traverse_h5_archive "${_a}")
+    endif()
+  endif()
+endforeach()
+if(_traverse_h5_archive)
+  find_library(TRAVERSE_SZ_LIBRARY sz)
+  find_library(TRAVERSE_Z_LIBRARY z)
+  set(_h5_static_libs ${_traverse_h5_archive} ${TRAVERSE_SZ_LIBRARY} ${TRAVERSE_Z_LIBRARY} ${CMAKE_DL_LIBS} m)
+  include(CheckCSourceCompiles)
+  set(CMAKE_REQUIRED_INCLUDES ${HDF5_C_INCLUDE_DIRS} ${HDF5_INCLUDE_DIRS} ${MPI_C_INCLUDE_DIRS})
+  set(CMAKE_REQUIRED_LIBRARIES ${_h5_static_libs} ${MPI_C_LIBRARIES})
+  set(CMAKE_REQUIRED_QUIET TRUE)
+  check_c_source_compiles([=[
+#include <hdf5.h>
+int main(void) {
+  hid_t fa = H5Pcreate(H5P_FILE_ACCESS);
+  H5Pset_fapl_mpio(fa, MPI_COMM_WORLD, MPI_INFO_NULL);
+  hid_t dc = H5Pcreate(H5P_DATASET_CREATE);
+  H5Pset_deflate(dc, 1);
+  hid_t f = H5Fcreate("x.h5", H5F_ACC_TRUNC, H5P_DEFAULT, fa);
+  return (int)H5Fclose(f);
+}]=] TRAVERSE_HDF5_STATIC_LINKS)
+  unset(CMAKE_REQUIRED_INCLUDES)
+  unset(CMAKE_REQUIRED_LIBRARIES)
+  unset(CMAKE_REQUIRED_QUIET)
+  if(TRAVERSE_HDF5_STATIC_LINKS)
+    add_library(traverse_hdf5_static INTERFACE)
+    target_include_directories(traverse_hdf5_static SYSTEM INTERFACE ${HDF5_C_INCLUDE_DIRS} ${HDF5_INCLUDE_DIRS})
+    target_link_libraries(traverse_hdf5_static INTERFACE ${_h5_static_libs} MPI::MPI_C)
+    target_compile_definitions(traverse_hdf5_static INTERFACE ${HDF5_C_DEFINITIONS})
+    set(TRAVERSE_HDF5_LEAN traverse_hdf5_static)
+  endif()
+endif()
+message(STATUS "HDF5 of the executable traverse: ${TRAVERSE_HDF5_LEAN} ${_traverse_h5_archive}")
+
 # Python for postprocessing: an interpreter that imports numpy, h5py and matplotlib.
 set(_traverse_py_candidates /usr/bin/python3)
 find_program(_traverse_path_python python3)
