@@ -55,22 +55,4 @@ bool restart_due(std::chrono::steady_clock::time_point last, double interval, MP
   return due != 0;
 }
 
-void pack_node(const rod::RodNode& nd, double* o) {
-  for (int i = 0; i < 12; ++i) o[i] = nd.y(i);
-  for (int i = 0; i < 3; ++i)
-    for (int c = 0; c < 3; ++c) o[12 + 3 * i + c] = nd.R(i, c);
-  for (int i = 0; i < 12; ++i) o[21 + i] = nd.yt(i);
-  for (int i = 0; i < 12; ++i) o[33 + i] = nd.ys(i);
-}
-
-rod::RodNode unpack_node(const double* o) {
-  rod::RodNode nd;
-  for (int i = 0; i < 12; ++i) nd.y(i) = o[i];
-  for (int i = 0; i < 3; ++i)
-    for (int c = 0; c < 3; ++c) nd.R(i, c) = o[12 + 3 * i + c];
-  for (int i = 0; i < 12; ++i) nd.yt(i) = o[21 + i];
-  for (int i = 0; i < 12; ++i) nd.ys(i) = o[33 + i];
-  return nd;
-}
-
 }  // namespace traverse::app

@@ -284,23 +284,12 @@ namespace {
 
 // The global node j (held by the rank that owns it) on every rank.
 rod::RodNode node_everywhere(const solver::RodStepper& st, int j, MPI_Comm comm) {
-  constexpr int n = 45;  // y, R, yt, ys
+  constexpr int n = static_cast<int>(rod::kPackedNodeValues);
   double mine[n] = {}, all[n];
   const int k = j - st.first_owned_node();
-  if (k >= 0 && k < st.num_owned_nodes()) {
-    const rod::RodNode& nd = st.owned_node(k);
-    std::copy(nd.y.data(), nd.y.data() + 12, mine);
-    std::copy(nd.R.data(), nd.R.data() + 9, mine + 12);
-    std::copy(nd.yt.data(), nd.yt.data() + 12, mine + 21);
-    std::copy(nd.ys.data(), nd.ys.data() + 12, mine + 33);
-  }
+  if (k >= 0 && k < st.num_owned_nodes()) rod::pack_node(st.owned_node(k), mine);
   par::allreduce(mine, all, n, MPI_DOUBLE, MPI_SUM, comm);
-  rod::RodNode nd;
-  std::copy(all, all + 12, nd.y.data());
-  std::copy(all + 12, all + 21, nd.R.data());
-  std::copy(all + 21, all + 33, nd.yt.data());
-  std::copy(all + 33, all + 45, nd.ys.data());
-  return nd;
+  return rod::unpack_node(all);
 }
 
 // Whether the stepper's state is planar: each rank sums up its owned nodes, the summaries are

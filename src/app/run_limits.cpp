@@ -2,6 +2,7 @@
 
 #include "rod_setup.hpp"
 #include "traverse/solver/linear_solver_choice.hpp"
+#include "traverse/rod/rod_state.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 
 #include <algorithm>
@@ -399,10 +400,11 @@ void check_counters(const scene::Scene& sc, const RodPathGuess& path) {
                    "at most " + count(std::floor(int_max / u3)) + " nodes per rank (" + fmt(u3) +
                        " unknowns per node; a rank's unknowns are counted in 32-bit integers)",
                    count(n) + " nodes per rank: " + mesh_text(sc));
-  if (N * 45.0 > int_max)
+  const double packed = static_cast<double>(rod::kPackedNodeValues);
+  if (N * packed > int_max)
     scene::fail_at(sc, deciding_key(sc, {mesh_key(sc)}),
-                   "at most " + count(std::floor(int_max / 45.0)) +
-                       " nodes (a gathered state of 45 values per node is counted in a 32-bit MPI count)",
+                   "at most " + count(std::floor(int_max / packed)) + " nodes (a gathered state of " + fmt(packed) +
+                       " values per node is counted in a 32-bit MPI count)",
                    mesh_text(sc));
 }
 

@@ -506,6 +506,7 @@ RodNode advance_node(const RodModel& model, const RodNode& old_node, const VecX&
   const NewLevelNode nn = new_level_node(old_node, n.y, dt, model.alpha);
   n.R = nn.R;
   n.yt = nn.yt;
+  n.yv = (n.y - old_node.y) / dt;
   n.ys = model.carries_ys() ? Vec12(new_unknowns.tail<12>()) : Vec12::Zero();
   return n;
 }

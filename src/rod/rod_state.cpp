@@ -9,6 +9,26 @@
 
 namespace traverse::rod {
 
+void pack_node(const RodNode& nd, double* o) {
+  for (int i = 0; i < 12; ++i) o[i] = nd.y(i);
+  for (int i = 0; i < 3; ++i)
+    for (int c = 0; c < 3; ++c) o[12 + 3 * i + c] = nd.R(i, c);
+  for (int i = 0; i < 12; ++i) o[21 + i] = nd.yt(i);
+  for (int i = 0; i < 12; ++i) o[33 + i] = nd.ys(i);
+  for (int i = 0; i < 12; ++i) o[45 + i] = nd.yv(i);
+}
+
+RodNode unpack_node(const double* o) {
+  RodNode nd;
+  for (int i = 0; i < 12; ++i) nd.y(i) = o[i];
+  for (int i = 0; i < 3; ++i)
+    for (int c = 0; c < 3; ++c) nd.R(i, c) = o[12 + 3 * i + c];
+  for (int i = 0; i < 12; ++i) nd.yt(i) = o[21 + i];
+  for (int i = 0; i < 12; ++i) nd.ys(i) = o[33 + i];
+  for (int i = 0; i < 12; ++i) nd.yv(i) = o[45 + i];
+  return nd;
+}
+
 RodState straight_rest_state(int num_cells, double length, const Mat3& R0) {
   if (num_cells < 1 || !(length > 0.0)) throw std::invalid_argument("straight_rest_state: bad grid");
   RodState s;

@@ -1,6 +1,7 @@
 #include "traverse/rod/step_assembly.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace traverse::rod {
@@ -34,10 +35,19 @@ void StepAssembly::set_old_level(std::vector<RodNode> ghosted_old_nodes, const S
     F_old_[k] = old_level_flux(*model_, step_, g0_ + static_cast<int>(k), old_nodes_[k]).F;
 }
 
-void StepAssembly::old_unknowns(double* data) const {
+bool StepAssembly::secant_guess() const {
+  if (guess_ != InitialGuess::automatic) return guess_ == InitialGuess::secant;
+  const double pi2 = 9.869604401089358;  // pi^2
+  return step_.dt * pi2 * std::sqrt(model_->props.bending_rate(model_->length)) <= 1.0;
+}
+
+void StepAssembly::initial_guess(double* data) const {
   const int off = o0_ - g0_;
+  const bool secant = secant_guess();
   for (int k = 0; k < no_; ++k) {
-    VecX u = node_unknowns(*model_, old_nodes_[static_cast<size_t>(off + k)]);
+    RodNode guess = old_nodes_[static_cast<size_t>(off + k)];
+    if (secant) guess.y += step_.dt * guess.yv;
+    VecX u = node_unknowns(*model_, guess);
     if (planar_) u = planar_->restrict_unknowns(u);
     for (int c = 0; c < p_; ++c) data[static_cast<size_t>(k) * p_ + c] = u(c);
   }

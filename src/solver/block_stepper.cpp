@@ -22,7 +22,9 @@ struct BlockStepper::Impl {
     newton.reset();
     const int nodes = model->num_cells + 1;
     assembly = std::make_unique<rod::StepAssembly>(model, planar, 0, nodes, 0, nodes);
+    assembly->set_guess(guess);
   }
+  rod::InitialGuess guess = rod::InitialGuess::automatic;
   void build_newton(const Teuchos::ParameterList& np, const LinearSolverChoice& choice) {
     newton = std::make_unique<BlockNewton>(*assembly, block_newton_options(np, choice));
     x.assign(static_cast<size_t>(assembly->num_owned_nodes()) * assembly->unknowns_per_node(), 0.0);
@@ -37,6 +39,7 @@ BlockStepper::BlockStepper(rod::RodModel rod_model, const Teuchos::ParameterList
   const int count = model().num_cells + 1;
   set_partition(0, count, 0, count);
   Impl& m = *impl_;
+  m.guess = initial_guess();
   m.build(shared_model(), planar_reduction());
   const rod::RodModel& rm = model();
   set_state(rod::straight_rest_state(rm.num_cells, rm.length));
@@ -61,7 +64,7 @@ const std::vector<rod::RodNode>& BlockStepper::old_level() const { return impl_-
 
 NewtonReport BlockStepper::solve_level(std::vector<VecX>& xg, bool warm, StepReport& sr) {
   Impl& m = *impl_;
-  if (!warm) m.assembly->old_unknowns(m.x.data());
+  if (!warm) m.assembly->initial_guess(m.x.data());
   NewtonReport r = m.newton->solve(m.x);
   m.assembly->full_unknowns(m.x.data(), xg);
   sr.newton_iterations += r.iterations;

@@ -10,6 +10,7 @@
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/solver/newton_solver.hpp"
 #include "traverse/solver/rod_step_model.hpp"
+#include "traverse/solver/solver_parameters.hpp"
 
 namespace traverse::solver {
 
@@ -28,23 +29,7 @@ bool is_plain_klu2(const LinearSolverChoice& choice) {
   return true;
 }
 
-constexpr int kPacked = 45;  // y (12), R (9), yt (12), ys (12)
-
-void pack(const rod::RodNode& n, double* d) {
-  for (int i = 0; i < 12; ++i) d[i] = n.y(i);
-  for (int i = 0; i < 9; ++i) d[12 + i] = n.R(i / 3, i % 3);
-  for (int i = 0; i < 12; ++i) d[21 + i] = n.yt(i);
-  for (int i = 0; i < 12; ++i) d[33 + i] = n.ys(i);
-}
-
-rod::RodNode unpack(const double* d) {
-  rod::RodNode n;
-  for (int i = 0; i < 12; ++i) n.y(i) = d[i];
-  for (int i = 0; i < 9; ++i) n.R(i / 3, i % 3) = d[12 + i];
-  for (int i = 0; i < 12; ++i) n.yt(i) = d[21 + i];
-  for (int i = 0; i < 12; ++i) n.ys(i) = d[33 + i];
-  return n;
-}
+constexpr int kPacked = static_cast<int>(rod::kPackedNodeValues);
 }  // namespace
 
 struct DistributedStepper::Impl {
@@ -73,6 +58,7 @@ struct DistributedStepper::Impl {
     mesh = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(rm.length, rm.num_cells + 1), comm, p));
     me = Teuchos::rcp(new RodStepModel(model, mesh, planar));
     me->set_jacobian_reuse(params.get<bool>("Jacobian Reuse"), params.get<double>("Jacobian Reuse Contraction"));
+    me->set_guess(initial_guess_of(params));
     if (params.get<std::string>("Direct Solver Path") == "Reuse Symbolic" && comm->getSize() == 1 &&
         is_plain_klu2(choice)) {
       RodStepModel* model_ptr = me.get();  // owned by the stepper, outlives the factory's use
@@ -104,12 +90,12 @@ struct DistributedStepper::Impl {
 
   NewtonReport solve_once(std::vector<VecX>& xg, bool warm) {
     if (block_newton) {
-      if (!warm) me->assembly().old_unknowns(xb.data());
+      if (!warm) me->assembly().initial_guess(xb.data());
       NewtonReport r = block_newton->solve(xb);
       me->assembly().full_unknowns(xb.data(), xg);
       return r;
     }
-    if (!warm) me->old_unknowns(*x);
+    if (!warm) me->initial_guess(*x);
     NewtonReport r = newton->solve(*x);
     xg = me->ghosted_unknowns(*x);
     return r;
@@ -179,14 +165,14 @@ rod::RodState DistributedStepper::gather_state() const {
   const int nodes = model().num_cells + 1;
   std::vector<double> local(static_cast<size_t>(nodes) * kPacked, 0.0), all(local.size());
   for (int k = 0; k < num_owned_nodes(); ++k)
-    pack(owned_node(k), &local[static_cast<size_t>(first_owned_node() + k) * kPacked]);
+    rod::pack_node(owned_node(k), &local[static_cast<size_t>(first_owned_node() + k) * kPacked]);
   Teuchos::reduceAll<int, double>(*m.comm, Teuchos::REDUCE_SUM, static_cast<int>(local.size()),
                                   local.data(), all.data());
   rod::RodState s;
   s.t = time();
   s.ds = model().ds();
   s.nodes.resize(static_cast<size_t>(nodes));
-  for (int j = 0; j < nodes; ++j) s.nodes[j] = unpack(&all[static_cast<size_t>(j) * kPacked]);
+  for (int j = 0; j < nodes; ++j) s.nodes[j] = rod::unpack_node(&all[static_cast<size_t>(j) * kPacked]);
   return s;
 }
 

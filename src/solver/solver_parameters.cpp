@@ -44,6 +44,13 @@ Teuchos::RCP<const Teuchos::ParameterList> valid_solver_parameters() {
         "block-tridiagonal LU, Full Step, no NOX sublist, no Jacobian Reuse; the same iterates as "
         "NOX without its overhead), NOX elsewhere; NOX = always NOX",
         tuple<std::string>("auto", "NOX"), pl.get());
+    Teuchos::setStringToIntegralParameter<int>(
+        "Initial Guess", "auto",
+        "Newton's initial guess of a rod time step: Secant = the old level extrapolated along the "
+        "last step's secant, y + dt (y - y_prev) / dt_prev (zero slope at a start); Old Level = the "
+        "old level's unknowns; auto = Secant when the step resolves the rod's slowest bending "
+        "motion (dt pi^2 sqrt(EI / (rhoA L^4)) <= 1), else Old Level",
+        tuple<std::string>("auto", "Secant", "Old Level"), pl.get());
     pl->set("Max Subdivision Depth", 4, "How often a failing step may be halved (0: no retry)");
     pl->set("Verbose", true, "One-line notices on rank 0");
     pl->set("Jacobian Reuse", false,
@@ -91,6 +98,12 @@ Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList&
     throw std::invalid_argument("rod solver parameters: 'Max Subdivision Depth' must be >= 0, found " +
                                 std::to_string(p.get<int>("Max Subdivision Depth")));
   return p;
+}
+
+rod::InitialGuess initial_guess_of(const Teuchos::ParameterList& validated) {
+  const std::string& g = validated.get<std::string>("Initial Guess");
+  return g == "Secant" ? rod::InitialGuess::secant : g == "Old Level" ? rod::InitialGuess::old_level
+                                                                       : rod::InitialGuess::automatic;
 }
 
 }  // namespace traverse::solver

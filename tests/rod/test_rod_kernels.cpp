@@ -396,6 +396,33 @@ TEST(RodKernels, StaticCellWithoutGravityIsTheGravityCellMinusItsWeight) {
   }
 }
 
+// advance_node keeps the step's secant yv = (y_new - y_old) / dt (Newton's initial guess of
+// the next step extrapolates along it); pack_node / unpack_node carry every member.
+TEST(RodKernels, AdvanceNodeKeepsTheSecantAndPackingRoundTrips) {
+  RodModel m;
+  m.props = RodProperties::scene_rod();
+  m.num_cells = 4;
+  RodNode old;
+  for (int i = 0; i < 12; ++i) {
+    old.y(i) = 0.1 * (i + 1);
+    old.yt(i) = -0.05 * i;
+    old.yv(i) = 7.0;  // the slope of the step before: replaced
+  }
+  VecX x(12);
+  for (int i = 0; i < 12; ++i) x(i) = old.y(i) + 0.003 * (i - 5);
+  const double dt = 0.002;
+  const RodNode n = advance_node(m, old, x, dt);
+  for (int i = 0; i < 12; ++i) EXPECT_NEAR(n.yv(i), 0.003 * (i - 5) / dt, 1e-12) << i;
+  double packed[kPackedNodeValues];
+  pack_node(n, packed);
+  const RodNode back = unpack_node(packed);
+  EXPECT_EQ(back.y, n.y);
+  EXPECT_EQ(back.R, n.R);
+  EXPECT_EQ(back.yt, n.yt);
+  EXPECT_EQ(back.ys, n.ys);
+  EXPECT_EQ(back.yv, n.yv);
+}
+
 TEST(RodKernels, AssembleNodesOnARangeMatchesWholeRod) {
   test::Rng rng;
   const StepTimes st{0.37, 0.01};

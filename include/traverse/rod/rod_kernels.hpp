@@ -124,7 +124,8 @@ std::vector<LocalBlock> assemble_nodes(const RodModel& model, const StepTimes& s
 /// Unknown block of a node (y, and ys when carried) - the natural Newton initial guess.
 VecX node_unknowns(const RodModel& model, const RodNode& node);
 
-/// The new-level node implied by converged unknowns (y, ys, R, yt updated).
+/// The new-level node implied by converged unknowns (y, ys, R, yt updated; yv the step's
+/// secant (y_new - y_old) / dt).
 RodNode advance_node(const RodModel& model, const RodNode& old_node, const VecX& new_unknowns,
                      double dt);
 

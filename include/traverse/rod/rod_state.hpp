@@ -25,7 +25,16 @@ struct RodNode {
   Mat3 R = Mat3::Identity();  ///< fixed -> body components; rows are d1, d2, d3 (fixed comps)
   Vec12 yt = Vec12::Zero();   ///< time-derivative history (generalised-alpha), zero at rest
   Vec12 ys = Vec12::Zero();   ///< space-derivative history (used only when ys is carried)
+  /// (y - y of the level before) / dt of the step that made this level: the slope of the next
+  /// step's Newton initial guess y + dt yv (StepAssembly::initial_guess); zero at a start.
+  Vec12 yv = Vec12::Zero();
 };
+
+/// A node as plain numbers (restart points, gathers over ranks): y (12), R row-major (9),
+/// yt (12), ys (12), yv (12).
+inline constexpr std::size_t kPackedNodeValues = 57;
+void pack_node(const RodNode& nd, double* o);
+RodNode unpack_node(const double* o);
 
 /// Nodes j = 0..N at spacing ds = L / N, at time t.
 struct RodState {

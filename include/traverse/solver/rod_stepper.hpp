@@ -20,6 +20,7 @@
 #include "traverse/rod/rod_kernels.hpp"
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/solver/newton_report.hpp"
+#include "traverse/solver/solver_parameters.hpp"
 #include "traverse/solver/step_failure.hpp"
 
 namespace traverse::solver {
@@ -140,6 +141,8 @@ class RodStepper {
   virtual ReuseCounters reuse_counters() const = 0;
   /// The validated parameters in use.
   const Teuchos::ParameterList& parameters() const { return params_; }
+  /// Solver key 'Initial Guess' (rod::StepAssembly::initial_guess).
+  rod::InitialGuess initial_guess() const { return initial_guess_of(params_); }
 
  protected:
   /// Checks the end conditions, validates `params` (std::invalid_argument), resolves the

@@ -27,6 +27,11 @@
 //                                  solver/block_newton.hpp, on one rank with the block-tridiagonal
 //                                  LU, Full Step, no NOX sublist and no Jacobian Reuse; NOX
 //                                  otherwise) | "NOX" (always NOX)
+//   Initial Guess          string  "auto" | "Secant" | "Old Level" (default "auto"): Newton's
+//                                  initial guess of a time step, the old level extrapolated
+//                                  along the last step's secant or the old level itself; auto
+//                                  = Secant when dt pi^2 sqrt(EI / (rhoA L^4)) <= 1
+//                                  (rod::StepAssembly::initial_guess)
 //   Max Subdivision Depth  int     how often a failing step may be halved (default 4;
 //                                  0 disables retries)
 //   Verbose                bool    one-line notices on rank 0 (default true)
@@ -49,6 +54,8 @@
 #include <Teuchos_ParameterList.hpp>
 #include <Teuchos_RCP.hpp>
 
+#include "traverse/rod/step_assembly.hpp"
+
 namespace traverse::solver {
 
 /// The valid list with defaults and documentation (sublists NOX and Stratimikos are not
@@ -58,5 +65,8 @@ Teuchos::RCP<const Teuchos::ParameterList> valid_solver_parameters();
 /// A copy of `given` validated against valid_solver_parameters() with every default filled
 /// in. Throws std::invalid_argument naming the offending key on a wrong name, type or value.
 Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList& given);
+
+/// The key 'Initial Guess' of a validated list.
+rod::InitialGuess initial_guess_of(const Teuchos::ParameterList& validated);
 
 }  // namespace traverse::solver
