@@ -29,21 +29,69 @@ void BlockSystem::clear() {
   std::fill(f_.begin(), f_.end(), 0.0);
 }
 
-void BlockSystem::add(const rod::LocalBlock& blk) {
-  const long b = b_, bb = b * b;
-  for (Eigen::Index i = 0; i < blk.residual.size(); ++i) {
-    const long g = static_cast<long>(blk.row + i), k = g / b, rr = g % b;
-    f_[static_cast<size_t>(g)] += blk.residual(i);
-    double* row_blocks = blocks_.data() + 3 * bb * k;
-    for (size_t c = 0; c < blk.cols.size(); ++c) {
-      const long slot = static_cast<long>(blk.cols[c]) / b - k + 1;
-      if (slot < 0 || slot > 2 || blk.cols[c] % b != 0 || blk.jac[c].cols() != b)
+namespace {
+
+// The bodies of BlockSystem::add and residual_of for a block size B known at compile time (the
+// 6 x 6 and 12 x 12 paths: the compiler unrolls the short loops) or B = 0 (b at run time).
+template <long B>
+void add_block(std::vector<double>& blocks, std::vector<double>& f, long b_run, const rod::LocalBlock& blk) {
+  const long b = B > 0 ? B : b_run, bb = b * b;
+  const long rows = static_cast<long>(blk.residual.size());
+  for (long i = 0; i < rows; ++i) f[static_cast<size_t>(blk.row + i)] += blk.residual(i);
+  // Column by column (the blocks and the kernel's Jacobians are both column-major), over the
+  // runs of rows that fall in one node.
+  for (size_t c = 0; c < blk.cols.size(); ++c) {
+    const MatX& J = blk.jac[c];
+    if (blk.cols[c] % b != 0 || J.cols() != b || J.rows() != rows)
+      throw std::logic_error("block system: a kernel block lies outside the block tridiagonal");
+    const long col_node = static_cast<long>(blk.cols[c]) / b;
+    for (long i0 = 0; i0 < rows;) {
+      const long g = static_cast<long>(blk.row + i0), k = g / b, rr = g % b;
+      const long run = std::min(rows - i0, b - rr);
+      const long slot = col_node - k + 1;
+      if (slot < 0 || slot > 2)
         throw std::logic_error("block system: a kernel block lies outside the block tridiagonal");
-      double* dst = row_blocks + slot * bb + rr;
-      const MatX& J = blk.jac[c];
-      for (long cc = 0; cc < b; ++cc) dst[cc * b] += J(i, cc);
+      double* dst = blocks.data() + 3 * bb * k + slot * bb + rr;
+      for (long cc = 0; cc < b; ++cc) {
+        const double* src = J.data() + cc * rows + i0;
+        double* d = dst + cc * b;
+        for (long i = 0; i < run; ++i) d[i] += src[i];
+      }
+      i0 += run;
     }
   }
+}
+
+template <long B>
+void block_residual(const std::vector<double>& blocks, const std::vector<double>& f, long n, long b_run,
+                    const std::vector<double>& d, std::vector<double>& r) {
+  const long b = B > 0 ? B : b_run, bb = b * b;
+  for (long k = 0; k < n; ++k) {
+    double* rk = r.data() + k * b;
+    const double* fk = f.data() + k * b;
+    for (long rr = 0; rr < b; ++rr) rk[rr] = 0.0;
+    const double* row_blocks = blocks.data() + 3 * bb * k;
+    for (long slot = 0; slot < 3; ++slot) {  // column-major blocks: columns times entries
+      const long node = k - 1 + slot;
+      if (node < 0 || node >= n) continue;
+      const double* blk = row_blocks + slot * bb;
+      const double* v = d.data() + node * b;
+      for (long cc = 0; cc < b; ++cc) {
+        const double vc = v[cc];
+        const double* col = blk + cc * b;
+        for (long rr = 0; rr < b; ++rr) rk[rr] += col[rr] * vc;
+      }
+    }
+    for (long rr = 0; rr < b; ++rr) rk[rr] = fk[rr] - rk[rr];
+  }
+}
+
+}  // namespace
+
+void BlockSystem::add(const rod::LocalBlock& blk) {
+  if (b_ == 6) return add_block<6>(blocks_, f_, b_, blk);
+  if (b_ == 12) return add_block<12>(blocks_, f_, b_, blk);
+  add_block<0>(blocks_, f_, b_, blk);
 }
 
 void BlockSystem::factor() {
@@ -52,21 +100,9 @@ void BlockSystem::factor() {
 }
 
 void BlockSystem::residual_of(const std::vector<double>& d, std::vector<double>& r) const {
-  const long b = b_, bb = b * b;
-  for (long k = 0; k < n_; ++k) {
-    const double* row_blocks = blocks_.data() + 3 * bb * k;
-    for (long rr = 0; rr < b; ++rr) {
-      double s = 0.0;
-      for (long slot = 0; slot < 3; ++slot) {
-        const long node = k - 1 + slot;
-        if (node < 0 || node >= n_) continue;
-        const double* blk = row_blocks + slot * bb + rr;
-        const double* v = d.data() + node * b;
-        for (long cc = 0; cc < b; ++cc) s += blk[cc * b] * v[cc];
-      }
-      r[static_cast<size_t>(k * b + rr)] = f_[static_cast<size_t>(k * b + rr)] - s;
-    }
-  }
+  if (b_ == 6) return block_residual<6>(blocks_, f_, n_, b_, d, r);
+  if (b_ == 12) return block_residual<12>(blocks_, f_, n_, b_, d, r);
+  block_residual<0>(blocks_, f_, n_, b_, d, r);
 }
 
 double BlockSystem::solve(std::vector<double>& d, double nb, double tolerance) {

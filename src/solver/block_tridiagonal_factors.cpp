@@ -19,6 +19,32 @@ namespace {
 /// singular on its own, which happens at a rod end eliminated first in the reversed order
 /// (the right end's rows there are its end conditions and the kinematic rows of the last
 /// cell, which leave the force unknowns out), then q grows until the start block is regular.
+/// X = A^{-1} R for a fixed-size LU and matrix right-hand side, by row operations on X (the
+/// permutation, the unit lower and the upper triangle): the same arithmetic as Eigen's solve,
+/// which goes through its general triangular-matrix kernel, at a fraction of its cost for the
+/// 6 x 6 and 12 x 12 blocks (the profile of the default scene: a tenth of its time stepping).
+template <int B>
+void lu_solve_rows(const Eigen::PartialPivLU<Eigen::Matrix<double, B, B>>& lu,
+                   const Eigen::Map<const Eigen::Matrix<double, B, B>>& R, Eigen::Matrix<double, B, B>& X) {
+  if constexpr (B == Eigen::Dynamic) {
+    X = lu.solve(R);
+    return;
+  }
+  using RowT = Eigen::Matrix<double, 1, B>;
+  X = lu.permutationP() * R;
+  const auto& A = lu.matrixLU();
+  for (int i = 1; i < B; ++i) {
+    RowT r = X.row(i);
+    for (int j = 0; j < i; ++j) r -= A(i, j) * X.row(j);
+    X.row(i) = r;
+  }
+  for (int i = B - 1; i >= 0; --i) {
+    RowT r = X.row(i);
+    for (int j = i + 1; j < B; ++j) r -= A(i, j) * X.row(j);
+    X.row(i) = r / A(i, i);
+  }
+}
+
 template <int B>
 struct Chain {
   using Mat = Eigen::Matrix<double, B, B>;
@@ -91,7 +117,7 @@ struct Chain {
       S = CMap(Dp[K], b, b);
       S.noalias() -= CMap(Lp[K], b, b) * C[K - 1];
       lu[K].compute(S);
-      if (k + 1 < m) C[K] = lu[K].solve(CMap(Up[K], b, b));
+      if (k + 1 < m) lu_solve_rows<B>(lu[K], CMap(Up[K], b, b), C[K]);
     }
   }
 
