@@ -1,7 +1,6 @@
 #include "traverse/rod/step_assembly.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
 
 namespace traverse::rod {
@@ -35,15 +34,9 @@ void StepAssembly::set_old_level(std::vector<RodNode> ghosted_old_nodes, const S
     F_old_[k] = old_level_flux(*model_, step_, g0_ + static_cast<int>(k), old_nodes_[k]).F;
 }
 
-bool StepAssembly::secant_guess() const {
-  if (guess_ != InitialGuess::automatic) return guess_ == InitialGuess::secant;
-  const double pi2 = 9.869604401089358;  // pi^2
-  return step_.dt * pi2 * std::sqrt(model_->props.bending_rate(model_->length)) <= 1.0;
-}
-
 void StepAssembly::initial_guess(double* data) const {
   const int off = o0_ - g0_;
-  const bool secant = secant_guess();
+  const bool secant = guess_ == InitialGuess::secant;
   for (int k = 0; k < no_; ++k) {
     RodNode guess = old_nodes_[static_cast<size_t>(off + k)];
     if (secant) guess.y += step_.dt * guess.yv;

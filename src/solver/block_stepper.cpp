@@ -24,7 +24,7 @@ struct BlockStepper::Impl {
     assembly = std::make_unique<rod::StepAssembly>(model, planar, 0, nodes, 0, nodes);
     assembly->set_guess(guess);
   }
-  rod::InitialGuess guess = rod::InitialGuess::automatic;
+  rod::InitialGuess guess = rod::InitialGuess::old_level;
   void build_newton(const Teuchos::ParameterList& np, const LinearSolverChoice& choice) {
     newton = std::make_unique<BlockNewton>(*assembly, block_newton_options(np, choice));
     x.assign(static_cast<size_t>(assembly->num_owned_nodes()) * assembly->unknowns_per_node(), 0.0);

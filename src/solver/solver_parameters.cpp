@@ -45,12 +45,12 @@ Teuchos::RCP<const Teuchos::ParameterList> valid_solver_parameters() {
         "NOX without its overhead), NOX elsewhere; NOX = always NOX",
         tuple<std::string>("auto", "NOX"), pl.get());
     Teuchos::setStringToIntegralParameter<int>(
-        "Initial Guess", "auto",
-        "Newton's initial guess of a rod time step: Secant = the old level extrapolated along the "
-        "last step's secant, y + dt (y - y_prev) / dt_prev (zero slope at a start); Old Level = the "
-        "old level's unknowns; auto = Secant when the step resolves the rod's slowest bending "
-        "motion (dt pi^2 sqrt(EI / (rhoA L^4)) <= 1), else Old Level",
-        tuple<std::string>("auto", "Secant", "Old Level"), pl.get());
+        "Initial Guess", "Old Level",
+        "Newton's initial guess of a rod time step: Old Level = the old level's unknowns; Secant = "
+        "the old level extrapolated along the last step's secant, y + dt (y - y_prev) / dt_prev "
+        "(zero slope at a start): fewer iterations where the motion is smooth, but it can fail "
+        "where the old level does not (docs/solver.md)",
+        tuple<std::string>("Old Level", "Secant"), pl.get());
     pl->set("Max Subdivision Depth", 4, "How often a failing step may be halved (0: no retry)");
     pl->set("Verbose", true, "One-line notices on rank 0");
     pl->set("Jacobian Reuse", false,
@@ -102,8 +102,7 @@ Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList&
 
 rod::InitialGuess initial_guess_of(const Teuchos::ParameterList& validated) {
   const std::string& g = validated.get<std::string>("Initial Guess");
-  return g == "Secant" ? rod::InitialGuess::secant : g == "Old Level" ? rod::InitialGuess::old_level
-                                                                       : rod::InitialGuess::automatic;
+  return g == "Secant" ? rod::InitialGuess::secant : rod::InitialGuess::old_level;
 }
 
 }  // namespace traverse::solver

@@ -16,7 +16,7 @@
 namespace traverse::rod {
 
 /// Newton's initial guess of a time step (StepAssembly::initial_guess).
-enum class InitialGuess { automatic, secant, old_level };
+enum class InitialGuess { old_level, secant };
 
 class StepAssembly {
  public:
@@ -44,13 +44,8 @@ class StepAssembly {
   /// values per owned node): the old unknowns, or with the secant guess the old unknowns with y
   /// extrapolated along the last step's secant, y + dt yv (yv = 0 at a start: the old unknowns).
   void initial_guess(double* data) const;
-  /// Which guess (solver key 'Initial Guess', docs/solver.md); automatic: the secant when the
-  /// step resolves the rod's slowest bending motion, dt sqrt(EI / (rhoA L^4)) pi^2 <= 1, else
-  /// the old level (a step that does not resolve the motion says little about the next one:
-  /// measured on the deep arch at dt = 2 s, the secant guess converged to other roots).
+  /// Which guess (solver key 'Initial Guess', docs/solver.md; default the old level).
   void set_guess(InitialGuess g) { guess_ = g; }
-  /// Whether initial_guess() extrapolates at the current step.
-  bool secant_guess() const;
   /// Ghosted system-layout unknowns (unknowns_per_node() per ghosted node) -> per ghosted node
   /// its full unknown block (model->unknowns_per_node() entries; planar: the in-plane ones
   /// embedded, zeros elsewhere).
@@ -71,7 +66,7 @@ class StepAssembly {
   int p_ = 12, g0_ = 0, ng_ = 0, o0_ = 0, no_ = 0;
   std::vector<RodNode> old_nodes_;
   StepTimes step_;
-  InitialGuess guess_ = InitialGuess::automatic;
+  InitialGuess guess_ = InitialGuess::old_level;
   double blocks_3d(const double* ghosted, const std::function<void(const LocalBlock&)>& visit) const;
   double blocks_planar(const double* ghosted, const std::function<void(const LocalBlock&)>& visit) const;
 

@@ -27,11 +27,10 @@
 //                                  solver/block_newton.hpp, on one rank with the block-tridiagonal
 //                                  LU, Full Step, no NOX sublist and no Jacobian Reuse; NOX
 //                                  otherwise) | "NOX" (always NOX)
-//   Initial Guess          string  "auto" | "Secant" | "Old Level" (default "auto"): Newton's
-//                                  initial guess of a time step, the old level extrapolated
-//                                  along the last step's secant or the old level itself; auto
-//                                  = Secant when dt pi^2 sqrt(EI / (rhoA L^4)) <= 1
-//                                  (rod::StepAssembly::initial_guess)
+//   Initial Guess          string  "Old Level" | "Secant" (default "Old Level"): Newton's
+//                                  initial guess of a time step, the old level itself or
+//                                  extrapolated along the last step's secant
+//                                  (rod::StepAssembly::initial_guess, docs/solver.md)
 //   Max Subdivision Depth  int     how often a failing step may be halved (default 4;
 //                                  0 disables retries)
 //   Verbose                bool    one-line notices on rank 0 (default true)
