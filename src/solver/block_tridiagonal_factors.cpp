@@ -12,6 +12,32 @@ namespace traverse::solver {
 
 namespace {
 
+/// X = A^{-1} R for a fixed-size LU and a matrix right-hand side, by row operations on X (the
+/// permutation, the unit lower and the upper triangle): Eigen's solve in another order of the
+/// same operations, without its general triangular-matrix kernel, which cost a tenth of the
+/// default scene's time stepping for the 6 x 6 blocks (docs/benchmarks.md, "Small scenes").
+template <int B>
+void lu_solve_rows(const Eigen::PartialPivLU<Eigen::Matrix<double, B, B>>& lu,
+                   const Eigen::Map<const Eigen::Matrix<double, B, B>>& R, Eigen::Matrix<double, B, B>& X) {
+  if constexpr (B == Eigen::Dynamic) {
+    X = lu.solve(R);
+  } else {
+    using RowT = Eigen::Matrix<double, 1, B>;
+    X = lu.permutationP() * R;
+    const auto& A = lu.matrixLU();
+    for (int i = 1; i < B; ++i) {
+      RowT r = X.row(i);
+      for (int j = 0; j < i; ++j) r -= A(i, j) * X.row(j);
+      X.row(i) = r;
+    }
+    for (int i = B - 1; i >= 0; --i) {
+      RowT r = X.row(i);
+      for (int j = i + 1; j < B; ++j) r -= A(i, j) * X.row(j);
+      X.row(i) = r / A(i, i);
+    }
+  }
+}
+
 /// The block Thomas algorithm on a chain of m blocks, visited in a given order (natural or
 /// reversed): position i has the coupling Lp[i] to position i-1, Dp[i], the coupling Up[i]
 /// to position i+1, and its vector block at offset off[i] (in blocks). The first q positions
@@ -19,32 +45,6 @@ namespace {
 /// singular on its own, which happens at a rod end eliminated first in the reversed order
 /// (the right end's rows there are its end conditions and the kinematic rows of the last
 /// cell, which leave the force unknowns out), then q grows until the start block is regular.
-/// X = A^{-1} R for a fixed-size LU and matrix right-hand side, by row operations on X (the
-/// permutation, the unit lower and the upper triangle): the same arithmetic as Eigen's solve,
-/// which goes through its general triangular-matrix kernel, at a fraction of its cost for the
-/// 6 x 6 and 12 x 12 blocks (the profile of the default scene: a tenth of its time stepping).
-template <int B>
-void lu_solve_rows(const Eigen::PartialPivLU<Eigen::Matrix<double, B, B>>& lu,
-                   const Eigen::Map<const Eigen::Matrix<double, B, B>>& R, Eigen::Matrix<double, B, B>& X) {
-  if constexpr (B == Eigen::Dynamic) {
-    X = lu.solve(R);
-    return;
-  }
-  using RowT = Eigen::Matrix<double, 1, B>;
-  X = lu.permutationP() * R;
-  const auto& A = lu.matrixLU();
-  for (int i = 1; i < B; ++i) {
-    RowT r = X.row(i);
-    for (int j = 0; j < i; ++j) r -= A(i, j) * X.row(j);
-    X.row(i) = r;
-  }
-  for (int i = B - 1; i >= 0; --i) {
-    RowT r = X.row(i);
-    for (int j = i + 1; j < B; ++j) r -= A(i, j) * X.row(j);
-    X.row(i) = r / A(i, i);
-  }
-}
-
 template <int B>
 struct Chain {
   using Mat = Eigen::Matrix<double, B, B>;
