@@ -131,6 +131,13 @@ TEST(InterruptRestart, RodAdaptiveTwoRanksSigkillThenRestartBitForBit) {
                    Stop::sigkill, 0.0);
 }
 
+// With Newton's secant guess (solver key 'Initial Guess', docs/solver.md) the next step's
+// guess depends on the last step's secant yv, which the restart point stores: bit for bit.
+TEST(InterruptRestart, RodSecantGuessSigintThenRestartBitForBit) {
+  stop_and_restart("rod-secant-sigint", 1, kCable, kRodArgs + " --set 'solver.Initial Guess=Secant'", 3, 40,
+                   Stop::sigint_process, 0.0);
+}
+
 TEST(InterruptRestart, RodSigintThenRestart) {
   stop_and_restart("rod-sigint", 1, kCable, kRodArgs, 3, 40, Stop::sigint_process);
 }
