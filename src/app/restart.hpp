@@ -30,9 +30,4 @@ output::RestartPoint read_rod_restart_point(const std::string& output, const std
 /// rank 0's clock decides for all (collective).
 bool restart_due(std::chrono::steady_clock::time_point last, double interval, MPI_Comm comm);
 
-/// Restart packing of one rod node (rod::pack_node).
-constexpr std::size_t kPackedNode = rod::kPackedNodeValues;
-using rod::pack_node;
-using rod::unpack_node;
-
 }  // namespace traverse::app

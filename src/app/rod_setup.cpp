@@ -280,23 +280,27 @@ void precheck_planar(const scene::Scene& sc, const rod::RodModel& model) {
                    "a scene that is not planar: " + c.reason);
 }
 
-namespace {
-
-// The global node j (held by the rank that owns it) on every rank.
-rod::RodNode node_everywhere(const solver::RodStepper& st, int j, MPI_Comm comm) {
-  constexpr int n = static_cast<int>(rod::kPackedNodeValues);
-  double mine[n] = {}, all[n];
-  const int k = j - st.first_owned_node();
-  if (k >= 0 && k < st.num_owned_nodes()) rod::pack_node(st.owned_node(k), mine);
-  par::allreduce(mine, all, n, MPI_DOUBLE, MPI_SUM, comm);
-  return rod::unpack_node(all);
+std::vector<rod::RodNode> gather_nodes(const solver::RodStepper& st, const std::vector<int>& wanted, MPI_Comm comm) {
+  constexpr std::size_t n = rod::kPackedNodeValues;
+  const int first = st.first_owned_node(), count = st.num_owned_nodes();
+  std::vector<double> local(n * wanted.size(), 0.0), all(local.size());
+  for (size_t i = 0; i < wanted.size(); ++i)
+    if (wanted[i] >= first && wanted[i] < first + count) rod::pack_node(st.owned_node(wanted[i] - first), &local[n * i]);
+  par::allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, comm);
+  std::vector<rod::RodNode> out(wanted.size());
+  for (size_t i = 0; i < wanted.size(); ++i) out[i] = rod::unpack_node(&all[n * i]);
+  return out;
 }
+
+namespace {
 
 // Whether the stepper's state is planar: each rank sums up its owned nodes, the summaries are
 // merged in rank (= node) order.
 rod::PlanarCheck state_planarity(const scene::Scene& sc, const rod::RodModel& model,
                                  const solver::RodStepper& st, MPI_Comm comm) {
-  const rod::RodNode left = node_everywhere(st, 0, comm), right = node_everywhere(st, model.num_cells, comm);
+  const std::vector<rod::RodNode> ends = gather_nodes(st, {0, model.num_cells}, comm);
+  const rod::RodNode& left = ends[0];
+  const rod::RodNode& right = ends[1];
   rod::RodState piece;
   piece.t = st.time();
   for (int k = 0; k < st.num_owned_nodes(); ++k) piece.nodes.push_back(st.owned_node(k));

@@ -107,6 +107,10 @@ bool steps_on_block_storage(const Teuchos::ParameterList& solver, int ranks);
 /// from a rest, static or file initial state (all three made without Tpetra then).
 bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);
 
+/// The global nodes `wanted` of the stepper's distributed state, on every rank (collective:
+/// each rank packs the ones it owns, one sum-reduction of wanted.size() nodes).
+std::vector<rod::RodNode> gather_nodes(const solver::RodStepper& st, const std::vector<int>& wanted, MPI_Comm comm);
+
 /// The time stepper of a scene's rod model (collective): BlockStepper where
 /// steps_on_block_storage, DistributedStepper otherwise (the same steps where both apply); a
 /// linear solver that cannot run on this many ranks is bad input (linear_solver_refused).

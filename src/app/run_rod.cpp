@@ -34,20 +34,6 @@ namespace traverse::app {
 
 namespace {
 
-/// The global nodes `wanted` of the distributed state, on every rank (each rank packs the
-/// ones it owns; one sum-reduction of wanted.size() nodes, as gather_state does for all).
-std::vector<rod::RodNode> gather_nodes(const solver::RodStepper& st, const std::vector<int>& wanted,
-                                       MPI_Comm comm) {
-  const int first = st.first_owned_node(), count = st.num_owned_nodes();
-  std::vector<double> local(kPackedNode * wanted.size(), 0.0), all(local.size());
-  for (size_t i = 0; i < wanted.size(); ++i)
-    if (wanted[i] >= first && wanted[i] < first + count) pack_node(st.owned_node(wanted[i] - first), &local[kPackedNode * i]);
-  par::allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, comm);
-  std::vector<rod::RodNode> out(wanted.size());
-  for (size_t i = 0; i < wanted.size(); ++i) out[i] = unpack_node(&all[kPackedNode * i]);
-  return out;
-}
-
 /// The adaptive estimate's quantities of this rank's owned nodes, now.
 std::vector<rod::NodeLevel> owned_levels(const solver::RodStepper& st) {
   std::vector<rod::NodeLevel> y(static_cast<size_t>(st.num_owned_nodes()));
@@ -258,7 +244,7 @@ void RodOutputs::write(output::Writer& w, double t, const Vec3& r0) {
 /// Values per node of a rod run's restart point: the node, and with time.adaptive the
 /// controller's two earlier levels.
 std::size_t restart_components(const scene::Scene& sc) {
-  return kPackedNode + (sc.time.adaptive.enabled ? RodAdaptiveControl::kPerNode : 0);
+  return rod::kPackedNodeValues + (sc.time.adaptive.enabled ? RodAdaptiveControl::kPerNode : 0);
 }
 
 /// Restart points of a rod run (docs/reliability.md): the state, the time, the step index
@@ -269,7 +255,7 @@ class RodRestartPoints {
   RodRestartPoints(const solver::RodStepper& st, output::Writer& w, double dt, bool planar, double interval,
                    const RodAdaptiveControl* adaptive, MPI_Comm comm)
       : st_(st), w_(w), dt_(dt), planar_(planar), interval_(interval), adaptive_(adaptive), comm_(comm),
-        components_(kPackedNode + (adaptive ? RodAdaptiveControl::kPerNode : 0)),
+        components_(rod::kPackedNodeValues + (adaptive ? RodAdaptiveControl::kPerNode : 0)),
         slots_(comm, components_, static_cast<std::size_t>(st.first_owned_node())),
         packed_(components_ * static_cast<std::size_t>(st.num_owned_nodes())), last_(std::chrono::steady_clock::now()) {}
   /// Stores the point of time step i (once per step).
@@ -277,8 +263,8 @@ class RodRestartPoints {
     if (i == stored_at_) return;
     for (int k = 0; k < st_.num_owned_nodes(); ++k) {
       double* o = &packed_[components_ * static_cast<std::size_t>(k)];
-      pack_node(st_.owned_node(k), o);
-      if (adaptive_) adaptive_->pack_node(k, o + kPackedNode);
+      rod::pack_node(st_.owned_node(k), o);
+      if (adaptive_) adaptive_->pack_node(k, o + rod::kPackedNodeValues);
     }
     std::vector<double> extra = {r0.x(), r0.y(), r0.z(), dt_, planar_ ? 1.0 : 0.0};
     if (adaptive_)
@@ -623,14 +609,14 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
   const int N = sc.mesh.nodes - 1;
   src.file = output::restart_source(opt.output);
   const std::size_t comps = restart_components(sc);
-  const std::size_t other = sc.time.adaptive.enabled ? kPackedNode : kPackedNode + RodAdaptiveControl::kPerNode;
+  const std::size_t other = sc.time.adaptive.enabled ? rod::kPackedNodeValues : rod::kPackedNodeValues + RodAdaptiveControl::kPerNode;
   src.point = read_rod_restart_point(opt.output, src.file, static_cast<std::size_t>(N + 1), comps, other,
                                      sc.time.adaptive.enabled, g.dt, 3);
   state.t = src.point.time;
   state.ds = sc.rod.length / N;
   state.nodes.resize(static_cast<std::size_t>(N + 1));
   for (int j = 0; j <= N; ++j)
-    state.nodes[static_cast<std::size_t>(j)] = unpack_node(&src.point.state[comps * static_cast<std::size_t>(j)]);
+    state.nodes[static_cast<std::size_t>(j)] = rod::unpack_node(&src.point.state[comps * static_cast<std::size_t>(j)]);
   return src;
 }
 
@@ -649,7 +635,7 @@ std::unique_ptr<RodAdaptiveControl> make_adaptive(const scene::Scene& sc, const 
   std::vector<double> per_node(RodAdaptiveControl::kPerNode * static_cast<std::size_t>(st.num_owned_nodes()));
   for (std::size_t k = 0; k < static_cast<std::size_t>(st.num_owned_nodes()); ++k)
     for (std::size_t i = 0; i < RodAdaptiveControl::kPerNode; ++i)
-      per_node[RodAdaptiveControl::kPerNode * k + i] = restart.point.state[comps * (first + k) + kPackedNode + i];
+      per_node[RodAdaptiveControl::kPerNode * k + i] = restart.point.state[comps * (first + k) + rod::kPackedNodeValues + i];
   ctl->restore(owned_levels(st), per_node, std::vector<double>(x.begin() + std::min<std::size_t>(5, x.size()), x.end()));
   return ctl;
 }

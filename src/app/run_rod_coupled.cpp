@@ -193,7 +193,7 @@ std::vector<rod::NodeLevel> mass_level(const rod::CoupledMassState& m) {
 }
 
 /// Restart points of a coupled rod run (docs/reliability.md "Restart"): per node the node
-/// (kPackedNode values), its point of the centreline (3) and with time.adaptive the rod
+/// (rod::kPackedNodeValues values), its point of the centreline (3) and with time.adaptive the rod
 /// controller's values (RodAdaptiveControl::kPerNode); `extra` holds the values below, then with
 /// time.adaptive the mass controller's per-node values, the count of the rod controller's
 /// scalars, those scalars and the mass controller's.
@@ -206,7 +206,7 @@ enum : std::size_t {
 }  // namespace extra
 const char* const kEventReasons[] = {"left_rod_at_0", "left_rod_at_L", "lift_off", "stick", "time_limit"};
 std::size_t coupled_restart_components(bool adaptive) {
-  return kPackedNode + 3 + (adaptive ? RodAdaptiveControl::kPerNode : 0);
+  return rod::kPackedNodeValues + 3 + (adaptive ? RodAdaptiveControl::kPerNode : 0);
 }
 
 /// The time loop of rod + coupled mass: the steps (fixed, or adaptive: time.adaptive), the
@@ -376,9 +376,9 @@ void CoupledLoop::store() {
   for (int k = 0; k < count_; ++k) {
     const std::size_t j = static_cast<std::size_t>(first_ + k);
     double* o = &local[comps * static_cast<std::size_t>(k)];
-    pack_node(state_.nodes[j], o);
-    for (int c = 0; c < 3; ++c) o[kPackedNode + c] = r_[j](c);
-    if (rc_) rc_->pack_node(first_ + k, o + kPackedNode + 3);
+    rod::pack_node(state_.nodes[j], o);
+    for (int c = 0; c < 3; ++c) o[rod::kPackedNodeValues + c] = r_[j](c);
+    if (rc_) rc_->pack_node(first_ + k, o + rod::kPackedNodeValues + 3);
   }
   slots_.write(w_, state_.t, steps, restart_extra(), local);
   stored_ = std::chrono::steady_clock::now();
@@ -388,7 +388,7 @@ void CoupledLoop::restore(const output::RestartPoint& point) {
   const auto& x = point.extra;
   const std::size_t comps = point.components, n = state_.nodes.size();
   for (std::size_t j = 0; j < n; ++j)
-    for (int c = 0; c < 3; ++c) r_[j](c) = point.state[comps * j + kPackedNode + static_cast<std::size_t>(c)];
+    for (int c = 0; c < 3; ++c) r_[j](c) = point.state[comps * j + rod::kPackedNodeValues + static_cast<std::size_t>(c)];
   m_.sigma = x[extra::sigma];
   m_.speed = x[extra::speed];
   m_.drive_work = x[extra::drive_work];
@@ -410,7 +410,7 @@ void CoupledLoop::restore(const output::RestartPoint& point) {
   if (!rc_) return;
   std::vector<double> per_node(RodAdaptiveControl::kPerNode * n);
   for (std::size_t j = 0; j < n; ++j)
-    std::copy_n(&point.state[comps * j + kPackedNode + 3], RodAdaptiveControl::kPerNode,
+    std::copy_n(&point.state[comps * j + rod::kPackedNodeValues + 3], RodAdaptiveControl::kPerNode,
                 &per_node[RodAdaptiveControl::kPerNode * j]);
   const auto p = x.begin() + static_cast<std::ptrdiff_t>(extra::fixed);
   const std::vector<double> mass_node(p, p + RodAdaptiveControl::kPerNode);
@@ -608,7 +608,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
     start.state.t = point.time;
     start.state.ds = sc.mesh.ds;
     for (std::size_t j = 0; j < static_cast<std::size_t>(sc.mesh.nodes); ++j)
-      start.state.nodes.push_back(unpack_node(&point.state[point.components * j]));
+      start.state.nodes.push_back(rod::unpack_node(&point.state[point.components * j]));
   } else {
     start = initial_state(sc, setup, comm);
   }

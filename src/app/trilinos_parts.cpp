@@ -11,6 +11,7 @@
 #include "arch_start.hpp"
 #include "rod_setup.hpp"
 #include "run.hpp"
+#include "traverse/core/comm.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
 #include "traverse/solver/runtime.hpp"
 #include "traverse/solver/static_start.hpp"
@@ -81,8 +82,7 @@ struct FormedArch {
 };
 
 std::string arch_key(const scene::Scene& sc, const Teuchos::ParameterList& solver, MPI_Comm comm) {
-  int ranks = 1;
-  MPI_Comm_size(comm, &ranks);
+  const int ranks = par::size(comm);
   const auto& r = sc.rod;
   std::ostringstream os;
   os.precision(17);

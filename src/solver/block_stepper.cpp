@@ -17,14 +17,14 @@ struct BlockStepper::Impl {
   std::vector<double> x;  ///< the unknowns of the system solved
   ReuseCounters done;     ///< of the BlockNewtons of earlier paths
 
-  void build(const std::shared_ptr<const rod::RodModel>& model, const std::shared_ptr<const rod::PlanarReduction>& planar) {
+  void build(const std::shared_ptr<const rod::RodModel>& model, const std::shared_ptr<const rod::PlanarReduction>& planar,
+             rod::InitialGuess guess) {
     if (newton) add_block_newton_counters(*newton, done);
     newton.reset();
     const int nodes = model->num_cells + 1;
     assembly = std::make_unique<rod::StepAssembly>(model, planar, 0, nodes, 0, nodes);
     assembly->set_guess(guess);
   }
-  rod::InitialGuess guess = rod::InitialGuess::old_level;
   void build_newton(const Teuchos::ParameterList& np, const LinearSolverChoice& choice) {
     newton = std::make_unique<BlockNewton>(*assembly, block_newton_options(np, choice));
     x.assign(static_cast<size_t>(assembly->num_owned_nodes()) * assembly->unknowns_per_node(), 0.0);
@@ -39,8 +39,7 @@ BlockStepper::BlockStepper(rod::RodModel rod_model, const Teuchos::ParameterList
   const int count = model().num_cells + 1;
   set_partition(0, count, 0, count);
   Impl& m = *impl_;
-  m.guess = initial_guess();
-  m.build(shared_model(), planar_reduction());
+  m.build(shared_model(), planar_reduction(), initial_guess());
   const rod::RodModel& rm = model();
   set_state(rod::straight_rest_state(rm.num_cells, rm.length));
   m.assembly->set_old_level(nodes(), rod::StepTimes{time(), 0.0});
@@ -51,7 +50,7 @@ BlockStepper::~BlockStepper() = default;
 
 void BlockStepper::rebuild() {
   Impl& m = *impl_;
-  m.build(shared_model(), planar_reduction());
+  m.build(shared_model(), planar_reduction(), initial_guess());
   m.assembly->set_old_level(nodes(), rod::StepTimes{time(), 0.0});
   m.build_newton(newton_params(), choice());
 }

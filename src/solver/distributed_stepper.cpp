@@ -29,7 +29,6 @@ bool is_plain_klu2(const LinearSolverChoice& choice) {
   return true;
 }
 
-constexpr int kPacked = static_cast<int>(rod::kPackedNodeValues);
 }  // namespace
 
 struct DistributedStepper::Impl {
@@ -163,16 +162,16 @@ double DistributedStepper::dropped_residual_everywhere() const {
 rod::RodState DistributedStepper::gather_state() const {
   const Impl& m = *impl_;
   const int nodes = model().num_cells + 1;
-  std::vector<double> local(static_cast<size_t>(nodes) * kPacked, 0.0), all(local.size());
+  std::vector<double> local(static_cast<size_t>(nodes) * rod::kPackedNodeValues, 0.0), all(local.size());
   for (int k = 0; k < num_owned_nodes(); ++k)
-    rod::pack_node(owned_node(k), &local[static_cast<size_t>(first_owned_node() + k) * kPacked]);
+    rod::pack_node(owned_node(k), &local[static_cast<size_t>(first_owned_node() + k) * rod::kPackedNodeValues]);
   Teuchos::reduceAll<int, double>(*m.comm, Teuchos::REDUCE_SUM, static_cast<int>(local.size()),
                                   local.data(), all.data());
   rod::RodState s;
   s.t = time();
   s.ds = model().ds();
   s.nodes.resize(static_cast<size_t>(nodes));
-  for (int j = 0; j < nodes; ++j) s.nodes[j] = rod::unpack_node(&all[static_cast<size_t>(j) * kPacked]);
+  for (int j = 0; j < nodes; ++j) s.nodes[j] = rod::unpack_node(&all[static_cast<size_t>(j) * rod::kPackedNodeValues]);
   return s;
 }
 
