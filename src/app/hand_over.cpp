@@ -9,25 +9,25 @@
 
 #include "restart.hpp"
 #include "rod_setup.hpp"
-#include "sweep.hpp"
 #include "traverse/scene/scene.hpp"
 
 namespace traverse::app {
 
-bool needs_trilinos(const CommandLine& cl, const Launch& launch) {
+bool needs_trilinos(const CommandLine& cl, const Launch& launch, Prepared& prepared) {
   using Command = CommandLine::Command;
   switch (cl.command) {
     case Command::Help:
     case Command::Version:
     case Command::Check:
     case Command::Xdmf: return false;
-    case Command::Sweep: return sweep_needs_trilinos(cl);  // each case in this process, on MPI_COMM_SELF
-    case Command::Run: {
+    case Command::Sweep:  // each case in this process, on MPI_COMM_SELF
+      prepared.sweep = plan_sweep(cl);
+      return prepared.sweep->needs_trilinos;
+    case Command::Run:
       if (launch.by_launcher) return true;
-      const scene::Scene sc = cl.restart.empty() ? scene::load_scene(cl.scene, cl.overrides)
-                                                 : restart_scene(cl.restart, cl.scene, cl.overrides);
-      return scene_needs_trilinos(sc);
-    }
+      prepared.scene = cl.restart.empty() ? scene::load_scene(cl.scene, cl.overrides)
+                                          : restart_scene(cl.restart, cl.scene, cl.overrides);
+      return scene_needs_trilinos(*prepared.scene);
     default: throw std::logic_error("needs_trilinos: command not handled");
   }
 }

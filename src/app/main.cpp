@@ -41,7 +41,8 @@ bool needs_mpi(app::CommandLine::Command command, const app::Launch& launch) {
 }
 
 // `comm`: MPI_COMM_WORLD, or MPI_COMM_NULL when the command runs without MPI (needs_mpi).
-int execute(const app::CommandLine& cl, int rank, MPI_Comm comm) {
+// `prepared`: what needs_trilinos loaded (traverse), used instead of loading it again.
+int execute(const app::CommandLine& cl, int rank, MPI_Comm comm, app::Prepared& prepared) {
   using Command = app::CommandLine::Command;
   switch (cl.command) {
     case Command::Help:
@@ -81,8 +82,9 @@ int execute(const app::CommandLine& cl, int rank, MPI_Comm comm) {
     case Command::Run: {
       app::install_interrupt_handlers();
       const bool restart = !cl.restart.empty();
-      const scene::Scene sc = restart ? app::restart_scene(cl.restart, cl.scene, cl.overrides)
-                                      : scene::load_scene(cl.scene, cl.overrides);
+      const scene::Scene sc = prepared.scene                ? std::move(*prepared.scene)
+                              : restart ? app::restart_scene(cl.restart, cl.scene, cl.overrides)
+                                        : scene::load_scene(cl.scene, cl.overrides);
       if (restart && sc.model == scene::Model::Rod && sc.continuation.enabled)
         throw app::UsageError{"--restart " + cl.restart + ": continuation (statics) runs cannot be restarted"};
       app::RunOptions opt;
@@ -99,7 +101,7 @@ int execute(const app::CommandLine& cl, int rank, MPI_Comm comm) {
     }
     case Command::Sweep:
       app::install_interrupt_handlers();
-      return app::run_sweep(cl, comm);
+      return app::run_sweep(cl, prepared.sweep ? *prepared.sweep : app::plan_sweep(cl), comm);
     default:
       throw std::logic_error("traverse: command not handled");
   }
@@ -119,12 +121,13 @@ int main(int argc, char** argv) {
   };
   try {
     const app::CommandLine cl = app::parse_command_line(argc, argv);
-    if (!app::has_trilinos() && app::needs_trilinos(cl, launch)) app::hand_over_to_trilinos(argv);
+    app::Prepared prepared;
+    if (!app::has_trilinos() && app::needs_trilinos(cl, launch, prepared)) app::hand_over_to_trilinos(argv);
     if (needs_mpi(cl.command, launch)) {
       mpi.start(&argc, &argv, launch);
       rank = mpi.rank();
     }
-    code = execute(cl, rank, mpi.comm());
+    code = execute(cl, rank, mpi.comm(), prepared);
   } catch (const app::UsageError& e) {
     report("", e.message + "\n(see traverse --help)");
     code = app::kBadInput;

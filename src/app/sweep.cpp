@@ -30,11 +30,6 @@ namespace fs = std::filesystem;
 
 constexpr std::size_t kMaxCases = 100000;
 
-struct SweepCase {
-  std::vector<std::string> assignments;  ///< "key=value" of each --vary, in option order
-  std::string output;                    ///< DIR/case_NNNN.h5
-};
-
 struct CaseRecord {
   int code = -1;                 ///< exit code of the case as a run (0 complete); -1 not run
   std::string status = "not run";
@@ -82,22 +77,21 @@ std::string case_name(std::size_t k, std::size_t n) {
   return "case_" + std::string(width - std::min(width, digits.size()), '0') + digits + ".h5";
 }
 
-// Every check of the sweep before any case runs; the cases with their output paths.
-std::vector<SweepCase> plan_sweep(const CommandLine& cl) {
-  const scene::Scene base = scene::load_scene(cl.scene, cl.overrides);
-  for (const auto& v : cl.vary) {
-    const std::string option = v.with_previous ? "--with " : "--vary ";
-    if (v.key == "output.file")
-      throw UsageError{option + "output.file: expected a scene key; the sweep names the output files (-o DIR)"};
-    const std::string problem = scene::key_problem(base.tree, scene::scene_schema(), v.key);
-    if (!problem.empty()) throw UsageError{option + v.key + ": " + problem + " (scene " + cl.scene + ")"};
-  }
-  check_summary(base, cl.summary);
-  const auto assignments = sweep_cases(cl.vary, kMaxCases);
-  std::vector<SweepCase> cases;
-  for (std::size_t k = 0; k < assignments.size(); ++k)
-    cases.push_back({assignments[k], (fs::path(cl.output) / case_name(k, assignments.size())).string()});
-  return cases;
+// The scene of case `c` (the sweep's --set overrides, then the case's --vary assignments).
+scene::Scene case_scene(const CommandLine& cl, const SweepCase& c) {
+  std::vector<std::string> overrides = cl.overrides;
+  overrides.insert(overrides.end(), c.assignments.begin(), c.assignments.end());
+  return scene::load_scene(cl.scene, overrides);
+}
+
+// A rough cost of a case (SweepCase::cost).
+double case_cost(const scene::Scene& sc) {
+  if (sc.model == scene::Model::Rod && sc.continuation.enabled) return 1.0;
+  const bool beam = sc.model == scene::Model::Beam;
+  const double steps = (beam ? beam_time_plan(sc) : rod_time_plan(sc)).steps;
+  const double per_step = beam ? sc.beam.modes + double(sc.mesh.nodes) / std::max(1, sc.output.every) : sc.mesh.nodes;
+  const double cost = steps * per_step;
+  return std::isfinite(cost) && cost > 0.0 ? cost : 0.0;
 }
 
 fs::path index_path(const CommandLine& cl) { return fs::path(cl.output) / "index.csv"; }
@@ -143,30 +137,11 @@ std::string case_text(std::size_t k, const SweepCase& c) {
   return t;
 }
 
-// A rough cost of a case, for spreading the cases over the ranks: time steps x (nodes for a
-// rod, modes plus the nodes written per step for a beam); 1 for a continuation; 0 for a case
-// whose scene is bad input (it ends at once).
-double case_cost(const CommandLine& cl, const SweepCase& c) {
-  try {
-    std::vector<std::string> overrides = cl.overrides;
-    overrides.insert(overrides.end(), c.assignments.begin(), c.assignments.end());
-    const scene::Scene sc = scene::load_scene(cl.scene, overrides);
-    if (sc.model == scene::Model::Rod && sc.continuation.enabled) return 1.0;
-    const bool beam = sc.model == scene::Model::Beam;
-    const double steps = (beam ? beam_time_plan(sc) : rod_time_plan(sc)).steps;
-    const double per_step = beam ? sc.beam.modes + double(sc.mesh.nodes) / std::max(1, sc.output.every) : sc.mesh.nodes;
-    const double cost = steps * per_step;
-    return std::isfinite(cost) && cost > 0.0 ? cost : 0.0;
-  } catch (const std::exception&) {
-    return 0.0;
-  }
-}
-
 // The rank of each case: the most costly first, each to the rank with the least cost so far
 // (ties: the lower rank, then the lower case number); the same on every rank.
-std::vector<int> assign_ranks(const CommandLine& cl, const std::vector<SweepCase>& cases, int ranks) {
+std::vector<int> assign_ranks(const std::vector<SweepCase>& cases, int ranks) {
   std::vector<double> cost(cases.size());
-  for (std::size_t k = 0; k < cases.size(); ++k) cost[k] = case_cost(cl, cases[k]);
+  for (std::size_t k = 0; k < cases.size(); ++k) cost[k] = cases[k].cost;
   std::vector<std::size_t> order(cases.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
@@ -195,9 +170,7 @@ CaseRecord run_case(const CommandLine& cl, const RunLimits& limits, std::size_t 
     std::error_code ignored;
     fs::remove(c.output, ignored);
     fs::remove(fs::path(c.output).replace_extension(".xmf"), ignored);
-    std::vector<std::string> overrides = cl.overrides;
-    overrides.insert(overrides.end(), c.assignments.begin(), c.assignments.end());
-    const scene::Scene sc = scene::load_scene(cl.scene, overrides);
+    const scene::Scene sc = case_scene(cl, c);
     RunOptions opt;
     opt.output = c.output;
     opt.overwrite = true;  // checked up front (prepare_directory)
@@ -312,21 +285,35 @@ RunLimits sweep_limits(const RunLimits& given, MPI_Comm comm) {
 
 }  // namespace
 
-bool sweep_needs_trilinos(const CommandLine& cl) {
-  for (const SweepCase& c : plan_sweep(cl)) {
-    std::vector<std::string> overrides = cl.overrides;
-    overrides.insert(overrides.end(), c.assignments.begin(), c.assignments.end());
-    try {
-      if (scene_needs_trilinos(scene::load_scene(cl.scene, overrides))) return true;
-    } catch (const scene::SceneError&) {
-      // recorded as that case's failure when it runs
-    }
+SweepPlan plan_sweep(const CommandLine& cl) {
+  const scene::Scene base = scene::load_scene(cl.scene, cl.overrides);
+  for (const auto& v : cl.vary) {
+    const std::string option = v.with_previous ? "--with " : "--vary ";
+    if (v.key == "output.file")
+      throw UsageError{option + "output.file: expected a scene key; the sweep names the output files (-o DIR)"};
+    const std::string problem = scene::key_problem(base.tree, scene::scene_schema(), v.key);
+    if (!problem.empty()) throw UsageError{option + v.key + ": " + problem + " (scene " + cl.scene + ")"};
   }
-  return false;
+  check_summary(base, cl.summary);
+  const auto assignments = sweep_cases(cl.vary, kMaxCases);
+  SweepPlan plan;
+  for (std::size_t k = 0; k < assignments.size(); ++k) {
+    SweepCase c{assignments[k], (fs::path(cl.output) / case_name(k, assignments.size())).string(), 0.0};
+    try {
+      const scene::Scene sc = case_scene(cl, c);
+      c.cost = case_cost(sc);
+      if (!plan.needs_trilinos && scene_needs_trilinos(sc)) plan.needs_trilinos = true;
+    } catch (const std::exception&) {
+      // bad input (or a model that cannot be built): recorded as that case's failure when it runs
+      c.cost = 0.0;
+    }
+    plan.cases.push_back(std::move(c));
+  }
+  return plan;
 }
 
-int run_sweep(const CommandLine& cl, MPI_Comm comm) {
-  const std::vector<SweepCase> cases = plan_sweep(cl);
+int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
+  const std::vector<SweepCase>& cases = plan.cases;
   prepare_directory(cl, cases, comm);
   const int size = comm_size(comm), rank = comm_rank(comm);
   const RunLimits limits = sweep_limits(cl.limits, comm);
@@ -335,7 +322,7 @@ int run_sweep(const CommandLine& cl, MPI_Comm comm) {
   std::vector<std::pair<std::size_t, std::string>> mine;
   std::vector<int> codes(cases.size(), 0);  // this rank's cases; gathered below
   int interrupted = 0;
-  const std::vector<int> rank_of = size > 1 ? assign_ranks(cl, cases, size) : std::vector<int>(cases.size(), 0);
+  const std::vector<int> rank_of = size > 1 ? assign_ranks(cases, size) : std::vector<int>(cases.size(), 0);
   for (std::size_t k = 0; k < cases.size(); ++k) {
     if (rank_of[k] != rank) continue;
     CaseRecord r;

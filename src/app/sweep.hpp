@@ -4,19 +4,39 @@
 // per case and an index of the cases.
 #include <mpi.h>
 
+#include <string>
+#include <vector>
+
 #include "cli.hpp"
 
 namespace traverse::app {
 
-/// Checks everything up front (the scene, each --vary key, --summary, the output directory;
-/// UsageError, scene::SceneError or output::OutputError, exit 2, before any case runs), runs
-/// the cases, writes DIR/index.csv on rank 0. Returns 0 when every case completed, else the
-/// exit code of the first case (in case order) that did not. Collective over `comm`.
-int run_sweep(const CommandLine& cl, MPI_Comm comm);
+/// One case of a sweep: its --vary assignments, output file and rough cost.
+struct SweepCase {
+  std::vector<std::string> assignments;  ///< "key=value" of each --vary, in option order
+  std::string output;                    ///< DIR/case_NNNN.h5
+  /// Time steps x (nodes for a rod, modes plus the nodes written per step for a beam); 1 for a
+  /// continuation; 0 for a case whose scene is bad input (it ends at once). Spreads the cases
+  /// over the ranks.
+  double cost = 0.0;
+};
 
-/// Whether a case of the sweep needs Trilinos (hand_over.hpp: a continuation, or a rod run
-/// that does not step on block storage in one process; a case whose scene is bad input needs
-/// nothing). Checks the sweep as run_sweep does first (UsageError, SceneError).
-bool sweep_needs_trilinos(const CommandLine& cl);
+/// The sweep checked and its cases planned, each case's scene loaded once to find its cost and
+/// whether it needs Trilinos (the executable traverse decides its hand-over with it).
+struct SweepPlan {
+  std::vector<SweepCase> cases;
+  bool needs_trilinos = false;  ///< a case needs Trilinos (hand_over.hpp)
+};
+
+/// Checks everything about the sweep but its output directory (the scene, each --vary key,
+/// --summary: UsageError or scene::SceneError, exit 2) and plans its cases. A case whose scene
+/// is bad input needs nothing and costs 0 (it is recorded as that case's failure when it runs).
+SweepPlan plan_sweep(const CommandLine& cl);
+
+/// Checks the output directory (output::OutputError, exit 2, before any case runs), runs the
+/// cases of `plan` (plan_sweep(cl)), writes DIR/index.csv on rank 0. Returns 0 when every case
+/// completed, else the exit code of the first case (in case order) that did not. Collective
+/// over `comm`.
+int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm);
 
 }  // namespace traverse::app
