@@ -357,7 +357,7 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
   scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(ranks) + " rank(s)", e.what());
 }
 
-bool steps_on_block_storage(const Teuchos::ParameterList& solver, int ranks) {
+bool steps_on_block_storage(const ParamList& solver, int ranks) {
   try {
     return ranks == 1 && solver::block_stepper_applies(solver);
   } catch (const std::invalid_argument&) {

@@ -2,7 +2,7 @@
 // Scene -> rod structures shared by the dynamic and the static runners.
 #include <mpi.h>
 
-#include <Teuchos_ParameterList.hpp>
+#include "traverse/core/param_list.hpp"
 
 #include <memory>
 #include <stdexcept>
@@ -28,7 +28,7 @@ rod::RodProperties rod_properties(const scene::RodSpec& r);
 /// conditions that is not well posed).
 struct RodSetup {
   rod::RodModel model;
-  Teuchos::ParameterList solver;
+  ParamList solver;
 };
 RodSetup build_rod_model(const scene::Scene& sc);
 
@@ -102,7 +102,7 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
 /// Whether a run with these solver parameters on `ranks` ranks steps in one process on block
 /// storage (solver::BlockStepper: one rank, the block-tridiagonal LU, BlockNewton), which needs
 /// no Tpetra; false for parameters the steppers refuse (make_stepper reports them).
-bool steps_on_block_storage(const Teuchos::ParameterList& solver, int ranks);
+bool steps_on_block_storage(const ParamList& solver, int ranks);
 /// Whether a dynamic rod run needs Tpetra (and Kokkos): not when it steps on block storage
 /// from a rest, static or file initial state (all three made without Tpetra then).
 bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);

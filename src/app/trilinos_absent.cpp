@@ -24,15 +24,15 @@ TpetraScope::~TpetraScope() = default;
 
 void finish_solver_runtime() {}
 
-std::unique_ptr<solver::RodStepper> distributed_stepper(const rod::RodModel&, const Teuchos::ParameterList&, MPI_Comm) {
+std::unique_ptr<solver::RodStepper> distributed_stepper(const rod::RodModel&, const ParamList&, MPI_Comm) {
   absent("the distributed rod stepper");
 }
 
-solver::StaticStart distributed_static_start(const rod::StaticModel&, const Teuchos::ParameterList&, MPI_Comm) {
+solver::StaticStart distributed_static_start(const rod::StaticModel&, const ParamList&, MPI_Comm) {
   absent("the distributed static start");
 }
 
-rod::RodState arch_start(const scene::Scene&, const Teuchos::ParameterList&, MPI_Comm, std::string&) {
+rod::RodState arch_start(const scene::Scene&, const ParamList&, MPI_Comm, std::string&) {
   absent("the arch formation");
 }
 

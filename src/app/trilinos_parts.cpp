@@ -15,6 +15,7 @@
 #include "traverse/solver/distributed_stepper.hpp"
 #include "traverse/solver/runtime.hpp"
 #include "traverse/solver/static_start.hpp"
+#include "traverse/solver/teuchos_params.hpp"
 
 namespace traverse::app {
 
@@ -39,18 +40,18 @@ TpetraScope::~TpetraScope() = default;
 
 void finish_solver_runtime() { solver::finish_runtime(); }
 
-std::unique_ptr<solver::RodStepper> distributed_stepper(const rod::RodModel& model, const Teuchos::ParameterList& solver,
+std::unique_ptr<solver::RodStepper> distributed_stepper(const rod::RodModel& model, const ParamList& solver,
                                                         MPI_Comm comm) {
   return std::make_unique<solver::DistributedStepper>(model, teuchos_comm(comm), solver);
 }
 
-solver::StaticStart distributed_static_start(const rod::StaticModel& m, const Teuchos::ParameterList& solver,
+solver::StaticStart distributed_static_start(const rod::StaticModel& m, const ParamList& solver,
                                              MPI_Comm comm) {
   return solver::solve_static_start(m, teuchos_comm(comm), solver);
 }
 
 solver::ArchFormation form_arch(const scene::Scene& sc, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                                const Teuchos::ParameterList& solver_params) {
+                                const ParamList& solver_params) {
   solver::ArchOptions o;
   o.length = sc.rod.length;
   o.num_cells = sc.mesh.nodes - 1;
@@ -81,7 +82,7 @@ struct FormedArch {
   solver::ArchFormation arch;
 };
 
-std::string arch_key(const scene::Scene& sc, const Teuchos::ParameterList& solver, MPI_Comm comm) {
+std::string arch_key(const scene::Scene& sc, const ParamList& solver, MPI_Comm comm) {
   const int ranks = par::size(comm);
   const auto& r = sc.rod;
   std::ostringstream os;
@@ -89,13 +90,13 @@ std::string arch_key(const scene::Scene& sc, const Teuchos::ParameterList& solve
   os << r.length << ' ' << r.youngs_modulus << ' ' << r.shear_modulus << ' ' << r.density << ' ' << r.section.area
      << ' ' << r.section.I1 << ' ' << r.section.I2 << ' ' << r.section.J << ' ' << r.intrinsic_curvature.transpose()
      << ' ' << sc.mesh.nodes << ' ' << sc.initial_state.end_to_end << ' ' << sc.gravity << ' ' << ranks << '\n'
-     << solver;
+     << solver::to_teuchos(solver);
   return os.str();
 }
 
 }  // namespace
 
-rod::RodState arch_start(const scene::Scene& sc, const Teuchos::ParameterList& solver, MPI_Comm comm,
+rod::RodState arch_start(const scene::Scene& sc, const ParamList& solver, MPI_Comm comm,
                          std::string& description) {
   const auto tcomm = teuchos_comm(comm);
   static std::optional<FormedArch> last;

@@ -50,7 +50,8 @@ const std::vector<std::string>& enum_names<EndType>() {  // the words of end_typ
 
 namespace {
 
-using Teuchos::ParameterList;
+using traverse::ParamList;
+using ParameterList = ParamList;
 
 const char* kBeam = "beam";
 const char* kRod = "rod";
@@ -187,7 +188,7 @@ Param end_parameter(const EndParameter& p) {
 
 Check nonzero(const std::string& key) {
   return [key](const ParameterList& s, const CheckContext& ctx) {
-    const auto a = s.get<Teuchos::Array<double>>(key);
+    const auto a = s.get<std::vector<double>>(key);
     if (std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) == 0.0) ctx.fail(key, "a non-zero axis", "[0, 0, 0]");
   };
 }
@@ -195,7 +196,7 @@ Check nonzero(const std::string& key) {
 Check perpendicular(const EndPerpendicular& q) {
   return [key = std::string(q.key), other = std::string(q.other), expected = std::string(q.expected)](
              const ParameterList& s, const CheckContext& ctx) {
-    const auto a = s.get<Teuchos::Array<double>>(other), e = s.get<Teuchos::Array<double>>(key);
+    const auto a = s.get<std::vector<double>>(other), e = s.get<std::vector<double>>(key);
     const double dot = a[0] * e[0] + a[1] * e[1] + a[2] * e[2];
     const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
     const double ne = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
@@ -471,9 +472,9 @@ Param build_schema() {
         ctx.fail(key + ".at", "a position on the structure, in [0, " + format_number(length) + "]",
                  format_number(pr.get<double>("at")));
     }
-    const auto fields = s.sublist("output").get<Teuchos::Array<std::string>>("fields");
+    const auto fields = s.sublist("output").get<std::vector<std::string>>("fields");
     const auto& allowed = model == kBeam ? kBeamFields : kRodFields;
-    for (Teuchos::Array<std::string>::size_type i = 0; i < fields.size(); ++i)
+    for (std::size_t i = 0; i < fields.size(); ++i)
       if (std::find(allowed.begin(), allowed.end(), fields[i]) == allowed.end())
       {
         std::string list;
@@ -489,7 +490,7 @@ Param build_schema() {
         ctx.fail(key + ".start", "a position on the structure, in [0, " + format_number(length) + "]",
                  format_number(l.get<double>("start")));
       if (model == kBeam && l.isParameter("force_vector")) {
-        const auto f = l.get<Teuchos::Array<double>>("force_vector");
+        const auto f = l.get<std::vector<double>>("force_vector");
         if (f[0] != 0.0 || f[2] != 0.0)
           ctx.fail(key + ".force_vector", "a vertical force [0, Fy, 0] for a beam (it bends in the (j, k) plane)",
                    "[" + format_number(f[0]) + ", " + format_number(f[1]) + ", " + format_number(f[2]) + "]");
@@ -516,7 +517,7 @@ Param build_schema() {
 }
 
 Vec3 vec3_of(const ParameterList& p, const std::string& key) {
-  const auto a = p.get<Teuchos::Array<double>>(key);
+  const auto a = p.get<std::vector<double>>(key);
   return Vec3(a[0], a[1], a[2]);
 }
 
@@ -795,7 +796,7 @@ void read_adaptive(const ParameterList& t, Scene& sc) {
   s.enabled = true;
   s.tolerance = a.get<double>("tolerance");
   static const char* const kGroups[5] = {"position", "orientation", "u", "omega", "kappa"};
-  const auto on = a.get<Teuchos::Array<std::string>>("on");
+  const auto on = a.get<std::vector<std::string>>("on");
   for (int g = 0; g < 5; ++g) {
     s.controlled[g] = std::find(on.begin(), on.end(), kGroups[g]) != on.end();
     s.absolute[g] = a.get<double>(std::string("absolute_") + kGroups[g]);
@@ -863,7 +864,7 @@ void read_output(const ParameterList& o, const std::string& file_name, OutputSpe
     }
     out.probes.push_back(ps);
   }
-  for (const auto& f : o.get<Teuchos::Array<std::string>>("fields")) out.fields.push_back(enum_of<Field>(f));
+  for (const auto& f : o.get<std::vector<std::string>>("fields")) out.fields.push_back(enum_of<Field>(f));
 }
 
 }  // namespace

@@ -7,6 +7,8 @@
 #include <iomanip>
 #include <set>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 
 namespace traverse::scene {
 
@@ -213,7 +215,7 @@ class Validator {
 
   // Validates the keys of a map node against `params` into `out`.
   void map_keys(const YAML::Node& node, const std::vector<Param>& params, const std::string& path,
-                Teuchos::ParameterList& out, const std::vector<std::string>& extra_allowed = {}) {
+                ParamList& out, const std::vector<std::string>& extra_allowed = {}) {
     if (node.IsDefined() && !node.IsNull() && !node.IsMap()) fail(path, "a map of keys", shown(node));
     std::set<std::string> seen;
     std::vector<std::string> known = extra_allowed;
@@ -262,7 +264,7 @@ class Validator {
     if (low || high) fail(path, p.expected_text(), found);
   }
 
-  void value(const YAML::Node& n, const Param& p, const std::string& path, Teuchos::ParameterList& out) {
+  void value(const YAML::Node& n, const Param& p, const std::string& path, ParamList& out) {
     const bool present = n.IsDefined() && !n.IsNull();
     const bool container = p.kind == ValueKind::Section || p.kind == ValueKind::Collection ||
                            p.kind == ValueKind::PassThrough;
@@ -276,38 +278,38 @@ class Validator {
       return;
     }
     if (p.accepts_auto && n.IsScalar() && n.Scalar() == "auto") {
-      out.set(p.name, std::string("auto"), p.doc);
+      out.set(p.name, std::string("auto"));
       return;
     }
     switch (p.kind) {
       case ValueKind::Real: {
         const double v = real_value(n, p, path);
         check_range(v, p, path, shown(n));
-        out.set(p.name, v, p.doc);
+        out.set(p.name, v);
         break;
       }
-      case ValueKind::Integer: out.set(p.name, integer_value(n, p, path), p.doc); break;
-      case ValueKind::Bool: out.set(p.name, bool_value(n, p, path), p.doc); break;
+      case ValueKind::Integer: out.set(p.name, integer_value(n, p, path)); break;
+      case ValueKind::Bool: out.set(p.name, bool_value(n, p, path)); break;
       case ValueKind::String:
         if (!n.IsScalar()) fail(path, p.expected_text(), shown(n));
-        out.set(p.name, n.Scalar(), p.doc);
+        out.set(p.name, n.Scalar());
         break;
-      case ValueKind::Choice: out.set(p.name, choice_value(n, p, path), p.doc); break;
+      case ValueKind::Choice: out.set(p.name, choice_value(n, p, path)); break;
       case ValueKind::Vector3:
-      case ValueKind::RealList: out.set(p.name, real_list(n, p, path), p.doc); break;
-      case ValueKind::StringList: out.set(p.name, word_list(n, p, path), p.doc); break;
+      case ValueKind::RealList: out.set(p.name, real_list(n, p, path)); break;
+      case ValueKind::StringList: out.set(p.name, word_list(n, p, path)); break;
       case ValueKind::Section: {
-        auto& sub = out.sublist(p.name, false, p.doc);
+        auto& sub = out.sublist(p.name);
         map_keys(n, p.children, path, sub);
         CheckContext ctx(file_, path, &marks_);
         for (const auto& c : p.checks) c(sub, ctx);
         break;
       }
-      case ValueKind::Typed: typed_entry(n, *p.registry, path, out.sublist(p.name, false, p.doc)); break;
-      case ValueKind::Collection: collection(n, p, path, out.sublist(p.name, false, p.doc)); break;
+      case ValueKind::Typed: typed_entry(n, *p.registry, path, out.sublist(p.name)); break;
+      case ValueKind::Collection: collection(n, p, path, out.sublist(p.name)); break;
       case ValueKind::PassThrough:
         if (!n.IsMap()) fail(path, p.expected_text(), shown(n));
-        generic(n, path, out.sublist(p.name, false, p.doc));
+        generic(n, path, out.sublist(p.name));
         break;
       default:
         throw std::logic_error("scene validation: unknown value kind at " + path);
@@ -347,10 +349,10 @@ class Validator {
     return w;
   }
 
-  Teuchos::Array<double> real_list(const YAML::Node& n, const Param& p, const std::string& path) {
+  std::vector<double> real_list(const YAML::Node& n, const Param& p, const std::string& path) {
     if (!n.IsSequence()) fail(path, p.expected_text(), shown(n));
     if (p.kind == ValueKind::Vector3 && n.size() != 3) fail(path, p.expected_text(), shown(n));
-    Teuchos::Array<double> a;
+    std::vector<double> a;
     for (size_t i = 0; i < n.size(); ++i) {
       const std::string ip = path + "[" + std::to_string(i) + "]";
       const double v = real_value(n[i], p, ip);
@@ -360,8 +362,8 @@ class Validator {
     return a;
   }
 
-  Teuchos::Array<std::string> word_list(const YAML::Node& n, const Param& p, const std::string& path) {
-    Teuchos::Array<std::string> a;
+  std::vector<std::string> word_list(const YAML::Node& n, const Param& p, const std::string& path) {
+    std::vector<std::string> a;
     if (n.IsScalar()) {
       // A single word is accepted as a one-element list.
       a.push_back(n.Scalar());
@@ -374,7 +376,7 @@ class Validator {
       fail(path, p.expected_text(), shown(n));
     }
     std::set<std::string> seen;
-    for (Teuchos::Array<std::string>::size_type i = 0; i < a.size(); ++i) {
+    for (std::size_t i = 0; i < a.size(); ++i) {
       const std::string ip = path + "[" + std::to_string(i) + "]";
       if (!p.choices.empty() && std::find(p.choices.begin(), p.choices.end(), a[i]) == p.choices.end())
         fail(ip, "one of {" + list_words(p.choices) + "}", "'" + a[i] + "'" + suggestion(a[i], p.choices));
@@ -383,7 +385,7 @@ class Validator {
     return a;
   }
 
-  void collection(const YAML::Node& n, const Param& p, const std::string& path, Teuchos::ParameterList& sub) {
+  void collection(const YAML::Node& n, const Param& p, const std::string& path, ParamList& sub) {
     if (!n.IsMap()) fail(path, p.expected_text() + " (name: {type: ..., ...})", shown(n));
     std::set<std::string> seen;
     for (const auto& kv : n) {
@@ -397,7 +399,7 @@ class Validator {
     }
   }
 
-  void typed_entry(const YAML::Node& n, const TypeRegistry& reg, const std::string& path, Teuchos::ParameterList& out) {
+  void typed_entry(const YAML::Node& n, const TypeRegistry& reg, const std::string& path, ParamList& out) {
     const std::string a = std::string("aeiou").find(reg.category()[0]) == std::string::npos ? "a " : "an ";
     if (!n.IsMap()) fail(path, "a map with a 'type' key naming " + a + reg.category() + " type", shown(n));
     const YAML::Node t = n["type"];
@@ -409,14 +411,14 @@ class Validator {
     if (!info)
       fail(join_path(path, "type"), a + reg.category() + " type, one of {" + list_words(reg.names()) + "}",
            "'" + type + "'" + suggestion(type, reg.names()));
-    out.set("type", type, reg.category() + " type");
+    out.set("type", type);
     map_keys(n, info->params, path, out, {"type"});
     CheckContext ctx(file_, path, &marks_);
     for (const auto& c : info->checks) c(out, ctx);
   }
 
   // Solver parameter lists: keep natural YAML types (int, double, bool, string).
-  void generic(const YAML::Node& n, const std::string& path, Teuchos::ParameterList& out) {
+  void generic(const YAML::Node& n, const std::string& path, ParamList& out) {
     for (const auto& kv : n) {
       const std::string key = kv.first.Scalar();
       const std::string kpath = join_path(path, key);
@@ -501,12 +503,12 @@ std::vector<std::string> key_names(const std::vector<Param>& keys, bool with_typ
   return names;
 }
 
-const Teuchos::ParameterList* sublist_of(const Teuchos::ParameterList* list, const std::string& name) {
+const ParamList* sublist_of(const ParamList* list, const std::string& name) {
   return list && list->isSublist(name) ? &list->sublist(name) : nullptr;
 }
 
 // The keys of a typed entry `list` (its `type` chosen in the scene), or nullptr.
-const TypeInfo* type_of(const Teuchos::ParameterList* list, const TypeRegistry& reg) {
+const TypeInfo* type_of(const ParamList* list, const TypeRegistry& reg) {
   if (!list || !list->isType<std::string>("type")) return nullptr;
   return reg.find(list->get<std::string>("type"));
 }
@@ -522,7 +524,7 @@ std::string key_problem(const ValidatedTree& tree, const Param& root, const std:
   for (const auto& p : parts)
     if (p.empty()) return "expected KEY.PATH with non-empty parts, found '" + key + "'";
   const std::vector<Param>* keys = &root.children;
-  const Teuchos::ParameterList* list = &tree.params;
+  const ParamList* list = &tree.params;
   bool typed = false;  // the level is a typed entry: its `type` key is declared too
   std::string path;
   for (std::size_t i = 0; i < parts.size(); ++i) {
@@ -548,7 +550,7 @@ std::string key_problem(const ValidatedTree& tree, const Param& root, const std:
           const std::string& name = parts[++i];
           std::vector<std::string> names;
           if (list)
-            for (auto it = list->begin(); it != list->end(); ++it) names.push_back(list->name(it));
+            for (const auto& e : list->entries()) names.push_back(e.name());
           if (!sublist_of(list, name))
             return "expected one of the names of '" + path + "' in the scene {" + list_words(names) + "}, found '" +
                    name + "'" + suggestion(name, names);
@@ -605,32 +607,32 @@ ValidatedTree validate_yaml(const std::string& yaml_text, const std::string& fil
 // ---------------------------------------------------------------------------------------
 namespace {
 
-std::string scalar_text(const Teuchos::ParameterEntry& e) {
-  const auto& a = e.getAny();
+std::string scalar_text(const ParamList::Entry& e) {
   std::ostringstream os;
-  if (a.type() == typeid(double)) {
-    os << std::setprecision(15) << Teuchos::any_cast<double>(a);
-  } else if (a.type() == typeid(int)) {
-    os << Teuchos::any_cast<int>(a);
-  } else if (a.type() == typeid(bool)) {
-    os << (Teuchos::any_cast<bool>(a) ? "true" : "false");
-  } else if (a.type() == typeid(std::string)) {
-    YAML::Emitter em;
-    em << Teuchos::any_cast<std::string>(a);
-    os << em.c_str();
-  } else if (a.type() == typeid(Teuchos::Array<double>)) {
-    const auto& v = Teuchos::any_cast<Teuchos::Array<double>>(a);
-    os << "[";
-    for (Teuchos::Array<double>::size_type i = 0; i < v.size(); ++i) os << (i ? ", " : "") << std::setprecision(15) << v[i];
-    os << "]";
-  } else if (a.type() == typeid(Teuchos::Array<std::string>)) {
-    const auto& v = Teuchos::any_cast<Teuchos::Array<std::string>>(a);
-    os << "[";
-    for (Teuchos::Array<std::string>::size_type i = 0; i < v.size(); ++i) os << (i ? ", " : "") << v[i];
-    os << "]";
-  } else {
-    os << e;
-  }
+  std::visit(
+      [&](const auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, double>) {
+          os << std::setprecision(15) << v;
+        } else if constexpr (std::is_same_v<T, int>) {
+          os << v;
+        } else if constexpr (std::is_same_v<T, bool>) {
+          os << (v ? "true" : "false");
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          YAML::Emitter em;
+          em << v;
+          os << em.c_str();
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          os << "[";
+          for (std::size_t i = 0; i < v.size(); ++i) os << (i ? ", " : "") << std::setprecision(15) << v[i];
+          os << "]";
+        } else {
+          os << "[";
+          for (std::size_t i = 0; i < v.size(); ++i) os << (i ? ", " : "") << v[i];
+          os << "]";
+        }
+      },
+      e.value());
   return os.str();
 }
 
@@ -660,7 +662,7 @@ class Describer {
     os << s << "\n";
   }
 
-  void keys(const Teuchos::ParameterList& list, const std::vector<Param>& params, int depth) {
+  void keys(const ParamList& list, const std::vector<Param>& params, int depth) {
     for (const auto& p : params) {
       if (!p.condition.first.empty() && !(list.isType<std::string>(p.condition.first) &&
                                           list.get<std::string>(p.condition.first) == p.condition.second))
@@ -672,7 +674,7 @@ class Describer {
         continue;
       }
       if (!container) {
-        line(depth, p.name + ": " + scalar_text(list.getEntry(p.name)), comment(p));
+        line(depth, p.name + ": " + scalar_text(list.entry(p.name)), comment(p));
         continue;
       }
       const auto& sub = list.sublist(p.name);
@@ -687,9 +689,9 @@ class Describer {
           break;
         case ValueKind::Collection:
           line(depth, p.name + (sub.numParams() == 0 ? ": {}" : ":"), p.doc + types_note(*p.registry));
-          for (auto it = sub.begin(); it != sub.end(); ++it) {
-            line(depth + 1, sub.name(it) + ":", "");
-            typed(sub.sublist(sub.name(it)), *p.registry, depth + 2);
+          for (const auto& e : sub.entries()) {
+            line(depth + 1, e.name() + ":", "");
+            typed(e.list(), *p.registry, depth + 2);
           }
           break;
         case ValueKind::PassThrough:
@@ -709,18 +711,17 @@ class Describer {
     return s + ")";
   }
 
-  void typed(const Teuchos::ParameterList& list, const TypeRegistry& r, int depth) {
+  void typed(const ParamList& list, const TypeRegistry& r, int depth) {
     const std::string type = list.get<std::string>("type");
     const TypeInfo* info = r.find(type);
     line(depth, "type: " + type, info ? info->doc : "");
     if (info) keys(list, info->params, depth);
   }
 
-  void generic(const Teuchos::ParameterList& list, int depth) {
-    for (auto it = list.begin(); it != list.end(); ++it) {
-      const auto& name = list.name(it);
-      const auto& e = list.entry(it);
-      if (e.isList()) {
+  void generic(const ParamList& list, int depth) {
+    for (const auto& e : list.entries()) {
+      const auto& name = e.name();
+      if (e.is_list()) {
         line(depth, name + ":", "");
         generic(list.sublist(name), depth + 1);
       } else {

@@ -95,7 +95,7 @@ NewtonReport BlockNewton::iterate(std::vector<double>& x) {
   return rep;
 }
 
-BlockNewtonOptions block_newton_options(const Teuchos::ParameterList& newton, const LinearSolverChoice& choice) {
+BlockNewtonOptions block_newton_options(const ParamList& newton, const LinearSolverChoice& choice) {
   BlockNewtonOptions o;
   o.residual_tolerance = newton.get<double>("Residual Tolerance");
   o.update_relative_tolerance = newton.get<double>("Update Relative Tolerance");

@@ -10,7 +10,7 @@
 // max|f| < residual tolerance and the WRMS update test (NOX's NormWRMS: weights rtol |x_old| +
 // atol) is below 1, failed at a non-finite residual or after the maximum of iterations.
 // Eigen and the rod kernels only.
-#include <Teuchos_ParameterList.hpp>
+#include "traverse/core/param_list.hpp"
 
 #include <memory>
 #include <vector>
@@ -65,7 +65,7 @@ class BlockNewton {
 
 /// The options of the time step's Newton from its parameters (`newton`: validated, with the
 /// planar path's update tolerances: RodStepper::newton_params) and the linear solver's tolerance.
-BlockNewtonOptions block_newton_options(const Teuchos::ParameterList& newton, const LinearSolverChoice& choice);
+BlockNewtonOptions block_newton_options(const ParamList& newton, const LinearSolverChoice& choice);
 
 /// Adds what `b` counted to the counters of a stepper.
 void add_block_newton_counters(const BlockNewton& b, ReuseCounters& c);

@@ -87,7 +87,7 @@ StaticStart solve_static_start_in_one_process(const rod::StaticModel& m) {
   // The block LU eliminates from the left end: well posed only when the left end is clamped
   // (static_start.cpp).
   if (m.left.type == rod::EndCondition::Type::clamped) {
-    const LinearSolverChoice choice = LinearSolverChoice::resolve(validated_solver_parameters(Teuchos::ParameterList()),
+    const LinearSolverChoice choice = LinearSolverChoice::resolve(validated_solver_parameters(ParamList()),
                                                                   1, LinearSolverChoice::Use::time_step);
     BlockStaticSystem sys(m, choice.linear_tolerance);
     out.linear_solver = choice.resolved;

@@ -6,8 +6,8 @@
 
 namespace traverse::solver {
 
-bool block_stepper_applies(const Teuchos::ParameterList& params) {
-  const Teuchos::ParameterList p = validated_solver_parameters(params);
+bool block_stepper_applies(const ParamList& params) {
+  const ParamList p = validated_solver_parameters(params);
   return block_newton_applies(p, LinearSolverChoice::resolve(p, 1, LinearSolverChoice::Use::time_step), 1);
 }
 
@@ -25,13 +25,13 @@ struct BlockStepper::Impl {
     assembly = std::make_unique<rod::StepAssembly>(model, planar, 0, nodes, 0, nodes);
     assembly->set_guess(guess);
   }
-  void build_newton(const Teuchos::ParameterList& np, const LinearSolverChoice& choice) {
+  void build_newton(const ParamList& np, const LinearSolverChoice& choice) {
     newton = std::make_unique<BlockNewton>(*assembly, block_newton_options(np, choice));
     x.assign(static_cast<size_t>(assembly->num_owned_nodes()) * assembly->unknowns_per_node(), 0.0);
   }
 };
 
-BlockStepper::BlockStepper(rod::RodModel rod_model, const Teuchos::ParameterList& params)
+BlockStepper::BlockStepper(rod::RodModel rod_model, const ParamList& params)
     : RodStepper(std::move(rod_model), params, 1, 0), impl_(std::make_unique<Impl>()) {
   if (!block_newton_applies(parameters(), choice(), 1))
     throw std::invalid_argument("BlockStepper: the solver parameters ask for more than the block-tridiagonal LU with "

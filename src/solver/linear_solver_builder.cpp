@@ -18,6 +18,7 @@
 #include "block_tridiagonal_preconditioner.hpp"
 #include "reusable_ifpack2_factory.hpp"
 #include "traverse/solver/rod_step_model.hpp"
+#include "traverse/solver/teuchos_params.hpp"
 
 namespace traverse::solver {
 
@@ -256,7 +257,7 @@ LinearSolverObjects build_linear_solver(const LinearSolverChoice& choice) {
   builder.setPreconditioningStrategyFactory(
       Teuchos::abstractFactoryStd<Thyra::PreconditionerFactoryBase<double>, ReusableIfpack2Factory>(),
       "Ifpack2");
-  builder.setParameterList(Teuchos::rcp(new Teuchos::ParameterList(choice.stratimikos)));
+  builder.setParameterList(Teuchos::rcp(new Teuchos::ParameterList(to_teuchos(choice.stratimikos))));
   Teuchos::RCP<Thyra::LinearOpWithSolveFactoryBase<double>> lows = builder.createLinearSolveStrategy("");
   LinearSolverObjects out;
   if (lows->acceptsPreconditionerFactory()) {

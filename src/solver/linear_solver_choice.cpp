@@ -10,7 +10,7 @@ namespace traverse::solver {
 
 namespace {
 
-std::string get_or(const Teuchos::ParameterList& pl, const std::string& key, const std::string& fallback) {
+std::string get_or(const ParamList& pl, const std::string& key, const std::string& fallback) {
   return pl.isType<std::string>(key) ? pl.get<std::string>(key) : fallback;
 }
 
@@ -18,17 +18,17 @@ constexpr int kBlockTridiagonalRestart = 40;
 
 const char* const kSchwarzText = "Ifpack2 SCHWARZ (overlap 1, Amesos2 KLU2 subdomains)";
 
-Teuchos::ParameterList amesos2_list() {
-  Teuchos::ParameterList s("Stratimikos");
+ParamList amesos2_list() {
+  ParamList s("Stratimikos");
   s.set("Linear Solver Type", "Amesos2");
   s.sublist("Linear Solver Types").sublist("Amesos2").set("Solver Type", "KLU2");
   s.set("Preconditioner Type", "None");
   return s;
 }
 
-Teuchos::ParameterList gmres_list(const Teuchos::ParameterList& p, const std::string& prec,
+ParamList gmres_list(const ParamList& p, const std::string& prec,
                                   std::string& text) {
-  Teuchos::ParameterList s("Stratimikos");
+  ParamList s("Stratimikos");
   s.set("Linear Solver Type", "Belos");
   auto& belos = s.sublist("Linear Solver Types").sublist("Belos");
   belos.set("Solver Type", "Pseudo Block GMRES");
@@ -79,7 +79,7 @@ Teuchos::ParameterList gmres_list(const Teuchos::ParameterList& p, const std::st
   return s;
 }
 
-std::string describe_pass_through(const Teuchos::ParameterList& s) {
+std::string describe_pass_through(const ParamList& s) {
   const std::string lst = get_or(s, "Linear Solver Type", "Amesos");
   std::string text = "Stratimikos " + lst;
   if (s.isSublist("Linear Solver Types") && s.sublist("Linear Solver Types").isSublist(lst)) {
@@ -97,11 +97,11 @@ std::string describe_pass_through(const Teuchos::ParameterList& s) {
 
 }  // namespace
 
-LinearSolverChoice LinearSolverChoice::resolve(const Teuchos::ParameterList& given, int ranks, Use use) {
-  const Teuchos::ParameterList p = validated_solver_parameters(given);
+LinearSolverChoice LinearSolverChoice::resolve(const ParamList& given, int ranks, Use use) {
+  const ParamList p = validated_solver_parameters(given);
   LinearSolverChoice c;
   bool solver_is_auto = false;
-  const Teuchos::ParameterList& pass = p.sublist("Stratimikos");
+  const ParamList& pass = p.sublist("Stratimikos");
   if (pass.numParams() > 0) {
     c.stratimikos = pass;
     c.requested = describe_pass_through(pass);
@@ -143,7 +143,7 @@ LinearSolverChoice LinearSolverChoice::resolve(const Teuchos::ParameterList& giv
       throw std::invalid_argument("rod solver parameters: linear solver '" + c.requested +
                                   "' refused: " + why +
                                   "; use 'Linear Solver: GMRES' or 'On Broken Direct Solver: reroute'");
-    Teuchos::ParameterList q = p;
+    ParamList q = p;
     std::string text;
     c.stratimikos = gmres_list(q, "SCHWARZ", text);
     c.resolved = text + " [rerouted from " + c.requested + ": " + why + "]";

@@ -1,4 +1,6 @@
 #include "traverse/solver/newton_solver.hpp"
+
+#include "traverse/solver/teuchos_params.hpp"
 #include "thyra_tpetra.hpp"
 
 #include <NOX_Observer.hpp>
@@ -46,7 +48,7 @@ class HistoryObserver : public NOX::Observer {
 };
 
 template <class T>
-T get_or(const Teuchos::ParameterList& pl, const std::string& key, const T& fallback) {
+T get_or(const ParamList& pl, const std::string& key, const T& fallback) {
   return pl.isType<T>(key) ? pl.get<T>(key) : fallback;
 }
 
@@ -69,12 +71,13 @@ struct NewtonSolver::Impl {
   Teuchos::RCP<NOX::Solver::Generic> solver;
 };
 
-NewtonSolver::NewtonSolver(Teuchos::RCP<RodStepModel> model, const Teuchos::ParameterList& params)
+NewtonSolver::NewtonSolver(Teuchos::RCP<RodStepModel> model, const ParamList& params)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.model = model;
-  m.nox = Teuchos::rcp(new Teuchos::ParameterList(
-      params.isSublist("NOX") ? params.sublist("NOX") : Teuchos::ParameterList("NOX")));
+  m.nox = Teuchos::rcp(new Teuchos::ParameterList(params.isSublist("NOX") ? to_teuchos(params.sublist("NOX"))
+                                                                           : Teuchos::ParameterList("NOX")));
+  m.nox->setName("NOX");
   Teuchos::ParameterList& nox = *m.nox;
   set_default(nox, "Nonlinear Solver", std::string("Line Search Based"));
   set_default(nox.sublist("Line Search"), "Method", get_or<std::string>(params, "Line Search", "Full Step"));

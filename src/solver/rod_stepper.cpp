@@ -10,13 +10,13 @@
 
 namespace traverse::solver {
 
-bool block_newton_applies(const Teuchos::ParameterList& params, const LinearSolverChoice& choice, int ranks) {
+bool block_newton_applies(const ParamList& params, const LinearSolverChoice& choice, int ranks) {
   return ranks == 1 && choice.block_tridiagonal_direct && params.get<std::string>("Newton Implementation") == "auto" &&
          params.get<std::string>("Line Search") == "Full Step" && !params.get<bool>("Jacobian Reuse") &&
          (!params.isSublist("NOX") || params.sublist("NOX").numParams() == 0);
 }
 
-RodStepper::RodStepper(rod::RodModel model, const Teuchos::ParameterList& params, int ranks, int rank) {
+RodStepper::RodStepper(rod::RodModel model, const ParamList& params, int ranks, int rank) {
   const rod::EndConditionCheck check = rod::validate_end_conditions(model.left, model.right);
   if (!check.ok) throw std::invalid_argument("rod stepper: " + check.message);
   model_ = std::make_shared<const rod::RodModel>(std::move(model));
@@ -84,8 +84,8 @@ std::string RodStepper::path_description() const {
   return "3D (" + std::to_string(p) + " unknowns per node)";
 }
 
-Teuchos::ParameterList RodStepper::newton_params() const {
-  Teuchos::ParameterList p = params_;
+ParamList RodStepper::newton_params() const {
+  ParamList p = params_;
   if (planar_) {
     const double c = std::sqrt(double(planar_->full_unknowns_per_node()) / planar_->unknowns_per_node());
     p.set("Update Relative Tolerance", c * params_.get<double>("Update Relative Tolerance"));

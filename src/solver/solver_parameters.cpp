@@ -1,82 +1,109 @@
 #include "traverse/solver/solver_parameters.hpp"
 
-#include <Teuchos_StandardParameterEntryValidators.hpp>
+#include <algorithm>
+#include <iterator>
 #include <stdexcept>
+#include <variant>
 
 namespace traverse::solver {
 
-Teuchos::RCP<const Teuchos::ParameterList> valid_solver_parameters() {
-  static Teuchos::RCP<const Teuchos::ParameterList> valid = [] {
-    using Teuchos::tuple;
-    auto pl = Teuchos::rcp(new Teuchos::ParameterList("Rod Solver"));
-    Teuchos::setStringToIntegralParameter<int>(
-        "Linear Solver", "auto",
-        "Linear solver: auto (rod time step: the block-tridiagonal LU, direct on any rank count; "
-        "statics: KLU2 on 1 rank, GMRES + ILUT on more), KLU2 (Amesos2 direct), GMRES (Belos)",
-        tuple<std::string>("auto", "KLU2", "GMRES"), pl.get());
-    Teuchos::setStringToIntegralParameter<int>(
-        "Preconditioner", "SCHWARZ",
-        "Ifpack2 preconditioner of GMRES: SCHWARZ (overlap 1, KLU2 subdomains), BLOCK_TRIDIAGONAL "
-        "(block-tridiagonal LU, exact also across ranks: GMRES stops after one iteration), "
-        "ILUT, RILUK, None",
-        tuple<std::string>("SCHWARZ", "BLOCK_TRIDIAGONAL", "ILUT", "RILUK", "None"), pl.get());
-    pl->set("Linear Tolerance", 1e-12, "Relative residual reduction of each Krylov solve");
-    pl->set("Max Linear Iterations", 500, "Maximum Krylov iterations per linear solve");
-    pl->set("Krylov Subspace Size", 200, "GMRES restart length");
-    Teuchos::setStringToIntegralParameter<int>(
-        "On Broken Direct Solver", "reroute",
-        "Amesos2 direct solvers are wrong on 2+ ranks on this platform: reroute to GMRES + "
-        "Schwarz/KLU2 (with a notice) or refuse (throw)",
-        tuple<std::string>("reroute", "refuse"), pl.get());
-    pl->sublist("Stratimikos", false, "Full Stratimikos list (replaces the shortcuts when non-empty)")
-        .disableRecursiveValidation();
-    pl->set("Max Newton Iterations", 20, "Maximum Newton iterations per (sub)step");
-    pl->set("Residual Tolerance", 1e-8, "Convergence: max |f| below this (and the update test)");
-    pl->set("Update Relative Tolerance", 1e-8, "Convergence: WRMS update test rtol");
-    pl->set("Update Absolute Tolerance", 1e-10, "Convergence: WRMS update test atol");
-    Teuchos::setStringToIntegralParameter<int>(
-        "Line Search", "Full Step", "NOX line search method",
-        tuple<std::string>("Full Step", "Backtrack", "Polynomial", "More'-Thuente"), pl.get());
-    pl->sublist("NOX", false, "NOX parameters merged over the defaults").disableRecursiveValidation();
-    Teuchos::setStringToIntegralParameter<int>(
-        "Newton Implementation", "auto",
-        "Rod time step: auto = traverse's Newton on block storage where it applies (one rank, the "
-        "block-tridiagonal LU, Full Step, no NOX sublist, no Jacobian Reuse; the same iterates as "
-        "NOX without its overhead), NOX elsewhere; NOX = always NOX",
-        tuple<std::string>("auto", "NOX"), pl.get());
-    Teuchos::setStringToIntegralParameter<int>(
-        "Initial Guess", "Old Level",
-        "Newton's initial guess of a rod time step: Old Level = the old level's unknowns; Secant = "
-        "the old level extrapolated along the last step's secant, y + dt (y - y_prev) / dt_prev "
-        "(zero slope at a start): fewer iterations where the motion is smooth, but it can fail "
-        "where the old level does not (docs/solver.md)",
-        tuple<std::string>("Old Level", "Secant"), pl.get());
-    pl->set("Max Subdivision Depth", 4, "How often a failing step may be halved (0: no retry)");
-    pl->set("Verbose", true, "One-line notices on rank 0");
-    pl->set("Jacobian Reuse", false,
-            "Modified Newton: keep W, its factorisation or preconditioner across Newton iterations "
-            "and time steps while max|f| contracts by at least 'Jacobian Reuse Contraction' per "
-            "iteration; a solve that fails with a kept W is redone with full Newton");
-    pl->set("Jacobian Reuse Contraction", 0.25,
-            "Refresh the kept W when max|f_k| > this * max|f_{k-1}| (0 < value < 1)");
-    Teuchos::setStringToIntegralParameter<int>(
-        "Direct Solver Path", "Reuse Symbolic",
-        "How KLU2 runs on 1 rank: Reuse Symbolic (one Amesos2 solver kept by traverse: ordering "
-        "once, numeric refactorisation per new W) or Stratimikos (its Amesos2 adapter, which "
-        "redoes the symbolic factorisation every time)",
-        tuple<std::string>("Reuse Symbolic", "Stratimikos"), pl.get());
-    return Teuchos::RCP<const Teuchos::ParameterList>(pl);
-  }();
-  return valid;
+const std::vector<SolverKey>& solver_keys() {
+  static const std::vector<SolverKey> keys = {
+      {"Linear Solver", std::string("auto"), {"auto", "KLU2", "GMRES"},
+       "Linear solver: auto (rod time step: the block-tridiagonal LU, direct on any rank count; "
+       "statics: KLU2 on 1 rank, GMRES + ILUT on more), KLU2 (Amesos2 direct), GMRES (Belos)"},
+      {"Preconditioner", std::string("SCHWARZ"), {"SCHWARZ", "BLOCK_TRIDIAGONAL", "ILUT", "RILUK", "None"},
+       "Ifpack2 preconditioner of GMRES: SCHWARZ (overlap 1, KLU2 subdomains), BLOCK_TRIDIAGONAL "
+       "(block-tridiagonal LU, exact also across ranks: GMRES stops after one iteration), "
+       "ILUT, RILUK, None"},
+      {"Linear Tolerance", 1e-12, {}, "Relative residual reduction of each Krylov solve"},
+      {"Max Linear Iterations", 500, {}, "Maximum Krylov iterations per linear solve"},
+      {"Krylov Subspace Size", 200, {}, "GMRES restart length"},
+      {"On Broken Direct Solver", std::string("reroute"), {"reroute", "refuse"},
+       "Amesos2 direct solvers are wrong on 2+ ranks on this platform: reroute to GMRES + "
+       "Schwarz/KLU2 (with a notice) or refuse (throw)"},
+      {"Max Newton Iterations", 20, {}, "Maximum Newton iterations per (sub)step"},
+      {"Residual Tolerance", 1e-8, {}, "Convergence: max |f| below this (and the update test)"},
+      {"Update Relative Tolerance", 1e-8, {}, "Convergence: WRMS update test rtol"},
+      {"Update Absolute Tolerance", 1e-10, {}, "Convergence: WRMS update test atol"},
+      {"Line Search", std::string("Full Step"), {"Full Step", "Backtrack", "Polynomial", "More'-Thuente"},
+       "NOX line search method"},
+      {"Newton Implementation", std::string("auto"), {"auto", "NOX"},
+       "Rod time step: auto = traverse's Newton on block storage where it applies (one rank, the "
+       "block-tridiagonal LU, Full Step, no NOX sublist, no Jacobian Reuse; the same iterates as "
+       "NOX without its overhead), NOX elsewhere; NOX = always NOX"},
+      {"Initial Guess", std::string("Old Level"), {"Old Level", "Secant"},
+       "Newton's initial guess of a rod time step: Old Level = the old level's unknowns; Secant = "
+       "the old level extrapolated along the last step's secant, y + dt (y - y_prev) / dt_prev "
+       "(zero slope at a start): fewer iterations where the motion is smooth, but it can fail "
+       "where the old level does not (docs/solver.md)"},
+      {"Max Subdivision Depth", 4, {}, "How often a failing step may be halved (0: no retry)"},
+      {"Verbose", true, {}, "One-line notices on rank 0"},
+      {"Jacobian Reuse", false, {},
+       "Modified Newton: keep W, its factorisation or preconditioner across Newton iterations "
+       "and time steps while max|f| contracts by at least 'Jacobian Reuse Contraction' per "
+       "iteration; a solve that fails with a kept W is redone with full Newton"},
+      {"Jacobian Reuse Contraction", 0.25, {},
+       "Refresh the kept W when max|f_k| > this * max|f_{k-1}| (0 < value < 1)"},
+      {"Direct Solver Path", std::string("Reuse Symbolic"), {"Reuse Symbolic", "Stratimikos"},
+       "How KLU2 runs on 1 rank: Reuse Symbolic (one Amesos2 solver kept by traverse: ordering "
+       "once, numeric refactorisation per new W) or Stratimikos (its Amesos2 adapter, which "
+       "redoes the symbolic factorisation every time)"},
+  };
+  return keys;
 }
 
-Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList& given) {
-  Teuchos::ParameterList p = given;
-  try {
-    p.validateParametersAndSetDefaults(*valid_solver_parameters());
-  } catch (const std::exception& e) {
-    throw std::invalid_argument(std::string("rod solver parameters: ") + e.what());
+namespace {
+
+// The sublists handed to the Trilinos packages unvalidated.
+const char* const kPassThrough[] = {"Stratimikos", "NOX"};
+
+[[noreturn]] void refuse(const std::string& what) { throw std::invalid_argument("rod solver parameters: " + what); }
+
+std::string words_text(const std::vector<std::string>& words) {
+  std::string t;
+  for (const auto& w : words) t += (t.empty() ? "'" : ", '") + w + "'";
+  return "{" + t + "}";
+}
+
+std::string known_keys() {
+  std::vector<std::string> names;
+  for (const auto& k : solver_keys()) names.push_back(k.name);
+  for (const char* n : kPassThrough) names.emplace_back(n);
+  return words_text(names);
+}
+
+const char* const kTypeNames[] = {"bool", "int", "double", "string", "list of numbers", "list of words"};
+
+}  // namespace
+
+ParamList validated_solver_parameters(const ParamList& given) {
+  ParamList p = given;
+  for (const auto& e : given.entries()) {
+    const auto pass = std::find(std::begin(kPassThrough), std::end(kPassThrough), e.name()) != std::end(kPassThrough);
+    if (pass) {
+      if (!e.is_list()) refuse("'" + e.name() + "' must be a sublist (handed to Trilinos), found a " + type_name_of(e));
+      continue;
+    }
+    const auto& keys = solver_keys();
+    const auto k = std::find_if(keys.begin(), keys.end(), [&](const SolverKey& s) { return s.name == e.name(); });
+    if (k == keys.end()) refuse("unknown key '" + e.name() + "', expected one of " + known_keys());
+    const std::size_t want = k->default_value.index();
+    if (e.is_list() || e.value().index() != want) {
+      const bool widen = !e.is_list() && std::holds_alternative<double>(k->default_value) && std::holds_alternative<int>(e.value());
+      if (!widen)
+        refuse("'" + e.name() + "' must be a " + kTypeNames[want] + ", found a " + type_name_of(e));
+      p.set(e.name(), static_cast<double>(std::get<int>(e.value())));
+    }
+    if (!k->words.empty()) {
+      const std::string& w = p.get<std::string>(e.name());
+      if (std::find(k->words.begin(), k->words.end(), w) == k->words.end())
+        refuse("'" + e.name() + "' must be one of " + words_text(k->words) + ", found '" + w + "'");
+    }
   }
+  for (const auto& k : solver_keys())
+    if (!p.isParameter(k.name)) std::visit([&](const auto& v) { p.set(k.name, v); }, k.default_value);
+  for (const char* n : kPassThrough) p.sublist(n);
   auto positive = [&](const char* key, bool is_int) {
     const double v = is_int ? p.get<int>(key) : p.get<double>(key);
     if (!(v > 0.0))
@@ -100,7 +127,7 @@ Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList&
   return p;
 }
 
-rod::InitialGuess initial_guess_of(const Teuchos::ParameterList& validated) {
+rod::InitialGuess initial_guess_of(const ParamList& validated) {
   const std::string& g = validated.get<std::string>("Initial Guess");
   return g == "Secant" ? rod::InitialGuess::secant : rod::InitialGuess::old_level;
 }

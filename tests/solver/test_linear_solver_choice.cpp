@@ -6,17 +6,18 @@
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 #include "traverse/solver/step_failure.hpp"
+#include "traverse/solver/teuchos_params.hpp"
 
 namespace traverse::solver {
 namespace {
 
 TEST(SolverParameters, DefaultsAndErrors) {
-  const Teuchos::ParameterList p = validated_solver_parameters(Teuchos::ParameterList());
+  const traverse::ParamList p = validated_solver_parameters(traverse::ParamList());
   EXPECT_EQ(p.get<std::string>("Linear Solver"), "auto");
   EXPECT_EQ(p.get<int>("Max Subdivision Depth"), 4);
   EXPECT_EQ(p.get<std::string>("Line Search"), "Full Step");
 
-  Teuchos::ParameterList typo;
+  traverse::ParamList typo;
   typo.set("Linear Solvr", "KLU2");
   try {
     validated_solver_parameters(typo);
@@ -25,10 +26,10 @@ TEST(SolverParameters, DefaultsAndErrors) {
     std::printf("misspelt key: %.200s...\n", e.what());
     EXPECT_NE(std::string(e.what()).find("Linear Solvr"), std::string::npos);
   }
-  Teuchos::ParameterList bad_value;
+  traverse::ParamList bad_value;
   bad_value.set("Preconditioner", "Jacobi");
   EXPECT_THROW(validated_solver_parameters(bad_value), std::invalid_argument);
-  Teuchos::ParameterList negative;
+  traverse::ParamList negative;
   negative.set("Max Subdivision Depth", -1);
   try {
     validated_solver_parameters(negative);
@@ -38,15 +39,46 @@ TEST(SolverParameters, DefaultsAndErrors) {
     EXPECT_NE(std::string(e.what()).find("Max Subdivision Depth"), std::string::npos);
   }
   // Pass-through sublists are not validated here.
-  Teuchos::ParameterList nox;
+  traverse::ParamList nox;
   nox.sublist("NOX").sublist("Anything").set("goes", 1);
   EXPECT_NO_THROW(validated_solver_parameters(nox));
+  // An integer is accepted for a real key (YAML's "Residual Tolerance: 1"), not the reverse.
+  traverse::ParamList whole;
+  whole.set("Residual Tolerance", 1);
+  EXPECT_EQ(validated_solver_parameters(whole).get<double>("Residual Tolerance"), 1.0);
+  traverse::ParamList fractional;
+  fractional.set("Max Newton Iterations", 2.5);
+  try {
+    validated_solver_parameters(fractional);
+    ADD_FAILURE() << "a real number was accepted for an integer key";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("'Max Newton Iterations' must be a int, found a double"), std::string::npos)
+        << e.what();
+  }
+  traverse::ParamList not_a_list;
+  not_a_list.set("NOX", 1);
+  EXPECT_THROW(validated_solver_parameters(not_a_list), std::invalid_argument);
+}
+
+TEST(SolverParameters, TeuchosListsCarryTheSameValues) {
+  // The Trilinos side gets the same names, types and order (teuchos_params.hpp).
+  traverse::ParamList p = validated_solver_parameters(traverse::ParamList());
+  p.sublist("NOX").sublist("Line Search").set("Method", "Backtrack");
+  p.sublist("NOX").set("Scales", std::vector<double>{1.0, 2.5});
+  const Teuchos::ParameterList t = to_teuchos(p);
+  EXPECT_EQ(t.get<std::string>("Linear Solver"), "auto");
+  EXPECT_EQ(t.get<int>("Max Newton Iterations"), 20);
+  EXPECT_EQ(t.get<double>("Residual Tolerance"), 1e-8);
+  EXPECT_EQ(t.get<bool>("Verbose"), true);
+  EXPECT_EQ(t.sublist("NOX").sublist("Line Search").get<std::string>("Method"), "Backtrack");
+  EXPECT_EQ(t.sublist("NOX").get<Teuchos::Array<double>>("Scales")[1], 2.5);
+  EXPECT_EQ(from_teuchos(t), p);
 }
 
 TEST(LinearSolverChoice, AutoForTheTimeStepIsGmresWithTheBlockTridiagonalLu) {
   for (int ranks : {1, 2}) {
     const LinearSolverChoice c =
-        LinearSolverChoice::resolve(Teuchos::ParameterList(), ranks, LinearSolverChoice::Use::time_step);
+        LinearSolverChoice::resolve(traverse::ParamList(), ranks, LinearSolverChoice::Use::time_step);
     std::printf("auto, time step, %d rank(s): %s\n", ranks, c.resolved.c_str());
     EXPECT_FALSE(c.rerouted);
     EXPECT_FALSE(c.direct);
@@ -55,19 +87,19 @@ TEST(LinearSolverChoice, AutoForTheTimeStepIsGmresWithTheBlockTridiagonalLu) {
     EXPECT_EQ(ifp.get<std::string>("Prec Type"), "BLOCK_TRIDIAGONAL");
   }
   // An explicit choice is kept for the time step too.
-  Teuchos::ParameterList klu;
+  traverse::ParamList klu;
   klu.set("Linear Solver", "KLU2");
   EXPECT_EQ(LinearSolverChoice::resolve(klu, 1, LinearSolverChoice::Use::time_step).resolved,
             "Amesos2 KLU2 (direct)");
 }
 
 TEST(LinearSolverChoice, AutoForStaticsPicksKlu2OnOneRankAndGmresOnMore) {
-  const LinearSolverChoice one = LinearSolverChoice::resolve(Teuchos::ParameterList(), 1);
+  const LinearSolverChoice one = LinearSolverChoice::resolve(traverse::ParamList(), 1);
   EXPECT_EQ(one.resolved, "Amesos2 KLU2 (direct)");
   EXPECT_TRUE(one.direct);
   EXPECT_FALSE(one.rerouted);
   EXPECT_EQ(one.stratimikos.get<std::string>("Linear Solver Type"), "Amesos2");
-  const LinearSolverChoice two = LinearSolverChoice::resolve(Teuchos::ParameterList(), 2);
+  const LinearSolverChoice two = LinearSolverChoice::resolve(traverse::ParamList(), 2);
   std::printf("auto on 2 ranks: %s\n", two.resolved.c_str());
   EXPECT_FALSE(two.rerouted);
   EXPECT_EQ(two.stratimikos.get<std::string>("Linear Solver Type"), "Belos");
@@ -77,7 +109,7 @@ TEST(LinearSolverChoice, AutoForStaticsPicksKlu2OnOneRankAndGmresOnMore) {
 }
 
 TEST(LinearSolverChoice, Klu2OnSeveralRanksIsReroutedOrRefused) {
-  Teuchos::ParameterList p;
+  traverse::ParamList p;
   p.set("Linear Solver", "KLU2");
   const LinearSolverChoice c = LinearSolverChoice::resolve(p, 2);
   std::printf("KLU2 on 2 ranks: %s\n", c.resolved.c_str());
@@ -92,7 +124,7 @@ TEST(LinearSolverChoice, Klu2OnSeveralRanksIsReroutedOrRefused) {
   EXPECT_NO_THROW(LinearSolverChoice::resolve(p, 1));
 
   // The same rule applies to a full Stratimikos pass-through list.
-  Teuchos::ParameterList q;
+  traverse::ParamList q;
   q.sublist("Stratimikos").set("Linear Solver Type", "Amesos2");
   const LinearSolverChoice s1 = LinearSolverChoice::resolve(q, 1);
   EXPECT_FALSE(s1.rerouted);

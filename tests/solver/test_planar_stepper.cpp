@@ -146,7 +146,7 @@ TEST(PlanarStepper, BlockNewtonTakesNoxsIterates) {
     const rod::PlanarCheck chk = rod::check_planar(pb.model, pb.initial, pb.forces);
     ASSERT_TRUE(chk.planar) << chk.reason;
     for (const bool planar : {false, true}) {
-      Teuchos::ParameterList nox = test::solver_params("auto");
+      traverse::ParamList nox = test::solver_params("auto");
       nox.set("Newton Implementation", std::string("NOX"));
       DistributedStepper a(pb.model, test::comm(), test::solver_params("auto")), b(pb.model, test::comm(), nox);
       BlockStepper c(pb.model, test::solver_params("auto"));  // the same Newton without Tpetra
@@ -197,7 +197,7 @@ TEST(PlanarStepper, SecantInitialGuessSavesNewtonIterationsOnTheCable) {
   if (test::ranks() != 1) GTEST_SKIP() << "one process (BlockStepper)";
   for (const Problem& pb : {hanging_cable(50), damped_arch(40)}) {
     auto stepper = [&](const char* guess) {
-      Teuchos::ParameterList p = test::solver_params("auto");
+      traverse::ParamList p = test::solver_params("auto");
       if (guess) p.set("Initial Guess", std::string(guess));
       auto st = std::make_unique<BlockStepper>(pb.model, p);
       st->set_state(pb.initial);

@@ -266,7 +266,7 @@ struct Scene {
   /// The structure's length [m] (beam or rod).
   double length() const { return model == Model::Beam ? beam.length : rod.length; }
   /// The `solver` section, passed to the solver module (model rod).
-  const Teuchos::ParameterList& solver_parameters() const { return tree.params.sublist("solver"); }
+  const ParamList& solver_parameters() const { return tree.params.sublist("solver"); }
 };
 
 /// The root of the scene schema.

@@ -1,7 +1,7 @@
 #pragma once
 // Declarative scene schema: every key a scene may hold is declared once, in code, with its
 // meaning, units, range and default. Validation walks a parsed YAML document against the
-// schema at full depth and produces a typed Teuchos::ParameterList; any problem is a
+// schema at full depth and produces a typed ParamList (core/param_list.hpp); any problem is a
 // SceneError naming the file, the line, the key path, what was expected and what was found.
 #include <functional>
 #include <limits>
@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include <Teuchos_ParameterList.hpp>
+#include "traverse/core/param_list.hpp"
 
 namespace traverse::scene {
 
@@ -45,7 +45,7 @@ class CheckContext;
 
 /// A check on a validated section (contradictions, cross-key conditions). It reports a
 /// problem through CheckContext::fail, which throws.
-using Check = std::function<void(const Teuchos::ParameterList& section, const CheckContext& ctx)>;
+using Check = std::function<void(const ParamList& section, const CheckContext& ctx)>;
 
 /// One declared key. Built fluently: real("length", "Beam length", "m").positive().required().
 struct Param {
@@ -141,7 +141,7 @@ class CheckContext {
 
 /// A validated scene: the typed parameter list and where each key came from.
 struct ValidatedTree {
-  Teuchos::ParameterList params;
+  ParamList params;
   std::map<std::string, std::pair<int, int>> marks;  ///< key path -> (line, column), 1-based; (-1, -1): set by --set
 };
 

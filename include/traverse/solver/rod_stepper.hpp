@@ -8,8 +8,8 @@
 //   - DistributedStepper (distributed_stepper.hpp): Tpetra over any ranks, NOX or BlockNewton,
 //     any linear solver.
 // Both take the same iterates where both apply (one rank, the block LU, BlockNewton): this
-// class holds the step logic they share. Teuchos appears only as the parameter list.
-#include <Teuchos_ParameterList.hpp>
+// class holds the step logic they share. No Trilinos: the parameters are a ParamList.
+#include "traverse/core/param_list.hpp"
 
 #include <memory>
 #include <stdexcept>
@@ -67,7 +67,7 @@ struct ReuseCounters {
 /// Tpetra, Thyra and NOX): one rank, the block-tridiagonal LU as the direct solver, a full
 /// Newton step, no NOX pass-through keys, no modified Newton, and not "Newton Implementation:
 /// NOX". `params`: validated solver parameters.
-bool block_newton_applies(const Teuchos::ParameterList& params, const LinearSolverChoice& choice, int ranks);
+bool block_newton_applies(const ParamList& params, const LinearSolverChoice& choice, int ranks);
 
 class RodStepper {
  public:
@@ -140,14 +140,14 @@ class RodStepper {
   const NewtonReport& last_newton_report() const { return last_; }
   virtual ReuseCounters reuse_counters() const = 0;
   /// The validated parameters in use.
-  const Teuchos::ParameterList& parameters() const { return params_; }
+  const ParamList& parameters() const { return params_; }
   /// Solver key 'Initial Guess' (rod::StepAssembly::initial_guess).
   rod::InitialGuess initial_guess() const { return initial_guess_of(params_); }
 
  protected:
   /// Checks the end conditions, validates `params` (std::invalid_argument), resolves the
   /// linear solver for `ranks` ranks (notice on rank 0 when rerouted and "Verbose").
-  RodStepper(rod::RodModel model, const Teuchos::ParameterList& params, int ranks, int rank);
+  RodStepper(rod::RodModel model, const ParamList& params, int ranks, int rank);
   /// The concrete stepper's partition (before the first set_state).
   void set_partition(int first_ghosted, int num_ghosted, int first_owned, int num_owned);
   const std::shared_ptr<const rod::RodModel>& shared_model() const { return model_; }
@@ -157,7 +157,7 @@ class RodStepper {
   /// The Newton parameters. Planar path: the WRMS update test over the in-plane unknowns only
   /// (n / 2) gives a norm sqrt(2) larger for the same updates, so both update tolerances are
   /// scaled by sqrt(p / q) and the planar solve stops at the same iterate as the 3D one.
-  Teuchos::ParameterList newton_params() const;
+  ParamList newton_params() const;
 
   // What the concrete stepper solves the steps with.
   /// Rebuilds the solver objects for the current path and makes the current nodes its old level.
@@ -179,7 +179,7 @@ class RodStepper {
                std::vector<rod::RodNode>* saved = nullptr);
 
   std::shared_ptr<const rod::RodModel> model_;
-  Teuchos::ParameterList params_;
+  ParamList params_;
   LinearSolverChoice choice_;
   std::shared_ptr<const rod::PlanarReduction> planar_;  ///< null on the 3D path
   int g0_ = 0, ng_ = 0, o0_ = 0, no_ = 0;

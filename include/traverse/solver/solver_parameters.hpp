@@ -50,22 +50,33 @@
 //                                  none when W did not change) or through Stratimikos'
 //                                  Amesos2 adapter (symbolic redone every Newton iteration).
 //                                  Pass-through Stratimikos lists always use Stratimikos.
-#include <Teuchos_ParameterList.hpp>
-#include <Teuchos_RCP.hpp>
+#include <string>
+#include <vector>
 
+#include "traverse/core/param_list.hpp"
 #include "traverse/rod/step_assembly.hpp"
 
 namespace traverse::solver {
 
-/// The valid list with defaults and documentation (sublists NOX and Stratimikos are not
-/// validated here: they are handed to the Trilinos packages, which validate them).
-Teuchos::RCP<const Teuchos::ParameterList> valid_solver_parameters();
+/// One key of the rod solver's list: its name, its type (the default's), its default and, for
+/// a word, the words it accepts (sublists NOX and Stratimikos are not validated here: they are
+/// handed to the Trilinos packages, which validate them).
+struct SolverKey {
+  std::string name;
+  ParamList::Value default_value;
+  std::vector<std::string> words;  ///< a string key: the accepted values
+  std::string doc;
+};
 
-/// A copy of `given` validated against valid_solver_parameters() with every default filled
-/// in. Throws std::invalid_argument naming the offending key on a wrong name, type or value.
-Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList& given);
+/// Every key of the list above with its default and documentation, in that order.
+const std::vector<SolverKey>& solver_keys();
+
+/// A copy of `given` validated against solver_keys() with every default filled in (an integer
+/// is accepted for a real key). Throws std::invalid_argument naming the offending key on a
+/// wrong name, type or value.
+ParamList validated_solver_parameters(const ParamList& given);
 
 /// The key 'Initial Guess' of a validated list.
-rod::InitialGuess initial_guess_of(const Teuchos::ParameterList& validated);
+rod::InitialGuess initial_guess_of(const ParamList& validated);
 
 }  // namespace traverse::solver

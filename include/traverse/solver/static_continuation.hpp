@@ -16,7 +16,7 @@
 // Everything here is plain data except the communicator; LOCA, Anasazi, NOX and Stratimikos
 // stay inside src/solver/static_*.cpp. Nodes are always the full rod (gathered on every rank).
 #include <Teuchos_Comm.hpp>
-#include <Teuchos_ParameterList.hpp>
+#include "traverse/core/param_list.hpp"
 #include <Teuchos_RCP.hpp>
 #include <functional>
 #include <limits>
@@ -108,7 +108,7 @@ struct ContinuationOptions {
   std::function<bool(const ContinuationPoint&)> stop;
   /// Linear solver keys of solver_parameters.hpp ("Linear Solver", ...; KLU2 is rerouted
   /// on 2+ ranks); empty: defaults.
-  Teuchos::ParameterList solver;
+  ParamList solver;
   bool verbose = false;  ///< LOCA stepper output on rank 0
 };
 
@@ -141,12 +141,12 @@ struct StaticSolveReport {
   std::string message;
 };
 StaticSolveReport static_solve(const rod::StaticProblem& problem, std::vector<rod::StaticNode>& state,
-                               const Comm& comm, const Teuchos::ParameterList& solver = {});
+                               const Comm& comm, const ParamList& solver = {});
 
 /// Small-vibration eigenvalues about an equilibrium `state` of `problem`.
 Stability static_stability(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state,
                            const Comm& comm, const StabilityOptions& options = {},
-                           const Teuchos::ParameterList& solver = {});
+                           const ParamList& solver = {});
 
 /// Branch switching at a pitchfork found by a run of `options.parameter` on `problem`:
 /// the bifurcation state perturbed by `amplitude` times its null vector (sign included; the

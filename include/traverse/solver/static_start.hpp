@@ -8,7 +8,7 @@
 // statics solver of solver_parameters.hpp (docs/solver.md, "Static initial state"). In one
 // process the same start without Tpetra: block_static_start.hpp.
 #include <Teuchos_Comm.hpp>
-#include <Teuchos_ParameterList.hpp>
+#include "traverse/core/param_list.hpp"
 #include <Teuchos_RCP.hpp>
 #include <string>
 #include <vector>
@@ -20,6 +20,6 @@ namespace traverse::solver {
 /// Collective over `comm`. `solver`: the run's solver parameters (the statics defaults of
 /// StaticLinearSolver apply to them when the block LU is not used).
 StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                               const Teuchos::ParameterList& solver = Teuchos::ParameterList(), int halo = 2);
+                               const ParamList& solver = ParamList(), int halo = 2);
 
 }  // namespace traverse::solver

@@ -97,8 +97,8 @@ void mem_phase(const char* phase) {
   g_mem_last = m;
 }
 
-Teuchos::ParameterList solver_params(const std::string& full) {
-  Teuchos::ParameterList p;
+traverse::ParamList solver_params(const std::string& full) {
+  traverse::ParamList p;
   p.set("Verbose", false);
   std::string name = full;
   std::string opts;
