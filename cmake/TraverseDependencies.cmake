@@ -2,6 +2,9 @@
 # .ci/debian-packages.txt.
 
 find_package(MPI REQUIRED COMPONENTS C CXX)
+# traverse calls MPI's C interface only: without the deprecated C++ bindings (which mpi.h
+# pulls into every C++ file otherwise) the executables need no libmpi_cxx.
+add_compile_definitions(OMPI_SKIP_MPICXX=1 MPICH_SKIP_MPICXX=1)
 find_package(Eigen3 3.3 REQUIRED NO_MODULE)
 
 # Trilinos: ask only for the components used (a bare find_package fails on Debian because

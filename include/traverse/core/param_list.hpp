@@ -50,7 +50,8 @@ class ParamList {
     std::unique_ptr<ParamList> list_;
   };
 
-  explicit ParamList(std::string name = "") : name_(std::move(name)) {}
+  ParamList() = default;
+  explicit ParamList(std::string name) : name_(std::move(name)) {}
 
   const std::string& name() const { return name_; }
 
