@@ -377,7 +377,7 @@ LocalBlock cell_block(const RodModel& model, const StepTimes& step, int j,
   new_level_quantities(model, step, j - 1, old_prev, new_prev, lp);
   new_level_quantities(model, step, j, old_this, new_this, lc);
   LocalBlock b;
-  cell_block_into(b, model, step, j, old_prev, old_this, new_prev, new_this, lp, lc);
+  cell_block_into(b, model, step, j, old_prev, old_this, new_prev, new_this, lp, lc, loads_touch_cell(model, step, j));
   return b;
 }
 
@@ -400,7 +400,7 @@ void cell_residual_into(VecX& r, const RodModel& model, const Mat12& Mm, const M
 
 void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step, int j,
                      const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
-                     const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur) {
+                     const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur, bool loads_touch) {
   if (j < 1 || j > model.num_cells) throw std::out_of_range("cell_block: cell index");
   check_unknowns(model, new_prev);
   check_unknowns(model, new_this);
@@ -415,7 +415,7 @@ void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step
   const Mat12 dFp = new_level_flux_jacobian(prev.F_new, prev.nn.G), dFc = new_level_flux_jacobian(cur.F_new, cur.nn.G);
   cell_scheme_jacobian<12>(Jp, Jc, model.alpha, model.carries_ys(), model.ds(), step.dt, Mm, Kk, dFp, dFc);
 
-  if (loads_touch_cell(model, step, j)) {  // else load_block is zero
+  if (loads_touch) {  // else load_block is zero
     const LocalBlock lb = load_block(model, step, j, old_prev, old_this, new_prev, new_this);
     b.residual.head<12>() += lb.residual;
     Jp.topRows(12) += lb.jac[0];

@@ -22,6 +22,10 @@ void StepAssembly::set_old_level(std::vector<RodNode> ghosted_old_nodes, const S
     throw std::invalid_argument("StepAssembly::set_old_level: expected one node per ghosted node");
   old_nodes_ = std::move(ghosted_old_nodes);
   step_ = step;
+  // The cells a load acts on depend on the step only: found once here, not per evaluation.
+  touched_.assign(static_cast<size_t>(ng_), 0);
+  for (int j = std::max(1, g0_ + 1); j < g0_ + ng_; ++j)
+    touched_[static_cast<size_t>(j - g0_)] = loads_touch_cell(*model_, step_, j) ? 1 : 0;
   // Old-level fluxes: fixed during the step's Newton iterations (the cells use F only).
   if (planar_) {
     planar_old_.resize(old_nodes_.size());
@@ -86,7 +90,7 @@ double StepAssembly::blocks_3d(const double* ghosted, const std::function<void(c
   for (int j = c0; j <= c1; ++j) {
     const NodeLevels& cur = levels(j);
     cell_block_into(block_, *model_, step_, j, O(j - 1), O(j), X(j - 1), X(j),
-                    window_[static_cast<size_t>((j - 1) & 1)], cur);
+                    window_[static_cast<size_t>((j - 1) & 1)], cur, touched(j));
     visit(block_);
   }
   if (last == N) visit(right_block(*model_, step_, O(N), X(N)));
@@ -122,7 +126,7 @@ double StepAssembly::blocks_planar(const double* ghosted,
                              planar_old_[static_cast<size_t>(j - g0_)], X(j - 1), X(j),
                              planar_window_[static_cast<size_t>((j - 1) & 1)], cur);
     dropped = std::max(dropped, own);
-    if (loads_touch_cell(*model_, step_, j))  // a point force or moving mass on this cell (rare)
+    if (touched(j))  // a point force or moving mass on this cell (rare)
       dropped = std::max(dropped, planar_->add_loads(block_, load_block(*model_, step_, j, O(j - 1), O(j),
                                                                         full(j - 1, 0), full(j, 1))));
     visit(block_);

@@ -66,6 +66,8 @@ class StepAssembly {
   int p_ = 12, g0_ = 0, ng_ = 0, o0_ = 0, no_ = 0;
   std::vector<RodNode> old_nodes_;
   StepTimes step_;
+  std::vector<char> touched_;  ///< per ghosted node k: whether a load acts on cell (k-1, k) (set per step)
+  bool touched(int j) const { return touched_[static_cast<size_t>(j - g0_)] != 0; }
   InitialGuess guess_ = InitialGuess::old_level;
   double blocks_3d(const double* ghosted, const std::function<void(const LocalBlock&)>& visit) const;
   double blocks_planar(const double* ghosted, const std::function<void(const LocalBlock&)>& visit) const;
