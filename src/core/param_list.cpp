@@ -6,6 +6,10 @@ namespace {
 const char* const kValueTypeNames[] = {"bool", "int", "double", "string", "list of numbers", "list of words"};
 }  // namespace
 
+std::string with_article(const std::string& noun) {
+  return (!noun.empty() && std::string("aeiou").find(noun[0]) != std::string::npos ? "an " : "a ") + noun;
+}
+
 std::string type_name_of(const ParamList::Entry& e) {
   return e.is_list() ? "sublist" : kValueTypeNames[e.value().index()];
 }
@@ -73,7 +77,7 @@ void ParamList::missing(const std::string& key) const {
 
 void ParamList::wrong_type(const Entry& e, const char* wanted) const {
   throw std::invalid_argument("parameter '" + e.name_ + "'" + (name_.empty() ? "" : " in '" + name_ + "'") +
-                              " is a " + type_name_of(e) + ", expected a " + wanted);
+                              " is " + with_article(type_name_of(e)) + ", expected " + with_article(wanted));
 }
 
 }  // namespace traverse

@@ -82,7 +82,7 @@ ParamList validated_solver_parameters(const ParamList& given) {
   for (const auto& e : given.entries()) {
     const auto pass = std::find(std::begin(kPassThrough), std::end(kPassThrough), e.name()) != std::end(kPassThrough);
     if (pass) {
-      if (!e.is_list()) refuse("'" + e.name() + "' must be a sublist (handed to Trilinos), found a " + type_name_of(e));
+      if (!e.is_list()) refuse("'" + e.name() + "' must be a sublist (handed to Trilinos), found " + with_article(type_name_of(e)));
       continue;
     }
     const auto& keys = solver_keys();
@@ -92,7 +92,7 @@ ParamList validated_solver_parameters(const ParamList& given) {
     if (e.is_list() || e.value().index() != want) {
       const bool widen = !e.is_list() && std::holds_alternative<double>(k->default_value) && std::holds_alternative<int>(e.value());
       if (!widen)
-        refuse("'" + e.name() + "' must be a " + kTypeNames[want] + ", found a " + type_name_of(e));
+        refuse("'" + e.name() + "' must be " + with_article(kTypeNames[want]) + ", found " + with_article(type_name_of(e)));
       p.set(e.name(), static_cast<double>(std::get<int>(e.value())));
     }
     if (!k->words.empty()) {

@@ -51,7 +51,7 @@ TEST(ParamList, WrongTypesAndMissingKeysAreNamed) {
     (void)p.get<int>("Residual Tolerance");
     ADD_FAILURE() << "a double was read as an int";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("'Residual Tolerance' in 'solver' is a double, expected a int"),
+    EXPECT_NE(std::string(e.what()).find("'Residual Tolerance' in 'solver' is a double, expected an int"),
               std::string::npos)
         << e.what();
   }

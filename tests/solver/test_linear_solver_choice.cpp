@@ -52,7 +52,7 @@ TEST(SolverParameters, DefaultsAndErrors) {
     validated_solver_parameters(fractional);
     ADD_FAILURE() << "a real number was accepted for an integer key";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("'Max Newton Iterations' must be a int, found a double"), std::string::npos)
+    EXPECT_NE(std::string(e.what()).find("'Max Newton Iterations' must be an int, found a double"), std::string::npos)
         << e.what();
   }
   traverse::ParamList not_a_list;

@@ -147,5 +147,7 @@ class ParamList {
 /// The type of an entry as messages show it: "bool", "int", "double", "string", "list of
 /// numbers", "list of words" or "sublist".
 std::string type_name_of(const ParamList::Entry& e);
+/// "a " or "an " before `noun` ("an int", "a double").
+std::string with_article(const std::string& noun);
 
 }  // namespace traverse
