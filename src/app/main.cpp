@@ -23,10 +23,10 @@ using namespace traverse;
 namespace {
 
 // Whether `command` needs MPI: check and xdmf only under an MPI launcher (where every rank
-// takes part); --help and --version never; a run in traverse-trilinos always, in traverse only
-// under a launcher (traverse hands those to traverse-trilinos: what it runs itself runs in this
-// process alone, on MPI_COMM_NULL, without starting MPI); a sweep always (its cases spread
-// over the ranks).
+// takes part); --help and --version never; a run or a sweep in traverse-trilinos always, in
+// traverse only under a launcher (traverse hands runs under a launcher to traverse-trilinos;
+// what it runs itself in one process runs on MPI_COMM_NULL, without starting MPI; a sweep under
+// a launcher spreads its cases over the ranks).
 bool needs_mpi(app::CommandLine::Command command, const app::Launch& launch) {
   using Command = app::CommandLine::Command;
   switch (command) {
@@ -35,7 +35,7 @@ bool needs_mpi(app::CommandLine::Command command, const app::Launch& launch) {
     case Command::Check:
     case Command::Xdmf: return launch.by_launcher;
     case Command::Run: return app::has_trilinos() || launch.by_launcher;  // traverse: this process alone
-    case Command::Sweep: return true;
+    case Command::Sweep: return app::has_trilinos() || launch.by_launcher;
     default: throw std::logic_error("traverse: command not handled");
   }
 }

@@ -17,6 +17,7 @@
 #include "hand_over.hpp"
 #include "run.hpp"
 #include "run_limits.hpp"
+#include "traverse/core/comm.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/output/reader.hpp"
 #include "traverse/output/restart.hpp"
@@ -116,9 +117,9 @@ void prepare_directory(const CommandLine& cl, const std::vector<SweepCase>& case
     }
   }
   int length = static_cast<int>(error.size());
-  MPI_Bcast(&length, 1, MPI_INT, 0, comm);
+  par::bcast(&length, 1, MPI_INT, 0, comm);
   error.resize(static_cast<std::size_t>(length));
-  MPI_Bcast(error.data(), length, MPI_CHAR, 0, comm);
+  par::bcast(error.data(), length, MPI_CHAR, 0, comm);
   if (!error.empty()) throw output::OutputError(error);
 }
 
@@ -155,9 +156,11 @@ std::vector<int> assign_ranks(const std::vector<SweepCase>& cases, int ranks) {
   return rank_of;
 }
 
-// Runs one case on MPI_COMM_SELF with `limits` (sweep_limits); every outcome becomes the
-// record (an interrupted case also sets `interrupted`).
-CaseRecord run_case(const CommandLine& cl, const RunLimits& limits, std::size_t k, const SweepCase& c, int& interrupted) {
+// Runs one case on `comm` (MPI_COMM_SELF, or MPI_COMM_NULL in a sweep without MPI) with
+// `limits` (sweep_limits); every outcome becomes the record (an interrupted case also sets
+// `interrupted`).
+CaseRecord run_case(const CommandLine& cl, const RunLimits& limits, std::size_t k, const SweepCase& c, MPI_Comm comm,
+                    int& interrupted) {
   CaseRecord r;
   const auto t0 = std::chrono::steady_clock::now();
   auto fail = [&](int code, const std::string& status, const std::string& message) {
@@ -178,7 +181,7 @@ CaseRecord run_case(const CommandLine& cl, const RunLimits& limits, std::size_t 
     opt.invocation = cl.invocation + " [" + case_text(k, c) + "]";
     opt.restart_interval = sc.output.restart_interval;
     opt.limits = limits;
-    run_scene(sc, opt, MPI_COMM_SELF);
+    run_scene(sc, opt, comm);
     fail(kSuccess, "complete", "");
     if (cl.summary.given()) r.summary = case_summary(c.output, cl.summary);
   } catch (const UsageError& e) {
@@ -188,7 +191,7 @@ CaseRecord run_case(const CommandLine& cl, const RunLimits& limits, std::size_t 
   } catch (const output::OutputError& e) {
     fail(kBadInput, "bad output path", e.what());
   } catch (const Interrupted& e) {
-    output::set_file_status(e.output(), e.status(), MPI_COMM_SELF);
+    output::set_file_status(e.output(), e.status(), comm);
     fail(128 + e.signal(), "interrupted", e.what());
     interrupted = e.signal();
   } catch (const NumericsError& e) {
@@ -237,13 +240,18 @@ std::vector<std::string> gather_rows(const std::vector<std::pair<std::size_t, st
   std::string packed;
   for (const auto& [k, row] : mine) packed += std::to_string(k) + "\t" + row + "\n";
   const int size = comm_size(comm), rank = comm_rank(comm);
-  int length = static_cast<int>(packed.size());
-  std::vector<int> lengths(static_cast<std::size_t>(size)), offsets(static_cast<std::size_t>(size));
-  MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, comm);
-  int total = 0;
-  for (int i = 0; i < size; ++i) offsets[static_cast<std::size_t>(i)] = total, total += lengths[static_cast<std::size_t>(i)];
-  std::string all(rank == 0 ? static_cast<std::size_t>(total) : 0u, ' ');
-  MPI_Gatherv(packed.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0, comm);
+  std::string all;
+  if (par::alone(comm)) {
+    all = packed;
+  } else {
+    int length = static_cast<int>(packed.size());
+    std::vector<int> lengths(static_cast<std::size_t>(size)), offsets(static_cast<std::size_t>(size));
+    MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, comm);
+    int total = 0;
+    for (int i = 0; i < size; ++i) offsets[static_cast<std::size_t>(i)] = total, total += lengths[static_cast<std::size_t>(i)];
+    all.assign(rank == 0 ? static_cast<std::size_t>(total) : 0u, ' ');
+    MPI_Gatherv(packed.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0, comm);
+  }
   std::vector<std::string> rows(rank == 0 ? n : 0);
   std::istringstream in(all);
   std::string line;
@@ -323,10 +331,12 @@ int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
   std::vector<int> codes(cases.size(), 0);  // this rank's cases; gathered below
   int interrupted = 0;
   const std::vector<int> rank_of = size > 1 ? assign_ranks(cases, size) : std::vector<int>(cases.size(), 0);
+  // Each case alone: on MPI_COMM_SELF, or without MPI in a sweep that did not start it.
+  const MPI_Comm case_comm = par::alone(comm) ? MPI_COMM_NULL : MPI_COMM_SELF;
   for (std::size_t k = 0; k < cases.size(); ++k) {
     if (rank_of[k] != rank) continue;
     CaseRecord r;
-    if (!interrupted && !local_interrupt_signal()) r = run_case(cl, limits, k, cases[k], interrupted);
+    if (!interrupted && !local_interrupt_signal()) r = run_case(cl, limits, k, cases[k], case_comm, interrupted);
     codes[k] = r.code;
     if (!cl.quiet)
       std::printf("%s -> %s%s (%.3f s)\n", case_text(k, cases[k]).c_str(), r.status.c_str(),
@@ -337,7 +347,7 @@ int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
   }
   const std::vector<std::string> rows = gather_rows(mine, cases.size(), comm);
   std::vector<int> all(cases.size(), 0);
-  MPI_Allreduce(codes.data(), all.data(), static_cast<int>(codes.size()), MPI_INT, MPI_SUM, comm);
+  par::allreduce(codes.data(), all.data(), static_cast<int>(codes.size()), MPI_INT, MPI_SUM, comm);
   std::size_t complete = 0;
   int code = kSuccess;
   for (int c : all) {

@@ -1,5 +1,5 @@
 // Start-up pays only for what a command uses (docs/developer.md, "Start-up"): --help,
-// --version, check and a run in one process on block storage (outside an MPI launcher) never
+// --version, check, a run and a sweep in one process on block storage (outside an MPI launcher) never
 // start MPI, so they work where MPI cannot start at all; under mpiexec every rank takes part
 // and one rank reports.
 #include <gtest/gtest.h>
@@ -50,6 +50,19 @@ TEST(Startup, CommandsWithoutSolverWorkWhereMpiCannotStart) {
                                                   " --set mesh.ds=0.1 -q");
   EXPECT_EQ(run.code, 0) << run.out;
   EXPECT_TRUE(fs::exists(out));
+  // So does a sweep in one process: every case runs, the index is written.
+  const fs::path sweep_dir = out.parent_path() / "sweep";
+  const auto sweep = traverse::testing::run_command(kBrokenMpi + kExe + " sweep " + kScene.string() +
+                                                    " --set mesh.ds=0.1 --vary loads.F.speed=2,3 -q -o " +
+                                                    sweep_dir.string());
+  EXPECT_EQ(sweep.code, 0) << sweep.out;
+  EXPECT_TRUE(fs::exists(sweep_dir / "case_0000.h5"));
+  EXPECT_TRUE(fs::exists(sweep_dir / "case_0001.h5"));
+  std::ifstream index(sweep_dir / "index.csv");
+  std::string line;
+  int complete = 0;
+  while (std::getline(index, line)) complete += line.find(",complete,0,") != std::string::npos ? 1 : 0;
+  EXPECT_EQ(complete, 2) << "index.csv of the sweep without MPI";
 
   const auto version = traverse::testing::run_command(kBrokenMpi + kExe + " --version");
   EXPECT_EQ(version.code, 0) << version.out;
