@@ -20,7 +20,7 @@ bool needs_trilinos(const CommandLine& cl, const Launch& launch, Prepared& prepa
     case Command::Version:
     case Command::Check:
     case Command::Xdmf: return false;
-    case Command::Sweep:  // each case in this process, on MPI_COMM_SELF
+    case Command::Sweep:  // each case runs in this process (one rank each under a launcher)
       prepared.sweep = plan_sweep(cl);
       return prepared.sweep->needs_trilinos;
     case Command::Run:

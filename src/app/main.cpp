@@ -34,8 +34,8 @@ bool needs_mpi(app::CommandLine::Command command, const app::Launch& launch) {
     case Command::Version: return false;
     case Command::Check:
     case Command::Xdmf: return launch.by_launcher;
-    case Command::Run: return app::has_trilinos() || launch.by_launcher;  // traverse: this process alone
-    case Command::Sweep: return app::has_trilinos() || launch.by_launcher;
+    case Command::Run:
+    case Command::Sweep: return app::has_trilinos() || launch.by_launcher;  // traverse: this process alone
     default: throw std::logic_error("traverse: command not handled");
   }
 }

@@ -1,17 +1,21 @@
 #include "traverse/core/param_list.hpp"
 
+#include <iterator>
+
 namespace traverse {
 
-namespace {
-const char* const kValueTypeNames[] = {"bool", "int", "double", "string", "list of numbers", "list of words"};
-}  // namespace
+const char* ParamList::value_type_name(std::size_t index) {
+  static const char* const names[] = {"bool", "int", "double", "string", "list of numbers", "list of words"};
+  static_assert(std::size(names) == std::variant_size_v<Value>, "one name per alternative");
+  return names[index];
+}
 
 std::string with_article(const std::string& noun) {
   return (!noun.empty() && std::string("aeiou").find(noun[0]) != std::string::npos ? "an " : "a ") + noun;
 }
 
 std::string type_name_of(const ParamList::Entry& e) {
-  return e.is_list() ? "sublist" : kValueTypeNames[e.value().index()];
+  return e.is_list() ? "sublist" : ParamList::value_type_name(e.value().index());
 }
 
 const ParamList::Entry* ParamList::find(const std::string& key) const {

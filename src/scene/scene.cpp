@@ -461,9 +461,9 @@ Param build_schema() {
     const std::string model = s.get<std::string>("model");
     const double length = s.sublist(model).get<double>("length");
     const auto& probes = s.sublist("output").sublist("probes");
-    for (auto it = probes.begin(); it != probes.end(); ++it) {
-      const auto& pr = probes.sublist(probes.name(it));
-      const std::string key = "output.probes." + probes.name(it);
+    for (const auto& entry : probes) {
+      const auto& pr = entry.list();
+      const std::string key = "output.probes." + entry.name();
       const std::string type = pr.get<std::string>("type");
       if ((type == "deflection") != (model == kBeam))
         ctx.fail(key + ".type", std::string("a probe type of model ") + model + " (" +
@@ -483,9 +483,9 @@ Param build_schema() {
                  std::string("a field of model ") + model + ", one of {" + list + "}", "'" + fields[i] + "'");
       }
     const auto& loads = s.sublist("loads");
-    for (auto it = loads.begin(); it != loads.end(); ++it) {
-      const auto& l = loads.sublist(loads.name(it));
-      const std::string key = "loads." + loads.name(it);
+    for (const auto& entry : loads) {
+      const auto& l = entry.list();
+      const std::string key = "loads." + entry.name();
       if (l.isParameter("start") && l.get<double>("start") > length)
         ctx.fail(key + ".start", "a position on the structure, in [0, " + format_number(length) + "]",
                  format_number(l.get<double>("start")));
@@ -747,9 +747,7 @@ void read_continuation(const ParameterList& c, std::size_t num_loads, Scene& sc)
   cs.eigenvalues = c.get<int>("eigenvalues");
   cs.switch_branches = c.get<bool>("switch_branches");
   cs.branch_amplitude = c.get<double>("branch_amplitude");
-  const auto& pr = c.sublist("probes");
-  for (auto it = pr.begin(); it != pr.end(); ++it)
-    cs.probes.push_back(read_continuation_probe(pr.name(it), pr.sublist(pr.name(it)), sc));
+  for (const auto& entry : c.sublist("probes")) cs.probes.push_back(read_continuation_probe(entry.name(), entry.list(), sc));
   if ((cs.parameter == ContinuationParameter::load_position || cs.parameter == ContinuationParameter::load_magnitude) &&
       num_loads != 1)
     fail_at(sc, "continuation.parameter", "exactly one load in the scene to continue in " + name_of(cs.parameter),
@@ -852,10 +850,10 @@ void read_output(const ParameterList& o, const std::string& file_name, OutputSpe
   out.every = o.get<int>("every");
   out.restart_interval = o.get<double>("restart_interval");
   const auto& probes = o.sublist("probes");
-  for (auto it = probes.begin(); it != probes.end(); ++it) {
-    const auto& pr = probes.sublist(probes.name(it));
+  for (const auto& entry : probes) {
+    const auto& pr = entry.list();
     OutputProbeSpec ps;
-    ps.name = probes.name(it);
+    ps.name = entry.name();
     ps.type = enum_of<ProbeType>(pr.get<std::string>("type"));
     ps.at = pr.get<double>("at");
     if (ps.type == ProbeType::point) {
@@ -894,8 +892,8 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
   sc.mesh.ds = sc.length() / (sc.mesh.nodes - 1);
 
   const auto& loads = p.sublist("loads");
-  for (auto it = loads.begin(); it != loads.end(); ++it)
-    sc.loads.push_back(build_load(loads.name(it), loads.sublist(loads.name(it)), structure_mass, sc.length(), sc.gravity));
+  for (const auto& entry : loads)
+    sc.loads.push_back(build_load(entry.name(), entry.list(), structure_mass, sc.length(), sc.gravity));
   check_coupled_masses(sc);
   if (sc.model == Model::Rod && sc.initial_state.loaded) {
     if (sc.continuation.enabled)

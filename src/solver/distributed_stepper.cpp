@@ -24,9 +24,7 @@ bool is_plain_klu2(const LinearSolverChoice& choice) {
     return false;
   const ParamList& a = s.sublist("Linear Solver Types").sublist("Amesos2");
   if (!a.isType<std::string>("Solver Type") || a.get<std::string>("Solver Type") != "KLU2") return false;
-  for (auto it = a.begin(); it != a.end(); ++it)
-    if (a.name(it) != "Solver Type") return false;
-  return true;
+  return a.numParams() == 1;  // "Solver Type" alone
 }
 
 }  // namespace

@@ -73,8 +73,6 @@ std::string known_keys() {
   return words_text(names);
 }
 
-const char* const kTypeNames[] = {"bool", "int", "double", "string", "list of numbers", "list of words"};
-
 }  // namespace
 
 ParamList validated_solver_parameters(const ParamList& given) {
@@ -92,7 +90,7 @@ ParamList validated_solver_parameters(const ParamList& given) {
     if (e.is_list() || e.value().index() != want) {
       const bool widen = !e.is_list() && std::holds_alternative<double>(k->default_value) && std::holds_alternative<int>(e.value());
       if (!widen)
-        refuse("'" + e.name() + "' must be " + with_article(kTypeNames[want]) + ", found " + with_article(type_name_of(e)));
+        refuse("'" + e.name() + "' must be " + with_article(ParamList::value_type_name(want)) + ", found " + with_article(type_name_of(e)));
       p.set(e.name(), static_cast<double>(std::get<int>(e.value())));
     }
     if (!k->words.empty()) {

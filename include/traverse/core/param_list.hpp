@@ -55,6 +55,10 @@ class ParamList {
 
   const std::string& name() const { return name_; }
 
+  /// The name of Value's alternative `index` as messages show it: "bool", "int", "double",
+  /// "string", "list of numbers", "list of words".
+  static const char* value_type_name(std::size_t index);
+
   /// Sets (replaces, keeping its place) or appends the value of `key`.
   template <class T>
   void set(const std::string& key, T value) {
@@ -110,11 +114,8 @@ class ParamList {
   bool remove(const std::string& key);
   /// The entries in the order they were first set.
   const std::vector<Entry>& entries() const { return entries_; }
-  using const_iterator = std::vector<Entry>::const_iterator;
-  const_iterator begin() const { return entries_.begin(); }
-  const_iterator end() const { return entries_.end(); }
-  const std::string& name(const_iterator it) const { return it->name(); }
-  const Entry& entry(const_iterator it) const { return *it; }
+  std::vector<Entry>::const_iterator begin() const { return entries_.begin(); }
+  std::vector<Entry>::const_iterator end() const { return entries_.end(); }
 
   /// The same names, values and sublists in the same order (the lists' own names aside).
   bool operator==(const ParamList& o) const;
@@ -125,15 +126,14 @@ class ParamList {
   static constexpr bool is_value = std::is_same_v<T, bool> || std::is_same_v<T, int> || std::is_same_v<T, double> ||
                                    std::is_same_v<T, std::string> || std::is_same_v<T, std::vector<double>> ||
                                    std::is_same_v<T, std::vector<std::string>>;
-  template <class T>
-  static const char* type_name() {
-    if constexpr (std::is_same_v<T, bool>) return "bool";
-    else if constexpr (std::is_same_v<T, int>) return "int";
-    else if constexpr (std::is_same_v<T, double>) return "double";
-    else if constexpr (std::is_same_v<T, std::string>) return "string";
-    else if constexpr (std::is_same_v<T, std::vector<double>>) return "list of numbers";
-    else return "list of words";
+  /// The index of T among Value's alternatives.
+  template <class T, std::size_t I = 0>
+  static constexpr std::size_t index_of() {
+    if constexpr (std::is_same_v<T, std::variant_alternative_t<I, Value>>) return I;
+    else return index_of<T, I + 1>();
   }
+  template <class T>
+  static const char* type_name() { return value_type_name(index_of<T>()); }
   const Entry* find(const std::string& key) const;
   Entry* find(const std::string& key);
   void put(const std::string& key, Value v);
