@@ -1,6 +1,8 @@
 // traverse: parse the command line, read the scene, dispatch, report.
 #include <mpi.h>
 
+#include <malloc.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -110,6 +112,11 @@ int execute(const app::CommandLine& cl, int rank, MPI_Comm comm, app::Prepared& 
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Memory once touched stays with the process and is reused: no mmap per large block, no
+  // trimming of the heap's top. A first touch of a page (a page fault) is the costliest thing
+  // a small run does on some virtual machines (about 10 us here; docs/benchmarks.md).
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 256 << 20);
   // MPI only for the commands that need it (needs_mpi); until it starts, the rank is the
   // launcher's (0 outside one), so that one rank reports.
   const app::Launch launch = app::launch_from_environment();

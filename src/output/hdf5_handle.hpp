@@ -89,14 +89,14 @@ std::vector<std::string> link_names(hid_t group, const std::string& what);
 void create_view(hid_t group, std::size_t step, const std::string& field_path, hsize_t nodes, hsize_t components,
                  hsize_t first, hsize_t count, const std::string& what);
 
-/// Views of at most this many bytes are stored as compact copies (create_view_copy): an HDF5
-/// object costs about 15 us to create that way against about 50 us (and as much again when
-/// the file is closed) for a virtual dataset; larger ones are virtual (no data stored twice).
+/// Views of at most this many bytes are stored as copies (create_view_copy): an HDF5 object
+/// costs about 15 us to create that way against about 50 us (and as much again when the file
+/// is closed) for a virtual dataset; larger ones are virtual (no data stored twice).
 inline constexpr std::size_t max_copied_view_bytes = 60000;
 
-/// Creates the dataset `<step>` in `group` holding `values` (nodes x count doubles, node-major)
-/// in the compact layout (in its object header); shape (nodes) if count is 1, else
-/// (nodes, count). With MPI-IO every rank must pass the same values.
+/// Creates the dataset `<step>` in `group` holding `values` (nodes x count doubles, node-major),
+/// contiguous; shape (nodes) if count is 1, else (nodes, count). With MPI-IO every rank must
+/// pass the same values.
 void create_view_copy(hid_t group, std::size_t step, hsize_t nodes, hsize_t count, const double* values,
                       const std::string& what);
 /// The same for many steps of one array: the dataspace and creation properties made once.

@@ -71,8 +71,12 @@ Handle create_extendible(hid_t loc, const std::string& name, const std::vector<h
   check(H5Pset_chunk(dcpl.get(), static_cast<int>(chunk.size()), chunk.data()), "H5Pset_chunk",
         name);
   check(H5Pset_fill_time(dcpl.get(), H5D_FILL_TIME_NEVER), "H5Pset_fill_time", name);
+  Handle dapl = detail::plist_handle(check_id(H5Pcreate(H5P_DATASET_ACCESS), "H5Pcreate", name));
+  // No chunk cache: the kept steps are written in whole blocks at each flush, so a cache would
+  // only hold every chunk of every series in memory until the file closes (docs/output.md).
+  check(H5Pset_chunk_cache(dapl.get(), 0, 0, 1.0), "H5Pset_chunk_cache", name);
   return detail::dataset_handle(check_id(H5Dcreate2(loc, name.c_str(), H5T_IEEE_F64LE, space.get(),
-                                                    H5P_DEFAULT, dcpl.get(), H5P_DEFAULT),
+                                                    H5P_DEFAULT, dcpl.get(), dapl.get()),
                                          "H5Dcreate2", name));
 }
 
@@ -344,15 +348,22 @@ void Writer::Impl::flush_pending() {
                             what);
       continue;
     }
-    // Small: compact copies, the same values on every rank (gathered).
+    // Small: copies, the same values on every rank (gathered).
     const std::size_t c = view.count, nc = f.components;
+    const detail::ViewCopies copies(N, c, what);
+    const std::vector<double>& rows = pend_field[view.field];
+    if (size == 1 && c == nc) {  // the pending rows are the views' values: no copy
+      for (std::size_t k = 0; k < b; ++k) copies.create(view_groups[v].get(), flushed + k, rows.data() + k * N * c);
+      continue;
+    }
     std::vector<double> mine(b * nodes.count * c);
     for (std::size_t k = 0; k < b; ++k)
       for (std::size_t i = 0; i < nodes.count; ++i)
         for (std::size_t q = 0; q < c; ++q)
-          mine[(k * nodes.count + i) * c + q] = pend_field[view.field][(k * nodes.count + i) * nc + view.first + q];
-    std::vector<double> all(b * N * c);
+          mine[(k * nodes.count + i) * c + q] = rows[(k * nodes.count + i) * nc + view.first + q];
+    std::vector<double> all;
     if (size > 1) {
+      all.resize(b * N * c);
       std::vector<int> counts(static_cast<std::size_t>(size)), displs(static_cast<std::size_t>(size));
       for (int r = 0, at = 0; r < size; ++r) {
         counts[r] = static_cast<int>(b * ranges[2 * r + 1] * c);
@@ -369,7 +380,6 @@ void Writer::Impl::flush_pending() {
     } else {
       all = std::move(mine);
     }
-    const detail::ViewCopies copies(N, c, what);
     for (std::size_t k = 0; k < b; ++k) copies.create(view_groups[v].get(), flushed + k, all.data() + k * N * c);
   }
   compute_load_points(b);
@@ -395,7 +405,7 @@ void Writer::Impl::write_xdmf_text() {
   m.loads = moving_loads;
   m.sigma = sigma_all;
   m.load_values = load_values_all;
-  detail::replace_file(xmf_path, detail::xdmf_document(m));
+  detail::replace_file(xmf_path, [&](std::ostream& out) { detail::write_xdmf_document(m, out); });
 }
 
 // Rank 0 writes the sidecar of the flushed steps; every rank learns whether that worked.

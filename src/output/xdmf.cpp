@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <set>
+#include <sstream>
 
 #include "traverse/output/output_error.hpp"
 
@@ -125,11 +126,24 @@ bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, cons
 }
 
 std::string xdmf_document(const XdmfModel& m) {
+  std::ostringstream out;
+  write_xdmf_document(m, out);
+  return out.str();
+}
+
+void write_xdmf_document(const XdmfModel& m, std::ostream& out) {
   const std::string h5 = xml_escape(m.h5_name);
   const std::size_t steps = m.times.size();
   const std::size_t n = m.nodes;
+  // The text goes out in pieces of about 64 KiB: a long run's sidecar is never one string.
+  constexpr std::size_t piece = 65536;
   std::string o;
-  o.reserve(512 + steps * (400 + 260 * m.arrays.size()));
+  o.reserve(piece + 4096 + 512 * m.arrays.size());
+  auto pass_on = [&](bool last) {
+    if (!last && o.size() < piece) return;
+    out.write(o.data(), static_cast<std::streamsize>(o.size()));
+    o.clear();
+  };
   o += "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n";
 
   const std::size_t W = m.load_width();
@@ -176,6 +190,7 @@ std::string xdmf_document(const XdmfModel& m) {
         offset += a.count;
       }
       o += "      </Grid>\n";
+      pass_on(false);
     }
     o += "    </Grid>\n";
   }
@@ -220,17 +235,22 @@ std::string xdmf_document(const XdmfModel& m) {
       o += "</Attribute>\n";
     }
     o += "      </Grid>\n";
+    pass_on(false);
   }
   o += "    </Grid>\n  </Domain>\n</Xdmf>\n";
-  return o;
+  pass_on(true);
 }
 
 void replace_file(const std::string& path, const std::string& text) {
+  replace_file(path, [&](std::ostream& out) { out << text; });
+}
+
+void replace_file(const std::string& path, const std::function<void(std::ostream&)>& write) {
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw OutputError("cannot write XDMF sidecar " + tmp + ": " + std::strerror(errno));
-    out << text;
+    write(out);
     out.flush();
     if (!out) throw OutputError("cannot write XDMF sidecar " + tmp + ": " + std::strerror(errno));
   }

@@ -8,6 +8,8 @@
 // and no data is stored twice. This header has the naming rules (shared by the Writer and by
 // the `traverse xdmf` tool), the text generation and the atomic file replacement; no HDF5, no MPI.
 #include <cstddef>
+#include <functional>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -68,6 +70,8 @@ struct XdmfModel {
 /// grids carry the same arrays: ParaView colours a multiblock by an array only when every
 /// block has it. Identical models give identical text.
 std::string xdmf_document(const XdmfModel& model);
+/// The same text written to `out` piece by piece (no string of the whole document).
+void write_xdmf_document(const XdmfModel& model, std::ostream& out);
 
 /// Interpolates at arclength `sigma` along the polyline through the nodes [first, first + n)
 /// (global indices; `s` and `values` (n x width, node-major) hold exactly those nodes, the
@@ -81,5 +85,7 @@ bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, cons
 /// Writes `text` to `path` + ".tmp" and renames it onto `path` (atomic on POSIX).
 /// Throws OutputError on failure.
 void replace_file(const std::string& path, const std::string& text);
+/// The same with the text written by `write` to the temporary file's stream.
+void replace_file(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 }  // namespace traverse::output::detail

@@ -286,6 +286,39 @@ TEST(OutputWriter, XdmfSidecarIsWellFormed) {
   EXPECT_EQ(r.arclength().size(), sample::nodes);
 }
 
+// A sidecar longer than the 64 KiB pieces it is written in (300 steps, about 1 kB each): the
+// pieces join into a well-formed document that names every view, and `traverse xdmf` rebuilds
+// it identically; every view (contiguous copies) holds its step of the field.
+TEST(OutputWriter, LongSidecarIsWrittenInPieces) {
+  const std::string dir = scratch("xdmf-long");
+  const NodeLayout l = sample::layout(MPI_COMM_WORLD);
+  const std::string path = dir + "/run.h5";
+  const std::size_t steps = 300;
+  {
+    Writer w(MPI_COMM_WORLD, path, false, sample::run_info(), l, sample::loads);
+    sample::declare(w);
+    for (std::size_t k = 0; k < steps; ++k) sample::write_step(w, l, k);
+    w.finish();
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank() != 0) return;
+  const std::string xmf = test::slurp(dir + "/run.xmf");
+  EXPECT_GT(xmf.size(), 3u * 65536u);
+  const auto rep = test::check_xdmf(dir + "/run.xmf", path);
+  for (const auto& p : rep.problems) ADD_FAILURE() << p;
+  EXPECT_EQ(rep.grids, steps);
+  EXPECT_EQ(rep.views, steps * 9u);
+  const SidecarResult again = write_sidecar(path, dir + "/again.xmf");
+  EXPECT_EQ(again.steps, steps);
+  EXPECT_EQ(test::slurp(dir + "/again.xmf"), xmf);
+  for (const std::size_t k : {std::size_t(0), std::size_t(150), steps - 1}) {
+    const auto r = test::read_doubles(path, "/xdmf/r/" + std::to_string(k));
+    ASSERT_EQ(r.size(), 3 * sample::nodes);
+    for (std::size_t i = 0; i < sample::nodes; ++i)
+      for (std::size_t c = 0; c < 3; ++c) EXPECT_EQ(r[3 * i + c], sample::field(1, k, i, c)) << k << " " << i;
+  }
+}
+
 TEST(OutputWriter, RefusesToOverwrite) {
   const std::string dir = scratch("overwrite");
   const NodeLayout l = sample::layout(MPI_COMM_WORLD);
