@@ -32,6 +32,12 @@ const std::vector<SolverKey>& solver_keys() {
        "Rod time step: auto = traverse's Newton on block storage where it applies (one rank, the "
        "block-tridiagonal LU, Full Step, no NOX sublist, no Jacobian Reuse; the same iterates as "
        "NOX without its overhead), NOX elsewhere; NOX = always NOX"},
+      {"Update Test", std::string("auto"), {"auto", "Last Update"},
+       "Newton's update test of a rod time step: auto = where traverse's Newton on block storage "
+       "runs, a step also converges when the next update, solved with the last factorisation, "
+       "passes the WRMS test (no iteration whose only purpose is the update test); NOX's test "
+       "elsewhere; Last Update = NOX's test everywhere (the update just taken; both Newtons then "
+       "take the same iterates)"},
       {"Initial Guess", std::string("Old Level"), {"Old Level", "Secant"},
        "Newton's initial guess of a rod time step: Old Level = the old level's unknowns; Secant = "
        "the old level extrapolated along the last step's secant, y + dt (y - y_prev) / dt_prev "

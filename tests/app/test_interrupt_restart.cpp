@@ -184,12 +184,13 @@ TEST(InterruptRestart, RodTwoRanksSigintToMpiexecThenRestart) {
                    3, 40, Stop::sigint_mpiexec);
 }
 
-// The default restart cadence (output.restart_interval = 60 s): a run of a few seconds has
-// only the restart point of its start when it is killed; its output steps are flushed once a
-// second. The restart recomputes from t = 0 and ends bit for bit equal to the uninterrupted run.
+// The default restart cadence (output.restart_interval = 60 s): a run of a few seconds (27500
+// steps, 101 output steps) has only the restart point of its start when it is killed; its
+// output steps are flushed once a second. The restart recomputes from t = 0 and ends bit for
+// bit equal to the uninterrupted run.
 TEST(InterruptRestart, RodSigkillAtTheDefaultCadenceRestartsFromTheStart) {
   stop_and_restart("rod-sigkill-cadence", 1, kCable,
-                   " --set mesh.ds=0.02 --set time.dt=2.75e-5 --set output.every=100 --set output.fields=[r,n] -q", 3,
+                   " --set mesh.ds=0.02 --set time.dt=1e-5 --set output.every=275 --set output.fields=[r,n] -q", 3,
                    40, Stop::sigkill);
 }
 

@@ -27,6 +27,11 @@
 //                                  solver/block_newton.hpp, on one rank with the block-tridiagonal
 //                                  LU, Full Step, no NOX sublist and no Jacobian Reuse; NOX
 //                                  otherwise) | "NOX" (always NOX)
+//   Update Test            string  "auto" | "Last Update" (default "auto"): with auto, the
+//                                  Newton on block storage also ends a step when max|f| passes
+//                                  and the next update (solved with the last factorisation)
+//                                  passes the WRMS test; NOX's test (the update just taken)
+//                                  elsewhere and with "Last Update" (docs/solver.md)
 //   Initial Guess          string  "Old Level" | "Secant" (default "Old Level"): Newton's
 //                                  initial guess of a time step, the old level itself or
 //                                  extrapolated along the last step's secant
