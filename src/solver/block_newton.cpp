@@ -49,8 +49,8 @@ NewtonReport BlockNewton::solve(std::vector<double>& x) {
 }
 
 bool BlockNewton::next_update_small(std::vector<double>& x, double nf) {
-  // f(x) was just assembled; the factors (and their blocks) are still those of the last
-  // iteration's Jacobian (BlockSystem keeps them apart from the blocks being filled).
+  // f and J at x were just assembled; the factorisation is still the last iteration's, so
+  // the solve refines towards J(x)^{-1} f(x) with it (BlockSystem::solve).
   const double achieved = sys_->solve(d_, nf, opt_.linear_tolerance);
   if (!(achieved <= 0.5)) return false;
   double ss = 0.0;
@@ -59,9 +59,8 @@ bool BlockNewton::next_update_small(std::vector<double>& x, double nf) {
     ss += u * u;
   }
   if (!(std::sqrt(ss / static_cast<double>(x.size())) < 1.0)) return false;
-  // Taken: a chord step, within the update tolerances of x, whose residual is already below its
-  // tolerance. It leaves x as close to the solution as the Newton iteration it replaces would
-  // (the two steps differ by (J_k^{-1} - J_{k-1}^{-1}) f(x_k), of second order).
+  // Taken: the Newton step from x, within the update tolerances of x, whose residual is already
+  // below its tolerance (the step's own residual is not evaluated).
   for (size_t i = 0; i < x.size(); ++i) x[i] -= d_[i];
   return true;
 }

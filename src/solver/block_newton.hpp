@@ -10,10 +10,13 @@
 // max|f| < residual tolerance and the WRMS update test (NOX's NormWRMS: weights rtol |x_old| +
 // atol) is below 1, failed at a non-finite residual or after the maximum of iterations.
 // With `next_update_test` (solver key 'Update Test: auto', the default) a step whose residual
-// test holds but whose last update does not pass also converges when the next update, solved
-// with the last iteration's factorisation (d = J_{k-1}^{-1} f(x_k), not applied), passes the
-// WRMS test with weights rtol |x_k| + atol: the iteration NOX's test would add only to see an
-// update of round-off size is skipped. Without it the iterates are NOX's.
+// test holds but whose last update does not pass also converges when the next Newton update
+// d = J(x_k)^{-1} f(x_k) passes the WRMS test (weights rtol |x_k| + atol) and is then taken. d
+// is solved without a new factorisation: the last one (of J(x_{k-1})) preconditions the
+// block system's refinements against J(x_k), assembled with f(x_k) (BlockSystem::solve), and
+// the test asks the same achieved tolerance <= 0.5 as NOX's. So the iteration NOX's test adds
+// only to see an update of round-off size costs a solve instead of a factorisation, a solve
+// and an assembly. Without it the iterates are NOX's.
 // Eigen and the rod kernels only.
 #include "traverse/core/param_list.hpp"
 
@@ -60,8 +63,8 @@ class BlockNewton {
   /// f and the blocks at x; returns max|f| (NaN when f is not finite).
   double evaluate(const std::vector<double>& x);
 
-  /// Whether the next update from x, solved with the last factorisation, passes the WRMS test;
-  /// if it does, it is applied to x (a chord step).
+  /// Whether the next Newton update from x (f and J at x assembled, the last factorisation as
+  /// preconditioner) passes the WRMS test; if it does, it is applied to x.
   bool next_update_small(std::vector<double>& x, double nf);
 
   const rod::StepAssembly& asm_;

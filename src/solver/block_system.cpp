@@ -19,7 +19,6 @@ double max_abs(const std::vector<double>& v) {
 BlockSystem::BlockSystem(int nodes, int b) : n_(nodes), b_(b) {
   const size_t bb = static_cast<size_t>(b_) * static_cast<size_t>(b_);
   blocks_.assign(3 * bb * static_cast<size_t>(n_), 0.0);
-  factored_ = blocks_;
   f_.assign(static_cast<size_t>(n_) * b_, 0.0);
   r_ = dx_ = f_;
   lu_ = make_block_tridiagonal_factors(b_);
@@ -98,19 +97,18 @@ void BlockSystem::add(const rod::LocalBlock& blk) {
 void BlockSystem::factor() {
   const BlockExchange none;  // one process: never called
   lu_->factor(blocks_.data(), n_, b_, 0, 1, none);
-  blocks_.swap(factored_);  // the factorised J stays for solve; the next assembly fills the other buffer
 }
 
 void BlockSystem::residual_of(const std::vector<double>& d, std::vector<double>& r) const {
-  if (b_ == 6) return block_residual<6>(factored_, f_, n_, b_, d, r);
-  if (b_ == 12) return block_residual<12>(factored_, f_, n_, b_, d, r);
-  block_residual<0>(factored_, f_, n_, b_, d, r);
+  if (b_ == 6) return block_residual<6>(blocks_, f_, n_, b_, d, r);
+  if (b_ == 12) return block_residual<12>(blocks_, f_, n_, b_, d, r);
+  block_residual<0>(blocks_, f_, n_, b_, d, r);
 }
 
 double BlockSystem::solve(std::vector<double>& d, double nb, double tolerance) {
   const BlockExchange none;
   d.resize(f_.size());
-  lu_->solve(f_.data(), d.data(), factored_.data(), none);
+  lu_->solve(f_.data(), d.data(), blocks_.data(), none);
   double worst = 0.0;
   for (int pass = 0; pass <= 2; ++pass) {
     residual_of(d, r_);
@@ -118,7 +116,7 @@ double BlockSystem::solve(std::vector<double>& d, double nb, double tolerance) {
     const double q = nb > 0.0 ? nr / nb : nr;
     worst = std::isfinite(q) ? q : std::numeric_limits<double>::infinity();
     if (worst <= tolerance || pass == 2 || std::isinf(worst)) break;
-    lu_->solve(r_.data(), dx_.data(), factored_.data(), none);
+    lu_->solve(r_.data(), dx_.data(), blocks_.data(), none);
     for (size_t i = 0; i < d.size(); ++i) d[i] = d[i] + dx_[i];
   }
   return worst;

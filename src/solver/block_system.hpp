@@ -25,12 +25,14 @@ class BlockSystem {
   void add(const rod::LocalBlock& blk);
   const std::vector<double>& f() const { return f_; }
   std::vector<double>& f() { return f_; }
-  /// Factorises the blocks (throws when the LU fails). The factorised blocks are kept apart:
-  /// the next clear() and add() fill another buffer, so solve() after them still solves with
-  /// the last factorisation (its J for the residual check) and the new f.
+  /// Factorises the blocks (throws when the LU fails).
   void factor();
-  /// d = J^{-1} f (J of the last factor()) with the residual check and the refinements; returns
-  /// max|f - J d| / nb, nb = max|f| (infinite when not finite). `tolerance`: no refinement below it.
+  /// d = J^{-1} f with the residual check and the refinements; returns max|f - J d| / nb, nb =
+  /// max|f| (infinite when not finite). `tolerance`: no refinement below it. J is the current
+  /// blocks. After clear() and add() without a new factor(), the last factorisation (its
+  /// Schur complements, with the current sub-diagonal blocks) is only an approximate inverse:
+  /// the refinements then iterate towards the current J's solution and the returned ratio
+  /// measures how far they got (BlockNewton's next-update test).
   double solve(std::vector<double>& d, double nb, double tolerance);
 
  private:
@@ -39,7 +41,6 @@ class BlockSystem {
   void residual_of(const std::vector<double>& d, std::vector<double>& r) const;
   int n_ = 0, b_ = 0;
   std::vector<double> blocks_, f_, r_, dx_;
-  std::vector<double> factored_;  // the blocks of the last factorisation
   std::unique_ptr<BlockTridiagonalFactors> lu_;
 };
 
