@@ -48,7 +48,7 @@ NewtonReport BlockNewton::solve(std::vector<double>& x) {
   }
 }
 
-bool BlockNewton::next_update_small(std::vector<double>& x, double nf) {
+bool BlockNewton::next_update_small(std::vector<double>& x, double nf, double& wrms) {
   // f and J at x were just assembled; the factorisation is still the last iteration's, so
   // the solve refines towards J(x)^{-1} f(x) with it (BlockSystem::solve).
   const double achieved = sys_->solve(d_, nf, opt_.linear_tolerance);
@@ -58,7 +58,9 @@ bool BlockNewton::next_update_small(std::vector<double>& x, double nf) {
     const double u = d_[i] / (opt_.update_relative_tolerance * std::abs(x[i]) + opt_.update_absolute_tolerance);
     ss += u * u;
   }
-  if (!(std::sqrt(ss / static_cast<double>(x.size())) < 1.0)) return false;
+  const double next = std::sqrt(ss / static_cast<double>(x.size()));
+  if (!(next < 1.0)) return false;
+  wrms = next;  // the update taken last is now this one
   // Taken: the Newton step from x, within the update tolerances of x, whose residual is already
   // below its tolerance (the step's own residual is not evaluated).
   for (size_t i = 0; i < x.size(); ++i) x[i] -= d_[i];
@@ -79,7 +81,7 @@ NewtonReport BlockNewton::iterate(std::vector<double>& x) {
       break;
     }
     if (it > 0 && nf < opt_.residual_tolerance && linear_ok &&
-        (rep.update_wrms < 1.0 || (opt_.next_update_test && next_update_small(x, nf)))) {
+        (rep.update_wrms < 1.0 || (opt_.next_update_test && next_update_small(x, nf, rep.update_wrms)))) {
       rep.converged = true;
       rep.status = "converged";
       break;

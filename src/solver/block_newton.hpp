@@ -64,8 +64,10 @@ class BlockNewton {
   double evaluate(const std::vector<double>& x);
 
   /// Whether the next Newton update from x (f and J at x assembled, the last factorisation as
-  /// preconditioner) passes the WRMS test; if it does, it is applied to x.
-  bool next_update_small(std::vector<double>& x, double nf);
+  /// preconditioner) passes the WRMS test; if it does, it is applied to x and its WRMS put in
+  /// `wrms` (the report's update_wrms; the iteration count and residual history stay those of
+  /// the factorisations).
+  bool next_update_small(std::vector<double>& x, double nf, double& wrms);
 
   const rod::StepAssembly& asm_;
   BlockNewtonOptions opt_;

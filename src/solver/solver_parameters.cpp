@@ -30,8 +30,8 @@ const std::vector<SolverKey>& solver_keys() {
        "NOX line search method"},
       {"Newton Implementation", std::string("auto"), {"auto", "NOX"},
        "Rod time step: auto = traverse's Newton on block storage where it applies (one rank, the "
-       "block-tridiagonal LU, Full Step, no NOX sublist, no Jacobian Reuse; the same iterates as "
-       "NOX without its overhead), NOX elsewhere; NOX = always NOX"},
+       "block-tridiagonal LU, Full Step, no NOX sublist, no Jacobian Reuse; with 'Update Test: "
+       "Last Update' the same iterates as NOX, without its overhead), NOX elsewhere; NOX = always NOX"},
       {"Update Test", std::string("auto"), {"auto", "Last Update"},
        "Newton's update test of a rod time step: auto = where traverse's Newton on block storage "
        "runs, a step also converges when the next update, solved with the last factorisation, "

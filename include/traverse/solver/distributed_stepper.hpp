@@ -2,7 +2,8 @@
 // Time stepper of the rod over MPI ranks (a RodStepper): holds this rank's nodes (owned plus
 // one ghost each side), the Newton solver and everything reused across steps (mesh maps and
 // graph, the W matrix, the linear solver and the preconditioner object). On one rank with the
-// block-tridiagonal LU it steps with BlockNewton (the same iterates as NOX); the single-process
+// block-tridiagonal LU it steps with BlockNewton (NOX's iterates with 'Update Test: Last
+// Update'; by default one round-off iteration fewer per step); the single-process
 // run uses BlockStepper instead, which gives the same steps without Tpetra (block_stepper.hpp).
 //
 // Only Teuchos (comm, parameter list) and the rod kernels appear here; Trilinos solver

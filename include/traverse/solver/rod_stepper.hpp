@@ -63,8 +63,8 @@ struct ReuseCounters {
   int numeric_factorizations = 0;
 };
 
-/// Whether the rod's time steps can run on BlockNewton (the same iterates as NOX, without
-/// Tpetra, Thyra and NOX): one rank, the block-tridiagonal LU as the direct solver, a full
+/// Whether the rod's time steps can run on BlockNewton (with 'Update Test: Last Update' the
+/// same iterates as NOX; without Tpetra, Thyra and NOX): one rank, the block-tridiagonal LU as the direct solver, a full
 /// Newton step, no NOX pass-through keys, no modified Newton, and not "Newton Implementation:
 /// NOX". `params`: validated solver parameters.
 bool block_newton_applies(const ParamList& params, const LinearSolverChoice& choice, int ranks);
