@@ -149,11 +149,12 @@ TEST(InterruptRestart, RodSigkillThenRestart) {
 // What makes a kill -9 inside a flush harmless (docs/reliability.md): while the run goes on,
 // the file is longer than anything its superblock can record (a hole of at least 64 MiB past
 // the end of allocation, no disk space), and cut back to its true size when it is closed.
+// The run (27500 steps, a few seconds) must outlast the first flush after t = 0 (1 s).
 TEST(InterruptRestart, RunningOutputIsPaddedPastItsAllocationAndClosedToSize) {
   const fs::path d = scratch("padding");
   const std::string out = (d / "run.h5").string();
   const Child c = spawn(command(1, "run " + kCable + " -o " + out +
-                                       " --set mesh.ds=0.02 --set time.dt=2.75e-5 --set output.every=100 -q"),
+                                       " --set mesh.ds=0.02 --set time.dt=1e-5 --set output.every=275 -q"),
                         (d / "run.log").string());
   ASSERT_TRUE(wait_for_steps(c, out, 3)) << read_text((d / "run.log").string());
   struct stat running {};
