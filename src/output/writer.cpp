@@ -350,17 +350,11 @@ void Writer::Impl::flush_pending() {
     }
     // Small: copies, the same values on every rank (gathered).
     const std::size_t c = view.count, nc = f.components;
-    const detail::ViewCopies copies(N, c, what);
-    const std::vector<double>& rows = pend_field[view.field];
-    if (size == 1 && c == nc) {  // the pending rows are the views' values: no copy
-      for (std::size_t k = 0; k < b; ++k) copies.create(view_groups[v].get(), flushed + k, rows.data() + k * N * c);
-      continue;
-    }
     std::vector<double> mine(b * nodes.count * c);
     for (std::size_t k = 0; k < b; ++k)
       for (std::size_t i = 0; i < nodes.count; ++i)
         for (std::size_t q = 0; q < c; ++q)
-          mine[(k * nodes.count + i) * c + q] = rows[(k * nodes.count + i) * nc + view.first + q];
+          mine[(k * nodes.count + i) * c + q] = pend_field[view.field][(k * nodes.count + i) * nc + view.first + q];
     std::vector<double> all;
     if (size > 1) {
       all.resize(b * N * c);
@@ -380,6 +374,7 @@ void Writer::Impl::flush_pending() {
     } else {
       all = std::move(mine);
     }
+    const detail::ViewCopies copies(N, c, what);
     for (std::size_t k = 0; k < b; ++k) copies.create(view_groups[v].get(), flushed + k, all.data() + k * N * c);
   }
   compute_load_points(b);

@@ -7,7 +7,6 @@
 #include <cstring>
 #include <fstream>
 #include <set>
-#include <sstream>
 
 #include "traverse/output/output_error.hpp"
 
@@ -125,12 +124,6 @@ bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, cons
   return true;
 }
 
-std::string xdmf_document(const XdmfModel& m) {
-  std::ostringstream out;
-  write_xdmf_document(m, out);
-  return out.str();
-}
-
 void write_xdmf_document(const XdmfModel& m, std::ostream& out) {
   const std::string h5 = xml_escape(m.h5_name);
   const std::size_t steps = m.times.size();
@@ -239,10 +232,6 @@ void write_xdmf_document(const XdmfModel& m, std::ostream& out) {
   }
   o += "    </Grid>\n  </Domain>\n</Xdmf>\n";
   pass_on(true);
-}
-
-void replace_file(const std::string& path, const std::string& text) {
-  replace_file(path, [&](std::ostream& out) { out << text; });
 }
 
 void replace_file(const std::string& path, const std::function<void(std::ostream&)>& write) {

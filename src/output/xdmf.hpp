@@ -68,9 +68,8 @@ struct XdmfModel {
 /// array's value at the load; only when every sigma is finite), then the temporal collection
 /// "structure" of one Polyline grid per step with the point arrays s and the views. Both
 /// grids carry the same arrays: ParaView colours a multiblock by an array only when every
-/// block has it. Identical models give identical text.
-std::string xdmf_document(const XdmfModel& model);
-/// The same text written to `out` piece by piece (no string of the whole document).
+/// block has it. Identical models give identical text. Written to `out` in pieces of about
+/// 64 KiB (never one string of the whole document).
 void write_xdmf_document(const XdmfModel& model, std::ostream& out);
 
 /// Interpolates at arclength `sigma` along the polyline through the nodes [first, first + n)
@@ -82,10 +81,8 @@ void write_xdmf_document(const XdmfModel& model, std::ostream& out);
 bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, const double* s, const double* values,
                 std::size_t width, double sigma, double* out);
 
-/// Writes `text` to `path` + ".tmp" and renames it onto `path` (atomic on POSIX).
-/// Throws OutputError on failure.
-void replace_file(const std::string& path, const std::string& text);
-/// The same with the text written by `write` to the temporary file's stream.
+/// Writes the text `write` puts on the stream to `path` + ".tmp" and renames it onto `path`
+/// (atomic on POSIX). Throws OutputError on failure.
 void replace_file(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 }  // namespace traverse::output::detail

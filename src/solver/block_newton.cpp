@@ -13,6 +13,18 @@ namespace {
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+
+// NOX's NormWRMS of an update: sqrt(sum (delta_i / (rtol |base_i| + atol))^2 / N).
+template <class Delta>
+double update_wrms(const BlockNewtonOptions& o, const std::vector<double>& base, Delta delta) {
+  double ss = 0.0;
+  for (size_t i = 0; i < base.size(); ++i) {
+    const double w = 1.0 / (o.update_relative_tolerance * std::abs(base[i]) + o.update_absolute_tolerance);
+    const double u = delta(i) * w;
+    ss += u * u;
+  }
+  return std::sqrt(ss) / std::sqrt(static_cast<double>(base.size()));
+}
 }  // namespace
 
 BlockNewton::BlockNewton(const rod::StepAssembly& assembly, BlockNewtonOptions options)
@@ -53,12 +65,7 @@ bool BlockNewton::next_update_small(std::vector<double>& x, double nf, double& w
   // the solve refines towards J(x)^{-1} f(x) with it (BlockSystem::solve).
   const double achieved = sys_->solve(d_, nf, opt_.linear_tolerance);
   if (!(achieved <= 0.5)) return false;
-  double ss = 0.0;
-  for (size_t i = 0; i < x.size(); ++i) {
-    const double u = d_[i] / (opt_.update_relative_tolerance * std::abs(x[i]) + opt_.update_absolute_tolerance);
-    ss += u * u;
-  }
-  const double next = std::sqrt(ss / static_cast<double>(x.size()));
+  const double next = update_wrms(opt_, x, [&](size_t i) { return d_[i]; });
   if (!(next < 1.0)) return false;
   wrms = next;  // the update taken last is now this one
   // Taken: the Newton step from x, within the update tolerances of x, whose residual is already
@@ -72,7 +79,6 @@ NewtonReport BlockNewton::iterate(std::vector<double>& x) {
   double nf = evaluate(x);
   rep.residual_history.push_back(nf);
   rep.update_wrms = 1e12;  // NOX's value before the first update
-  const double N = static_cast<double>(x.size());
   int it = 0;
   bool linear_ok = true;  // NOX's NormWRMS also asks the linear solve's achieved tolerance <= 0.5
   for (;;) {
@@ -100,14 +106,7 @@ NewtonReport BlockNewton::iterate(std::vector<double>& x) {
     ++it;
     nf = evaluate(x);
     rep.residual_history.push_back(nf);
-    // NOX's NormWRMS: sqrt(sum ((x - x_old) / (rtol |x_old| + atol))^2 / N).
-    double ss = 0.0;
-    for (size_t i = 0; i < x.size(); ++i) {
-      const double w = 1.0 / (opt_.update_relative_tolerance * std::abs(x_old_[i]) + opt_.update_absolute_tolerance);
-      const double u = (x[i] - x_old_[i]) * w;
-      ss += u * u;
-    }
-    rep.update_wrms = std::sqrt(ss) / std::sqrt(N);
+    rep.update_wrms = update_wrms(opt_, x_old_, [&](size_t i) { return x[i] - x_old_[i]; });
     linear_ok = achieved <= 0.5;
   }
   rep.iterations = it;
