@@ -28,11 +28,12 @@ class MpiSession {
 
   /// Starts MPI. Outside a launcher (`launch.by_launcher` false) the Open MPI settings of a
   /// single process are set first, unless the environment sets them already: pml ob1 and
-  /// btl self (no UCX or network probing), no binding and no PCI discovery by hwloc
-  /// (HWLOC_COMPONENTS=-pci,-linuxio), ess_singleton_isolated (no orted daemon) with a
-  /// session directory of its own (a fresh TMPDIR/traverse-mpi-XXXXXX, removed by finish).
-  /// Under Open MPI's launcher with every rank on this host: pml ob1 (shared memory, no UCX
-  /// network probing), unless the environment sets a pml.
+  /// btl self (no UCX or network probing), no binding, no PCI discovery by hwloc and none of
+  /// its device or libxml2 plugins (HWLOC_COMPONENTS, HWLOC_PLUGINS_BLACKLIST),
+  /// ess_singleton_isolated (no orted daemon) with a session directory of its own (a fresh
+  /// TMPDIR/traverse-mpi-XXXXXX, removed by finish). Under Open MPI's launcher with every
+  /// rank on this host: pml ob1 (shared memory, no UCX network probing) and the same hwloc
+  /// settings, unless the environment sets them.
   void start(int* argc, char*** argv, const Launch& launch);
   bool started() const { return started_; }
   /// MPI_COMM_WORLD once started; MPI_COMM_NULL (this process alone, no MPI) before.

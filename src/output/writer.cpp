@@ -507,12 +507,16 @@ void Writer::Impl::check_output_location(bool overwrite) {
 void Writer::Impl::create_file(bool overwrite) {
   Impl& w = *this;
   const std::string& path = w.path;
-  // File access: MPI-IO with collective metadata (a process without MPI: the POSIX driver),
-  // dense attribute storage for long attributes such as the scene text.
+  // File access: MPI-IO with collective metadata (one rank, or a process without MPI: the
+  // POSIX driver), dense attribute storage for long attributes such as the scene text.
   const bool posix = par::alone(w.comm);
   Handle fapl = detail::plist_handle(check_id(H5Pcreate(H5P_FILE_ACCESS), "H5Pcreate", path));
   if (posix) {
     check(H5Pset_fapl_sec2(fapl.get()), "H5Pset_fapl_sec2", path);
+    // No file lock, as with MPI-IO: readers (which open without one, Reader) may open the
+    // file while it is written, in this process too (HDF5 refuses a second open of a file
+    // with other locking flags).
+    check(H5Pset_file_locking(fapl.get(), 0, 1), "H5Pset_file_locking", path);
   } else {
     check(H5Pset_fapl_mpio(fapl.get(), w.comm, MPI_INFO_NULL), "H5Pset_fapl_mpio", path);
     check(H5Pset_all_coll_metadata_ops(fapl.get(), 1), "H5Pset_all_coll_metadata_ops", path);
@@ -640,11 +644,15 @@ Writer::Writer(MPI_Comm comm, const std::string& path, bool overwrite, const Run
     : impl_(std::make_unique<Impl>()) {
   detail::silence_hdf5_errors();
   Impl& w = *impl_;
-  if (!par::alone(comm)) {  // MPI_COMM_NULL: this process alone, without MPI
+  // MPI_COMM_NULL: this process alone, without MPI. A communicator of one rank is written
+  // the same way (the POSIX driver, no MPI calls): MPI-IO's collective machinery buys
+  // nothing for one writer and costs about a tenth of a small run (docs/output.md).
+  if (!par::alone(comm)) {
     int initialized = 0;
     MPI_Initialized(&initialized);
     if (!initialized) throw OutputError("traverse::output::Writer needs MPI to be initialised for a communicator");
-    if (MPI_Comm_dup(comm, &w.comm) != MPI_SUCCESS) throw OutputError("output: MPI_Comm_dup failed for " + path);
+    if (par::size(comm) > 1 && MPI_Comm_dup(comm, &w.comm) != MPI_SUCCESS)
+      throw OutputError("output: MPI_Comm_dup failed for " + path);
   }
   w.rank = par::rank(w.comm);
   w.size = par::size(w.comm);

@@ -8,7 +8,9 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <cstring>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "process.hpp"
@@ -123,6 +125,34 @@ TEST(Startup, SingleProcessRunRemovesItsSessionAndStaleOnes) {
   EXPECT_FALSE(fs::exists(stale)) << "the directory of a process that is gone stays";
   EXPECT_TRUE(fs::exists(live)) << "the directory of a live process was removed";
   EXPECT_EQ(left, std::vector<std::string>{"traverse-mpi-live00"}) << "the run left its own session directory";
+}
+
+// MPI started by traverse (here a one-process traverse-trilinos run, whose singleton start
+// runs hwloc) loads none of hwloc's device or libxml2 plugins (HWLOC_PLUGINS_BLACKLIST, set
+// unless the environment sets it: docs/developer.md, "Start-up"). The control: with the
+// variable set empty, the plugins this hwloc has are loaded (none: nothing to show here).
+TEST(Startup, MpiStartLoadsNoHwlocDevicePlugins) {
+  const fs::path dir = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / "startup-hwloc";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string trilinos = (fs::path(kExe).parent_path() / "traverse-trilinos").string();
+  auto plugins = [&](const std::string& env, const std::string& name) {
+    const auto r = traverse::testing::run_command(env + " LD_DEBUG=libs " + trilinos + " run " + kScene.string() +
+                                                  " -o " + (dir / name).string() + " --set mesh.ds=0.1 -q");
+    EXPECT_EQ(r.code, 0) << r.out.substr(0, 4000);
+    // glibc's loader log: "calling init: /path/to/hwloc/hwloc_gl.so" for each image initialised
+    std::size_t n = 0;
+    std::istringstream lines(r.out);
+    for (std::string line; std::getline(lines, line);)
+      if (line.find("calling init: ") != std::string::npos)
+        for (const char* p : {"/hwloc_pci.so", "/hwloc_opencl.so", "/hwloc_gl.so", "/hwloc_xml_libxml.so"})
+          n += line.size() >= std::strlen(p) && line.compare(line.size() - std::strlen(p), std::strlen(p), p) == 0;
+    return n;
+  };
+  const std::size_t control = plugins("HWLOC_PLUGINS_BLACKLIST=", "control.h5");
+  std::printf("hwloc plugins loaded with HWLOC_PLUGINS_BLACKLIST set empty: %zu\n", control);
+  if (control == 0) GTEST_SKIP() << "this hwloc loads none of these plugins: nothing to leave out";
+  EXPECT_EQ(plugins("", "run.h5"), 0u) << "traverse's MPI start still loads hwloc device plugins";
 }
 
 // traverse links no Trilinos library (not even Teuchos or Kokkos: its parameter lists are
