@@ -191,7 +191,7 @@ struct Writer::Impl {
   // each flush the file is made longer than any EOA the next flush can record (a hole: no
   // disk space; HDF5 opens a file longer than its EOA), and cut back to the EOA before it is
   // closed. The EOA: a flush that changed it sets the file's size to it (the MPI-IO driver's
-  // truncate, or the POSIX driver's of a process without MPI); one that did not leaves the
+  // truncate, or the POSIX driver's of one rank); one that did not leaves the
   // padded size, and the EOA is the one padded from. Call right after a flush, collectively.
   // `padded` false: exactly the EOA.
   MPI_Offset eoa_known = -1, padded_size = -1;
