@@ -32,8 +32,8 @@ class MpiSession {
   /// its device or libxml2 plugins (HWLOC_COMPONENTS, HWLOC_PLUGINS_BLACKLIST),
   /// ess_singleton_isolated (no orted daemon) with a session directory of its own (a fresh
   /// TMPDIR/traverse-mpi-XXXXXX, removed by finish). Under Open MPI's launcher with every
-  /// rank on this host: pml ob1 (shared memory, no UCX network probing) and the same hwloc
-  /// settings, unless the environment sets them.
+  /// rank on this host: pml ob1 (shared memory, no UCX network probing), the same hwloc
+  /// settings and PMIx's hash datastore (PMIX_MCA_gds), unless the environment sets them.
   void start(int* argc, char*** argv, const Launch& launch);
   bool started() const { return started_; }
   /// MPI_COMM_WORLD once started; MPI_COMM_NULL (this process alone, no MPI) before.
