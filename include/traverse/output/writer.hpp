@@ -33,8 +33,10 @@ class Writer {
   /// metadata, `/mesh/s`, empty `/time` and `/sigma` (shape (steps,) if moving_loads == 1,
   /// else (steps, moving_loads)) and status "running". Throws OutputError (on all ranks) if
   /// the folder does not exist or is not a writable folder, or if the file or its sidecar
-  /// exists and `overwrite` is false. `comm` is duplicated. MPI must be initialised, and
-  /// the Writer must be destroyed before MPI_Finalize.
+  /// exists and `overwrite` is false. `comm` is duplicated (one of a single rank, like
+  /// MPI_COMM_NULL, is not: the file is then written through HDF5's POSIX driver, without MPI
+  /// calls). MPI must be initialised for a communicator, and the Writer must be destroyed
+  /// before MPI_Finalize.
   Writer(MPI_Comm comm, const std::string& path, bool overwrite, const RunInfo& info,
          const NodeLayout& nodes, std::size_t moving_loads = 1);
   /// Sets status "failed: output closed before finish() or fail()" if neither was called,
