@@ -88,15 +88,20 @@ void skip_device_discovery() {
 
 void MpiSession::start(int* argc, char*** argv, const Launch& launch) {
   if (started_) return;
-  if (!launch.by_launcher) {
-    // One process, alone: only the self transport (its only peer is itself; no UCX or
-    // network probing). 0: a setting already made in the environment wins.
+  // 0 in setenv: a setting already made in the environment wins.
+  const bool alone = !launch.by_launcher, one_host = alone || all_ranks_on_this_host();
+  if (one_host) {
+    // Every peer on this host (Open MPI's ranks all here, or this process alone): shared
+    // memory or self (pml ob1), so no UCX network probing (about 0.3 s of each launch here),
+    // and no network device to place (skip_device_discovery: about 0.03 s of each MPI_Init
+    // here, 1/5 of a singleton's).
     setenv("OMPI_MCA_pml", "ob1", 0);
-    setenv("OMPI_MCA_btl", "self", 0);
-    // Nothing to bind and no network device to place: no binding, and hwloc skips reading
-    // the PCI devices (about 1/5 of a singleton's MPI_Init here).
-    setenv("OMPI_MCA_hwloc_base_binding_policy", "none", 0);
     skip_device_discovery();
+  }
+  if (alone) {
+    // One process: only the self transport (its only peer is itself); nothing to bind.
+    setenv("OMPI_MCA_btl", "self", 0);
+    setenv("OMPI_MCA_hwloc_base_binding_policy", "none", 0);
     // No daemon (it would only serve MPI_Comm_spawn, never used). Isolated singletons all
     // get the same job id, so each needs a session directory of its own (removed in finish).
     if (!std::getenv("OMPI_MCA_ess_singleton_isolated") && !std::getenv("OMPI_MCA_orte_tmpdir_base")) {
@@ -106,16 +111,10 @@ void MpiSession::start(int* argc, char*** argv, const Launch& launch) {
         setenv("OMPI_MCA_ess_singleton_isolated", "1", 1);
       }
     }
-  }
-  if (launch.by_launcher && all_ranks_on_this_host()) {
-    // Open MPI's ranks all on one host: they talk through shared memory (pml ob1 with the
-    // vader BTL), so no UCX network probing (about 0.3 s of each launch here), and no network
-    // device to place (skip_device_discovery: about 0.03 s of each rank's MPI_Init here).
-    // The few keys of a few ranks come from the launcher's PMIx server over its socket (gds
-    // hash) instead of by mapping its shared-memory store (ds21): another 0.03 s of each
-    // rank's MPI_Init here.
-    setenv("OMPI_MCA_pml", "ob1", 0);
-    skip_device_discovery();
+  } else if (one_host) {
+    // Under the launcher: the few keys of a few ranks come from its PMIx server over its
+    // socket (gds hash) instead of by mapping its shared-memory store (ds21): another 0.03 s
+    // of each rank's MPI_Init here.
     setenv("PMIX_MCA_gds", "hash", 0);
   }
   MPI_Init(argc, argv);

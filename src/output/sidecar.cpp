@@ -251,7 +251,7 @@ SidecarResult write_sidecar(const std::string& h5_path, const std::string& xmf_p
   bool loads_on = m.loads > 0 && steps > 0;
   for (double x : m.sigma) loads_on = loads_on && std::isfinite(x);
   if (loads_on) load_values(file.get(), h5_path, fields, plan, s, steps, m);
-  detail::replace_file(result.xmf_path, [&](std::ostream& out) { detail::write_xdmf_document(m, out); });
+  detail::write_xdmf_file(result.xmf_path, m);
   return result;
 }
 

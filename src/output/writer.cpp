@@ -400,7 +400,7 @@ void Writer::Impl::write_xdmf_text() {
   m.loads = moving_loads;
   m.sigma = sigma_all;
   m.load_values = load_values_all;
-  detail::replace_file(xmf_path, [&](std::ostream& out) { detail::write_xdmf_document(m, out); });
+  detail::write_xdmf_file(xmf_path, m);
 }
 
 // Rank 0 writes the sidecar of the flushed steps; every rank learns whether that worked.

@@ -234,12 +234,12 @@ void write_xdmf_document(const XdmfModel& m, std::ostream& out) {
   pass_on(true);
 }
 
-void replace_file(const std::string& path, const std::function<void(std::ostream&)>& write) {
+void write_xdmf_file(const std::string& path, const XdmfModel& model) {
   const std::string tmp = path + ".tmp";
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw OutputError("cannot write XDMF sidecar " + tmp + ": " + std::strerror(errno));
-    write(out);
+    write_xdmf_document(model, out);
     out.flush();
     if (!out) throw OutputError("cannot write XDMF sidecar " + tmp + ": " + std::strerror(errno));
   }

@@ -8,7 +8,6 @@
 // and no data is stored twice. This header has the naming rules (shared by the Writer and by
 // the `traverse xdmf` tool), the text generation and the atomic file replacement; no HDF5, no MPI.
 #include <cstddef>
-#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -81,8 +80,8 @@ void write_xdmf_document(const XdmfModel& model, std::ostream& out);
 bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, const double* s, const double* values,
                 std::size_t width, double sigma, double* out);
 
-/// Writes the text `write` puts on the stream to `path` + ".tmp" and renames it onto `path`
-/// (atomic on POSIX). Throws OutputError on failure.
-void replace_file(const std::string& path, const std::function<void(std::ostream&)>& write);
+/// Writes the document of `model` (write_xdmf_document) to `path` + ".tmp" and renames it onto
+/// `path` (atomic on POSIX). Throws OutputError on failure.
+void write_xdmf_file(const std::string& path, const XdmfModel& model);
 
 }  // namespace traverse::output::detail
