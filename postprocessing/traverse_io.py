@@ -163,6 +163,18 @@ def load(path, allow_incomplete=False):
     return out
 
 
+def command(exe, verb, ranks=1, jobs=1):
+    """The start of a `traverse VERB ...` command line: under `mpirun -n RANKS` when ranks > 1;
+    a sweep in JOBS worker processes (`-j JOBS`, no launcher) when jobs > 1 (docs/sweeps.md)."""
+    if ranks > 1 and jobs > 1:
+        raise ValueError("ranks and jobs: expected one of them above 1, not both")
+    cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-n", str(ranks)] if ranks > 1 else []
+    cmd += [exe, verb]
+    if verb == "sweep" and jobs > 1:
+        cmd += ["-j", str(jobs)]
+    return cmd
+
+
 def sweep_index(directory):
     """The rows of DIRECTORY/index.csv written by `traverse sweep` (docs/sweeps.md), in case
     order: dicts from the column names (case, each varied key, output, status, exit_code,

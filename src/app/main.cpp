@@ -109,6 +109,21 @@ int execute(const app::CommandLine& cl, int rank, MPI_Comm comm, app::Prepared& 
   }
 }
 
+// traverse sweep -j J: worker processes forked before MPI starts (never under a launcher);
+// each starts MPI itself when its cases need it (needs_mpi).
+int sweep_in_workers(const app::CommandLine& cl, const app::Launch& launch, app::Prepared& prepared, app::MpiSession& mpi,
+                     int* argc, char*** argv) {
+  if (launch.by_launcher)
+    throw app::UsageError{"--jobs " + std::to_string(cl.jobs) +
+                          ": expected without an MPI launcher (under mpirun the cases spread over its ranks: "
+                          "mpirun -n K traverse sweep ... without --jobs)"};
+  app::install_interrupt_handlers();
+  return app::run_sweep_jobs(cl, prepared.sweep ? *prepared.sweep : app::plan_sweep(cl), [&] {
+    if (needs_mpi(cl.command, launch)) mpi.start(argc, argv, launch);
+    return mpi.comm();
+  });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -130,11 +145,15 @@ int main(int argc, char** argv) {
     const app::CommandLine cl = app::parse_command_line(argc, argv);
     app::Prepared prepared;
     if (!app::has_trilinos() && app::needs_trilinos(cl, launch, prepared)) app::hand_over_to_trilinos(argv);
-    if (needs_mpi(cl.command, launch)) {
-      mpi.start(&argc, &argv, launch);
-      rank = mpi.rank();
+    if (cl.command == app::CommandLine::Command::Sweep && cl.jobs > 1) {
+      code = sweep_in_workers(cl, launch, prepared, mpi, &argc, &argv);
+    } else {
+      if (needs_mpi(cl.command, launch)) {
+        mpi.start(&argc, &argv, launch);
+        rank = mpi.rank();
+      }
+      code = execute(cl, rank, mpi.comm(), prepared);
     }
-    code = execute(cl, rank, mpi.comm(), prepared);
   } catch (const app::UsageError& e) {
     report("", e.message + "\n(see traverse --help)");
     code = app::kBadInput;

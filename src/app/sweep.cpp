@@ -1,14 +1,25 @@
-// traverse sweep: plan (everything checked up front), run the cases of this rank, gather
-// their records on rank 0, write the index.
+// traverse sweep: plan (everything checked up front), run the cases of this rank (or of this
+// worker process, -j), gather their records on rank 0 (the first process), write the index.
 #include "sweep.hpp"
 
+#include <sys/mman.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <algorithm>
+#include <atomic>
+#include <cerrno>
+#include <csignal>
+#include <cstring>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <new>
+#include <optional>
 #include <sstream>
 
 #include "interrupt.hpp"
@@ -280,13 +291,14 @@ void write_index(const CommandLine& cl, const std::vector<std::string>& rows) {
 
 // The limits of every case: the memory limit shared by the sweep's ranks on each host (a case
 // runs on MPI_COMM_SELF, which alone would see the whole host), unless --max-memory says.
-RunLimits sweep_limits(const RunLimits& given, MPI_Comm comm) {
+// With --jobs, MPI not started: the host's memory shared by the `processes` worker processes.
+RunLimits sweep_limits(const RunLimits& given, MPI_Comm comm, int processes) {
   RunLimits l = given;
   if (l.max_memory > 0.0) return l;
-  const MemoryLimit m = memory_limit(given, comm);
+  const MemoryLimit m = memory_limit(given, comm, processes);
   if (m.bytes > 0.0) {
     l.max_memory = m.bytes;
-    l.memory_source = m.source + ", for each of the sweep's ranks";
+    l.memory_source = m.source + (processes > 1 ? ", for each of them" : ", for each of the sweep's ranks");
   }
   return l;
 }
@@ -320,46 +332,262 @@ SweepPlan plan_sweep(const CommandLine& cl) {
   return plan;
 }
 
+namespace {
+
+// The index rows and exit codes (-1: not run, after an interrupt) of the cases one rank or
+// worker process ran.
+struct MyCases {
+  std::vector<std::pair<std::size_t, std::string>> rows;
+  std::vector<std::pair<std::size_t, int>> codes;
+};
+
+// Runs the cases `next` hands out (none left: nullopt), each on `case_comm`.
+MyCases run_cases(const CommandLine& cl, const SweepPlan& plan, const RunLimits& limits,
+                  const std::function<std::optional<std::size_t>()>& next, MPI_Comm case_comm) {
+  MyCases mine;
+  int interrupted = 0;
+  while (const auto taken = next()) {
+    const std::size_t k = *taken;
+    const SweepCase& c = plan.cases[k];
+    CaseRecord r;
+    if (!interrupted && !local_interrupt_signal()) r = run_case(cl, limits, k, c, case_comm, interrupted);
+    if (!cl.quiet)
+      std::printf("%s -> %s%s (%.3f s)\n", case_text(k, c).c_str(), r.status.c_str(),
+                  r.code == 0 && cl.summary.given() ? (", " + cl.summary.text + " = " + number_text(r.summary)).c_str() : "",
+                  r.wall);
+    std::fflush(stdout);
+    mine.rows.emplace_back(k, index_row(k, c, r, cl.summary.given()));
+    mine.codes.emplace_back(k, r.code);
+  }
+  return mine;
+}
+
+// Rank 0's end of a sweep: the index from the rows of every case, the summary line, the exit
+// code (0 when every case completed, else that of the first case, in case order, that did not).
+int finish_sweep(const CommandLine& cl, const std::vector<std::string>& rows, const std::vector<int>& codes) {
+  std::size_t complete = 0;
+  int code = kSuccess;
+  for (int c : codes) {
+    if (c == 0) ++complete;
+    else if (code == kSuccess) code = c < 0 ? kOtherError : c;
+  }
+  write_index(cl, rows);
+  if (!cl.quiet || complete != codes.size())
+    std::printf("sweep done: %zu of %zu cases complete -> %s\n", complete, codes.size(), index_path(cl).string().c_str());
+  return code;
+}
+
+// --jobs: the cases in the order they are handed out (the most costly first), in memory shared
+// by the parent and the worker processes it forks: each process takes the next case when it is
+// free (a slow or busy core gets fewer cases; a worker that dies loses only the case it was
+// running), and each case records which process took it.
+class CaseQueue {
+ public:
+  explicit CaseQueue(const std::vector<SweepCase>& cases) : order_(cases.size()) {
+    static_assert(std::atomic<std::size_t>::is_always_lock_free && std::atomic<int>::is_always_lock_free,
+                  "the case queue needs atomics that work between processes");
+    for (std::size_t k = 0; k < order_.size(); ++k) order_[k] = k;
+    std::stable_sort(order_.begin(), order_.end(),
+                     [&](std::size_t a, std::size_t b) { return cases[a].cost > cases[b].cost; });
+    bytes_ = sizeof(Shared) + order_.size() * sizeof(std::atomic<int>);
+    void* p = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+    if (p == MAP_FAILED)
+      throw std::runtime_error(std::string("sweep --jobs: cannot map the case queue (") + std::strerror(errno) + ")");
+    shared_ = new (p) Shared;
+    owner_ = reinterpret_cast<std::atomic<int>*>(static_cast<char*>(p) + sizeof(Shared));
+    for (std::size_t k = 0; k < order_.size(); ++k) new (owner_ + k) std::atomic<int>(-1);
+  }
+  CaseQueue(const CaseQueue&) = delete;
+  CaseQueue& operator=(const CaseQueue&) = delete;
+  ~CaseQueue() { munmap(shared_, bytes_); }
+
+  /// The next case, now owned by `worker`; nullopt when every case is taken.
+  std::optional<std::size_t> take(int worker) {
+    const std::size_t i = shared_->next.fetch_add(1);
+    if (i >= order_.size()) return std::nullopt;
+    owner_[order_[i]].store(worker);
+    return order_[i];
+  }
+  /// The process that took case k (-1: none).
+  int owner(std::size_t k) const { return owner_[k].load(); }
+
+ private:
+  struct Shared {
+    std::atomic<std::size_t> next{0};
+  };
+  std::vector<std::size_t> order_;  ///< the same in every process (made before the fork)
+  std::size_t bytes_ = 0;
+  Shared* shared_ = nullptr;         ///< shared: the next position in order_
+  std::atomic<int>* owner_ = nullptr;  ///< shared: the process that took each case
+};
+
+// --jobs: one forked worker process, its end of the pipe to the parent.
+struct Worker {
+  pid_t pid = -1;
+  int fd = -1;
+  int index = 0;
+};
+
+// Everything `fd` delivers, until the writer closes it.
+std::string read_all(int fd) {
+  std::string all;
+  char buf[1 << 14];
+  for (;;) {
+    const ssize_t n = read(fd, buf, sizeof buf);
+    if (n > 0) all.append(buf, static_cast<std::size_t>(n));
+    else if (n == 0 || errno != EINTR) break;
+  }
+  return all;
+}
+
+void write_all(int fd, const std::string& data) {
+  std::size_t done = 0;
+  while (done < data.size()) {
+    const ssize_t n = write(fd, data.data() + done, data.size() - done);
+    if (n > 0) done += static_cast<std::size_t>(n);
+    else if (errno != EINTR) break;
+  }
+}
+
+// How a worker process ended, for the record of the case it did not report.
+std::string worker_end(int status) {
+  if (WIFSIGNALED(status)) return "ended by " + signal_name(WTERMSIG(status));
+  if (WIFEXITED(status)) return "ended with exit code " + std::to_string(WEXITSTATUS(status));
+  return "ended";
+}
+
+}  // namespace
+
 int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
   const std::vector<SweepCase>& cases = plan.cases;
   prepare_directory(cl, cases, comm);
   const int size = comm_size(comm), rank = comm_rank(comm);
-  const RunLimits limits = sweep_limits(cl.limits, comm);
+  const RunLimits limits = sweep_limits(cl.limits, comm, 1);
   if (rank == 0 && !cl.quiet)
     std::printf("sweep of %s: %zu cases on %d rank(s) -> %s\n", cl.scene.c_str(), cases.size(), size, cl.output.c_str());
-  std::vector<std::pair<std::size_t, std::string>> mine;
-  std::vector<int> codes(cases.size(), 0);  // this rank's cases; gathered below
-  int interrupted = 0;
+  // Each rank its cases (assign_ranks), in case order; each case alone: on MPI_COMM_SELF, or
+  // without MPI in a sweep that did not start it.
   const std::vector<int> rank_of = size > 1 ? assign_ranks(cases, size) : std::vector<int>(cases.size(), 0);
-  // Each case alone: on MPI_COMM_SELF, or without MPI in a sweep that did not start it.
-  const MPI_Comm case_comm = par::alone(comm) ? MPI_COMM_NULL : MPI_COMM_SELF;
-  for (std::size_t k = 0; k < cases.size(); ++k) {
-    if (rank_of[k] != rank) continue;
-    CaseRecord r;
-    if (!interrupted && !local_interrupt_signal()) r = run_case(cl, limits, k, cases[k], case_comm, interrupted);
-    codes[k] = r.code;
-    if (!cl.quiet)
-      std::printf("%s -> %s%s (%.3f s)\n", case_text(k, cases[k]).c_str(), r.status.c_str(),
-                  r.code == 0 && cl.summary.given() ? (", " + cl.summary.text + " = " + number_text(r.summary)).c_str() : "",
-                  r.wall);
-    std::fflush(stdout);
-    mine.emplace_back(k, index_row(k, cases[k], r, cl.summary.given()));
-  }
-  const std::vector<std::string> rows = gather_rows(mine, cases.size(), comm);
-  std::vector<int> all(cases.size(), 0);
+  std::size_t k = 0;
+  const MyCases mine = run_cases(
+      cl, plan, limits,
+      [&]() -> std::optional<std::size_t> {
+        while (k < cases.size() && rank_of[k] != rank) ++k;
+        if (k == cases.size()) return std::nullopt;
+        return k++;
+      },
+      par::alone(comm) ? MPI_COMM_NULL : MPI_COMM_SELF);
+  const std::vector<std::string> rows = gather_rows(mine.rows, cases.size(), comm);
+  std::vector<int> codes(cases.size(), 0), all(cases.size(), 0);
+  for (const auto& [case_k, code] : mine.codes) codes[case_k] = code;
   par::allreduce(codes.data(), all.data(), static_cast<int>(codes.size()), MPI_INT, MPI_SUM, comm);
-  std::size_t complete = 0;
-  int code = kSuccess;
-  for (int c : all) {
-    if (c == 0) ++complete;
-    else if (code == kSuccess) code = c < 0 ? kOtherError : c;
+  return rank == 0 ? finish_sweep(cl, rows, all) : kSuccess;
+}
+
+int run_sweep_jobs(const CommandLine& cl, const SweepPlan& plan, const std::function<MPI_Comm()>& start_mpi) {
+  const std::vector<SweepCase>& cases = plan.cases;
+  prepare_directory(cl, cases, MPI_COMM_NULL);
+  const int jobs = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(std::max(1, cl.jobs)),
+                                                          std::max<std::size_t>(1, cases.size())));
+  const RunLimits limits = sweep_limits(cl.limits, MPI_COMM_NULL, jobs);
+  if (!cl.quiet)
+    std::printf("sweep of %s: %zu cases in %d worker process(es) -> %s\n", cl.scene.c_str(), cases.size(), jobs,
+                cl.output.c_str());
+  CaseQueue queue(cases);
+  // Nothing buffered may be written twice, by the parent and by a copy in a worker.
+  std::fflush(stdout);
+  std::fflush(stderr);
+  const pid_t parent = getpid();
+  std::vector<Worker> workers;
+  int me = 0;
+  int to_parent = -1;
+  for (int w = 1; w < jobs; ++w) {
+    int fds[2];
+    if (pipe(fds) != 0) throw std::runtime_error(std::string("sweep --jobs: cannot make a pipe (") + std::strerror(errno) + ")");
+    const pid_t pid = fork();
+    if (pid < 0) {
+      close(fds[0]);
+      close(fds[1]);
+      throw std::runtime_error(std::string("sweep --jobs: cannot start worker process ") + std::to_string(w) + " (" +
+                               std::strerror(errno) + ")");
+    }
+    if (pid == 0) {  // the worker: cases from the queue, their records to the parent; killed with it
+      prctl(PR_SET_PDEATHSIG, SIGKILL);
+      if (getppid() != parent) _exit(kOtherError);
+      for (const Worker& other : workers) close(other.fd);
+      workers.clear();
+      close(fds[0]);
+      to_parent = fds[1];
+      me = w;
+      become_interrupt_worker(parent);
+      break;
+    }
+    close(fds[1]);
+    workers.push_back({pid, fds[0], w});
+    std::vector<pid_t> pids;
+    for (const Worker& x : workers) pids.push_back(x.pid);
+    forward_interrupts_to(pids.data(), static_cast<int>(pids.size()));
   }
-  if (rank == 0) {
-    write_index(cl, rows);
-    if (!cl.quiet || complete != cases.size())
-      std::printf("sweep done: %zu of %zu cases complete -> %s\n", complete, cases.size(), index_path(cl).string().c_str());
+  const MPI_Comm comm = start_mpi();
+  // After a signal no process takes another case.
+  const MyCases mine = run_cases(
+      cl, plan, limits,
+      [&]() -> std::optional<std::size_t> {
+        if (local_interrupt_signal()) return std::nullopt;
+        return queue.take(me);
+      },
+      par::alone(comm) ? MPI_COMM_NULL : MPI_COMM_SELF);
+  if (me != 0) {  // a worker: "case \t code \t row" lines to the parent
+    std::string packed;
+    for (std::size_t i = 0; i < mine.rows.size(); ++i)
+      packed += std::to_string(mine.rows[i].first) + "\t" + std::to_string(mine.codes[i].second) + "\t" +
+                mine.rows[i].second + "\n";
+    write_all(to_parent, packed);
+    close(to_parent);
+    return kSuccess;
   }
-  return code;
+  std::vector<std::string> rows(cases.size());
+  std::vector<int> codes(cases.size(), -1);
+  std::vector<bool> reported(cases.size(), false);
+  for (std::size_t i = 0; i < mine.rows.size(); ++i) {
+    rows[mine.rows[i].first] = mine.rows[i].second;
+    codes[mine.codes[i].first] = mine.codes[i].second;
+    reported[mine.rows[i].first] = true;
+  }
+  for (const Worker& w : workers) {
+    std::istringstream in(read_all(w.fd));
+    close(w.fd);
+    std::string line;
+    while (std::getline(in, line)) {
+      const auto a = line.find('\t'), b = line.find('\t', a + 1);
+      if (a == std::string::npos || b == std::string::npos) continue;
+      const std::size_t k = std::stoul(line.substr(0, a));
+      if (k >= cases.size() || queue.owner(k) != w.index) continue;
+      codes[k] = std::stoi(line.substr(a + 1, b - a - 1));
+      rows[k] = line.substr(b + 1);
+      reported[k] = true;
+    }
+    int status = 0;
+    while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    // The case of a worker that ended before reporting it (killed, crashed).
+    for (std::size_t k = 0; k < cases.size(); ++k) {
+      if (queue.owner(k) != w.index || reported[k]) continue;
+      CaseRecord r;
+      r.code = kOtherError;
+      r.status = "error";
+      r.message = "worker process " + std::to_string(w.index) + " (pid " + std::to_string(w.pid) + ") " +
+                  worker_end(status) + " while running this case";
+      rows[k] = index_row(k, cases[k], r, cl.summary.given());
+      codes[k] = r.code;
+      reported[k] = true;
+    }
+  }
+  forward_interrupts_to(nullptr, 0);
+  // The cases no process took (after a signal).
+  for (std::size_t k = 0; k < cases.size(); ++k)
+    if (!reported[k]) rows[k] = index_row(k, cases[k], CaseRecord{}, cl.summary.given());
+  return finish_sweep(cl, rows, codes);
 }
 
 }  // namespace traverse::app

@@ -4,6 +4,7 @@
 // per case and an index of the cases.
 #include <mpi.h>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -38,5 +39,18 @@ SweepPlan plan_sweep(const CommandLine& cl);
 /// completed, else the exit code of the first case (in case order) that did not. Collective
 /// over `comm`.
 int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm);
+
+/// traverse sweep -j J outside an MPI launcher: checks the output directory (as run_sweep),
+/// forks J - 1 worker processes (J at most the number of cases), and each of the J processes
+/// takes the next case (the most costly first) whenever it is free, from a queue in shared
+/// memory; the workers send their index rows to this process through a pipe, and it writes
+/// DIR/index.csv. Each process calls `start_mpi` before its first case: its communicator
+/// (MPI_COMM_NULL when cases run without MPI; else MPI_COMM_WORLD of a singleton, each case on
+/// MPI_COMM_SELF). A worker that ends before reporting (killed, crashed) leaves the case it was
+/// running recorded as an error; the other processes take the rest. SIGINT / SIGTERM to this
+/// process stop the workers too (interrupt.hpp), and no process takes another case; those
+/// left are recorded as not run. Returns as run_sweep in this process, kSuccess in a worker
+/// (which then ends like any run: MPI finalized, no index).
+int run_sweep_jobs(const CommandLine& cl, const SweepPlan& plan, const std::function<MPI_Comm()>& start_mpi);
 
 }  // namespace traverse::app

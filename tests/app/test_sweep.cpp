@@ -1,9 +1,12 @@
 // traverse sweep (docs/sweeps.md): the --vary parser (ranges without drift, lists, the
-// cartesian product), the sweep on 1 and 2 ranks against separate `traverse run --set`
-// runs (same index, the same numbers in every case file), bad options refused before any
-// case runs, failing cases recorded while the others finish.
+// cartesian product), the sweep in one process, on 2 ranks and in 4 worker processes (-j)
+// against separate `traverse run --set` runs (same index, the same numbers in every case
+// file), bad options refused before any case runs, failing cases recorded while the others
+// finish, worker processes that stop with their parent and a lost worker's cases recorded.
 #include <gtest/gtest.h>
+#include <signal.h>
 
+#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +19,8 @@
 #include "sweep_spec.hpp"
 #include "traverse/output/reader.hpp"
 
+using traverse::testing::children_of;
+using traverse::testing::read_text;
 using traverse::testing::scratch;
 
 namespace fs = std::filesystem;
@@ -27,6 +32,7 @@ namespace {
 const std::string kExe = TRAVERSE_EXE;
 const fs::path kCable = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "default.yaml";
 const fs::path kBeam = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "beam" / "cantilever.yaml";
+const fs::path kArch = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "arch" / "shallow_arch_v20.0.yaml";
 
 std::string mpiexec(int ranks) {
   return std::string(TRAVERSE_MPIEXEC) + " --allow-run-as-root --oversubscribe -n " + std::to_string(ranks) + " ";
@@ -103,21 +109,29 @@ TEST(SweepSpec, RangesListsAndProduct) {
   EXPECT_EQ(traverse::app::parse_summary("midspan.y:min").component, 1);
 }
 
-TEST(Sweep, OneAndTwoRanksMatchSeparateRuns) {
+TEST(Sweep, OneProcessRanksAndJobsMatchSeparateRuns) {
   const fs::path d = scratch("sweep-ranks");
   const std::string common = " --set mesh.ds=0.04 --set output.fields=[r]";
-  const std::string vary = " --vary loads.F.speed=2,3.5:4.5:1 --vary scheme.rho_inf=1,0.8 --summary midspan.y:min -q";
+  const std::string vary = " --vary loads.F.speed=2,3.5:4.5:1 --vary scheme.rho_inf=1,0.8 --summary midspan.y:min";
   const auto one = traverse::testing::run_command(kExe + " sweep " + kCable.string() + " -o " + (d / "np1").string() +
-                                                  common + vary);
+                                                  common + vary + " -q");
   ASSERT_EQ(one.code, 0) << one.out;
   const auto two = traverse::testing::run_command(mpiexec(2) + kExe + " sweep " + kCable.string() + " -o " +
-                                                  (d / "np2").string() + common + vary);
+                                                  (d / "np2").string() + common + vary + " -q");
   ASSERT_EQ(two.code, 0) << two.out;
-  const auto a = read_csv(d / "np1" / "index.csv"), b = read_csv(d / "np2" / "index.csv");
+  // 4 worker processes for 6 cases (not quiet: the header names them).
+  const auto jobs = traverse::testing::run_command(kExe + " sweep " + kCable.string() + " -o " + (d / "j4").string() +
+                                                   common + vary + " -j 4");
+  ASSERT_EQ(jobs.code, 0) << jobs.out;
+  EXPECT_NE(jobs.out.find("6 cases in 4 worker process(es)"), std::string::npos) << jobs.out;
+  const auto a = read_csv(d / "np1" / "index.csv"), b = read_csv(d / "np2" / "index.csv"),
+             j = read_csv(d / "j4" / "index.csv");
   ASSERT_EQ(a.size(), 7u);  // the header and 3 x 2 cases
   ASSERT_EQ(b.size(), a.size());
+  ASSERT_EQ(j.size(), a.size());
   const auto& h = a[0];
   EXPECT_EQ(h, b[0]);
+  EXPECT_EQ(h, j[0]);
   const std::size_t wall = column(h, "wall_s"), speed = column(h, "loads.F.speed"), rho = column(h, "scheme.rho_inf"),
                     out = column(h, "output"), status = column(h, "status"), summary = column(h, "midspan.y:min");
   for (std::size_t row = 1; row < a.size(); ++row) {
@@ -125,6 +139,7 @@ TEST(Sweep, OneAndTwoRanksMatchSeparateRuns) {
     for (std::size_t c = 0; c < h.size(); ++c) {
       if (c == wall) continue;
       EXPECT_EQ(a[row][c], b[row][c]) << "row " << row << " column " << h[c];
+      EXPECT_EQ(a[row][c], j[row][c]) << "-j 4: row " << row << " column " << h[c];
     }
     EXPECT_EQ(a[row][status], "complete");
     // The case as a run of its own, with --set.
@@ -133,7 +148,7 @@ TEST(Sweep, OneAndTwoRanksMatchSeparateRuns) {
                                                   " --set loads.F.speed=" + a[row][speed] +
                                                   " --set scheme.rho_inf=" + a[row][rho] + " -q");
     ASSERT_EQ(r.code, 0) << r.out;
-    for (const char* dir : {"np1", "np2"}) {
+    for (const char* dir : {"np1", "np2", "j4"}) {
       std::string why;
       const double diff = traverse::testing::max_file_difference((d / dir / a[row][out]).string(), single, why);
       std::printf("case %zu (%s): %s vs the single run: max difference %g %s\n", row - 1, a[row][speed].c_str(), dir,
@@ -171,6 +186,10 @@ TEST(Sweep, BadOptionsRefusedBeforeAnyCase) {
       {"--vary loads.F.speed=1 --summary midspan:min", "--summary midspan:min: expected a component"},
       {"--vary loads.F.speed=1 --summary nowhere.y:min", "--summary nowhere.y:min: expected a probe of"},
       {"", "'sweep': expected at least one --vary"},
+      {"--vary loads.F.speed=1 -j 0", "-j: expected a whole number of worker processes in [1, 1024], found '0'"},
+      {"--vary loads.F.speed=1 --jobs 2.5", "--jobs: expected a whole number of worker processes"},
+      {"--vary loads.F.speed=1 -j 1025", "-j: expected a whole number of worker processes in [1, 1024]"},
+      {"--vary loads.F.speed=1 -j", "-j: expected a value after it"},
   };
   for (const auto& b : bad) {
     const fs::path out = d / "out";
@@ -182,6 +201,13 @@ TEST(Sweep, BadOptionsRefusedBeforeAnyCase) {
   const auto no_dir = traverse::testing::run_command(kExe + " sweep " + kCable.string() + " --vary loads.F.speed=1");
   EXPECT_EQ(no_dir.code, 2) << no_dir.out;
   EXPECT_NE(no_dir.out.find("-o DIR"), std::string::npos) << no_dir.out;
+  // Worker processes are this machine's alternative to a launcher, not an addition to one.
+  const fs::path out = d / "out";
+  const auto both = traverse::testing::run_command(mpiexec(2) + kExe + " sweep " + kCable.string() + " -o " +
+                                                   out.string() + " --vary loads.F.speed=1,2 -j 2");
+  EXPECT_NE(both.code, 0) << both.out;
+  EXPECT_NE(both.out.find("--jobs 2: expected without an MPI launcher"), std::string::npos) << both.out;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(Sweep, FailingCasesRecordedOthersFinish) {
@@ -189,11 +215,15 @@ TEST(Sweep, FailingCasesRecordedOthersFinish) {
   // RK4 with dt = 1e-3 is unstable for 10 modes of this beam (exit 3); dt = -1 is bad input.
   const std::string args = " --set beam.modes=10 --set loads.mass.speed=5 --set output.every=50"
                            " --vary time.dt=1e-5,1e-3,-1,2e-5 --summary tip:min -q";
-  for (int ranks : {1, 2}) {
-    const fs::path out = d / ("np" + std::to_string(ranks));
-    const auto r = traverse::testing::run_command((ranks > 1 ? mpiexec(ranks) : std::string()) + kExe + " sweep " +
-                                                  kBeam.string() + " -o " + out.string() + args);
-    EXPECT_EQ(r.code, 3) << "the first failed case's exit code\n" << r.out;
+  struct Variant {
+    std::string name, launcher, options;
+  };
+  for (const Variant& v : {Variant{"np1", "", ""}, Variant{"np2", mpiexec(2), ""}, Variant{"j3", "", " -j 3"}}) {
+    const std::string& ranks = v.name;
+    const fs::path out = d / v.name;
+    const auto r = traverse::testing::run_command(v.launcher + kExe + " sweep " + kBeam.string() + " -o " + out.string() +
+                                                  args + v.options);
+    EXPECT_EQ(r.code, 3) << ranks << ": the first failed case's exit code\n" << r.out;
     const auto rows = read_csv(out / "index.csv");
     ASSERT_EQ(rows.size(), 5u) << r.out;
     const auto& h = rows[0];
@@ -203,8 +233,8 @@ TEST(Sweep, FailingCasesRecordedOthersFinish) {
     const std::vector<std::string> codes = {"0", "3", "2", "0"};
     for (std::size_t k = 0; k < 4; ++k) {
       const auto& row = rows[k + 1];
-      EXPECT_EQ(row[status], statuses[k]) << ranks << " ranks, case " << k;
-      EXPECT_EQ(row[code], codes[k]) << ranks << " ranks, case " << k;
+      EXPECT_EQ(row[status], statuses[k]) << ranks << ", case " << k;
+      EXPECT_EQ(row[code], codes[k]) << ranks << ", case " << k;
       EXPECT_EQ(row[summary].empty(), k == 1 || k == 2) << "a summary only for complete cases";
       if (k == 0 || k == 3) {
         EXPECT_EQ(traverse::output::Reader((out / row[file]).string()).status(), "complete");
@@ -221,4 +251,103 @@ TEST(Sweep, FailingCasesRecordedOthersFinish) {
   const auto again = traverse::testing::run_command(kExe + " sweep " + kBeam.string() + " -o " + (d / "np1").string() + args);
   EXPECT_EQ(again.code, 2) << again.out;
   EXPECT_NE(again.out.find("--overwrite"), std::string::npos) << again.out;
+}
+
+// -j 2 on 4 long cases of equal cost (each process takes the next case when it is free: the
+// first two cases start at once): a SIGTERM to the parent alone, and a SIGINT to the process
+// group, stop both running cases at a time step (interrupted, restartable files), no process
+// takes another case (recorded as not run), no worker outlives the sweep. A worker killed
+// (SIGKILL) leaves the case it was running recorded as an error that names it, its file as a
+// killed run leaves it; the parent runs the other three cases.
+TEST(Sweep, JobsStopWithTheParentAndALostWorkerIsRecorded) {
+  const fs::path d = scratch("sweep-jobs-signals");
+  auto start = [&](const std::string& name, const std::string& prefix = "") {
+    return traverse::testing::spawn(
+        traverse::testing::split_args(prefix + kExe + " sweep " + kCable.string() + " -o " + (d / name).string() +
+                                      " --set mesh.ds=0.05 --set time.dt=1e-4 --set time.end=4 --set output.fields=[]"
+                                      " --vary loads.F.speed=1,2,3,4 -j 2 -q"),
+        (d / (name + ".log")).string());
+  };
+  auto gone = [](pid_t pid) { return kill(pid, 0) != 0 && errno == ESRCH; };
+  // SIGTERM to the parent alone (kill PID); SIGINT to the whole process group, as Ctrl-C in a
+  // terminal sends it (setsid: the sweep leads a group of its own), so that each worker gets it
+  // twice, directly and passed on by the parent, and still stops cleanly.
+  for (const int sig : {SIGTERM, SIGINT}) {
+    const std::string name = sig == SIGTERM ? "term" : "int";
+    const auto c = start(name, sig == SIGINT ? "setsid " : "");
+    ASSERT_TRUE(traverse::testing::wait_for_steps(c, (d / name / "case_0000.h5").string(), 100)) << read_text(c.log);
+    ASSERT_TRUE(traverse::testing::wait_for_steps(c, (d / name / "case_0001.h5").string(), 100)) << read_text(c.log);
+    const auto workers = children_of(c.pid);
+    ASSERT_EQ(workers.size(), 1u);
+    kill(sig == SIGTERM ? c.pid : -c.pid, sig);
+    EXPECT_EQ(traverse::testing::wait_exit(c), 128 + sig) << read_text(c.log);
+    EXPECT_TRUE(gone(workers[0])) << "the worker outlived the sweep";
+    const auto rows = read_csv(d / name / "index.csv");
+    ASSERT_EQ(rows.size(), 5u) << read_text(c.log);
+    const std::size_t status = column(rows[0], "status"), code = column(rows[0], "exit_code");
+    for (std::size_t k = 0; k < 4; ++k) {
+      EXPECT_EQ(rows[k + 1][status], k < 2 ? "interrupted" : "not run") << name << ", case " << k;
+      EXPECT_EQ(rows[k + 1][code], k < 2 ? std::to_string(128 + sig) : "-1") << name << ", case " << k;
+    }
+    for (const char* f : {"case_0000.h5", "case_0001.h5"}) {
+      const std::string st = traverse::output::Reader((d / name / f).string()).status();
+      EXPECT_EQ(st.rfind("interrupted at t = ", 0), 0u) << name << ", " << f << ": " << st;
+    }
+  }
+  {
+    const auto c = start("kill");
+    ASSERT_TRUE(traverse::testing::wait_for_steps(c, (d / "kill" / "case_0001.h5").string(), 100))
+        << read_text(c.log);
+    const auto workers = children_of(c.pid);
+    ASSERT_EQ(workers.size(), 1u);
+    kill(workers[0], SIGKILL);
+    EXPECT_EQ(traverse::testing::wait_exit(c), 1) << read_text(c.log);
+    const auto rows = read_csv(d / "kill" / "index.csv");
+    ASSERT_EQ(rows.size(), 5u) << read_text(c.log);
+    const std::size_t status = column(rows[0], "status"), message = column(rows[0], "message"),
+                      file = column(rows[0], "output");
+    std::size_t lost = 0, complete = 0;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const auto& row = rows[k + 1];
+      if (row[status] == "complete") {
+        ++complete;
+        continue;
+      }
+      ++lost;
+      EXPECT_LT(k, 2u) << "case " << k << " started after the kill: " << row[status];
+      EXPECT_EQ(row[status], "error") << "case " << k;
+      EXPECT_NE(row[message].find("worker process 1 (pid " + std::to_string(workers[0]) +
+                                  ") ended by SIGKILL while running this case"),
+                std::string::npos)
+          << row[message];
+      ASSERT_EQ(row[file], "case_000" + std::to_string(k) + ".h5");
+      EXPECT_EQ(traverse::output::Reader((d / "kill" / row[file]).string()).status(), "running");
+    }
+    EXPECT_EQ(lost, 1u);
+    EXPECT_EQ(complete, 3u);
+  }
+}
+
+// A sweep whose cases need Trilinos (the arch's formation) is handed to traverse-trilinos, whose
+// worker processes each start MPI on their own (forked before it starts): the same files as in
+// one process.
+TEST(Sweep, JobsWithCasesThatNeedMpi) {
+  const fs::path d = scratch("sweep-jobs-mpi");
+  const std::string args = " --set mesh.ds=0.05 --vary loads.F.speed=10,20,30 -q";
+  for (const char* name : {"one", "j2"}) {
+    const auto r = traverse::testing::run_command(kExe + " sweep " + kArch.string() + " -o " + (d / name).string() +
+                                                  args + (std::string(name) == "j2" ? " -j 2" : ""));
+    ASSERT_EQ(r.code, 0) << name << "\n" << r.out;
+  }
+  const auto a = read_csv(d / "one" / "index.csv"), b = read_csv(d / "j2" / "index.csv");
+  ASSERT_EQ(a.size(), 4u);
+  ASSERT_EQ(b.size(), a.size());
+  const std::size_t status = column(a[0], "status"), out = column(a[0], "output");
+  for (std::size_t row = 1; row < a.size(); ++row) {
+    EXPECT_EQ(b[row][status], "complete") << "case " << row - 1;
+    std::string why;
+    const double diff = traverse::testing::max_file_difference((d / "one" / a[row][out]).string(),
+                                                               (d / "j2" / b[row][out]).string(), why);
+    EXPECT_EQ(diff, 0.0) << "case " << row - 1 << ": " << why;
+  }
 }
