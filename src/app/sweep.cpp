@@ -428,6 +428,13 @@ struct Worker {
   int index = 0;
 };
 
+// Signals to this process go on to workers[first..] (those not yet reaped).
+void forward_to_running(const std::vector<Worker>& workers, std::size_t first) {
+  std::vector<pid_t> pids;
+  for (std::size_t i = first; i < workers.size(); ++i) pids.push_back(workers[i].pid);
+  forward_interrupts_to(pids.data(), static_cast<int>(pids.size()));
+}
+
 // Everything `fd` delivers, until the writer closes it.
 std::string read_all(int fd) {
   std::string all;
@@ -524,9 +531,7 @@ int run_sweep_jobs(const CommandLine& cl, const SweepPlan& plan, const std::func
     }
     close(fds[1]);
     workers.push_back({pid, fds[0], w});
-    std::vector<pid_t> pids;
-    for (const Worker& x : workers) pids.push_back(x.pid);
-    forward_interrupts_to(pids.data(), static_cast<int>(pids.size()));
+    forward_to_running(workers, 0);
   }
   const MPI_Comm comm = start_mpi();
   // After a signal no process takes another case.
@@ -570,6 +575,7 @@ int run_sweep_jobs(const CommandLine& cl, const SweepPlan& plan, const std::func
     int status = 0;
     while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
     }
+    forward_to_running(workers, static_cast<std::size_t>(w.index));  // its pid is free for reuse now
     // The case of a worker that ended before reporting it (killed, crashed).
     for (std::size_t k = 0; k < cases.size(); ++k) {
       if (queue.owner(k) != w.index || reported[k]) continue;
@@ -583,7 +589,6 @@ int run_sweep_jobs(const CommandLine& cl, const SweepPlan& plan, const std::func
       reported[k] = true;
     }
   }
-  forward_interrupts_to(nullptr, 0);
   // The cases no process took (after a signal).
   for (std::size_t k = 0; k < cases.size(); ++k)
     if (!reported[k]) rows[k] = index_row(k, cases[k], CaseRecord{}, cl.summary.given());
