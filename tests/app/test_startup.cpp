@@ -164,6 +164,11 @@ TEST(Startup, OnlyRunsThatNeedTrilinosLoadIt) {
                                                    (dir / "lean.h5").string() + " --set mesh.ds=0.1 -q");
   EXPECT_EQ(lean.code, 0) << lean.out.substr(0, 4000);
   EXPECT_EQ(count(lean.out, any_trilinos), 0u) << "the default scene loaded a Trilinos library";
+  // Nor the shared C++ runtime: traverse has it linked in (src/app/CMakeLists.txt), but for a
+  // sanitizer build.
+  if (!TRAVERSE_SANITIZED) {
+    EXPECT_EQ(count(lean.out, "libstdc++.so"), 0u) << "traverse loaded libstdc++";
+  }
   EXPECT_EQ(count(lean.out, "traverse-trilinos"), 0u);
   EXPECT_TRUE(fs::exists(dir / "lean.h5"));
   // A continuation run needs LOCA: handed over (the new image loads Tpetra), and it completes.
