@@ -149,20 +149,23 @@ std::string case_text(std::size_t k, const SweepCase& c) {
   return t;
 }
 
+// The cases by decreasing estimated cost (equal costs in case order).
+std::vector<std::size_t> by_cost(const std::vector<SweepCase>& cases) {
+  std::vector<std::size_t> order(cases.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return cases[a].cost > cases[b].cost; });
+  return order;
+}
+
 // The rank of each case: the most costly first, each to the rank with the least cost so far
 // (ties: the lower rank, then the lower case number); the same on every rank.
 std::vector<int> assign_ranks(const std::vector<SweepCase>& cases, int ranks) {
-  std::vector<double> cost(cases.size());
-  for (std::size_t k = 0; k < cases.size(); ++k) cost[k] = cases[k].cost;
-  std::vector<std::size_t> order(cases.size());
-  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return cost[a] > cost[b]; });
   std::vector<double> load(static_cast<std::size_t>(ranks), 0.0);
   std::vector<int> rank_of(cases.size(), 0);
-  for (std::size_t k : order) {
+  for (std::size_t k : by_cost(cases)) {
     const auto least = std::min_element(load.begin(), load.end());
     rank_of[k] = static_cast<int>(least - load.begin());
-    *least += std::max(cost[k], 1e-300);
+    *least += std::max(cases[k].cost, 1e-300);
   }
   return rank_of;
 }
@@ -245,32 +248,18 @@ std::string index_row(std::size_t k, const SweepCase& c, const CaseRecord& r, bo
   return row + "," + csv_field(r.message);
 }
 
-// Gathers the rows of every rank on rank 0 (rows in case order there; empty elsewhere).
-std::vector<std::string> gather_rows(const std::vector<std::pair<std::size_t, std::string>>& mine, std::size_t n,
-                                     MPI_Comm comm) {
-  std::string packed;
-  for (const auto& [k, row] : mine) packed += std::to_string(k) + "\t" + row + "\n";
+// The text of every rank, concatenated on rank 0 (empty elsewhere).
+std::string gather_text(const std::string& mine, MPI_Comm comm) {
+  if (par::alone(comm)) return mine;
   const int size = comm_size(comm), rank = comm_rank(comm);
-  std::string all;
-  if (par::alone(comm)) {
-    all = packed;
-  } else {
-    int length = static_cast<int>(packed.size());
-    std::vector<int> lengths(static_cast<std::size_t>(size)), offsets(static_cast<std::size_t>(size));
-    MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, comm);
-    int total = 0;
-    for (int i = 0; i < size; ++i) offsets[static_cast<std::size_t>(i)] = total, total += lengths[static_cast<std::size_t>(i)];
-    all.assign(rank == 0 ? static_cast<std::size_t>(total) : 0u, ' ');
-    MPI_Gatherv(packed.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0, comm);
-  }
-  std::vector<std::string> rows(rank == 0 ? n : 0);
-  std::istringstream in(all);
-  std::string line;
-  while (std::getline(in, line)) {
-    const auto tab = line.find('\t');
-    rows[std::stoul(line.substr(0, tab))] = line.substr(tab + 1);
-  }
-  return rows;
+  int length = static_cast<int>(mine.size());
+  std::vector<int> lengths(static_cast<std::size_t>(size)), offsets(static_cast<std::size_t>(size));
+  MPI_Gather(&length, 1, MPI_INT, lengths.data(), 1, MPI_INT, 0, comm);
+  int total = 0;
+  for (int i = 0; i < size; ++i) offsets[static_cast<std::size_t>(i)] = total, total += lengths[static_cast<std::size_t>(i)];
+  std::string all(rank == 0 ? static_cast<std::size_t>(total) : 0u, ' ');
+  MPI_Gatherv(mine.data(), length, MPI_CHAR, all.data(), lengths.data(), offsets.data(), MPI_CHAR, 0, comm);
+  return all;
 }
 
 // Writes the index through a temporary file, so that a reader never sees half of one.
@@ -334,17 +323,17 @@ SweepPlan plan_sweep(const CommandLine& cl) {
 
 namespace {
 
-// The index rows and exit codes (-1: not run, after an interrupt) of the cases one rank or
-// worker process ran.
-struct MyCases {
-  std::vector<std::pair<std::size_t, std::string>> rows;
-  std::vector<std::pair<std::size_t, int>> codes;
+// What one case ended with: its exit code (-1: not run, after an interrupt) and index row.
+struct CaseResult {
+  std::size_t k = 0;
+  int code = -1;
+  std::string row;
 };
 
 // Runs the cases `next` hands out (none left: nullopt), each on `case_comm`.
-MyCases run_cases(const CommandLine& cl, const SweepPlan& plan, const RunLimits& limits,
-                  const std::function<std::optional<std::size_t>()>& next, MPI_Comm case_comm) {
-  MyCases mine;
+std::vector<CaseResult> run_cases(const CommandLine& cl, const SweepPlan& plan, const RunLimits& limits,
+                                  const std::function<std::optional<std::size_t>()>& next, MPI_Comm case_comm) {
+  std::vector<CaseResult> mine;
   int interrupted = 0;
   while (const auto taken = next()) {
     const std::size_t k = *taken;
@@ -356,24 +345,59 @@ MyCases run_cases(const CommandLine& cl, const SweepPlan& plan, const RunLimits&
                   r.code == 0 && cl.summary.given() ? (", " + cl.summary.text + " = " + number_text(r.summary)).c_str() : "",
                   r.wall);
     std::fflush(stdout);
-    mine.rows.emplace_back(k, index_row(k, c, r, cl.summary.given()));
-    mine.codes.emplace_back(k, r.code);
+    mine.push_back({k, r.code, index_row(k, c, r, cl.summary.given())});
   }
   return mine;
 }
 
-// Rank 0's end of a sweep: the index from the rows of every case, the summary line, the exit
-// code (0 when every case completed, else that of the first case, in case order, that did not).
-int finish_sweep(const CommandLine& cl, const std::vector<std::string>& rows, const std::vector<int>& codes) {
+// Results as text, to another rank or process: a "case \t code \t row" line each (a row holds
+// no newline: csv_field).
+std::string pack(const std::vector<CaseResult>& results) {
+  std::string text;
+  for (const CaseResult& r : results) text += std::to_string(r.k) + "\t" + std::to_string(r.code) + "\t" + r.row + "\n";
+  return text;
+}
+
+// The results of every case, assembled where the index is written.
+struct Results {
+  explicit Results(std::size_t n) : rows(n), codes(n, -1), reported(n, false) {}
+  void add(const CaseResult& r) {
+    rows[r.k] = r.row;
+    codes[r.k] = r.code;
+    reported[r.k] = true;
+  }
+  // The lines of pack() for which `accept(case)` holds.
+  void add_packed(const std::string& text, const std::function<bool(std::size_t)>& accept) {
+    std::istringstream in(text);
+    std::string line;
+    while (std::getline(in, line)) {
+      const auto a = line.find('\t'), b = line.find('\t', a + 1);
+      if (a == std::string::npos || b == std::string::npos) continue;
+      const std::size_t k = std::stoul(line.substr(0, a));
+      if (k < rows.size() && accept(k)) add({k, std::stoi(line.substr(a + 1, b - a - 1)), line.substr(b + 1)});
+    }
+  }
+  std::vector<std::string> rows;
+  std::vector<int> codes;
+  std::vector<bool> reported;
+};
+
+// The end of a sweep, where the index is written: the cases not reported recorded as not run
+// (no process took them, after a signal), the index, the summary line, the exit code (0 when
+// every case completed, else that of the first case, in case order, that did not).
+int finish_sweep(const CommandLine& cl, const SweepPlan& plan, Results& results) {
+  for (std::size_t k = 0; k < plan.cases.size(); ++k)
+    if (!results.reported[k]) results.add({k, -1, index_row(k, plan.cases[k], CaseRecord{}, cl.summary.given())});
   std::size_t complete = 0;
   int code = kSuccess;
-  for (int c : codes) {
+  for (int c : results.codes) {
     if (c == 0) ++complete;
     else if (code == kSuccess) code = c < 0 ? kOtherError : c;
   }
-  write_index(cl, rows);
-  if (!cl.quiet || complete != codes.size())
-    std::printf("sweep done: %zu of %zu cases complete -> %s\n", complete, codes.size(), index_path(cl).string().c_str());
+  write_index(cl, results.rows);
+  if (!cl.quiet || complete != results.codes.size())
+    std::printf("sweep done: %zu of %zu cases complete -> %s\n", complete, results.codes.size(),
+                index_path(cl).string().c_str());
   return code;
 }
 
@@ -383,12 +407,9 @@ int finish_sweep(const CommandLine& cl, const std::vector<std::string>& rows, co
 // running), and each case records which process took it.
 class CaseQueue {
  public:
-  explicit CaseQueue(const std::vector<SweepCase>& cases) : order_(cases.size()) {
+  explicit CaseQueue(const std::vector<SweepCase>& cases) : order_(by_cost(cases)) {
     static_assert(std::atomic<std::size_t>::is_always_lock_free && std::atomic<int>::is_always_lock_free,
                   "the case queue needs atomics that work between processes");
-    for (std::size_t k = 0; k < order_.size(); ++k) order_[k] = k;
-    std::stable_sort(order_.begin(), order_.end(),
-                     [&](std::size_t a, std::size_t b) { return cases[a].cost > cases[b].cost; });
     bytes_ = sizeof(Shared) + order_.size() * sizeof(std::atomic<int>);
     void* p = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
     if (p == MAP_FAILED)
@@ -476,7 +497,7 @@ int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
   // without MPI in a sweep that did not start it.
   const std::vector<int> rank_of = size > 1 ? assign_ranks(cases, size) : std::vector<int>(cases.size(), 0);
   std::size_t k = 0;
-  const MyCases mine = run_cases(
+  const std::vector<CaseResult> mine = run_cases(
       cl, plan, limits,
       [&]() -> std::optional<std::size_t> {
         while (k < cases.size() && rank_of[k] != rank) ++k;
@@ -484,14 +505,15 @@ int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
         return k++;
       },
       par::alone(comm) ? MPI_COMM_NULL : MPI_COMM_SELF);
-  const std::vector<std::string> rows = gather_rows(mine.rows, cases.size(), comm);
-  std::vector<int> codes(cases.size(), 0), all(cases.size(), 0);
-  for (const auto& [case_k, code] : mine.codes) codes[case_k] = code;
-  par::allreduce(codes.data(), all.data(), static_cast<int>(codes.size()), MPI_INT, MPI_SUM, comm);
-  return rank == 0 ? finish_sweep(cl, rows, all) : kSuccess;
+  const std::string all = gather_text(pack(mine), comm);
+  if (rank != 0) return kSuccess;
+  Results results(cases.size());
+  results.add_packed(all, [](std::size_t) { return true; });
+  return finish_sweep(cl, plan, results);
 }
 
 int run_sweep_jobs(const CommandLine& cl, const SweepPlan& plan, const std::function<MPI_Comm()>& start_mpi) {
+  static_assert(kMaxJobs - 1 <= kMaxForwarded, "every worker of the most --jobs gets the signals passed on");
   const std::vector<SweepCase>& cases = plan.cases;
   prepare_directory(cl, cases, MPI_COMM_NULL);
   const int jobs = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(std::max(1, cl.jobs)),
@@ -535,64 +557,39 @@ int run_sweep_jobs(const CommandLine& cl, const SweepPlan& plan, const std::func
   }
   const MPI_Comm comm = start_mpi();
   // After a signal no process takes another case.
-  const MyCases mine = run_cases(
+  const std::vector<CaseResult> mine = run_cases(
       cl, plan, limits,
       [&]() -> std::optional<std::size_t> {
         if (local_interrupt_signal()) return std::nullopt;
         return queue.take(me);
       },
       par::alone(comm) ? MPI_COMM_NULL : MPI_COMM_SELF);
-  if (me != 0) {  // a worker: "case \t code \t row" lines to the parent
-    std::string packed;
-    for (std::size_t i = 0; i < mine.rows.size(); ++i)
-      packed += std::to_string(mine.rows[i].first) + "\t" + std::to_string(mine.codes[i].second) + "\t" +
-                mine.rows[i].second + "\n";
-    write_all(to_parent, packed);
+  if (me != 0) {  // a worker: its results to the parent
+    write_all(to_parent, pack(mine));
     close(to_parent);
     return kSuccess;
   }
-  std::vector<std::string> rows(cases.size());
-  std::vector<int> codes(cases.size(), -1);
-  std::vector<bool> reported(cases.size(), false);
-  for (std::size_t i = 0; i < mine.rows.size(); ++i) {
-    rows[mine.rows[i].first] = mine.rows[i].second;
-    codes[mine.codes[i].first] = mine.codes[i].second;
-    reported[mine.rows[i].first] = true;
-  }
+  Results results(cases.size());
+  for (const CaseResult& r : mine) results.add(r);
   for (const Worker& w : workers) {
-    std::istringstream in(read_all(w.fd));
+    results.add_packed(read_all(w.fd), [&](std::size_t k) { return queue.owner(k) == w.index; });
     close(w.fd);
-    std::string line;
-    while (std::getline(in, line)) {
-      const auto a = line.find('\t'), b = line.find('\t', a + 1);
-      if (a == std::string::npos || b == std::string::npos) continue;
-      const std::size_t k = std::stoul(line.substr(0, a));
-      if (k >= cases.size() || queue.owner(k) != w.index) continue;
-      codes[k] = std::stoi(line.substr(a + 1, b - a - 1));
-      rows[k] = line.substr(b + 1);
-      reported[k] = true;
-    }
     int status = 0;
     while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
     }
     forward_to_running(workers, static_cast<std::size_t>(w.index));  // its pid is free for reuse now
     // The case of a worker that ended before reporting it (killed, crashed).
     for (std::size_t k = 0; k < cases.size(); ++k) {
-      if (queue.owner(k) != w.index || reported[k]) continue;
+      if (queue.owner(k) != w.index || results.reported[k]) continue;
       CaseRecord r;
       r.code = kOtherError;
       r.status = "error";
       r.message = "worker process " + std::to_string(w.index) + " (pid " + std::to_string(w.pid) + ") " +
                   worker_end(status) + " while running this case";
-      rows[k] = index_row(k, cases[k], r, cl.summary.given());
-      codes[k] = r.code;
-      reported[k] = true;
+      results.add({k, r.code, index_row(k, cases[k], r, cl.summary.given())});
     }
   }
-  // The cases no process took (after a signal).
-  for (std::size_t k = 0; k < cases.size(); ++k)
-    if (!reported[k]) rows[k] = index_row(k, cases[k], CaseRecord{}, cl.summary.given());
-  return finish_sweep(cl, rows, codes);
+  return finish_sweep(cl, plan, results);
 }
 
 }  // namespace traverse::app
