@@ -6,7 +6,7 @@
 # for each executable given (e.g. the build of main and this one; the executables take turns,
 # run by run, so that their medians see the same load), then the F = 2 N resonance
 # sweep (20 speeds, postprocessing/hanging_cable.py's) with the last one: in one process, in 2
-# worker processes (-j 2) and on 2 MPI ranks (mpirun -n 2), in turn.
+# worker processes (-j 2), on 1 and on 2 MPI ranks (mpirun -n 1, -n 2), in turn.
 # Usage: bash scripts/bench-startup.sh [-n RUNS] [--no-sweep] EXE [EXE ...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -75,14 +75,15 @@ args=(sweep inputs/rod/hanging_cable_F2_a0.5.yaml --vary "loads.F.speed=$speeds"
       --set "output.fields=[]" --overwrite -q)
 # --bind-to none: Open MPI binds 2 ranks to one core each by default, which on a machine
 # shared with other work pins a rank to a busy core; one process alone is never bound.
-# The three sweeps run in turn, 3 times each.
+# The four sweeps run in turn, 3 times each.
+mpirun="mpirun --allow-run-as-root --oversubscribe --bind-to none"
 mapfile -t results < <(runs=3 measure "$exe ${args[*]} -o $work/sweep1" "$exe ${args[*]} -j 2 -o $work/sweepj" \
-  "mpirun --allow-run-as-root --oversubscribe --bind-to none -n 2 $exe ${args[*]} -o $work/sweep2")
+  "$mpirun -n 2 $exe ${args[*]} -o $work/sweep2" "$mpirun -n 1 $exe ${args[*]} -o $work/sweep3")
 k=0
-for how in "one process" "2 worker processes (-j 2)" "2 MPI ranks (mpirun -n 2)"; do
+for how in "one process" "2 worker processes (-j 2)" "2 MPI ranks (mpirun -n 2)" "1 MPI rank (mpirun -n 1)"; do
   read -r wall cpu <<< "${results[$k]}"
   echo "resonance sweep (F = 2 N, 20 speeds) in $how: wall $wall s, CPU $cpu s"
   eval "wall$k=$wall"
   k=$((k + 1))
 done
-$py -c "print('resonance sweep, wall: -j 2 %.2fx, mpirun -n 2 %.2fx faster than one process' % ($wall0 / $wall1, $wall0 / $wall2))"
+$py -c "print('resonance sweep, wall: -j 2 %.2fx, mpirun -n 2 %.2fx faster than one process; mpirun -n 2 %.2fx faster than mpirun -n 1' % ($wall0 / $wall1, $wall0 / $wall2, $wall3 / $wall2))"

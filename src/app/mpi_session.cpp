@@ -1,6 +1,10 @@
 #include "mpi_session.hpp"
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -84,7 +88,45 @@ void skip_device_discovery() {
   setenv("HWLOC_COMPONENTS", "-pci,-linuxio", 0);
   setenv("HWLOC_PLUGINS_BLACKLIST", "hwloc_pci,hwloc_opencl,hwloc_gl,hwloc_xml_libxml", 0);
 }
+
+bool is_loopback(const sockaddr_storage& a) {
+  if (a.ss_family == AF_INET)
+    return (ntohl(reinterpret_cast<const sockaddr_in&>(a).sin_addr.s_addr) >> 24) == 127;
+  if (a.ss_family == AF_INET6) {
+    const in6_addr& x = reinterpret_cast<const sockaddr_in6&>(a).sin6_addr;
+    return IN6_IS_ADDR_LOOPBACK(&x) || (IN6_IS_ADDR_V4MAPPED(&x) && x.s6_addr[12] == 127);
+  }
+  return false;
+}
 }  // namespace
+
+// The launcher's PMIx server on this host talks to each rank over a loopback TCP socket
+// that PMIx leaves with Nagle's algorithm on. MPI_Finalize sends it a few small messages
+// in a row and waits for the answer: the second message waits for the server's delayed
+// acknowledgement of the first (about 40 ms on Linux), so every run under mpirun spent
+// about 50 ms in MPI_Finalize (11 ms with the sockets set to send at once). Only connected
+// loopback TCP sockets are touched: they lead to processes on this host only.
+int send_control_messages_at_once() {
+  namespace fs = std::filesystem;
+  int set = 0;
+  std::error_code ec;
+  for (fs::directory_iterator it("/proc/self/fd", ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    char* stop = nullptr;
+    const long fd = std::strtol(name.c_str(), &stop, 10);
+    if (stop == name.c_str() || *stop != '\0') continue;
+    int type = 0;
+    socklen_t len = sizeof type;
+    if (getsockopt(static_cast<int>(fd), SOL_SOCKET, SO_TYPE, &type, &len) != 0 || type != SOCK_STREAM) continue;
+    sockaddr_storage peer{};
+    len = sizeof peer;
+    if (getpeername(static_cast<int>(fd), reinterpret_cast<sockaddr*>(&peer), &len) != 0 || !is_loopback(peer))
+      continue;
+    const int one = 1;
+    if (setsockopt(static_cast<int>(fd), IPPROTO_TCP, TCP_NODELAY, &one, sizeof one) == 0) ++set;
+  }
+  return set;
+}
 
 void MpiSession::start(int* argc, char*** argv, const Launch& launch) {
   if (started_) return;
@@ -119,6 +161,7 @@ void MpiSession::start(int* argc, char*** argv, const Launch& launch) {
   }
   MPI_Init(argc, argv);
   started_ = true;
+  if (launch.by_launcher) send_control_messages_at_once();
 }
 
 int MpiSession::rank() const { return comm_rank(comm()); }

@@ -46,6 +46,12 @@ class MpiSession {
   std::string session_dir_;  ///< this process's own Open MPI session directory, if made here
 };
 
+/// Sets TCP_NODELAY on every connected TCP socket of this process whose peer is a loopback
+/// address (under mpirun: the rank's connection to the launcher's PMIx server, which PMIx
+/// leaves with Nagle's algorithm on); returns how many it set. MpiSession::start calls it
+/// after MPI_Init under a launcher (docs/developer.md, "Start-up").
+int send_control_messages_at_once();
+
 /// Size and rank of `comm`, with MPI_COMM_NULL meaning this process alone (MPI not started).
 int comm_size(MPI_Comm comm);
 int comm_rank(MPI_Comm comm);

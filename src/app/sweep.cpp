@@ -157,19 +157,6 @@ std::vector<std::size_t> by_cost(const std::vector<SweepCase>& cases) {
   return order;
 }
 
-// The rank of each case: the most costly first, each to the rank with the least cost so far
-// (ties: the lower rank, then the lower case number); the same on every rank.
-std::vector<int> assign_ranks(const std::vector<SweepCase>& cases, int ranks) {
-  std::vector<double> load(static_cast<std::size_t>(ranks), 0.0);
-  std::vector<int> rank_of(cases.size(), 0);
-  for (std::size_t k : by_cost(cases)) {
-    const auto least = std::min_element(load.begin(), load.end());
-    rank_of[k] = static_cast<int>(least - load.begin());
-    *least += std::max(cases[k].cost, 1e-300);
-  }
-  return rank_of;
-}
-
 // Runs one case on `comm` (MPI_COMM_SELF, or MPI_COMM_NULL in a sweep without MPI) with
 // `limits` (sweep_limits); every outcome becomes the record (an interrupted case also sets
 // `interrupted`).
@@ -486,6 +473,88 @@ std::string worker_end(int status) {
 
 }  // namespace
 
+std::vector<int> assign_groups(const std::vector<SweepCase>& cases, const std::vector<int>& capacities) {
+  std::vector<double> load(capacities.size(), 0.0);
+  std::vector<int> group_of(cases.size(), 0);
+  if (capacities.empty()) return group_of;
+  for (std::size_t k : by_cost(cases)) {
+    const double cost = std::max(cases[k].cost, 1e-300);
+    std::size_t best = 0;
+    for (std::size_t g = 1; g < load.size(); ++g)
+      if ((load[g] + cost) / capacities[g] < (load[best] + cost) / capacities[best]) best = g;
+    group_of[k] = static_cast<int>(best);
+    load[best] += cost;
+  }
+  return group_of;
+}
+
+namespace {
+
+// The ranks of one host take the cases from one queue in memory they share (MPI-3 shared
+// window): a rank takes the next case, the most costly first, whenever it is free, as the -j
+// worker processes do. With ranks on several hosts, the hosts split the cases by cost in
+// proportion to their ranks first (assign_groups), each host's ranks then share its queue.
+class HostQueue {
+ public:
+  HostQueue(const std::vector<SweepCase>& cases, MPI_Comm comm) {
+    static_assert(std::atomic<std::size_t>::is_always_lock_free, "the case queue needs atomics that work between processes");
+    const int rank = comm_rank(comm);
+    MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &host_);
+    const int host_rank = comm_rank(host_), host_ranks = comm_size(host_);
+    // Each host's first rank numbers the hosts and learns how many ranks each has.
+    MPI_Comm firsts = MPI_COMM_NULL;
+    MPI_Comm_split(comm, host_rank == 0 ? 0 : MPI_UNDEFINED, rank, &firsts);
+    int host = 0, hosts = 1;
+    if (firsts != MPI_COMM_NULL) {
+      host = comm_rank(firsts);
+      hosts = comm_size(firsts);
+    }
+    MPI_Bcast(&host, 1, MPI_INT, 0, host_);
+    MPI_Bcast(&hosts, 1, MPI_INT, 0, host_);
+    std::vector<int> capacities(static_cast<std::size_t>(hosts), host_ranks);
+    if (firsts != MPI_COMM_NULL) {
+      MPI_Allgather(&host_ranks, 1, MPI_INT, capacities.data(), 1, MPI_INT, firsts);
+      MPI_Comm_free(&firsts);
+    }
+    MPI_Bcast(capacities.data(), hosts, MPI_INT, 0, host_);
+    const std::vector<int> host_of = assign_groups(cases, capacities);
+    for (std::size_t k : by_cost(cases))
+      if (host_of[k] == host) order_.push_back(k);
+    void* mine = nullptr;
+    MPI_Win_allocate_shared(host_rank == 0 ? static_cast<MPI_Aint>(sizeof(std::atomic<std::size_t>)) : 0, 1,
+                            MPI_INFO_NULL, host_, &mine, &window_);
+    MPI_Aint bytes = 0;
+    int unit = 0;
+    void* first = nullptr;
+    MPI_Win_shared_query(window_, 0, &bytes, &unit, &first);
+    next_ = static_cast<std::atomic<std::size_t>*>(first);
+    if (host_rank == 0) new (next_) std::atomic<std::size_t>(0);
+    MPI_Barrier(host_);  // nobody takes a case before the counter is set
+  }
+  HostQueue(const HostQueue&) = delete;
+  HostQueue& operator=(const HostQueue&) = delete;
+  /// Collective over the host's ranks: each arrives when its queue is empty.
+  ~HostQueue() {
+    MPI_Win_free(&window_);
+    MPI_Comm_free(&host_);
+  }
+
+  /// The next case of this host; nullopt when every one is taken.
+  std::optional<std::size_t> take() {
+    const std::size_t i = next_->fetch_add(1);
+    if (i >= order_.size()) return std::nullopt;
+    return order_[i];
+  }
+
+ private:
+  MPI_Comm host_ = MPI_COMM_NULL;
+  MPI_Win window_ = MPI_WIN_NULL;
+  std::atomic<std::size_t>* next_ = nullptr;  ///< shared by the host's ranks: the next position in order_
+  std::vector<std::size_t> order_;            ///< this host's cases, the most costly first
+};
+
+}  // namespace
+
 int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
   const std::vector<SweepCase>& cases = plan.cases;
   prepare_directory(cl, cases, comm);
@@ -493,18 +562,18 @@ int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
   const RunLimits limits = sweep_limits(cl.limits, comm, 1);
   if (rank == 0 && !cl.quiet)
     std::printf("sweep of %s: %zu cases on %d rank(s) -> %s\n", cl.scene.c_str(), cases.size(), size, cl.output.c_str());
-  // Each rank its cases (assign_ranks), in case order; each case alone: on MPI_COMM_SELF, or
-  // without MPI in a sweep that did not start it.
-  const std::vector<int> rank_of = size > 1 ? assign_ranks(cases, size) : std::vector<int>(cases.size(), 0);
-  std::size_t k = 0;
-  const std::vector<CaseResult> mine = run_cases(
-      cl, plan, limits,
-      [&]() -> std::optional<std::size_t> {
-        while (k < cases.size() && rank_of[k] != rank) ++k;
-        if (k == cases.size()) return std::nullopt;
-        return k++;
-      },
-      par::alone(comm) ? MPI_COMM_NULL : MPI_COMM_SELF);
+  // One process: the cases in order, without MPI when the sweep did not start it. Ranks: from
+  // their host's queue; each case alone, on MPI_COMM_SELF.
+  std::vector<CaseResult> mine;
+  if (size == 1) {
+    std::size_t k = 0;
+    mine = run_cases(
+        cl, plan, limits, [&]() -> std::optional<std::size_t> { return k < cases.size() ? std::optional(k++) : std::nullopt; },
+        par::alone(comm) ? MPI_COMM_NULL : MPI_COMM_SELF);
+  } else {
+    HostQueue queue(cases, comm);
+    mine = run_cases(cl, plan, limits, [&] { return queue.take(); }, MPI_COMM_SELF);
+  }
   const std::string all = gather_text(pack(mine), comm);
   if (rank != 0) return kSuccess;
   Results results(cases.size());

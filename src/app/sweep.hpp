@@ -34,10 +34,18 @@ struct SweepPlan {
 /// is bad input needs nothing and costs 0 (it is recorded as that case's failure when it runs).
 SweepPlan plan_sweep(const CommandLine& cl);
 
+/// The group of each case when groups of capacities[g] processes share the cases: the most
+/// costly first, each to the group whose cost per process would be least with it (ties: the
+/// lower group). The hosts of a sweep's ranks, each host's ranks then sharing a queue.
+std::vector<int> assign_groups(const std::vector<SweepCase>& cases, const std::vector<int>& capacities);
+
 /// Checks the output directory (output::OutputError, exit 2, before any case runs), runs the
-/// cases of `plan` (plan_sweep(cl)), writes DIR/index.csv on rank 0. Returns 0 when every case
-/// completed, else the exit code of the first case (in case order) that did not. Collective
-/// over `comm`.
+/// cases of `plan` (plan_sweep(cl)), writes DIR/index.csv on rank 0. The ranks of each host
+/// take the next case (the most costly first) whenever they are free, from a queue in memory
+/// they share (an MPI shared window); ranks on several hosts first split the cases by host
+/// (assign_groups, by estimated cost in proportion to each host's ranks). Returns 0 when every
+/// case completed, else the exit code of the first case (in case order) that did not.
+/// Collective over `comm`.
 int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm);
 
 /// traverse sweep -j J outside an MPI launcher: checks the output directory (as run_sweep),

@@ -4,6 +4,10 @@
 // and one rank reports.
 #include <gtest/gtest.h>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -11,6 +15,7 @@
 #include <fstream>
 #include <string>
 
+#include "mpi_session.hpp"
 #include "process.hpp"
 
 namespace fs = std::filesystem;
@@ -207,4 +212,44 @@ TEST(Startup, OnlyRunsThatNeedTrilinosLoadIt) {
   EXPECT_EQ(refused.code, 1) << refused.out;
   EXPECT_NE(refused.out.find((alone / "traverse-trilinos").string()), std::string::npos) << refused.out;
   EXPECT_FALSE(fs::exists(dir / "refused.h5"));
+}
+
+// Under a launcher, after MPI_Init: the process's loopback TCP connections (to the launcher's
+// PMIx server) send at once (TCP_NODELAY); other sockets are left alone.
+TEST(Startup, LoopbackConnectionsSendAtOnce) {
+  auto nodelay = [](int fd) {
+    int on = -1;
+    socklen_t len = sizeof on;
+    EXPECT_EQ(getsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &on, &len), 0);
+    return on;
+  };
+  const int listener = socket(AF_INET, SOCK_STREAM, 0);
+  ASSERT_GE(listener, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(bind(listener, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  ASSERT_EQ(listen(listener, 1), 0);
+  socklen_t len = sizeof a;
+  ASSERT_EQ(getsockname(listener, reinterpret_cast<sockaddr*>(&a), &len), 0);
+  const int client = socket(AF_INET, SOCK_STREAM, 0);
+  ASSERT_EQ(connect(client, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  const int server = accept(listener, nullptr, nullptr);
+  ASSERT_GE(server, 0);
+  const int unconnected = socket(AF_INET, SOCK_STREAM, 0);
+  int pair[2];
+  ASSERT_EQ(socketpair(AF_UNIX, SOCK_STREAM, 0, pair), 0);
+  for (int fd : {client, server, listener, unconnected}) EXPECT_EQ(nodelay(fd), 0) << "Nagle on at first";
+
+  EXPECT_EQ(traverse::app::send_control_messages_at_once(), 2);  // both ends of the connection
+  EXPECT_NE(nodelay(client), 0);
+  EXPECT_NE(nodelay(server), 0);
+  EXPECT_EQ(nodelay(listener), 0);
+  EXPECT_EQ(nodelay(unconnected), 0);
+  // Data still flows both ways.
+  ASSERT_EQ(write(client, "ab", 2), 2);
+  char got[2] = {};
+  ASSERT_EQ(read(server, got, 2), 2);
+  EXPECT_EQ(std::string(got, 2), "ab");
+  for (int fd : {client, server, listener, unconnected, pair[0], pair[1]}) close(fd);
 }

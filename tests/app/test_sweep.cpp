@@ -16,6 +16,7 @@
 
 #include "cli.hpp"
 #include "process.hpp"
+#include "sweep.hpp"
 #include "sweep_spec.hpp"
 #include "traverse/output/reader.hpp"
 
@@ -107,6 +108,27 @@ TEST(SweepSpec, RangesListsAndProduct) {
   EXPECT_THROW(traverse::app::parse_summary("midspan.y"), UsageError);
   EXPECT_THROW(traverse::app::parse_summary("midspan.w:min"), UsageError);
   EXPECT_EQ(traverse::app::parse_summary("midspan.y:min").component, 1);
+}
+
+// The hosts of a sweep's ranks split the cases by estimated cost in proportion to their ranks.
+TEST(SweepSpec, CasesSplitByCostInProportionToRanks) {
+  std::vector<traverse::app::SweepCase> cases;
+  for (double cost : {5.0, 1.0, 4.0, 2.0, 3.0, 3.0, 2.0, 1.0, 6.0}) cases.push_back({{}, "", cost});
+  auto loads = [&](const std::vector<int>& group, std::size_t groups) {
+    std::vector<double> load(groups, 0.0);
+    for (std::size_t k = 0; k < cases.size(); ++k) load[static_cast<std::size_t>(group[k])] += cases[k].cost;
+    return load;
+  };
+  // Equal groups: the most costly first, each to the least loaded (6 | 5 | 4, then 3 3 2 2 1 1).
+  const auto even = traverse::app::assign_groups(cases, {1, 1, 1});
+  EXPECT_EQ(even[8], 0);
+  EXPECT_EQ(even[0], 1);
+  EXPECT_EQ(even[2], 2);
+  EXPECT_EQ(loads(even, 3), (std::vector<double>{9.0, 9.0, 9.0}));
+  // A host with 2 ranks gets twice the cost of a host with one (27 in all: 18 and 9).
+  EXPECT_EQ(loads(traverse::app::assign_groups(cases, {2, 1}), 2), (std::vector<double>{18.0, 9.0}));
+  EXPECT_EQ(loads(traverse::app::assign_groups(cases, {1, 2}), 2), (std::vector<double>{9.0, 18.0}));
+  EXPECT_EQ(traverse::app::assign_groups(cases, {4}), std::vector<int>(cases.size(), 0));
 }
 
 TEST(Sweep, OneProcessRanksAndJobsMatchSeparateRuns) {
