@@ -2,10 +2,12 @@
 // cartesian product), the sweep in one process, on 2 ranks and in 4 worker processes (-j)
 // against separate `traverse run --set` runs (same index, the same numbers in every case
 // file), bad options refused before any case runs, failing cases recorded while the others
-// finish, worker processes that stop with their parent and a lost worker's cases recorded.
+// finish, worker processes that stop with their parent and a lost worker's cases recorded,
+// ranks that share one queue (a signal to one rank ends the sweep), the hosts' split by cost.
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <filesystem>
@@ -347,6 +349,37 @@ TEST(Sweep, JobsStopWithTheParentAndALostWorkerIsRecorded) {
     }
     EXPECT_EQ(lost, 1u);
     EXPECT_EQ(complete, 3u);
+  }
+}
+
+// On 2 ranks the ranks share one queue: SIGTERM to one rank interrupts its case at a time step,
+// that rank records every case left in the queue as not run, so the other rank ends after the
+// case it is running (completed): no rank starts another case.
+TEST(Sweep, RanksShareTheQueueAndASignalToOneEndsTheSweep) {
+  const fs::path d = scratch("sweep-ranks-signal");
+  const auto c = traverse::testing::spawn(
+      traverse::testing::split_args(mpiexec(2) + kExe + " sweep " + kCable.string() + " -o " + (d / "out").string() +
+                                    " --set mesh.ds=0.05 --set time.dt=1e-4 --set time.end=4 --set output.fields=[]"
+                                    " --vary loads.F.speed=1,2,3,4 -q"),
+      (d / "out.log").string());
+  ASSERT_TRUE(traverse::testing::wait_for_steps(c, (d / "out" / "case_0000.h5").string(), 100)) << read_text(c.log);
+  ASSERT_TRUE(traverse::testing::wait_for_steps(c, (d / "out" / "case_0001.h5").string(), 100)) << read_text(c.log);
+  const auto ranks = children_of(c.pid);
+  ASSERT_EQ(ranks.size(), 2u) << "the launcher's children: the two ranks";
+  kill(ranks[0], SIGTERM);
+  EXPECT_EQ(traverse::testing::wait_exit(c), 128 + SIGTERM) << read_text(c.log);
+  const auto rows = read_csv(d / "out" / "index.csv");
+  ASSERT_EQ(rows.size(), 5u) << read_text(c.log);
+  const std::size_t status = column(rows[0], "status"), code = column(rows[0], "exit_code");
+  std::vector<std::string> first_two{rows[1][status], rows[2][status]};
+  std::sort(first_two.begin(), first_two.end());
+  EXPECT_EQ(first_two, (std::vector<std::string>{"complete", "interrupted"})) << read_text(c.log);
+  for (std::size_t k = 0; k < 2; ++k)
+    EXPECT_EQ(rows[k + 1][code], rows[k + 1][status] == "complete" ? "0" : std::to_string(128 + SIGTERM));
+  for (std::size_t k = 2; k < 4; ++k) {
+    EXPECT_EQ(rows[k + 1][status], "not run") << "case " << k;
+    EXPECT_EQ(rows[k + 1][code], "-1") << "case " << k;
+    EXPECT_FALSE(fs::exists(d / "out" / ("case_000" + std::to_string(k) + ".h5"))) << "case " << k << " started";
   }
 }
 
