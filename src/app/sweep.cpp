@@ -388,32 +388,32 @@ int finish_sweep(const CommandLine& cl, const SweepPlan& plan, Results& results)
   return code;
 }
 
-// --jobs: the cases in the order they are handed out (the most costly first), in memory shared
-// by the parent and the worker processes it forks: each process takes the next case when it is
-// free (a slow or busy core gets fewer cases; a worker that dies loses only the case it was
-// running), and each case records which process took it.
+// Cases handed out in a given order (the most costly first) by a counter in memory that the
+// processes taking them share (-j: an anonymous shared mapping made before the fork; ranks: an
+// MPI-3 shared window of their host): each process takes the next case when it is free (a slow
+// or busy core gets fewer cases; a -j worker that dies loses only the case it was running),
+// and each case records which process took it.
 class CaseQueue {
  public:
-  explicit CaseQueue(const std::vector<SweepCase>& cases) : order_(by_cost(cases)) {
+  /// The shared memory for `cases` cases.
+  static std::size_t bytes(std::size_t cases) { return sizeof(Shared) + cases * sizeof(std::atomic<int>); }
+  /// Over `order` (the same in every process), in `shared` (bytes(cases) long); exactly one of
+  /// the processes sets the shared state up (`set_up`), before any of them takes a case.
+  CaseQueue(std::vector<std::size_t> order, std::size_t cases, void* shared, bool set_up) : order_(std::move(order)) {
     static_assert(std::atomic<std::size_t>::is_always_lock_free && std::atomic<int>::is_always_lock_free,
                   "the case queue needs atomics that work between processes");
-    bytes_ = sizeof(Shared) + order_.size() * sizeof(std::atomic<int>);
-    void* p = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
-    if (p == MAP_FAILED)
-      throw std::runtime_error(std::string("sweep --jobs: cannot map the case queue (") + std::strerror(errno) + ")");
-    shared_ = new (p) Shared;
-    owner_ = reinterpret_cast<std::atomic<int>*>(static_cast<char*>(p) + sizeof(Shared));
-    for (std::size_t k = 0; k < order_.size(); ++k) new (owner_ + k) std::atomic<int>(-1);
+    shared_ = static_cast<Shared*>(shared);
+    owner_ = reinterpret_cast<std::atomic<int>*>(static_cast<char*>(shared) + sizeof(Shared));
+    if (!set_up) return;
+    new (shared_) Shared;
+    for (std::size_t k = 0; k < cases; ++k) new (owner_ + k) std::atomic<int>(-1);
   }
-  CaseQueue(const CaseQueue&) = delete;
-  CaseQueue& operator=(const CaseQueue&) = delete;
-  ~CaseQueue() { munmap(shared_, bytes_); }
 
-  /// The next case, now owned by `worker`; nullopt when every case is taken.
-  std::optional<std::size_t> take(int worker) {
+  /// The next case, now owned by `taker`; nullopt when every case is taken.
+  std::optional<std::size_t> take(int taker) {
     const std::size_t i = shared_->next.fetch_add(1);
     if (i >= order_.size()) return std::nullopt;
-    owner_[order_[i]].store(worker);
+    owner_[order_[i]].store(taker);
     return order_[i];
   }
   /// The process that took case k (-1: none).
@@ -423,10 +423,27 @@ class CaseQueue {
   struct Shared {
     std::atomic<std::size_t> next{0};
   };
-  std::vector<std::size_t> order_;  ///< the same in every process (made before the fork)
-  std::size_t bytes_ = 0;
-  Shared* shared_ = nullptr;         ///< shared: the next position in order_
+  std::vector<std::size_t> order_;
+  Shared* shared_ = nullptr;           ///< shared: the next position in order_
   std::atomic<int>* owner_ = nullptr;  ///< shared: the process that took each case
+};
+
+// --jobs: anonymous memory shared with the worker processes forked after it is made.
+class SharedMapping {
+ public:
+  explicit SharedMapping(std::size_t bytes) : bytes_(bytes) {
+    data_ = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+    if (data_ == MAP_FAILED)
+      throw std::runtime_error(std::string("sweep --jobs: cannot map the case queue (") + std::strerror(errno) + ")");
+  }
+  SharedMapping(const SharedMapping&) = delete;
+  SharedMapping& operator=(const SharedMapping&) = delete;
+  ~SharedMapping() { munmap(data_, bytes_); }
+  void* data() const { return data_; }
+
+ private:
+  std::size_t bytes_;
+  void* data_;
 };
 
 // --jobs: one forked worker process, its end of the pipe to the parent.
@@ -490,14 +507,12 @@ std::vector<int> assign_groups(const std::vector<SweepCase>& cases, const std::v
 
 namespace {
 
-// The ranks of one host take the cases from one queue in memory they share (MPI-3 shared
-// window): a rank takes the next case, the most costly first, whenever it is free, as the -j
-// worker processes do. With ranks on several hosts, the hosts split the cases by cost in
-// proportion to their ranks first (assign_groups), each host's ranks then share its queue.
+// The ranks of one host take the cases from one CaseQueue in an MPI-3 shared window. With
+// ranks on several hosts, the hosts split the cases by cost in proportion to their ranks first
+// (assign_groups), each host's ranks then share its queue.
 class HostQueue {
  public:
   HostQueue(const std::vector<SweepCase>& cases, MPI_Comm comm) {
-    static_assert(std::atomic<std::size_t>::is_always_lock_free, "the case queue needs atomics that work between processes");
     const int rank = comm_rank(comm);
     MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &host_);
     const int host_rank = comm_rank(host_), host_ranks = comm_size(host_);
@@ -518,39 +533,37 @@ class HostQueue {
     }
     MPI_Bcast(capacities.data(), hosts, MPI_INT, 0, host_);
     const std::vector<int> host_of = assign_groups(cases, capacities);
+    std::vector<std::size_t> order;
     for (std::size_t k : by_cost(cases))
-      if (host_of[k] == host) order_.push_back(k);
+      if (host_of[k] == host) order.push_back(k);
+    const std::size_t bytes = CaseQueue::bytes(cases.size());
     void* mine = nullptr;
-    MPI_Win_allocate_shared(host_rank == 0 ? static_cast<MPI_Aint>(sizeof(std::atomic<std::size_t>)) : 0, 1,
-                            MPI_INFO_NULL, host_, &mine, &window_);
-    MPI_Aint bytes = 0;
+    MPI_Win_allocate_shared(host_rank == 0 ? static_cast<MPI_Aint>(bytes) : 0, 1, MPI_INFO_NULL, host_, &mine, &window_);
+    MPI_Aint size = 0;
     int unit = 0;
-    void* first = nullptr;
-    MPI_Win_shared_query(window_, 0, &bytes, &unit, &first);
-    next_ = static_cast<std::atomic<std::size_t>*>(first);
-    if (host_rank == 0) new (next_) std::atomic<std::size_t>(0);
-    MPI_Barrier(host_);  // nobody takes a case before the counter is set
+    void* shared = nullptr;
+    MPI_Win_shared_query(window_, 0, &size, &unit, &shared);
+    queue_.emplace(std::move(order), cases.size(), shared, host_rank == 0);
+    MPI_Barrier(host_);  // nobody takes a case before the queue is set up
+    rank_ = rank;
   }
   HostQueue(const HostQueue&) = delete;
   HostQueue& operator=(const HostQueue&) = delete;
   /// Collective over the host's ranks: each arrives when its queue is empty.
   ~HostQueue() {
+    queue_.reset();
     MPI_Win_free(&window_);
     MPI_Comm_free(&host_);
   }
 
   /// The next case of this host; nullopt when every one is taken.
-  std::optional<std::size_t> take() {
-    const std::size_t i = next_->fetch_add(1);
-    if (i >= order_.size()) return std::nullopt;
-    return order_[i];
-  }
+  std::optional<std::size_t> take() { return queue_->take(rank_); }
 
  private:
   MPI_Comm host_ = MPI_COMM_NULL;
   MPI_Win window_ = MPI_WIN_NULL;
-  std::atomic<std::size_t>* next_ = nullptr;  ///< shared by the host's ranks: the next position in order_
-  std::vector<std::size_t> order_;            ///< this host's cases, the most costly first
+  std::optional<CaseQueue> queue_;
+  int rank_ = 0;
 };
 
 }  // namespace
@@ -591,7 +604,8 @@ int run_sweep_jobs(const CommandLine& cl, const SweepPlan& plan, const std::func
   if (!cl.quiet)
     std::printf("sweep of %s: %zu cases in %d worker process(es) -> %s\n", cl.scene.c_str(), cases.size(), jobs,
                 cl.output.c_str());
-  CaseQueue queue(cases);
+  SharedMapping memory(CaseQueue::bytes(cases.size()));
+  CaseQueue queue(by_cost(cases), cases.size(), memory.data(), true);
   // Nothing buffered may be written twice, by the parent and by a copy in a worker.
   std::fflush(stdout);
   std::fflush(stderr);
