@@ -291,9 +291,16 @@ class RodRestartPoints {
   std::chrono::steady_clock::time_point last_;
 };
 
+/// ", N solves retried from the other initial guess" (solver key 'Initial Guess: auto'), or "".
+std::string retries_note(long retries) {
+  if (retries == 0) return "";
+  return ", " + std::to_string(retries) + (retries == 1 ? " solve" : " solves") + " retried from the other initial guess";
+}
+
 /// Counters of the time loop, for the final report.
 struct LoopTotals {
   long newton = 0, solves = 0;
+  long guess_retries = 0;  ///< solves that failed from one initial guess and were redone from the other
   long last_step = 0;  ///< index of the last time step taken
   double seconds = 0.0;
 };
@@ -402,6 +409,7 @@ LoopTotals RodTimeLoop::run(long first_step, bool show_progress) {
       const auto rep = p_.st.step(h);
       tot.newton += rep.newton_iterations;
       tot.solves += rep.substeps;
+      tot.guess_retries += rep.guess_retries;
     } catch (const solver::StepFailure& e) {
       fail_step(i, t0, e, progress);
     } catch (const solver::PlanarityLost& e) {
@@ -485,6 +493,7 @@ bool RodAdaptiveLoop::try_step(double h, solver::StepReport& rep, Progress& prog
   }
   tot_.newton += rep.newton_iterations;
   ++tot_.solves;
+  tot_.guess_retries += rep.guess_retries;
   if (!ok) {
     ++ctl_.totals().failed;
     std::ostringstream os;
@@ -765,10 +774,11 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   points.store(tot.last_step, left.position());  // the end (a no-op when the last output step stored it)
   writer.finish();
   if (rank == 0 && !opt.quiet)
-    std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve) on the %s path; %zu output steps -> %s; "
+    std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve%s) on the %s path; %zu output steps -> %s; "
                 "time stepping %.3f s (wall, output included)\n",
                 tot.newton, tot.solves, tot.solves ? double(tot.newton) / double(tot.solves) : 0.0,
-                path.planar ? "planar" : "3D", writer.steps_written(), opt.output.c_str(), tot.seconds);
+                retries_note(tot.guess_retries).c_str(), path.planar ? "planar" : "3D", writer.steps_written(),
+                opt.output.c_str(), tot.seconds);
   if (rank == 0 && !opt.quiet && adaptive) std::printf("adaptive: %s\n", adaptive->totals().summary().c_str());
 }
 

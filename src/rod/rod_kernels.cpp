@@ -1,6 +1,7 @@
 #include "traverse/rod/rod_kernels.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "traverse/core/so3.hpp"
@@ -507,6 +508,13 @@ RodNode advance_node(const RodModel& model, const RodNode& old_node, const VecX&
   n.R = nn.R;
   n.yt = nn.yt;
   n.yv = (n.y - old_node.y) / dt;
+  // The entries the old node's secant predicted to within half of their change in this step
+  // (smooth there) are extrapolated by the next step's blended guess; the others (a load's jump
+  // passing, a velocity alternating from step to step) start from the old level.
+  for (int i = 0; i < 12; ++i) {
+    const double d = n.y(i) - old_node.y(i);
+    n.yg(i) = std::abs(d - dt * old_node.yv(i)) < 0.5 * std::abs(d) ? n.yv(i) : 0.0;
+  }
   n.ys = model.carries_ys() ? Vec12(new_unknowns.tail<12>()) : Vec12::Zero();
   return n;
 }

@@ -16,6 +16,7 @@ void pack_node(const RodNode& nd, double* o) {
   for (int i = 0; i < 12; ++i) o[21 + i] = nd.yt(i);
   for (int i = 0; i < 12; ++i) o[33 + i] = nd.ys(i);
   for (int i = 0; i < 12; ++i) o[45 + i] = nd.yv(i);
+  for (int i = 0; i < 12; ++i) o[57 + i] = nd.yg(i);
 }
 
 RodNode unpack_node(const double* o) {
@@ -26,6 +27,7 @@ RodNode unpack_node(const double* o) {
   for (int i = 0; i < 12; ++i) nd.yt(i) = o[21 + i];
   for (int i = 0; i < 12; ++i) nd.ys(i) = o[33 + i];
   for (int i = 0; i < 12; ++i) nd.yv(i) = o[45 + i];
+  for (int i = 0; i < 12; ++i) nd.yg(i) = o[57 + i];
   return nd;
 }
 

@@ -38,12 +38,12 @@ void StepAssembly::set_old_level(std::vector<RodNode> ghosted_old_nodes, const S
     F_old_[k] = old_level_flux(*model_, step_, g0_ + static_cast<int>(k), old_nodes_[k]).F;
 }
 
-void StepAssembly::initial_guess(double* data) const {
+void StepAssembly::initial_guess(double* data, InitialGuess g) const {
   const int off = o0_ - g0_;
-  const bool secant = guess_ == InitialGuess::secant;
   for (int k = 0; k < no_; ++k) {
     RodNode guess = old_nodes_[static_cast<size_t>(off + k)];
-    if (secant) guess.y += step_.dt * guess.yv;
+    if (g == InitialGuess::secant) guess.y += step_.dt * guess.yv;
+    if (g == InitialGuess::blend) guess.y += step_.dt * guess.yg;
     VecX u = node_unknowns(*model_, guess);
     if (planar_) u = planar_->restrict_unknowns(u);
     for (int c = 0; c < p_; ++c) data[static_cast<size_t>(k) * p_ + c] = u(c);

@@ -17,13 +17,11 @@ struct BlockStepper::Impl {
   std::vector<double> x;  ///< the unknowns of the system solved
   ReuseCounters done;     ///< of the BlockNewtons of earlier paths
 
-  void build(const std::shared_ptr<const rod::RodModel>& model, const std::shared_ptr<const rod::PlanarReduction>& planar,
-             rod::InitialGuess guess) {
+  void build(const std::shared_ptr<const rod::RodModel>& model, const std::shared_ptr<const rod::PlanarReduction>& planar) {
     if (newton) add_block_newton_counters(*newton, done);
     newton.reset();
     const int nodes = model->num_cells + 1;
     assembly = std::make_unique<rod::StepAssembly>(model, planar, 0, nodes, 0, nodes);
-    assembly->set_guess(guess);
   }
   void build_newton(const ParamList& np, const LinearSolverChoice& choice) {
     newton = std::make_unique<BlockNewton>(*assembly, block_newton_options(np, choice));
@@ -39,7 +37,7 @@ BlockStepper::BlockStepper(rod::RodModel rod_model, const ParamList& params)
   const int count = model().num_cells + 1;
   set_partition(0, count, 0, count);
   Impl& m = *impl_;
-  m.build(shared_model(), planar_reduction(), initial_guess());
+  m.build(shared_model(), planar_reduction());
   const rod::RodModel& rm = model();
   set_state(rod::straight_rest_state(rm.num_cells, rm.length));
   m.assembly->set_old_level(nodes(), rod::StepTimes{time(), 0.0});
@@ -50,7 +48,7 @@ BlockStepper::~BlockStepper() = default;
 
 void BlockStepper::rebuild() {
   Impl& m = *impl_;
-  m.build(shared_model(), planar_reduction(), initial_guess());
+  m.build(shared_model(), planar_reduction());
   m.assembly->set_old_level(nodes(), rod::StepTimes{time(), 0.0});
   m.build_newton(newton_params(), choice());
 }
@@ -61,9 +59,9 @@ void BlockStepper::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes, co
 
 const std::vector<rod::RodNode>& BlockStepper::old_level() const { return impl_->assembly->old_nodes(); }
 
-NewtonReport BlockStepper::solve_level(std::vector<VecX>& xg, bool warm, StepReport& sr) {
+NewtonReport BlockStepper::solve_level(std::vector<VecX>& xg, std::optional<rod::InitialGuess> guess, StepReport& sr) {
   Impl& m = *impl_;
-  if (!warm) m.assembly->initial_guess(m.x.data());
+  if (guess) m.assembly->initial_guess(m.x.data(), *guess);
   NewtonReport r = m.newton->solve(m.x);
   m.assembly->full_unknowns(m.x.data(), xg);
   sr.newton_iterations += r.iterations;

@@ -55,7 +55,6 @@ struct DistributedStepper::Impl {
     mesh = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(rm.length, rm.num_cells + 1), comm, p));
     me = Teuchos::rcp(new RodStepModel(model, mesh, planar));
     me->set_jacobian_reuse(params.get<bool>("Jacobian Reuse"), params.get<double>("Jacobian Reuse Contraction"));
-    me->set_guess(initial_guess_of(params));
     if (params.get<std::string>("Direct Solver Path") == "Reuse Symbolic" && comm->getSize() == 1 &&
         is_plain_klu2(choice)) {
       RodStepModel* model_ptr = me.get();  // owned by the stepper, outlives the factory's use
@@ -85,14 +84,14 @@ struct DistributedStepper::Impl {
     newton = std::make_unique<NewtonSolver>(me, np);
   }
 
-  NewtonReport solve_once(std::vector<VecX>& xg, bool warm) {
+  NewtonReport solve_once(std::vector<VecX>& xg, std::optional<rod::InitialGuess> guess) {
     if (block_newton) {
-      if (!warm) me->assembly().initial_guess(xb.data());
+      if (guess) me->assembly().initial_guess(xb.data(), *guess);
       NewtonReport r = block_newton->solve(xb);
       me->assembly().full_unknowns(xb.data(), xg);
       return r;
     }
-    if (!warm) me->initial_guess(*x);
+    if (guess) me->initial_guess(*x, *guess);
     NewtonReport r = newton->solve(*x);
     xg = me->ghosted_unknowns(*x);
     return r;
@@ -131,9 +130,10 @@ void DistributedStepper::set_old_level(std::vector<rod::RodNode> ghosted_old_nod
 
 const std::vector<rod::RodNode>& DistributedStepper::old_level() const { return impl_->me->old_ghosted_nodes(); }
 
-NewtonReport DistributedStepper::solve_level(std::vector<VecX>& xg, bool warm, StepReport& sr) {
+NewtonReport DistributedStepper::solve_level(std::vector<VecX>& xg, std::optional<rod::InitialGuess> guess,
+                                             StepReport& sr) {
   Impl& m = *impl_;
-  NewtonReport last = m.solve_once(xg, warm);
+  NewtonReport last = m.solve_once(xg, guess);
   sr.newton_iterations += last.iterations;
   sr.linear_iterations += last.linear_iterations;
   if (!last.converged && m.me->jacobian_reuse() && m.me->stale_jacobian_used()) {
@@ -141,7 +141,7 @@ NewtonReport DistributedStepper::solve_level(std::vector<VecX>& xg, bool warm, S
     ++m.full_newton_retries;
     m.me->set_full_newton(true);
     m.me->set_old_level(m.me->old_ghosted_nodes(), m.me->assembly().step());
-    last = m.solve_once(xg, false);
+    last = m.solve_once(xg, guess.value_or(rod::InitialGuess::old_level));
     m.me->set_full_newton(false);
     sr.newton_iterations += last.iterations;
     sr.linear_iterations += last.linear_iterations;

@@ -62,9 +62,9 @@ void RodStepModel::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes,
   stale_used_ = false;
 }
 
-void RodStepModel::initial_guess(Vector& x) const {
+void RodStepModel::initial_guess(Vector& x, rod::InitialGuess g) const {
   auto data = x.getDataNonConst();
-  asm_.initial_guess(data.getRawPtr());
+  asm_.initial_guess(data.getRawPtr(), g);
 }
 
 std::vector<VecX> RodStepModel::ghosted_unknowns(const Vector& x) const {
@@ -94,7 +94,7 @@ void RodStepModel::fill(const Vector& x, Vector* f, Matrix* W) const {
 
 Thyra::ModelEvaluatorBase::InArgs<double> RodStepModel::getNominalValues() const {
   MEB::InArgs<double> in = createInArgs();
-  if (!asm_.old_nodes().empty()) initial_guess(*x0_);  // the initial guess, formed when asked for
+  if (!asm_.old_nodes().empty()) initial_guess(*x0_, rod::InitialGuess::old_level);  // formed when asked for
   in.set_x(x0_thyra_);
   return in;
 }

@@ -22,6 +22,7 @@ RodStepper::RodStepper(rod::RodModel model, const ParamList& params, int ranks, 
   model_ = std::make_shared<const rod::RodModel>(std::move(model));
   params_ = validated_solver_parameters(params);
   max_depth_ = params_.get<int>("Max Subdivision Depth");
+  guess_ = initial_guess_of(params_);
   choice_ = LinearSolverChoice::resolve(params_, ranks, LinearSolverChoice::Use::time_step);
   if (choice_.rerouted && params_.get<bool>("Verbose") && rank == 0)
     std::cout << "traverse notice: linear solver " << choice_.resolved << std::endl;
@@ -112,13 +113,26 @@ void RodStepper::check_planarity(double t0, double dt) const {
 /// for the solve (one copy of the rod's nodes instead of two) and `nodes_` is refilled from
 /// it: with the new level on success, as it was on failure or when the solve throws.
 /// `warm` (redo_step): the solver already holds this step's old level and Newton starts from
-/// the unknowns of the solve before.
+/// the unknowns of the solve before. Otherwise Newton starts from the guess the parameters
+/// name; with 'Initial Guess: auto' from the blend (RodNode::yg) and, if that solve fails, once
+/// more from the old level before the caller halves the step (the verdict is global: every rank
+/// takes the same branch).
 bool RodStepper::attempt(double t0, double dt, StepReport& sr, bool warm) {
   if (!warm) set_old_level(std::move(nodes_), rod::StepTimes{t0, dt});
   nodes_.clear();
   std::vector<VecX> xg;
+  bool retried = false;  // solved from the old level after the blend failed
   try {
-    last_ = solve_level(xg, warm, sr);
+    if (warm) {
+      last_ = solve_level(xg, std::nullopt, sr);
+    } else {
+      last_ = solve_level(xg, guess_, sr);
+      if (!last_.converged && guess_ == rod::InitialGuess::blend) {
+        ++sr.guess_retries;
+        retried = true;
+        last_ = solve_level(xg, rod::InitialGuess::old_level, sr);
+      }
+    }
     if (last_.converged) check_planarity(t0, dt);
   } catch (...) {
     nodes_ = old_level();
@@ -130,7 +144,10 @@ bool RodStepper::attempt(double t0, double dt, StepReport& sr, bool warm) {
     return false;
   }
   nodes_.resize(old.size());
-  for (size_t k = 0; k < nodes_.size(); ++k) nodes_[k] = rod::advance_node(*model_, old[k], xg[k], dt);
+  for (size_t k = 0; k < nodes_.size(); ++k) {
+    nodes_[k] = rod::advance_node(*model_, old[k], xg[k], dt);
+    if (retried) nodes_[k].yg.setZero();  // the next step starts from its old level too
+  }
   t_ = t0 + dt;
   return true;
 }

@@ -38,11 +38,13 @@ const std::vector<SolverKey>& solver_keys() {
        "passes the WRMS test (no iteration whose only purpose is the update test); NOX's test "
        "elsewhere; Last Update = NOX's test everywhere (the update just taken; both Newtons then "
        "take the same iterates)"},
-      {"Initial Guess", std::string("Old Level"), {"Old Level", "Secant"},
+      {"Initial Guess", std::string("auto"), {"auto", "Old Level", "Secant"},
        "Newton's initial guess of a rod time step: Old Level = the old level's unknowns; Secant = "
        "the old level extrapolated along the last step's secant, y + dt (y - y_prev) / dt_prev "
        "(zero slope at a start): fewer iterations where the motion is smooth, but it can fail "
-       "where the old level does not (docs/solver.md)"},
+       "where the old level does not; auto = the old level extrapolated only in the entries whose "
+       "change in the last step the secant before it predicted to within half, and where Newton "
+       "fails from there, the old level before the step is halved (docs/solver.md)"},
       {"Max Subdivision Depth", 4, {}, "How often a failing step may be halved (0: no retry)"},
       {"Verbose", true, {}, "One-line notices on rank 0"},
       {"Jacobian Reuse", false, {},
@@ -133,7 +135,8 @@ ParamList validated_solver_parameters(const ParamList& given) {
 
 rod::InitialGuess initial_guess_of(const ParamList& validated) {
   const std::string& g = validated.get<std::string>("Initial Guess");
-  return g == "Secant" ? rod::InitialGuess::secant : rod::InitialGuess::old_level;
+  if (g == "Secant") return rod::InitialGuess::secant;
+  return g == "Old Level" ? rod::InitialGuess::old_level : rod::InitialGuess::blend;
 }
 
 }  // namespace traverse::solver

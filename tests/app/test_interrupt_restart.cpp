@@ -250,7 +250,7 @@ TEST(InterruptRestart, BadRestartsExitWithCode2AndKeepTheFile) {
       {"run --restart " + out + " --overwrite", "not allowed with --restart"},
       {"run --restart " + out + " --set output.fields=[r]", "a restart must keep output.fields"},
       {"run --restart " + out + " --set time.dt=1e-3", "a restart keeps the time step"},
-      {"run --restart " + out + " --set mesh.ds=0.05", "the scene needs 21 x 57"},
+      {"run --restart " + out + " --set mesh.ds=0.05", "the scene needs 21 x 69"},
       {"run --restart " + out + " --set loads.F.speed=-3", "loads.F.speed"},
       {"run " + kCable + " --restart-interval -1", "--restart-interval: expected a number of seconds"},
   };

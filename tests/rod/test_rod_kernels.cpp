@@ -1,6 +1,7 @@
 // Exact Jacobians of the rod kernels against central differences, and frame invariance.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "rod_test_util.hpp"
@@ -403,16 +404,26 @@ TEST(RodKernels, AdvanceNodeKeepsTheSecantAndPackingRoundTrips) {
   m.props = RodProperties::scene_rod();
   m.num_cells = 4;
   RodNode old;
+  VecX x(12);
+  const double dt = 0.002;
+  // The old slope predicts the change d of each entry as dt yv_old = c d: exactly (c = 1),
+  // within half of it (1.4, 0.6), not within half (1.6, 0.4), with the wrong sign (-1), not at
+  // all (0). The blend extrapolates the first three.
+  const double c[12] = {1.0, 1.4, 0.6, 1.6, 0.4, -1.0, 0.0, 1.0, 1.45, 0.55, 1.55, 0.45};
   for (int i = 0; i < 12; ++i) {
     old.y(i) = 0.1 * (i + 1);
     old.yt(i) = -0.05 * i;
-    old.yv(i) = 7.0;  // the slope of the step before: replaced
+    const double d = 0.003 * (i - 5.5);
+    x(i) = old.y(i) + d;
+    old.yv(i) = c[i] * d / dt;  // the slope of the step before: replaced
   }
-  VecX x(12);
-  for (int i = 0; i < 12; ++i) x(i) = old.y(i) + 0.003 * (i - 5);
-  const double dt = 0.002;
   const RodNode n = advance_node(m, old, x, dt);
-  for (int i = 0; i < 12; ++i) EXPECT_NEAR(n.yv(i), 0.003 * (i - 5) / dt, 1e-12) << i;
+  for (int i = 0; i < 12; ++i) {
+    const double yv = 0.003 * (i - 5.5) / dt;
+    EXPECT_NEAR(n.yv(i), yv, 1e-12) << i;
+    const bool within_half = std::abs(c[i] - 1.0) < 0.5;
+    EXPECT_EQ(n.yg(i), within_half ? n.yv(i) : 0.0) << i << " (c = " << c[i] << ")";
+  }
   double packed[kPackedNodeValues];
   pack_node(n, packed);
   const RodNode back = unpack_node(packed);
@@ -421,6 +432,8 @@ TEST(RodKernels, AdvanceNodeKeepsTheSecantAndPackingRoundTrips) {
   EXPECT_EQ(back.yt, n.yt);
   EXPECT_EQ(back.ys, n.ys);
   EXPECT_EQ(back.yv, n.yv);
+  EXPECT_EQ(back.yg, n.yg);
+  EXPECT_NE(n.yg, Vec12::Zero());  // the round trip carries a non-trivial blend
 }
 
 TEST(RodKernels, AssembleNodesOnARangeMatchesWholeRod) {

@@ -126,8 +126,11 @@ std::vector<LocalBlock> assemble_nodes(const RodModel& model, const StepTimes& s
 VecX node_unknowns(const RodModel& model, const RodNode& node);
 
 /// The new-level node implied by converged unknowns (y, ys, R, yt updated; yv the step's
-/// secant (y_new - y_old) / dt).
+/// secant (y_new - y_old) / dt; yg the entries of yv whose change in this step the old node's
+/// secant predicted to within half of it, |d - dt yv_old| < |d| / 2 with d = y_new - y_old,
+/// zero elsewhere).
 RodNode advance_node(const RodModel& model, const RodNode& old_node, const VecX& new_unknowns,
                      double dt);
+
 
 }  // namespace traverse::rod

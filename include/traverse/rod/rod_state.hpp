@@ -28,11 +28,16 @@ struct RodNode {
   /// (y - y of the level before) / dt of the step that made this level: the slope of the next
   /// step's Newton initial guess y + dt yv (StepAssembly::initial_guess); zero at a start.
   Vec12 yv = Vec12::Zero();
+  /// The slope of the next step's guess with 'Initial Guess: auto', y + dt yg: each entry of
+  /// yv where the secant guess predicted that entry's change in the step that made this level
+  /// to within half of the change, else zero (advance_node); zero at a start, and everywhere
+  /// after a step that Newton solved only from the old level (solver::RodStepper::attempt).
+  Vec12 yg = Vec12::Zero();
 };
 
 /// A node as plain numbers (restart points, gathers over ranks): y (12), R row-major (9),
-/// yt (12), ys (12), yv (12).
-inline constexpr std::size_t kPackedNodeValues = 57;
+/// yt (12), ys (12), yv (12), yg (12).
+inline constexpr std::size_t kPackedNodeValues = 69;
 void pack_node(const RodNode& nd, double* o);
 RodNode unpack_node(const double* o);
 

@@ -16,7 +16,8 @@
 namespace traverse::rod {
 
 /// Newton's initial guess of a time step (StepAssembly::initial_guess).
-enum class InitialGuess { old_level, secant };
+/// old_level: y; secant: y + dt yv; blend: y + dt yg (RodNode::yg).
+enum class InitialGuess { old_level, secant, blend };
 
 class StepAssembly {
  public:
@@ -40,12 +41,11 @@ class StepAssembly {
   const std::vector<RodNode>& old_nodes() const { return old_nodes_; }
   const StepTimes& step() const { return step_; }
 
-  /// The Newton initial guess of the owned nodes in the system's layout (unknowns_per_node()
-  /// values per owned node): the old unknowns, or with the secant guess the old unknowns with y
-  /// extrapolated along the last step's secant, y + dt yv (yv = 0 at a start: the old unknowns).
-  void initial_guess(double* data) const;
-  /// Which guess (solver key 'Initial Guess', docs/solver.md; default the old level).
-  void set_guess(InitialGuess g) { guess_ = g; }
+  /// The Newton initial guess `g` of the owned nodes in the system's layout
+  /// (unknowns_per_node() values per owned node): the old unknowns, or with the secant guess the
+  /// old unknowns with y extrapolated along the last step's secant, y + dt yv (yv = 0 at a
+  /// start: the old unknowns).
+  void initial_guess(double* data, InitialGuess g) const;
   /// Ghosted system-layout unknowns (unknowns_per_node() per ghosted node) -> per ghosted node
   /// its full unknown block (model->unknowns_per_node() entries; planar: the in-plane ones
   /// embedded, zeros elsewhere).
@@ -68,7 +68,6 @@ class StepAssembly {
   StepTimes step_;
   std::vector<char> touched_;  ///< per ghosted node k: whether a load acts on cell (k-1, k) (set per step)
   bool touched(int j) const { return touched_[static_cast<size_t>(j - g0_)] != 0; }
-  InitialGuess guess_ = InitialGuess::old_level;
   double blocks_3d(const double* ghosted, const std::function<void(const LocalBlock&)>& visit) const;
   double blocks_planar(const double* ghosted, const std::function<void(const LocalBlock&)>& visit) const;
 

@@ -8,6 +8,7 @@
 #include "traverse/core/param_list.hpp"
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,7 +36,7 @@ class BlockStepper : public RodStepper {
   void rebuild() override;
   void set_old_level(std::vector<rod::RodNode> ghosted_old_nodes, const rod::StepTimes& step) override;
   const std::vector<rod::RodNode>& old_level() const override;
-  NewtonReport solve_level(std::vector<VecX>& xg, bool warm, StepReport& sr) override;
+  NewtonReport solve_level(std::vector<VecX>& xg, std::optional<rod::InitialGuess> guess, StepReport& sr) override;
   double dropped_residual_everywhere() const override;
 
  private:

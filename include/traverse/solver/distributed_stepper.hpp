@@ -12,6 +12,7 @@
 #include "traverse/core/param_list.hpp"
 #include <Teuchos_RCP.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,7 +42,7 @@ class DistributedStepper : public RodStepper {
   void rebuild() override;
   void set_old_level(std::vector<rod::RodNode> ghosted_old_nodes, const rod::StepTimes& step) override;
   const std::vector<rod::RodNode>& old_level() const override;
-  NewtonReport solve_level(std::vector<VecX>& xg, bool warm, StepReport& sr) override;
+  NewtonReport solve_level(std::vector<VecX>& xg, std::optional<rod::InitialGuess> guess, StepReport& sr) override;
   double dropped_residual_everywhere() const override;
 
  private:

@@ -62,17 +62,16 @@ class RodStepModel : public BlockAssemblyModel {
                std::shared_ptr<const rod::PlanarReduction> planar = nullptr);
 
   /// Old-level states of this rank's ghosted nodes (mesh->first_ghosted_node() ...) and the
-  /// step. The nominal x (getNominalValues) is then the Newton initial guess (initial_guess).
+  /// step. The nominal x (getNominalValues) is then the old level's unknowns.
   void set_old_level(std::vector<rod::RodNode> ghosted_old_nodes, const rod::StepTimes& step);
   const std::vector<rod::RodNode>& old_ghosted_nodes() const { return asm_.old_nodes(); }
   const rod::StepTimes& step_times() const { return asm_.step(); }
   /// The step's blocks (shared with the Newton on block storage, solver::BlockNewton).
   const rod::StepAssembly& assembly() const { return asm_; }
 
-  /// The Newton initial guess of the owned nodes (rod::StepAssembly::initial_guess), on the
+  /// The Newton initial guess `g` of the owned nodes (rod::StepAssembly::initial_guess), on the
   /// dof map.
-  void initial_guess(Vector& x) const;
-  void set_guess(rod::InitialGuess g) { asm_.set_guess(g); }
+  void initial_guess(Vector& x, rod::InitialGuess g) const;
   /// Import owned x to the ghosted map and return per ghosted node its full unknown block
   /// (model->unknowns_per_node() entries; on the planar path the in-plane ones embedded).
   std::vector<VecX> ghosted_unknowns(const Vector& x) const;

@@ -12,6 +12,7 @@
 #include "traverse/core/param_list.hpp"
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -30,6 +31,9 @@ struct StepReport {
   int substeps = 0;           ///< Newton solves that converged (1 when not subdivided)
   int max_depth = 0;          ///< deepest subdivision used (0 = none)
   int failed_attempts = 0;    ///< Newton solves that failed and were subdivided
+  /// Newton solves that failed from the blended guess and were solved again from the old level
+  /// ('Initial Guess: auto'); their iterations are in newton_iterations
+  int guess_retries = 0;
   int newton_iterations = 0;  ///< summed over all attempts
   int linear_iterations = 0;  ///< summed over all attempts
   NewtonReport last;          ///< the last converged Newton solve
@@ -141,8 +145,8 @@ class RodStepper {
   virtual ReuseCounters reuse_counters() const = 0;
   /// The validated parameters in use.
   const ParamList& parameters() const { return params_; }
-  /// Solver key 'Initial Guess' (rod::StepAssembly::initial_guess).
-  rod::InitialGuess initial_guess() const { return initial_guess_of(params_); }
+  /// Solver key 'Initial Guess' (rod::StepAssembly::initial_guess, RodStepper::attempt).
+  rod::InitialGuess initial_guess() const { return guess_; }
 
  protected:
   /// Checks the end conditions, validates `params` (std::invalid_argument), resolves the
@@ -165,10 +169,11 @@ class RodStepper {
   /// The old level of a step: the ghosted nodes (moved in) and the step's times.
   virtual void set_old_level(std::vector<rod::RodNode> ghosted_old_nodes, const rod::StepTimes& step) = 0;
   virtual const std::vector<rod::RodNode>& old_level() const = 0;
-  /// Newton on the old level from its old unknowns (warm: from the unknowns of the last solve);
-  /// the converged (or last) iterate's ghosted full unknown blocks in xg. May solve twice (a
-  /// modified Newton redone in full): `sr` gets every iteration.
-  virtual NewtonReport solve_level(std::vector<VecX>& xg, bool warm, StepReport& sr) = 0;
+  /// Newton on the old level from `guess` (rod::StepAssembly::initial_guess; none: from the
+  /// unknowns of the last solve, a redo); the converged (or last) iterate's ghosted full
+  /// unknown blocks in xg. May solve twice (a modified Newton redone in full): `sr` gets every
+  /// iteration.
+  virtual NewtonReport solve_level(std::vector<VecX>& xg, std::optional<rod::InitialGuess> guess, StepReport& sr) = 0;
   /// The largest dropped (out-of-plane) residual of the last solve, over all ranks (collective).
   virtual double dropped_residual_everywhere() const = 0;
 
@@ -187,6 +192,7 @@ class RodStepper {
   double t_ = 0.0;
   NewtonReport last_;
   int max_depth_ = 4;
+  rod::InitialGuess guess_ = rod::InitialGuess::blend;
   double planar_tolerance_ = 1e-8;  ///< largest dropped residual accepted at a converged iterate
   double undo_time_ = 0.0;          ///< try_step: the time before the last successful step
   double undo_dt_ = 0.0;            ///< and its length

@@ -32,10 +32,14 @@
 //                                  and the next update (solved with the last factorisation)
 //                                  passes the WRMS test; NOX's test (the update just taken)
 //                                  elsewhere and with "Last Update" (docs/solver.md)
-//   Initial Guess          string  "Old Level" | "Secant" (default "Old Level"): Newton's
+//   Initial Guess          string  "auto" | "Old Level" | "Secant" (default "auto"): Newton's
 //                                  initial guess of a time step, the old level itself or
 //                                  extrapolated along the last step's secant
-//                                  (rod::StepAssembly::initial_guess, docs/solver.md)
+//                                  (rod::StepAssembly::initial_guess, docs/solver.md); auto:
+//                                  extrapolated only in the entries the last step's secant
+//                                  predicted well (rod::RodNode::yg), and where Newton fails
+//                                  from there, the old level before the step is halved
+//                                  (RodStepper::attempt)
 //   Max Subdivision Depth  int     how often a failing step may be halved (default 4;
 //                                  0 disables retries)
 //   Verbose                bool    one-line notices on rank 0 (default true)
@@ -81,7 +85,7 @@ const std::vector<SolverKey>& solver_keys();
 /// wrong name, type or value.
 ParamList validated_solver_parameters(const ParamList& given);
 
-/// The key 'Initial Guess' of a validated list.
+/// The key 'Initial Guess' of a validated list (auto: the blend).
 rod::InitialGuess initial_guess_of(const ParamList& validated);
 
 }  // namespace traverse::solver
