@@ -63,7 +63,7 @@ NewtonReport BlockNewton::solve(std::vector<double>& x) {
 bool BlockNewton::next_update_small(std::vector<double>& x, double nf, double& wrms) {
   // f and J at x were just assembled; the factorisation is still the last iteration's, so
   // the solve refines towards J(x)^{-1} f(x) with it (BlockSystem::solve).
-  const double achieved = sys_->solve(d_, nf, opt_.linear_tolerance);
+  const double achieved = sys_->solve(d_, nf, std::max(opt_.linear_tolerance, opt_.update_test_linear_tolerance));
   if (!(achieved <= 0.5)) return false;
   const double next = update_wrms(opt_, x, [&](size_t i) { return d_[i]; });
   if (!(next < 1.0)) return false;
