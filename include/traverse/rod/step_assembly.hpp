@@ -42,9 +42,10 @@ class StepAssembly {
   const StepTimes& step() const { return step_; }
 
   /// The Newton initial guess `g` of the owned nodes in the system's layout
-  /// (unknowns_per_node() values per owned node): the old unknowns, or with the secant guess the
-  /// old unknowns with y extrapolated along the last step's secant, y + dt yv (yv = 0 at a
-  /// start: the old unknowns).
+  /// (unknowns_per_node() values per owned node): the old unknowns; with the secant guess the
+  /// old unknowns with y extrapolated along the last step's secant, y + dt yv; with the blend
+  /// y + dt yg, extrapolated only in the entries RodNode::yg keeps (yv = yg = 0 at a start: the
+  /// old unknowns).
   void initial_guess(double* data, InitialGuess g) const;
   /// Ghosted system-layout unknowns (unknowns_per_node() per ghosted node) -> per ghosted node
   /// its full unknown block (model->unknowns_per_node() entries; planar: the in-plane ones
