@@ -300,7 +300,7 @@ std::string retries_note(long retries) {
 /// Counters of the time loop, for the final report.
 struct LoopTotals {
   long newton = 0, solves = 0;
-  long guess_retries = 0;  ///< solves that failed from one initial guess and were redone from the other
+  long guess_retries = 0;  ///< solves that failed from the blended guess and were redone from the old level
   long last_step = 0;  ///< index of the last time step taken
   double seconds = 0.0;
 };

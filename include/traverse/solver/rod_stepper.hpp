@@ -145,8 +145,6 @@ class RodStepper {
   virtual ReuseCounters reuse_counters() const = 0;
   /// The validated parameters in use.
   const ParamList& parameters() const { return params_; }
-  /// Solver key 'Initial Guess' (rod::StepAssembly::initial_guess, RodStepper::attempt).
-  rod::InitialGuess initial_guess() const { return guess_; }
 
  protected:
   /// Checks the end conditions, validates `params` (std::invalid_argument), resolves the
@@ -192,7 +190,7 @@ class RodStepper {
   double t_ = 0.0;
   NewtonReport last_;
   int max_depth_ = 4;
-  rod::InitialGuess guess_ = rod::InitialGuess::blend;
+  rod::InitialGuess guess_ = rod::InitialGuess::blend;  ///< solver key 'Initial Guess' (attempt)
   double planar_tolerance_ = 1e-8;  ///< largest dropped residual accepted at a converged iterate
   double undo_time_ = 0.0;          ///< try_step: the time before the last successful step
   double undo_dt_ = 0.0;            ///< and its length
