@@ -112,7 +112,7 @@ InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, M
   // In one process stepping on block storage, the start on block storage too (no Tpetra).
   const solver::StaticStart st =
       steps_on_block_storage(setup.solver, comm_size(comm))
-          ? solver::solve_static_start_in_one_process(sm)
+          ? solver::solve_static_start_in_one_process(sm, sc.scheme.planar != scene::PlanarMode::off)
           : distributed_static_start(sm, setup.solver, comm);
   if (!st.report.converged) throw NumericsError(static_failure(sc, sm, st.report));
   InitialState out;

@@ -42,6 +42,44 @@ void parity_norms(const Vec12& v, const std::array<bool, 12>& even, double& odd_
   }
 }
 
+/// One probe of an end's 6 rows (residual r, Jacobian J at a symmetric state whose unknowns
+/// are at most x_max): a row is in-plane (+1 in kind) when no out-of-plane unknown enters it,
+/// out-of-plane (-1) when no in-plane unknown enters it and it is zero; it must be one of them
+/// and agree with the earlier probes (`row`: the first that does not).
+enum class RowProbe { ok, no_unknown, mixed };
+RowProbe classify_end_rows(const Vec6& r, const Eigen::Matrix<double, 6, 12>& J, const std::array<bool, 12>& even,
+                           double x_max, std::array<int, 6>& kind, int& row) {
+  for (int i = 0; i < 6; ++i) {
+    row = i;
+    double je = 0.0, jo = 0.0;
+    for (int k = 0; k < 12; ++k) {
+      const double v = std::abs(J(i, k));
+      if (even[static_cast<size_t>(k)]) je = std::max(je, v);
+      else jo = std::max(jo, v);
+    }
+    const double jm = std::max(je, jo);
+    if (!(jm > 0.0)) return RowProbe::no_unknown;
+    int k = 0;
+    if (jo <= kProbeTolerance * jm) k = +1;
+    else if (je <= kProbeTolerance * jm && std::abs(r(i)) <= kProbeTolerance * std::max(1.0, jm * x_max))
+      k = -1;
+    if (k == 0 || (kind[static_cast<size_t>(i)] != 0 && kind[static_cast<size_t>(i)] != k)) return RowProbe::mixed;
+    kind[static_cast<size_t>(i)] = k;
+  }
+  return RowProbe::ok;
+}
+
+/// The in-plane rows after the probes (the first 3 into rows); returns how many there are.
+int in_plane_rows(const std::array<int, 6>& kind, std::array<int, 3>& rows) {
+  int n_even = 0;
+  for (int i = 0; i < 6; ++i)
+    if (kind[static_cast<size_t>(i)] > 0) {
+      if (n_even < 3) rows[static_cast<size_t>(n_even)] = i;
+      ++n_even;
+    }
+  return n_even;
+}
+
 /// Splits one end's 6 rows into 3 in-plane and 3 out-of-plane rows by probing
 /// end_condition_rows at random symmetric states; returns "" or what is wrong.
 std::string split_end_rows(const EndCondition& c, const RodModel& model, const RodNode& node, int axis,
@@ -67,37 +105,47 @@ std::string split_end_rows(const EndCondition& c, const RodModel& model, const R
     Vec6 r;
     Eigen::Matrix<double, 6, 12> J;
     end_condition_rows(c, model.props, t, y, nn.R, nn.G, r, J);
-    for (int i = 0; i < 6; ++i) {
-      double je = 0.0, jo = 0.0;
-      for (int k = 0; k < 12; ++k) {
-        const double v = std::abs(J(i, k));
-        if (even[static_cast<size_t>(k)]) je = std::max(je, v);
-        else jo = std::max(jo, v);
-      }
-      const double jm = std::max(je, jo);
-      if (!(jm > 0.0)) return std::string(which) + " end: row " + std::to_string(i) + " depends on no unknown";
-      int k = 0;
-      if (jo <= kProbeTolerance * jm) k = +1;
-      else if (je <= kProbeTolerance * jm &&
-               std::abs(r(i)) <= kProbeTolerance * std::max(1.0, jm * y.cwiseAbs().maxCoeff()))
-        k = -1;
-      if (k == 0 || (kind[static_cast<size_t>(i)] != 0 && kind[static_cast<size_t>(i)] != k))
-        return std::string(which) + " end: its condition row " + std::to_string(i) +
-               " mixes in-plane and out-of-plane components (or is not zero out of the plane) for the plane "
-               "normal " + vec_text(normal);
-      kind[static_cast<size_t>(i)] = k;
-    }
+    int row = 0;
+    const RowProbe p = classify_end_rows(r, J, even, y.cwiseAbs().maxCoeff(), kind, row);
+    if (p == RowProbe::no_unknown)
+      return std::string(which) + " end: row " + std::to_string(row) + " depends on no unknown";
+    if (p == RowProbe::mixed)
+      return std::string(which) + " end: its condition row " + std::to_string(row) +
+             " mixes in-plane and out-of-plane components (or is not zero out of the plane) for the plane "
+             "normal " + vec_text(normal);
   }
-  int n_even = 0;
-  for (int i = 0; i < 6; ++i)
-    if (kind[static_cast<size_t>(i)] > 0) {
-      if (n_even < 3) rows[static_cast<size_t>(n_even)] = i;
-      ++n_even;
-    }
+  const int n_even = in_plane_rows(kind, rows);
   if (n_even != 3)
     return std::string(which) + " end: " + std::to_string(n_even) +
            " of its 6 rows are in-plane (3 needed) for the plane normal " + vec_text(normal);
   return "";
+}
+
+/// The static counterpart of split_end_rows: static_end_rows at random symmetric nodes
+/// (in-plane unknowns random, the reference frame turned about the normal); false when the
+/// rows do not split 3 + 3.
+bool split_static_end_rows(const StaticModel& m, const StaticEnd& c, double sign, int axis, std::array<int, 3>& rows) {
+  const std::array<int, 6> S = in_plane_components(axis);
+  const std::array<bool, 12> even = even_mask(axis);
+  const Vec3 normal = Vec3::Unit(axis);
+  std::mt19937 rng(54321u + static_cast<unsigned>(axis));
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  std::array<int, 6> kind{};  // +1 in-plane, -1 out-of-plane, 0 not classified yet
+  for (int probe = 0; probe < 4; ++probe) {
+    StaticNode node;
+    node.Rbar = so3::exp(U(rng) * normal);
+    for (int k : S) node.x(k) = U(rng);
+    LocalBlock b;
+    b.residual = VecX::Zero(6);
+    b.cols = {0};
+    b.jac = {MatX::Zero(6, 12)};
+    static_end_rows(m, c, node, sign, b);
+    int row = 0;
+    if (classify_end_rows(Vec6(b.residual), Eigen::Matrix<double, 6, 12>(b.jac[0]), even, node.x.cwiseAbs().maxCoeff(),
+                          kind, row) != RowProbe::ok)
+      return false;
+  }
+  return in_plane_rows(kind, rows) == 3;
 }
 
 /// "" when the problem is symmetric about the plane normal to d_axis, else the reason.
@@ -429,6 +477,65 @@ double PlanarReduction::restrict_block(const LocalBlock& full, LocalBlock& out) 
   }
   double dropped = 0.0;
   for (int r : *drop) dropped = std::max(dropped, std::abs(full.residual(r)));
+  return dropped;
+}
+
+std::optional<StaticPlanarSplit> static_planar_split(const StaticModel& m, double tol) {
+  for (int axis = 0; axis < 2; ++axis) {
+    const Vec3 normal = Vec3::Unit(axis);
+    const Vec3& k0 = m.props.kappa0;
+    bool symmetric = true;
+    for (int c = 0; c < 3; ++c)
+      if (c != axis && !(std::abs(k0(c)) <= tol * k0.cwiseAbs().maxCoeff())) symmetric = false;
+    if (!(std::abs(m.gravity.dot(normal)) <= tol * m.gravity.norm())) symmetric = false;
+    for (const StaticPointForce& f : m.point_forces)
+      if (!(std::abs(f.force.dot(normal)) <= tol * f.force.norm())) symmetric = false;
+    StaticPlanarSplit split;
+    split.axis = axis;
+    if (symmetric && split_static_end_rows(m, m.left, -1.0, axis, split.left_rows) &&
+        split_static_end_rows(m, m.right, 1.0, axis, split.right_rows))
+      return split;
+  }
+  return std::nullopt;
+}
+
+double restrict_static_block(const StaticModel& m, const StaticPlanarSplit& split, const LocalBlock& full,
+                             LocalBlock& out) {
+  const std::array<int, 6> S = in_plane_components(split.axis);
+  const Eigen::Index N = m.num_cells;
+  const int* keep = S.data();
+  int kept = 6;
+  if (full.row == 0) {
+    keep = split.left_rows.data();
+    kept = 3;
+    out.row = 0;
+  } else if (full.row == 12 * N + 6) {
+    keep = split.right_rows.data();
+    kept = 3;
+    out.row = 3 + 6 * N;
+  } else {
+    const Eigen::Index off = full.row - 6;
+    if (off < 0 || off % 12 != 0 || off / 12 >= N)
+      throw std::invalid_argument("restrict_static_block: not a block of this model");
+    out.row = 3 + 6 * (off / 12);
+  }
+  if (full.residual.size() != 2 * kept) throw std::invalid_argument("restrict_static_block: unexpected number of rows");
+  out.residual.resize(kept);
+  for (int i = 0; i < kept; ++i) out.residual(i) = full.residual(keep[i]);
+  out.cols.resize(full.cols.size());
+  out.jac.resize(full.jac.size());
+  for (size_t k = 0; k < full.cols.size(); ++k) {
+    if (full.cols[k] % 12 != 0 || full.jac[k].cols() != 12)
+      throw std::invalid_argument("restrict_static_block: unexpected columns");
+    out.cols[k] = full.cols[k] / 12 * 6;
+    out.jac[k].resize(kept, 6);
+    for (int c = 0; c < 6; ++c)
+      for (int i = 0; i < kept; ++i) out.jac[k](i, c) = full.jac[k](keep[i], S[static_cast<size_t>(c)]);
+  }
+  double dropped = 0.0;
+  for (Eigen::Index i = 0; i < full.residual.size(); ++i)
+    if (std::find(keep, keep + kept, static_cast<int>(i)) == keep + kept)
+      dropped = std::max(dropped, std::abs(full.residual(i)));
   return dropped;
 }
 

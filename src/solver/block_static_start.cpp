@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "block_system.hpp"
+#include "traverse/rod/planar.hpp"
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 
@@ -16,11 +18,19 @@ namespace {
 /// rod::StaticNewtonSystem on the whole rod in one process, the Jacobian in block storage.
 /// The operations of the distributed system with the block LU (static_start.cpp), in the
 /// same order: f and the blocks from the same kernel blocks, the LU's residual check, the
-/// update of every node by static_update_node.
+/// update of every node by static_update_node. With a planar split (rod::static_planar_split)
+/// only the in-plane rows and unknowns: 6 x 6 blocks instead of 12 x 12, the out-of-plane
+/// updates zero (exactly what the full system gives a symmetric state, to rounding); the
+/// residual's maximum still covers the dropped rows, so a state that were not symmetric would
+/// not converge.
 class BlockStaticSystem : public rod::StaticNewtonSystem {
  public:
-  BlockStaticSystem(const rod::StaticModel& m, double linear_tolerance)
-      : nodes_(rod::straight_static_nodes(m, 0, m.num_cells + 1)), sys_(m.num_cells + 1, 12), tol_(linear_tolerance) {}
+  BlockStaticSystem(const rod::StaticModel& m, double linear_tolerance,
+                    const std::optional<rod::StaticPlanarSplit>& planar)
+      : nodes_(rod::straight_static_nodes(m, 0, m.num_cells + 1)),
+        sys_(m.num_cells + 1, planar ? 6 : 12),
+        tol_(linear_tolerance),
+        planar_(planar) {}
 
   bool assemble(const rod::StaticModel& m) override {
     fill(m);
@@ -42,15 +52,22 @@ class BlockStaticSystem : public rod::StaticNewtonSystem {
     // As the direct solve over Tpetra is accepted: converged, or a tiny achieved tolerance.
     if (!(worst <= tol_ || worst <= 1e-9) || !std::isfinite(max_abs(dx_))) return std::numeric_limits<double>::infinity();
     double step = 0.0;
+    Vec12 d = Vec12::Zero();
     for (size_t k = 0; k < nodes_.size(); ++k) {
-      const double s = rod::static_update_node(nodes_[k], Eigen::Map<const Vec12>(&dx_[12 * k]), length, fscale);
+      if (planar_) {
+        const std::array<int, 6> S = rod::in_plane_components(planar_->axis);
+        for (size_t c = 0; c < 6; ++c) d(S[c]) = dx_[6 * k + c];
+      } else {
+        d = Eigen::Map<const Vec12>(&dx_[12 * k]);
+      }
+      const double s = rod::static_update_node(nodes_[k], d, length, fscale);
       step = std::isfinite(s) ? std::max(step, s) : std::numeric_limits<double>::infinity();
     }
     return step;
   }
   double residual_max(const rod::StaticModel& m) override {
     fill(m);
-    return max_abs_or_inf(sys_.f());
+    return std::max(max_abs_or_inf(sys_.f()), std::isnan(dropped_) ? std::numeric_limits<double>::infinity() : dropped_);
   }
   void rebase_all() override {
     for (auto& n : nodes_) n.rebase();
@@ -66,37 +83,54 @@ class BlockStaticSystem : public rod::StaticNewtonSystem {
   }
   void fill(const rod::StaticModel& m) {
     sys_.clear();
-    sys_.add(rod::static_left_block(m, nodes_.front()));
+    dropped_ = 0.0;
+    add(m, rod::static_left_block(m, nodes_.front()));
     for (int j = 1; j <= m.num_cells; ++j)
-      sys_.add(rod::static_cell_block(m, j, nodes_[static_cast<size_t>(j - 1)], nodes_[static_cast<size_t>(j)]));
-    sys_.add(rod::static_right_block(m, nodes_.back()));
+      add(m, rod::static_cell_block(m, j, nodes_[static_cast<size_t>(j - 1)], nodes_[static_cast<size_t>(j)]));
+    add(m, rod::static_right_block(m, nodes_.back()));
+  }
+  void add(const rod::StaticModel& m, const rod::LocalBlock& full) {
+    if (!planar_) return sys_.add(full);
+    const double d = rod::restrict_static_block(m, *planar_, full, in_plane_);
+    dropped_ = std::isnan(d) || std::isnan(dropped_) ? std::numeric_limits<double>::quiet_NaN() : std::max(dropped_, d);
+    sys_.add(in_plane_);
   }
 
   std::vector<rod::StaticNode> nodes_, saved_;
   BlockSystem sys_;
   double tol_;
+  std::optional<rod::StaticPlanarSplit> planar_;
+  rod::LocalBlock in_plane_;
+  double dropped_ = 0.0;  ///< largest |residual| of the rows left out (planar)
   std::vector<double> dx_;
 };
 
 }  // namespace
 
-StaticStart solve_static_start_in_one_process(const rod::StaticModel& m) {
+StaticStart solve_static_start_in_one_process(const rod::StaticModel& m, bool planar) {
   StaticStart out;
   out.first_owned_node = 0;
   out.num_owned_nodes = m.num_cells + 1;
   // The block LU eliminates from the left end: well posed only when the left end is clamped
-  // (static_start.cpp).
+  // (static_start.cpp). The in-plane system first when the problem is symmetric about a plane,
+  // the full one if that fails.
   if (m.left.type == rod::EndCondition::Type::clamped) {
     const LinearSolverChoice choice = LinearSolverChoice::resolve(validated_solver_parameters(ParamList()),
                                                                   1, LinearSolverChoice::Use::time_step);
-    BlockStaticSystem sys(m, choice.linear_tolerance);
-    out.linear_solver = choice.resolved;
-    out.report = rod::StaticSolver().solve_with_load_steps(m, sys);
-    if (out.report.converged) {
-      out.nodes = sys.nodes();
-      return out;
+    std::vector<std::optional<rod::StaticPlanarSplit>> tries;
+    if (planar)
+      if (std::optional<rod::StaticPlanarSplit> split = rod::static_planar_split(m)) tries.push_back(split);
+    tries.push_back(std::nullopt);
+    for (const std::optional<rod::StaticPlanarSplit>& split : tries) {
+      BlockStaticSystem sys(m, choice.linear_tolerance, split);
+      out.linear_solver = choice.resolved + (split ? " on the in-plane unknowns (6 per node)" : "");
+      out.report = rod::StaticSolver().solve_with_load_steps(m, sys);
+      if (out.report.converged) {
+        out.nodes = sys.nodes();
+        return out;
+      }
+      if (out.first_failure.empty()) out.first_failure = out.linear_solver + ": " + out.report.message;
     }
-    out.first_failure = out.linear_solver + ": " + out.report.message;
   }
   std::vector<rod::StaticNode> nodes = rod::straight_static_nodes(m, 0, m.num_cells + 1);
   out.linear_solver = "Eigen sparse LU (direct)";

@@ -3,6 +3,7 @@
 // end-row split of every end condition, and check_planar's verdicts.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 
 #include "rod_test_util.hpp"
@@ -403,6 +404,93 @@ TEST(Planar, ReductionLayout) {
         outside = std::max(outside, std::abs(full(k)));
     EXPECT_EQ(outside, 0.0);
   }
+}
+
+// The static form (StaticPlanarSplit, rod::static_planar_split): the hanging cable and a pinned
+// arch split about d1 = i; at random states symmetric about that plane the static blocks
+// decouple (in-plane rows free of out-of-plane unknowns and the other way round, out-of-plane
+// residuals zero) and restrict_static_block puts the in-plane rows where the planar layout
+// has them; a load or curvature out of every candidate plane has no split.
+TEST(Planar, StaticSplitOfTheCableAndTheArch) {
+  auto cable = [] {
+    StaticModel m;
+    m.props = RodProperties::scene_rod();
+    m.num_cells = 6;
+    m.left = static_end(EndSpec{}, Vec3::Zero());
+    m.right.type = EndCondition::Type::sliding;
+    m.right.axis = Vec3::UnitZ();
+    m.right.position = Vec3(0.0, 0.0, 1.0);
+    m.gravity = Vec3(0.0, -9.8, 0.0);
+    m.point_forces.push_back({Vec3(0.0, -2.0, 0.0), 0.37});
+    return m;
+  };
+  StaticModel arch = cable();
+  arch.left.type = arch.right.type = EndCondition::Type::pinned;
+  arch.left.axis = arch.right.axis = Vec3::UnitX();
+  arch.right.position = Vec3(0.0, 0.0, 0.8);
+  test::Rng rng;
+  for (const StaticModel& m : {cable(), arch}) {
+    const std::optional<StaticPlanarSplit> split = static_planar_split(m);
+    ASSERT_TRUE(split.has_value());
+    EXPECT_EQ(split->axis, 0);
+    const std::array<int, 6> S = in_plane_components(0);
+    auto in_plane = [&](int k) { return std::find(S.begin(), S.end(), k) != S.end(); };
+    std::vector<StaticNode> nodes(static_cast<size_t>(m.num_cells + 1));
+    for (StaticNode& n : nodes) {
+      n.Rbar = so3::exp(rng.uniform() * Vec3::UnitX());
+      for (int k : S) n.x(k) = rng.uniform();
+    }
+    std::vector<LocalBlock> blocks{static_left_block(m, nodes.front())};
+    for (int j = 1; j <= m.num_cells; ++j)
+      blocks.push_back(static_cell_block(m, j, nodes[static_cast<size_t>(j - 1)], nodes[static_cast<size_t>(j)]));
+    blocks.push_back(static_right_block(m, nodes.back()));
+    for (size_t b = 0; b < blocks.size(); ++b) {
+      const LocalBlock& full = blocks[b];
+      LocalBlock out;
+      const double dropped = restrict_static_block(m, *split, full, out);
+      const bool left = b == 0, right = b + 1 == blocks.size();
+      const std::array<int, 3>& end_rows = left ? split->left_rows : split->right_rows;
+      std::vector<int> keep = left || right ? std::vector<int>(end_rows.begin(), end_rows.end())
+                                            : std::vector<int>(S.begin(), S.end());
+      EXPECT_EQ(out.row, left ? 0 : right ? 3 + 6 * m.num_cells : 3 + 6 * static_cast<Eigen::Index>(b - 1));
+      ASSERT_EQ(out.residual.size(), static_cast<Eigen::Index>(keep.size()));
+      double jmax = 0.0, fmax = full.residual.cwiseAbs().maxCoeff();
+      for (const MatX& J : full.jac) jmax = std::max(jmax, J.cwiseAbs().maxCoeff());
+      double coupling = 0.0, dropped_max = 0.0;
+      for (Eigen::Index i = 0; i < full.residual.size(); ++i) {
+        const bool kept = std::find(keep.begin(), keep.end(), static_cast<int>(i)) != keep.end();
+        if (!kept) dropped_max = std::max(dropped_max, std::abs(full.residual(i)));
+        for (const MatX& J : full.jac)
+          for (int k = 0; k < 12; ++k)
+            if (kept != in_plane(k)) coupling = std::max(coupling, std::abs(J(i, k)));
+      }
+      EXPECT_LE(coupling, 1e-14 * jmax) << "block " << b;
+      EXPECT_LE(dropped_max, 1e-14 * std::max(1.0, fmax)) << "block " << b;
+      EXPECT_EQ(dropped, dropped_max);
+      for (size_t k = 0; k < full.cols.size(); ++k) {
+        EXPECT_EQ(out.cols[k], full.cols[k] / 2);
+        for (Eigen::Index i = 0; i < out.residual.size(); ++i) {
+          EXPECT_EQ(out.residual(i), full.residual(keep[static_cast<size_t>(i)]));
+          for (int c = 0; c < 6; ++c) EXPECT_EQ(out.jac[k](i, c), full.jac[k](keep[static_cast<size_t>(i)], S[static_cast<size_t>(c)]));
+        }
+      }
+    }
+  }
+  // Out of every candidate plane: a point force along i besides gravity along j; gravity with
+  // an i component; a natural twist of d1 = i with gravity along j.
+  StaticModel a = cable(), b = cable(), c = cable();
+  a.point_forces[0].force = Vec3(0.5, -2.0, 0.0);
+  b.gravity = Vec3(0.3, -9.8, 0.0);
+  c.props.kappa0 = Vec3(0.0, 0.2, 0.0);
+  EXPECT_FALSE(static_planar_split(a).has_value());
+  EXPECT_FALSE(static_planar_split(b).has_value());
+  EXPECT_FALSE(static_planar_split(c).has_value());
+  // In the plane of i and k instead (normal d2 = j): gravity along i.
+  StaticModel d = cable();
+  d.gravity = Vec3(-9.8, 0.0, 0.0);
+  d.point_forces[0].force = Vec3(-2.0, 0.0, 0.0);
+  ASSERT_TRUE(static_planar_split(d).has_value());
+  EXPECT_EQ(static_planar_split(d)->axis, 1);
 }
 
 }  // namespace

@@ -154,6 +154,58 @@ TEST(StaticStart, InOneProcessIsTheDistributedStart) {
   }
 }
 
+// The in-plane system of the start in one process (planar = true): on the cable, symmetric
+// about the plane of j and k, the same load steps and Newton iterations as the full system
+// and the same state to rounding; with a point force out of that plane there is no split and
+// the full system runs, bit for bit as without asking for the planar one.
+TEST(StaticStart, InOneProcessTheInPlaneSystemGivesTheFullSystemsState) {
+  const int N = 40;
+  const rod::StaticModel m = cable(N, rod::EndCondition::Type::clamped);
+  const StaticStart full = solve_static_start_in_one_process(m, false);
+  const StaticStart planar = solve_static_start_in_one_process(m, true);
+  ASSERT_TRUE(full.report.converged) << full.report.message;
+  ASSERT_TRUE(planar.report.converged) << planar.report.message;
+  EXPECT_NE(planar.linear_solver.find("in-plane"), std::string::npos) << planar.linear_solver;
+  EXPECT_EQ(full.linear_solver.find("in-plane"), std::string::npos) << full.linear_solver;
+  EXPECT_EQ(planar.report.load_steps, full.report.load_steps);
+  EXPECT_EQ(planar.report.iterations, full.report.iterations);
+  const Agreement a = [&] {
+    Agreement x;
+    for (size_t k = 0; k < planar.nodes.size(); ++k) {
+      const rod::StaticNode& p = planar.nodes[k];
+      const rod::StaticNode& f = full.nodes[k];
+      auto d = [&](int v) { return (p.x.segment<3>(v) - f.x.segment<3>(v)).cwiseAbs().maxCoeff(); };
+      x.r = std::max(x.r, d(rod::svar::r));
+      x.kappa = std::max(x.kappa, d(rod::svar::kappa));
+      x.n = std::max(x.n, d(rod::svar::n));
+      x.frame = std::max(x.frame, (p.frame() - f.frame()).cwiseAbs().maxCoeff());
+    }
+    return x;
+  }();
+  say("  in-plane against full start (%d nodes, %d Newton iterations): max |dr| %.2e m, |dkappa| %.2e 1/m, |dn| "
+      "%.2e N, |dR| %.2e\n",
+      N + 1, planar.report.iterations, a.r, a.kappa, a.n, a.frame);
+  EXPECT_LT(a.r, 1e-14);
+  EXPECT_LT(a.kappa, 1e-12);
+  EXPECT_LT(a.n, 1e-12);
+  EXPECT_LT(a.frame, 1e-14);
+  for (const rod::StaticNode& p : planar.nodes) {  // exactly in the plane
+    EXPECT_EQ(p.x(rod::svar::r), 0.0);
+    EXPECT_EQ(p.x(rod::svar::n), 0.0);
+    EXPECT_EQ(p.frame()(0, 0), 1.0);
+  }
+  rod::StaticModel skew = m;
+  skew.point_forces[0].force = Vec3(0.3, -2.0, 0.0);
+  const StaticStart skew_full = solve_static_start_in_one_process(skew, false);
+  const StaticStart skew_asked = solve_static_start_in_one_process(skew, true);
+  ASSERT_TRUE(skew_asked.report.converged) << skew_asked.report.message;
+  EXPECT_EQ(skew_asked.linear_solver, skew_full.linear_solver);
+  EXPECT_TRUE(skew_asked.first_failure.empty()) << skew_asked.first_failure;
+  ASSERT_EQ(skew_asked.nodes.size(), skew_full.nodes.size());
+  for (size_t k = 0; k < skew_full.nodes.size(); ++k) EXPECT_EQ(skew_asked.nodes[k].x, skew_full.nodes[k].x);
+  EXPECT_GT(std::abs(skew_asked.nodes[N / 2].x(rod::svar::r)), 1e-6);  // it does leave the plane
+}
+
 // A load the rod cannot carry: the same failure report on every rank, no nodes.
 TEST(StaticStart, AFailedSolveReportsHowFarTheLoadSteppingGot) {
   rod::StaticModel m = cable(20, rod::EndCondition::Type::clamped);

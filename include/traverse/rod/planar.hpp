@@ -16,12 +16,14 @@
 // and the cell rows split the same way (same indices). Each end's 6 rows split 3 + 3,
 // depending on the condition and its axes (found by probing the end rows, see check_planar).
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "traverse/rod/rod_kernels.hpp"
 #include "traverse/rod/rod_model.hpp"
 #include "traverse/rod/rod_state.hpp"
+#include "traverse/rod/static_kernels.hpp"
 
 namespace traverse::rod {
 
@@ -158,5 +160,28 @@ class PlanarReduction {
   Eigen::Matrix<double, 6, 6> Mm6_, Kk6_;  ///< the in-plane rows and columns of the model's Mm and Kk
   double sigma_ = 1.0;  ///< e_a x v = sigma J v for in-plane polar v, J (v_b, v_3) = (-v_3, v_b)
 };
+
+/// The same symmetry for a static problem (static_kernels.hpp) started from the straight state
+/// with frame R0 = I (straight_static_nodes), about the plane normal to d_axis = e_axis. The
+/// static unknowns (r, theta, kappa, n) and cell rows (force, moment, frame, centreline) have
+/// the parities of the dynamic ones (r and n polar as u and n; theta and kappa axial as omega
+/// and kappa), so in_plane_components(axis) gives the in-plane unknowns of a node and rows of a
+/// cell again; each end's 6 rows are split 3 + 3 by probing static_end_rows at random symmetric
+/// nodes. A Newton update of the in-plane system keeps a symmetric state symmetric.
+struct StaticPlanarSplit {
+  int axis = 0;                              ///< 0 (normal d1 = i) or 1 (normal d2 = j)
+  std::array<int, 3> left_rows{{0, 0, 0}};   ///< the in-plane rows among the left end's 6
+  std::array<int, 3> right_rows{{0, 0, 0}};  ///< the in-plane rows among the right end's 6
+};
+/// The split about d1, else about d2, when the intrinsic curvature has only the normal's
+/// component, gravity and the point forces lie in the plane (relative tolerance `tol`) and
+/// both ends split; none otherwise.
+std::optional<StaticPlanarSplit> static_planar_split(const StaticModel& m, double tol = 1e-12);
+/// The in-plane rows and columns of a static block of m (static_left_block, static_cell_block,
+/// static_right_block) in the planar layout, 6 unknowns per node (in_plane_components order)
+/// and rows [3 left-end rows, 6 per cell, 3 right-end rows], as PlanarReduction's box-scheme
+/// layout. Returns the largest |residual| of the dropped rows (zero at a symmetric state).
+double restrict_static_block(const StaticModel& m, const StaticPlanarSplit& split, const LocalBlock& full,
+                             LocalBlock& out);
 
 }  // namespace traverse::rod

@@ -22,8 +22,11 @@ struct StaticStart {
   std::string first_failure;           ///< when the block LU was tried first and failed: why
 };
 
-/// The start in this process alone: every node (first_node 0, all of them owned).
-StaticStart solve_static_start_in_one_process(const rod::StaticModel& m);
+/// The start in this process alone: every node (first_node 0, all of them owned). `planar`:
+/// when the problem is symmetric about a plane (rod::static_planar_split), the block LU on
+/// the in-plane rows and unknowns only (6 x 6 blocks; the same state to rounding), then the
+/// full system if that fails.
+StaticStart solve_static_start_in_one_process(const rod::StaticModel& m, bool planar = false);
 
 /// This rank's piece of the dynamic state at rest from a converged start: its nodes and one
 /// ghost each side, as the steppers partition the rod (first_node: the first's index).
