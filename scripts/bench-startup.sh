@@ -28,22 +28,27 @@ trap 'rm -rf "$work"' EXIT
 # median wall and CPU (user + system of the process and its children) of RUNS runs of each
 # command given (one per argument, words split on spaces), the commands run in turn (run k of
 # every command, then run k + 1 ...), so that all see the same machine load; each timed to the
-# microsecond (time.perf_counter, getrusage of the children). One line per command.
+# microsecond (time.perf_counter, getrusage of the children). One line per command: wall, CPU
+# and, for a sweep, the median of the wall time the sweep reports for itself ("sweep done: ...
+# in S s": from the sweep's start to its index written, without the process's start-up, MPI's
+# and the launcher's), else "-".
 measure() {
   $py - "$runs" "$@" <<'PY'
-import resource, statistics, subprocess, sys, time
+import re, resource, statistics, subprocess, sys, time
 runs, cmds = int(sys.argv[1]), [c.split() for c in sys.argv[2:]]
-wall, cpu = [[] for _ in cmds], [[] for _ in cmds]
+wall, cpu, own = [[] for _ in cmds], [[] for _ in cmds], [[] for _ in cmds]
 for _ in range(runs):
     for i, cmd in enumerate(cmds):
         r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
         t0 = time.perf_counter()
-        subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
         wall[i].append(time.perf_counter() - t0)
         r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
         cpu[i].append(r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime)
-for w, c in zip(wall, cpu):
-    print("%.4f %.4f" % (statistics.median(w), statistics.median(c)))
+        m = re.search(r"^sweep done: .* in ([0-9.]+) s ->", p.stdout, re.M)
+        if m: own[i].append(float(m.group(1)))
+for w, c, o in zip(wall, cpu, own):
+    print("%.4f %.4f %s" % (statistics.median(w), statistics.median(c), "%.4f" % statistics.median(o) if o else "-"))
 PY
 }
 
@@ -59,7 +64,7 @@ for cmd in "--version" "check inputs/default.yaml" \
   for exe in "${exes[@]}"; do cmds+=("$exe $cmd"); done
   mapfile -t results < <(measure "${cmds[@]}")
   for k in "${!exes[@]}"; do
-    read -r wall cpu <<< "${results[$k]}"
+    read -r wall cpu _ <<< "${results[$k]}"
     ratio=""
     [ "${cmd%% *}" = run ] && ratio=$($py -c "print('%.2f' % (0.275165 / $wall))")
     echo "| ${exes[$k]} | traverse ${cmd%% -o *} | $wall | $cpu | $ratio |"
@@ -71,8 +76,9 @@ exe="${exes[-1]}"
 speeds=$($py -c 'V1 = 7.268366068467048; print(",".join(repr(round(0.1 * k, 2) * V1) for k in range(1, 21)))')
 ends=$($py -c 'V1 = 7.268366068467048; T1 = 2 / V1
 print(",".join(repr(1 / (round(0.1 * k, 2) * V1) + 2 * T1) for k in range(1, 21)))')
+# Not -q: the sweep's closing line gives its own wall time.
 args=(sweep inputs/rod/hanging_cable_F2_a0.5.yaml --vary "loads.F.speed=$speeds" --with "time.end=$ends"
-      --set "output.fields=[]" --overwrite -q)
+      --set "output.fields=[]" --overwrite)
 # --bind-to none: Open MPI binds 2 ranks to one core each by default, which on a machine
 # shared with other work pins a rank to a busy core; one process alone is never bound.
 # The four sweeps run in turn, 3 times each.
@@ -81,9 +87,10 @@ mapfile -t results < <(runs=3 measure "$exe ${args[*]} -o $work/sweep1" "$exe ${
   "$mpirun -n 2 $exe ${args[*]} -o $work/sweep2" "$mpirun -n 1 $exe ${args[*]} -o $work/sweep3")
 k=0
 for how in "one process" "2 worker processes (-j 2)" "2 MPI ranks (mpirun -n 2)" "1 MPI rank (mpirun -n 1)"; do
-  read -r wall cpu <<< "${results[$k]}"
-  echo "resonance sweep (F = 2 N, 20 speeds) in $how: wall $wall s, CPU $cpu s"
-  eval "wall$k=$wall"
+  read -r wall cpu own <<< "${results[$k]}"
+  echo "resonance sweep (F = 2 N, 20 speeds) in $how: wall $wall s, CPU $cpu s; the sweep's own wall $own s"
+  eval "wall$k=$wall own$k=$own"
   k=$((k + 1))
 done
 $py -c "print('resonance sweep, wall: -j 2 %.2fx, mpirun -n 2 %.2fx faster than one process; mpirun -n 2 %.2fx faster than mpirun -n 1' % ($wall0 / $wall1, $wall0 / $wall2, $wall3 / $wall2))"
+$py -c "print('resonance sweep, its own wall (start-up, MPI and launcher excluded): -j 2 %.2fx, mpirun -n 2 %.2fx faster than one process; mpirun -n 2 %.2fx faster than mpirun -n 1' % ($own0 / $own1, $own0 / $own2, $own3 / $own2))"

@@ -369,10 +369,13 @@ struct Results {
   std::vector<bool> reported;
 };
 
+using Clock = std::chrono::steady_clock;
+
 // The end of a sweep, where the index is written: the cases not reported recorded as not run
-// (no process took them, after a signal), the index, the summary line, the exit code (0 when
-// every case completed, else that of the first case, in case order, that did not).
-int finish_sweep(const CommandLine& cl, const SweepPlan& plan, Results& results) {
+// (no process took them, after a signal), the index, the summary line (with the sweep's own wall
+// time since `start`, the process's start-up and MPI's excluded), the exit code (0 when every
+// case completed, else that of the first case, in case order, that did not).
+int finish_sweep(const CommandLine& cl, const SweepPlan& plan, Results& results, Clock::time_point start) {
   for (std::size_t k = 0; k < plan.cases.size(); ++k)
     if (!results.reported[k]) results.add({k, -1, index_row(k, plan.cases[k], CaseRecord{}, cl.summary.given())});
   std::size_t complete = 0;
@@ -383,8 +386,8 @@ int finish_sweep(const CommandLine& cl, const SweepPlan& plan, Results& results)
   }
   write_index(cl, results.rows);
   if (!cl.quiet || complete != results.codes.size())
-    std::printf("sweep done: %zu of %zu cases complete -> %s\n", complete, results.codes.size(),
-                index_path(cl).string().c_str());
+    std::printf("sweep done: %zu of %zu cases complete in %.3f s -> %s\n", complete, results.codes.size(),
+                std::chrono::duration<double>(Clock::now() - start).count(), index_path(cl).string().c_str());
   return code;
 }
 
@@ -569,6 +572,7 @@ class HostQueue {
 }  // namespace
 
 int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
+  const Clock::time_point start = Clock::now();
   const std::vector<SweepCase>& cases = plan.cases;
   prepare_directory(cl, cases, comm);
   const int size = comm_size(comm), rank = comm_rank(comm);
@@ -591,10 +595,11 @@ int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
   if (rank != 0) return kSuccess;
   Results results(cases.size());
   results.add_packed(all, [](std::size_t) { return true; });
-  return finish_sweep(cl, plan, results);
+  return finish_sweep(cl, plan, results, start);
 }
 
 int run_sweep_jobs(const CommandLine& cl, const SweepPlan& plan, const std::function<MPI_Comm()>& start_mpi) {
+  const Clock::time_point start = Clock::now();
   static_assert(kMaxJobs - 1 <= kMaxForwarded, "every worker of the most --jobs gets the signals passed on");
   const std::vector<SweepCase>& cases = plan.cases;
   prepare_directory(cl, cases, MPI_COMM_NULL);
@@ -672,7 +677,7 @@ int run_sweep_jobs(const CommandLine& cl, const SweepPlan& plan, const std::func
       results.add({k, r.code, index_row(k, cases[k], r, cl.summary.given())});
     }
   }
-  return finish_sweep(cl, plan, results);
+  return finish_sweep(cl, plan, results, start);
 }
 
 }  // namespace traverse::app

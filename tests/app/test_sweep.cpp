@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -143,11 +144,18 @@ TEST(Sweep, OneProcessRanksAndJobsMatchSeparateRuns) {
   const auto two = traverse::testing::run_command(mpiexec(2) + kExe + " sweep " + kCable.string() + " -o " +
                                                   (d / "np2").string() + common + vary + " -q");
   ASSERT_EQ(two.code, 0) << two.out;
-  // 4 worker processes for 6 cases (not quiet: the header names them).
+  // 4 worker processes for 6 cases (not quiet: the header names them, the summary line gives the
+  // sweep's own wall time).
+  const auto t0 = std::chrono::steady_clock::now();
   const auto jobs = traverse::testing::run_command(kExe + " sweep " + kCable.string() + " -o " + (d / "j4").string() +
                                                    common + vary + " -j 4");
+  const double process_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_EQ(jobs.code, 0) << jobs.out;
   EXPECT_NE(jobs.out.find("6 cases in 4 worker process(es)"), std::string::npos) << jobs.out;
+  const std::string done = "sweep done: 6 of 6 cases complete in ";
+  const std::size_t at = jobs.out.find(done);
+  ASSERT_NE(at, std::string::npos) << jobs.out;
+  const double own_wall = std::stod(jobs.out.substr(at + done.size()));
   const auto a = read_csv(d / "np1" / "index.csv"), b = read_csv(d / "np2" / "index.csv"),
              j = read_csv(d / "j4" / "index.csv");
   ASSERT_EQ(a.size(), 7u);  // the header and 3 x 2 cases
@@ -166,6 +174,10 @@ TEST(Sweep, OneProcessRanksAndJobsMatchSeparateRuns) {
       EXPECT_EQ(a[row][c], j[row][c]) << "-j 4: row " << row << " column " << h[c];
     }
     EXPECT_EQ(a[row][status], "complete");
+    // Each case ran within the sweep's own time, which the process's wall time holds (the
+    // printed times have 4 and 3 decimals).
+    EXPECT_LE(std::stod(j[row][wall]), own_wall + 1e-3) << j[row][wall] << " s, sweep " << own_wall << " s";
+    EXPECT_LE(own_wall, process_wall) << jobs.out;
     // The case as a run of its own, with --set.
     const std::string single = (d / ("single_" + std::to_string(row - 1) + ".h5")).string();
     const auto r = traverse::testing::run_command(kExe + " run " + kCable.string() + " -o " + single + common +
