@@ -1,14 +1,16 @@
 // traverse: parse the command line, read the scene, dispatch, report.
 #include <mpi.h>
 
-#include <malloc.h>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <string>
 
 #include "cli.hpp"
 #include "hand_over.hpp"
+#include "heap_pages.hpp"
 #include "interrupt.hpp"
 #include "mpi_session.hpp"
 #include "restart.hpp"
@@ -127,11 +129,12 @@ int sweep_in_workers(const app::CommandLine& cl, const app::Launch& launch, app:
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Memory once touched stays with the process and is reused: no mmap per large block, no
-  // trimming of the heap's top. A first touch of a page (a page fault) is the costliest thing
-  // a small run does on some virtual machines (about 10 us here; docs/benchmarks.md).
-  mallopt(M_MMAP_THRESHOLD, 32 << 20);
-  mallopt(M_TRIM_THRESHOLD, 256 << 20);
+  // Memory once touched stays with the process and is reused (no mmap per large block, no
+  // trimming of the heap's top), and the heap's first 8 MiB lie on 2 MiB pages, one page fault
+  // each: a first touch of a 4 KiB page is the costliest thing a small run does on some virtual
+  // machines (about 10 us here; heap_pages.hpp). TRAVERSE_HUGE_PAGES=0: 4 KiB pages.
+  const char* huge = std::getenv("TRAVERSE_HUGE_PAGES");
+  app::set_up_heap(huge && std::string(huge) == "0" ? 0 : std::size_t{8} << 20);
   // MPI only for the commands that need it (needs_mpi); until it starts, the rank is the
   // launcher's (0 outside one), so that one rank reports.
   const app::Launch launch = app::launch_from_environment();
