@@ -7,6 +7,13 @@
 #include <cstdint>
 #include <cstdlib>
 
+// mallinfo2 (the heap's top chunk) is glibc 2.33's.
+#if defined(__linux__) && defined(__GLIBC__) && defined(MADV_HUGEPAGE)
+#if __GLIBC_PREREQ(2, 33)
+#define TRAVERSE_HEAP_HUGE_PAGES 1
+#endif
+#endif
+
 namespace traverse::app {
 
 std::size_t set_up_heap(std::size_t huge_bytes) {
@@ -18,7 +25,7 @@ std::size_t set_up_heap(std::size_t huge_bytes) {
 }
 
 std::size_t back_heap_with_huge_pages(std::size_t bytes) {
-#if defined(__linux__) && defined(__GLIBC__) && defined(MADV_HUGEPAGE)
+#ifdef TRAVERSE_HEAP_HUGE_PAGES
   constexpr std::uintptr_t kHuge = std::uintptr_t{2} << 20;
   constexpr std::uintptr_t kHeader = 2 * sizeof(std::size_t);  // a glibc chunk's header
   constexpr int kDefaultTopPad = 128 << 10;                    // glibc's M_TOP_PAD

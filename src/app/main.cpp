@@ -1,7 +1,6 @@
 // traverse: parse the command line, read the scene, dispatch, report.
 #include <mpi.h>
 
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
