@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 #include "run.hpp"
 #include "run_limits.hpp"
@@ -12,6 +14,7 @@
 #include "traverse/rod/static_solver.hpp"
 #include "traverse/mesh/mesh.hpp"
 #include "mpi_session.hpp"
+#include "traverse/solver/arch_in_one_process.hpp"
 #include "traverse/solver/block_stepper.hpp"
 #include "traverse/core/comm.hpp"
 #include "trilinos_parts.hpp"
@@ -90,6 +93,50 @@ std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, c
          "). Try a smaller load, a stiffer rod, or initial_state: {type: rest} (the rod starts straight and at rest; "
          "the loads act from t = 0)";
   return msg;
+}
+
+// The scene's rod formed into an arch in this process (solver::form_arch_in_one_process). The
+// last arch formed is kept: the cases of a sweep that vary the load, the speed or the time
+// numerics form the same arch, which is then reused (the formation is deterministic). With
+// initial_state.loaded the arch is solved again with the load at t = 0 on it, as arch_start
+// does over the ranks.
+rod::RodState arch_in_one_process(const scene::Scene& sc, std::string& description) {
+  static std::optional<std::pair<std::string, solver::OneProcessArch>> last;
+  const auto& r = sc.rod;
+  std::ostringstream key;
+  key.precision(17);
+  key << r.length << ' ' << r.youngs_modulus << ' ' << r.shear_modulus << ' ' << r.density << ' ' << r.section.area
+      << ' ' << r.section.I1 << ' ' << r.section.I2 << ' ' << r.section.J << ' ' << r.intrinsic_curvature.transpose()
+      << ' ' << sc.mesh.nodes << ' ' << sc.initial_state.end_to_end << ' ' << sc.gravity;
+  const bool reused = last && last->first == key.str();
+  if (!reused) {
+    last.reset();
+    solver::OneProcessArch formed = solver::form_arch_in_one_process(rod_properties(r), sc.mesh.nodes - 1, r.length,
+                                                                     sc.initial_state.end_to_end, sc.gravity);
+    if (!formed.ok) throw std::runtime_error("arch formation: " + formed.message);
+    last.emplace(key.str(), std::move(formed));
+  }
+  const solver::OneProcessArch& arch = last->second;
+  std::ostringstream os;
+  os << "arch formed: Euler load " << arch.euler_load << " N; end load " << arch.forming_load << " N with the ends "
+     << arch.problem.value(rod::StaticParameter::end_position) << " m apart (" << arch.displacement_steps
+     << " displacement steps), pinned there; gravity raised to " << -arch.problem.gravity.y() << " m/s^2"
+     << (reused ? " (formed earlier in this process, reused)" : "");
+  if (!sc.initial_state.loaded) {
+    description = os.str();
+    return rod::dynamic_state_from_static(arch.problem.model(), arch.state);
+  }
+  const auto loads = scene::prescribed_loads_at_start(sc);
+  if (loads.size() != 1) throw std::logic_error("initial_state.loaded: the scene has not exactly one load at t = 0");
+  rod::StaticProblem pr = arch.problem;
+  pr.set_point_load(loads.front()->force, loads.front()->sigma(0.0));
+  std::vector<rod::StaticNode> state = arch.state;
+  const rod::StaticReport rep = rod::StaticSolver().newton(pr.model(), state);
+  if (!rep.converged) throw std::runtime_error("arch formation: the equilibrium with the load at t = 0: " + rep.message);
+  os << "; in equilibrium with the load at s = " << loads.front()->sigma(0.0) << " m (" << rep.iterations
+     << " Newton iterations)";
+  description = os.str();
+  return rod::dynamic_state_from_static(pr.model(), state);
 }
 
 // Equilibrium under gravity and the loads on the rod at t = 0 (Newton with load steps), over
@@ -173,8 +220,14 @@ InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Co
         // The arch's statics get the scene's solver section unfilled, as a statics run does:
         // their 2-rank default (GMRES + ILUT) applies only when no preconditioner is given
         // (docs/statics.md, "Linear solves"); the filled defaults' SCHWARZ fails there.
-        out.state = sc.initial_state.type == T::arch ? arch_start(sc, sc.solver_parameters(), comm, out.description)
-                                                     : file_start(sc, out.description);
+        // In one process on block storage the arch is formed here without Trilinos (the same
+        // arch: docs/statics.md, "The arch in one process"); over ranks by LOCA's continuation.
+        if (sc.initial_state.type == T::arch)
+          out.state = steps_on_block_storage(setup.solver, comm_size(comm))
+                          ? arch_in_one_process(sc, out.description)
+                          : arch_start(sc, sc.solver_parameters(), comm, out.description);
+        else
+          out.state = file_start(sc, out.description);
       } catch (const std::runtime_error& e) {
         if (dynamic_cast<const scene::SceneError*>(&e)) throw;
         throw NumericsError(std::string("initial state: ") + e.what());
@@ -365,10 +418,9 @@ bool steps_on_block_storage(const ParamList& solver, int ranks) {
   }
 }
 
-bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
-  using T = scene::InitialStateType;
-  const bool own_start = sc.initial_state.type != T::arch;  // rest, static, file: no Tpetra on block storage
-  return !(own_start && steps_on_block_storage(setup.solver, comm_size(comm)));
+bool needs_tpetra(const scene::Scene&, const RodSetup& setup, MPI_Comm comm) {
+  // Every initial state (rest, static, file, arch) is made without Tpetra on block storage.
+  return !steps_on_block_storage(setup.solver, comm_size(comm));
 }
 
 std::unique_ptr<solver::RodStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {

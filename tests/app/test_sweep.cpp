@@ -395,12 +395,12 @@ TEST(Sweep, RanksShareTheQueueAndASignalToOneEndsTheSweep) {
   }
 }
 
-// A sweep whose cases need Trilinos (the arch's formation) is handed to traverse-trilinos, whose
-// worker processes each start MPI on their own (forked before it starts): the same files as in
-// one process.
+// A sweep whose cases need Trilinos (here KLU2 through Tpetra) is handed to traverse-trilinos,
+// whose worker processes each start MPI on their own (forked before it starts): the same files
+// as in one process. (The arch's formation needed Trilinos too until it ran in one process.)
 TEST(Sweep, JobsWithCasesThatNeedMpi) {
   const fs::path d = scratch("sweep-jobs-mpi");
-  const std::string args = " --set mesh.ds=0.05 --vary loads.F.speed=10,20,30 -q";
+  const std::string args = " --set mesh.ds=0.05 --set 'solver.Linear Solver=KLU2' --vary loads.F.speed=10,20,30 -q";
   for (const char* name : {"one", "j2"}) {
     const auto r = traverse::testing::run_command(kExe + " sweep " + kArch.string() + " -o " + (d / name).string() +
                                                   args + (std::string(name) == "j2" ? " -j 2" : ""));

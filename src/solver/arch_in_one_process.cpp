@@ -1,0 +1,189 @@
+// The arch formed in one process (arch_in_one_process.hpp).
+#include "traverse/solver/arch_in_one_process.hpp"
+
+#include <Eigen/SparseLU>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "traverse/rod/static_solver.hpp"
+
+namespace traverse::solver {
+
+namespace {
+
+using rod::StaticNode;
+using rod::StaticParameter;
+using SpMat = Eigen::SparseMatrix<double>;
+
+std::string format(const char* f, double a, double b = 0.0) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, f, a, b);
+  return buf;
+}
+
+/// The straight rod in equilibrium under the compressive end load P: n = -P k on every node
+/// (body and fixed frames agree on the straight rod).
+std::vector<StaticNode> straight_under(const rod::StaticModel& m, double P) {
+  std::vector<StaticNode> nodes = rod::straight_static_state(m);
+  for (StaticNode& n : nodes) n.x(rod::svar::n + 2) = -P;
+  return nodes;
+}
+
+/// The Jacobian of the straight rod under the end load P, factorised.
+struct StraightJacobian {
+  Eigen::SparseLU<SpMat> lu;
+  bool ok = false;
+  StraightJacobian(const rod::StaticProblem& pr, double P) {
+    rod::StaticProblem at = pr;
+    at.value(StaticParameter::end_load) = P;
+    const rod::StaticModel m = at.model();
+    VecX r;
+    SpMat J;
+    rod::StaticSolver().residual_and_jacobian(m, straight_under(m, P), r, J);
+    J.makeCompressed();
+    lu.analyzePattern(J);
+    lu.factorize(J);
+    ok = lu.info() == Eigen::Success;
+  }
+};
+
+/// det J(P) relative to det J(P0) (= exp(log|det J(P)| - log0) with its sign), or 0 when the
+/// factorisation failed (singular to working precision: P is the pitchfork).
+double relative_determinant(const rod::StaticProblem& pr, double P, double log0) {
+  StraightJacobian J(pr, P);
+  if (!J.ok) return 0.0;
+  return J.lu.signDeterminant() * std::exp(J.lu.logAbsDeterminant() - log0);
+}
+
+}  // namespace
+
+OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num_cells, double length, double dz,
+                                        double gravity) {
+  OneProcessArch out;
+  const double L = length;
+  const rod::StaticProblem pr = rod::pinned_roller_problem(props, num_cells, L, gravity);
+  const double PE = props.euler_load(L);  // the continuum's, to scale the search
+  const rod::StaticSolver solver;
+
+  // 1. The pitchfork: the first sign change of det J(P) on the straight branch, bracketed in
+  // steps of PE / 5 (as the continuation's first steps), then Illinois' regula falsi.
+  StraightJacobian J0(pr, 0.0);
+  if (!J0.ok) {
+    out.message = "the straight rod's Jacobian is singular without load";
+    return out;
+  }
+  const double log0 = J0.lu.logAbsDeterminant();
+  double a = 0.0, fa = J0.lu.signDeterminant(), b = 0.0, fb = fa;
+  for (int k = 1; k <= 8 && fa * fb > 0.0; ++k) {
+    a = b;
+    fa = fb;
+    b = 0.2 * PE * k;
+    fb = relative_determinant(pr, b, log0);
+  }
+  if (fa * fb > 0.0) {
+    out.message = format("no Euler pitchfork below %.6g N on the straight rod", b);
+    return out;
+  }
+  double P = b;
+  int side = 0;
+  for (int it = 0; it < 200 && fb != 0.0 && std::abs(b - a) > 1e-13 * PE; ++it) {
+    P = (a * fb - b * fa) / (fb - fa);
+    const double fp = relative_determinant(pr, P, log0);
+    if (fp == 0.0) break;
+    if (fp * fb < 0.0) {
+      a = b;
+      fa = fb;
+      side = 0;
+    } else if (++side >= 2) {
+      fa *= 0.5;  // Illinois: the end kept twice weighs half
+    }
+    b = P;
+    fb = fp;
+  }
+  out.euler_load = P;
+
+  // 2. The buckling mode: inverse iteration with J just below the pitchfork; up: +j at midspan.
+  StraightJacobian Jm(pr, P * (1.0 - 1e-9));
+  if (!Jm.ok) {
+    out.message = format("the straight rod's Jacobian at %.6g N is singular", P);
+    return out;
+  }
+  const Eigen::Index n_unknowns = 12 * static_cast<Eigen::Index>(num_cells + 1);
+  VecX v = VecX::Ones(n_unknowns);
+  for (int it = 0; it < 3; ++it) {
+    v = Jm.lu.solve(v);
+    const double scale = v.cwiseAbs().maxCoeff();
+    if (!(scale > 0.0) || !std::isfinite(scale)) {
+      out.message = "the inverse iteration for the buckling mode failed";
+      return out;
+    }
+    v /= scale;
+  }
+  const Eigen::Index mid = 12 * static_cast<Eigen::Index>(num_cells / 2);
+  const double mid_y = v(mid + rod::svar::r + 1);
+  if (!(std::abs(mid_y) > 0.0)) {
+    out.message = "the buckling mode does not move the midpoint along j";
+    return out;
+  }
+  v /= mid_y;  // midpoint deflection +1 (upwards)
+
+  // 3. The ends pinned and moved together, d = L - delta from delta0 to L - dz. The first
+  // guess: the elastica's small deflection, amplitude (2 L / pi) sqrt(delta / L) at midspan.
+  rod::StaticProblem arch = rod::pinned_arch_problem(pr, L);
+  const double total = L - dz;
+  if (!(total > 0.0)) {
+    out.message = format("end_to_end %.6g m is not below the rod's length %.6g m", dz, L);
+    return out;
+  }
+  double delta = std::min(0.005 * L, total);
+  std::vector<StaticNode> state = straight_under(pr.model(), P);
+  const double amplitude = 2.0 * L / std::acos(-1.0) * std::sqrt(delta / L);
+  for (size_t j = 0; j < state.size(); ++j) state[j].x += amplitude * v.segment<12>(12 * static_cast<Eigen::Index>(j));
+  double done = 0.0, step = delta;
+  while (done < total) {
+    const double next = std::min(total, done + step);
+    arch.value(StaticParameter::end_position) = L - next;
+    std::vector<StaticNode> trial = state;
+    const rod::StaticReport r = solver.newton(arch.model(), trial);
+    out.newton_iterations += r.iterations;
+    if (!r.converged) {
+      if (done == 0.0 && step <= 1e-6 * L) {
+        out.message = "the first buckled state did not converge: " + r.message;
+        return out;
+      }
+      step *= 0.5;
+      if (step < 1e-9 * L) {
+        out.message = format("moving the ends together stalled at %.9g m apart: ", L - done) + r.message;
+        return out;
+      }
+      continue;
+    }
+    state = std::move(trial);
+    done = next;
+    ++out.displacement_steps;
+    step = r.iterations <= 6 ? std::min(2.0 * step, 0.2 * L) : step;
+  }
+  const double mid_height = rod::position_at(arch.model(), state, 0.5 * L).y();
+  if (!(mid_height > 0.0)) {
+    out.message = format("the formed arch's midpoint is at y = %.6g m, not above the ends", mid_height);
+    return out;
+  }
+  out.forming_load = rod::probe_end_compression(Vec3::UnitZ()).eval(arch.model(), state);
+
+  // 4. Gravity from 0 to g.
+  arch.value(StaticParameter::gravity_factor) = 1.0;
+  const rod::StaticReport g = solver.solve_with_load_steps(arch.model(), state);
+  out.newton_iterations += g.iterations;
+  if (!g.converged) {
+    out.message = "raising gravity failed: " + g.message;
+    return out;
+  }
+  out.problem = arch;
+  out.state = std::move(state);
+  out.ok = true;
+  return out;
+}
+
+}  // namespace traverse::solver
