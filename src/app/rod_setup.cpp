@@ -95,6 +95,12 @@ std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, c
   return msg;
 }
 
+// Whether an arch start is formed in this process without Trilinos: in one process on block
+// storage, from a straight rod (a curved one goes to LOCA's continuation, as over ranks).
+bool forms_arch_in_one_process(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
+  return steps_on_block_storage(setup.solver, comm_size(comm)) && sc.rod.intrinsic_curvature.squaredNorm() == 0.0;
+}
+
 // The scene's rod formed into an arch in this process (solver::form_arch_in_one_process). The
 // last arch formed is kept: the cases of a sweep that vary the load, the speed or the time
 // numerics form the same arch, which is then reused (the formation is deterministic). With
@@ -223,7 +229,7 @@ InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Co
         // In one process on block storage the arch is formed here without Trilinos (the same
         // arch: docs/statics.md, "The arch in one process"); over ranks by LOCA's continuation.
         if (sc.initial_state.type == T::arch)
-          out.state = steps_on_block_storage(setup.solver, comm_size(comm))
+          out.state = forms_arch_in_one_process(sc, setup, comm)
                           ? arch_in_one_process(sc, out.description)
                           : arch_start(sc, sc.solver_parameters(), comm, out.description);
         else
@@ -418,8 +424,11 @@ bool steps_on_block_storage(const ParamList& solver, int ranks) {
   }
 }
 
-bool needs_tpetra(const scene::Scene&, const RodSetup& setup, MPI_Comm comm) {
-  // Every initial state (rest, static, file, arch) is made without Tpetra on block storage.
+bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
+  // On block storage every initial state is made without Tpetra (rest, static, file; an arch
+  // from a straight rod).
+  if (sc.initial_state.type == scene::InitialStateType::arch && !forms_arch_in_one_process(sc, setup, comm))
+    return true;
   return !steps_on_block_storage(setup.solver, comm_size(comm));
 }
 

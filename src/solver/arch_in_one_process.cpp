@@ -63,6 +63,10 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
                                         double gravity) {
   OneProcessArch out;
   const double L = length;
+  if (props.kappa0.squaredNorm() > 0.0) {
+    out.message = "the rod has an intrinsic curvature (the arch is formed from a straight rod)";
+    return out;
+  }
   const rod::StaticProblem pr = rod::pinned_roller_problem(props, num_cells, L, gravity);
   const double PE = props.euler_load(L);  // the continuum's, to scale the search
   const rod::StaticSolver solver;
@@ -123,8 +127,11 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
   }
   const Eigen::Index mid = 12 * static_cast<Eigen::Index>(num_cells / 2);
   const double mid_y = v(mid + rod::svar::r + 1);
-  if (!(std::abs(mid_y) > 0.0)) {
-    out.message = "the buckling mode does not move the midpoint along j";
+  double r_max = 0.0;
+  for (Eigen::Index j = 0; j <= num_cells; ++j) r_max = std::max(r_max, v.segment<3>(12 * j + rod::svar::r).cwiseAbs().maxCoeff());
+  if (!(std::abs(mid_y) >= 0.5 * r_max)) {
+    out.message = format("the first buckling mode (at %.6g N) does not lift the midpoint along j (it buckles out of "
+                         "the plane of j and k)", P);
     return out;
   }
   v /= mid_y;  // midpoint deflection +1 (upwards)

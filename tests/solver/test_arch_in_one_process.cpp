@@ -58,11 +58,26 @@ TEST(ArchInOneProcess, IsTheArchOfTheContinuation) {
   }
 }
 
-// What cannot be formed says so: the ends farther apart than the rod is long.
-TEST(ArchInOneProcess, RefusesAnArchLongerThanTheRod) {
-  const solver::OneProcessArch a = solver::form_arch_in_one_process(rod::RodProperties::scene_rod(), 20, 1.0, 1.2, 9.8);
+// What cannot be formed says so: the ends farther apart than the rod is long; a curved rod; a
+// section a hundred times weaker about d2, whose in-plane pitchfork (100 times the Euler load of
+// its weaker axis) and out-of-plane one (4 times: the pins hold the ends' turn about j) lie
+// beyond the search, as the continuation's (which stops at 1.1 times).
+TEST(ArchInOneProcess, RefusesWhatItCannotForm) {
+  const rod::RodProperties scene = rod::RodProperties::scene_rod();
+  const solver::OneProcessArch a = solver::form_arch_in_one_process(scene, 20, 1.0, 1.2, 9.8);
   EXPECT_FALSE(a.ok);
   EXPECT_NE(a.message.find("end_to_end"), std::string::npos) << a.message;
+  rod::RodProperties curved = scene;
+  curved.kappa0 = Vec3(0.5, 0.0, 0.0);
+  const solver::OneProcessArch b = solver::form_arch_in_one_process(curved, 20, 1.0, 0.9, 9.8);
+  EXPECT_FALSE(b.ok);
+  EXPECT_NE(b.message.find("intrinsic curvature"), std::string::npos) << b.message;
+  rod::RodProperties thin = scene;
+  thin.K(1) = 0.01 * thin.K(0);  // EI about d2 a hundredth of that about d1
+  const solver::OneProcessArch c = solver::form_arch_in_one_process(thin, 20, 1.0, 0.9, 9.8);
+  std::printf("a section 100 times weaker about d2: %s\n", c.ok ? "formed" : c.message.c_str());
+  EXPECT_FALSE(c.ok);
+  EXPECT_NE(c.message.find("no Euler pitchfork"), std::string::npos) << c.message;
 }
 
 }  // namespace

@@ -33,8 +33,11 @@ struct OneProcessArch {
   int newton_iterations = 0;    ///< of steps 3 and 4
 };
 
-/// The rod `props` with `num_cells` cells and length L formed into an arch whose ends are dz
-/// apart, under gravity g [m/s^2] along -j.
+/// The rod `props` (straight: no intrinsic curvature) with `num_cells` cells and length L
+/// formed into an arch whose ends are dz apart, under gravity g [m/s^2] along -j. Not ok (and
+/// why) when the rod is curved, the straight rod has no pitchfork up to 1.6 times the Euler
+/// load of its weaker axis, its first buckling mode leaves the plane of j and k, or a solve
+/// fails.
 OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num_cells, double length, double dz,
                                         double gravity);
 
