@@ -18,13 +18,21 @@ void scatter(const LocalBlock& b, VecX& r, std::vector<Eigen::Triplet<double>>* 
         if (b.jac[k](i, c) != 0.0) trip->emplace_back(b.row + i, b.cols[k] + c, b.jac[k](i, c));
 }
 
+/// The residual (and the Jacobian's triplets) of the whole rod, or of its in-plane rows and
+/// unknowns when `planar` is given.
 void assemble(const StaticModel& m, const std::vector<StaticNode>& nodes, VecX& r,
-              std::vector<Eigen::Triplet<double>>* trip) {
-  r = VecX::Zero(m.num_unknowns());
-  scatter(static_left_block(m, nodes.front()), r, trip);
+              std::vector<Eigen::Triplet<double>>* trip, const StaticPlanarSplit* planar = nullptr) {
+  r = VecX::Zero(planar ? 6 * static_cast<Eigen::Index>(m.num_cells + 1) : m.num_unknowns());
+  LocalBlock in_plane;
+  auto add = [&](const LocalBlock& full) {
+    if (!planar) return scatter(full, r, trip);
+    restrict_static_block(m, *planar, full, in_plane);
+    scatter(in_plane, r, trip);
+  };
+  add(static_left_block(m, nodes.front()));
   for (int j = 1; j <= m.num_cells; ++j)
-    scatter(static_cell_block(m, j, nodes[static_cast<size_t>(j - 1)], nodes[static_cast<size_t>(j)]), r, trip);
-  scatter(static_right_block(m, nodes.back()), r, trip);
+    add(static_cell_block(m, j, nodes[static_cast<size_t>(j - 1)], nodes[static_cast<size_t>(j)]));
+  add(static_right_block(m, nodes.back()));
 }
 
 /// The whole rod in this process: Eigen's sparse LU, the pattern analysed once per solve.
@@ -48,8 +56,17 @@ class SerialStaticSystem : public StaticNewtonSystem {
   double update(double length, double fscale) override {
     const VecX dx = lu_.solve(-r_);
     double step_max = 0.0;
-    for (size_t j = 0; j < nodes_.size(); ++j)
-      step_max = std::max(step_max, static_update_node(nodes_[j], dx.segment<12>(12 * static_cast<Eigen::Index>(j)), length, fscale));
+    Vec12 d = Vec12::Zero();
+    for (size_t j = 0; j < nodes_.size(); ++j) {
+      const Eigen::Index k = static_cast<Eigen::Index>(j);
+      if (solver_.planar) {
+        const std::array<int, 6> S = in_plane_components(solver_.planar->axis);
+        for (size_t c = 0; c < 6; ++c) d(S[c]) = dx(6 * k + static_cast<Eigen::Index>(c));
+      } else {
+        d = dx.segment<12>(12 * k);
+      }
+      step_max = std::max(step_max, static_update_node(nodes_[j], d, length, fscale));
+    }
     return step_max;
   }
   double residual_max(const StaticModel& m) override {
@@ -116,8 +133,8 @@ void StaticSolver::residual_and_jacobian(const StaticModel& m, const std::vector
                                          Eigen::SparseMatrix<double>& J) const {
   std::vector<Eigen::Triplet<double>> trip;
   trip.reserve(static_cast<size_t>(m.num_unknowns()) * 30);
-  assemble(m, nodes, r, &trip);
-  J.resize(m.num_unknowns(), m.num_unknowns());
+  assemble(m, nodes, r, &trip, planar ? &*planar : nullptr);
+  J.resize(r.size(), r.size());
   J.setFromTriplets(trip.begin(), trip.end());
 }
 

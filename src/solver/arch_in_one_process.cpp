@@ -4,6 +4,7 @@
 #include <Eigen/SparseLU>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
@@ -31,17 +32,18 @@ std::vector<StaticNode> straight_under(const rod::StaticModel& m, double P) {
   return nodes;
 }
 
-/// The Jacobian of the straight rod under the end load P, factorised.
+/// The Jacobian of the straight rod under the end load P (the in-plane one when `solver` has a
+/// planar split), factorised.
 struct StraightJacobian {
   Eigen::SparseLU<SpMat> lu;
   bool ok = false;
-  StraightJacobian(const rod::StaticProblem& pr, double P) {
+  StraightJacobian(const rod::StaticSolver& solver, const rod::StaticProblem& pr, double P) {
     rod::StaticProblem at = pr;
     at.value(StaticParameter::end_load) = P;
     const rod::StaticModel m = at.model();
     VecX r;
     SpMat J;
-    rod::StaticSolver().residual_and_jacobian(m, straight_under(m, P), r, J);
+    solver.residual_and_jacobian(m, straight_under(m, P), r, J);
     J.makeCompressed();
     lu.analyzePattern(J);
     lu.factorize(J);
@@ -51,8 +53,8 @@ struct StraightJacobian {
 
 /// det J(P) relative to det J(P0) (= exp(log|det J(P)| - log0) with its sign), or 0 when the
 /// factorisation failed (singular to working precision: P is the pitchfork).
-double relative_determinant(const rod::StaticProblem& pr, double P, double log0) {
-  StraightJacobian J(pr, P);
+double relative_determinant(const rod::StaticSolver& solver, const rod::StaticProblem& pr, double P, double log0) {
+  StraightJacobian J(solver, pr, P);
   if (!J.ok) return 0.0;
   return J.lu.signDeterminant() * std::exp(J.lu.logAbsDeterminant() - log0);
 }
@@ -69,11 +71,24 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
   }
   const rod::StaticProblem pr = rod::pinned_roller_problem(props, num_cells, L, gravity);
   const double PE = props.euler_load(L);  // the continuum's, to scale the search
-  const rod::StaticSolver solver;
+  // The in-plane systems (6 unknowns per node) where the problems split about the plane of j
+  // and k, as the scene's do: the pitchfork searched is then the first in-plane one.
+  rod::StaticSolver straight, solver;
+  straight.planar = rod::static_planar_split(pr.model());
+  rod::StaticProblem arch = rod::pinned_arch_problem(pr, L);
+  solver.planar = rod::static_planar_split(arch.model());
+  const int q = straight.planar ? 6 : 12;  // unknowns per node of the straight rod's system
+  auto at = [&](int component) {  // the position of an unknown of the 12 in that system
+    if (!straight.planar) return component;
+    const std::array<int, 6> S = rod::in_plane_components(straight.planar->axis);
+    for (int c = 0; c < 6; ++c)
+      if (S[static_cast<size_t>(c)] == component) return c;
+    return -1;
+  };
 
   // 1. The pitchfork: the first sign change of det J(P) on the straight branch, bracketed in
   // steps of PE / 5 (as the continuation's first steps), then Illinois' regula falsi.
-  StraightJacobian J0(pr, 0.0);
+  StraightJacobian J0(straight, pr, 0.0);
   if (!J0.ok) {
     out.message = "the straight rod's Jacobian is singular without load";
     return out;
@@ -84,7 +99,7 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
     a = b;
     fa = fb;
     b = 0.2 * PE * k;
-    fb = relative_determinant(pr, b, log0);
+    fb = relative_determinant(straight, pr, b, log0);
   }
   if (fa * fb > 0.0) {
     out.message = format("no Euler pitchfork below %.6g N on the straight rod", b);
@@ -94,7 +109,7 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
   int side = 0;
   for (int it = 0; it < 200 && fb != 0.0 && std::abs(b - a) > 1e-13 * PE; ++it) {
     P = (a * fb - b * fa) / (fb - fa);
-    const double fp = relative_determinant(pr, P, log0);
+    const double fp = relative_determinant(straight, pr, P, log0);
     if (fp == 0.0) break;
     if (fp * fb < 0.0) {
       a = b;
@@ -109,12 +124,12 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
   out.euler_load = P;
 
   // 2. The buckling mode: inverse iteration with J just below the pitchfork; up: +j at midspan.
-  StraightJacobian Jm(pr, P * (1.0 - 1e-9));
+  StraightJacobian Jm(straight, pr, P * (1.0 - 1e-9));
   if (!Jm.ok) {
     out.message = format("the straight rod's Jacobian at %.6g N is singular", P);
     return out;
   }
-  const Eigen::Index n_unknowns = 12 * static_cast<Eigen::Index>(num_cells + 1);
+  const Eigen::Index n_unknowns = q * static_cast<Eigen::Index>(num_cells + 1);
   VecX v = VecX::Ones(n_unknowns);
   for (int it = 0; it < 3; ++it) {
     v = Jm.lu.solve(v);
@@ -125,10 +140,16 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
     }
     v /= scale;
   }
-  const Eigen::Index mid = 12 * static_cast<Eigen::Index>(num_cells / 2);
-  const double mid_y = v(mid + rod::svar::r + 1);
+  const int ry = at(rod::svar::r + 1);
+  if (ry < 0) {
+    out.message = "the rod's plane is not that of j and k";
+    return out;
+  }
+  const double mid_y = v(q * static_cast<Eigen::Index>(num_cells / 2) + ry);
   double r_max = 0.0;
-  for (Eigen::Index j = 0; j <= num_cells; ++j) r_max = std::max(r_max, v.segment<3>(12 * j + rod::svar::r).cwiseAbs().maxCoeff());
+  for (Eigen::Index j = 0; j <= num_cells; ++j)
+    for (int c = 0; c < 3; ++c)
+      if (at(rod::svar::r + c) >= 0) r_max = std::max(r_max, std::abs(v(q * j + at(rod::svar::r + c))));
   if (!(std::abs(mid_y) >= 0.5 * r_max)) {
     out.message = format("the first buckling mode (at %.6g N) does not lift the midpoint along j (it buckles out of "
                          "the plane of j and k)", P);
@@ -138,7 +159,6 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
 
   // 3. The ends pinned and moved together, d = L - delta from delta0 to L - dz. The first
   // guess: the elastica's small deflection, amplitude (2 L / pi) sqrt(delta / L) at midspan.
-  rod::StaticProblem arch = rod::pinned_arch_problem(pr, L);
   const double total = L - dz;
   if (!(total > 0.0)) {
     out.message = format("end_to_end %.6g m is not below the rod's length %.6g m", dz, L);
@@ -147,7 +167,9 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
   double delta = std::min(0.005 * L, total);
   std::vector<StaticNode> state = straight_under(pr.model(), P);
   const double amplitude = 2.0 * L / std::acos(-1.0) * std::sqrt(delta / L);
-  for (size_t j = 0; j < state.size(); ++j) state[j].x += amplitude * v.segment<12>(12 * static_cast<Eigen::Index>(j));
+  for (size_t j = 0; j < state.size(); ++j)
+    for (int c = 0; c < 12; ++c)
+      if (at(c) >= 0) state[j].x(c) += amplitude * v(q * static_cast<Eigen::Index>(j) + at(c));
   double done = 0.0, step = delta;
   while (done < total) {
     const double next = std::min(total, done + step);

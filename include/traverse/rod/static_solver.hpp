@@ -5,8 +5,10 @@
 // of dynamic runs (solver/static_start.hpp: the equilibrium under the scene's dead loads).
 #include <Eigen/SparseCore>
 
+#include <optional>
 #include <string>
 
+#include "traverse/rod/planar.hpp"
 #include "traverse/rod/static_kernels.hpp"
 
 namespace traverse::rod {
@@ -55,6 +57,11 @@ class StaticSolver {
   double ftol = 1e-9;      ///< ... and max|r| <= ftol * (load scale)
   int max_iterations = 30;
   int max_load_steps = 200;
+  /// When set (rod::static_planar_split of the models solved), residual_and_jacobian and the
+  /// Newton systems of newton() and solve_with_load_steps() on nodes hold only the in-plane
+  /// rows and unknowns (6 per node, restrict_static_block's layout; the out-of-plane updates
+  /// are zero); residual() and the convergence test still cover every row.
+  std::optional<StaticPlanarSplit> planar;
 
   VecX residual(const StaticModel& m, const std::vector<StaticNode>& nodes) const;
   void residual_and_jacobian(const StaticModel& m, const std::vector<StaticNode>& nodes, VecX& r,
