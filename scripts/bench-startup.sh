@@ -2,7 +2,9 @@
 # Start-up and sweep figures of issue 16 (docs/benchmarks.md, "Start-up and sweeps"): the
 # median wall and CPU time (user + system, children included) of
 #   traverse --version, traverse check inputs/default.yaml, the cable run (inputs/default.yaml)
-#   at ds = 0.04, 0.02 and the scene's 0.01 (26, 51, 101 nodes; output every step)
+#   at ds = 0.04, 0.02 and the scene's 0.01 (26, 51, 101 nodes; output every step), the
+#   shallow arch at v = 2 m/s (inputs/arch/shallow_arch_v2.0.yaml: the arch's formation and
+#   0.5 s of snap-through)
 # for each executable given (e.g. the build of main and this one; the executables take turns,
 # run by run, so that their medians see the same load), then the F = 2 N resonance
 # sweep (20 speeds, postprocessing/hanging_cable.py's) with the last one: in one process, in 2
@@ -52,21 +54,25 @@ for w, c, o in zip(wall, cpu, own):
 PY
 }
 
-# The cable runs simulate the scene's whole crossing, t = 0 .. 0.275165 s. Each command runs
-# with every executable in turn (the executables' medians are from the same minutes).
+# The cable runs simulate the scene's whole crossing, t = 0 .. 0.275165 s; the shallow arch at
+# v = 2 m/s (its formation included) t = 0 .. 0.5 s. Each command runs with every executable in
+# turn (the executables' medians are from the same minutes). A command is "simulated time|args".
 echo "| executable | command | wall [s] | CPU [s] | simulated / wall |"
 echo "|---|---|---|---|---|"
-for cmd in "--version" "check inputs/default.yaml" \
-           "run inputs/default.yaml --set mesh.ds=0.04 -o $work/cable.h5 --overwrite -q" \
-           "run inputs/default.yaml --set mesh.ds=0.02 -o $work/cable.h5 --overwrite -q" \
-           "run inputs/default.yaml -o $work/cable.h5 --overwrite -q"; do
+for entry in "|--version" "|check inputs/default.yaml" \
+             "0.275165|run inputs/default.yaml --set mesh.ds=0.04 -o $work/cable.h5 --overwrite -q" \
+             "0.275165|run inputs/default.yaml --set mesh.ds=0.02 -o $work/cable.h5 --overwrite -q" \
+             "0.275165|run inputs/default.yaml -o $work/cable.h5 --overwrite -q" \
+             "0.5|run inputs/arch/shallow_arch_v2.0.yaml -o $work/arch.h5 --overwrite -q"; do
+  simulated="${entry%%|*}"
+  cmd="${entry#*|}"
   cmds=()
   for exe in "${exes[@]}"; do cmds+=("$exe $cmd"); done
   mapfile -t results < <(measure "${cmds[@]}")
   for k in "${!exes[@]}"; do
     read -r wall cpu _ <<< "${results[$k]}"
     ratio=""
-    [ "${cmd%% *}" = run ] && ratio=$($py -c "print('%.2f' % (0.275165 / $wall))")
+    [ -n "$simulated" ] && ratio=$($py -c "print('%.2f' % ($simulated / $wall))")
     echo "| ${exes[$k]} | traverse ${cmd%% -o *} | $wall | $cpu | $ratio |"
   done
 done
