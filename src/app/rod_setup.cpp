@@ -95,6 +95,20 @@ std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, c
   return msg;
 }
 
+}  // namespace
+
+std::string arch_scene_key(const scene::Scene& sc) {
+  const auto& r = sc.rod;
+  std::ostringstream os;
+  os.precision(17);
+  os << r.length << ' ' << r.youngs_modulus << ' ' << r.shear_modulus << ' ' << r.density << ' ' << r.section.area
+     << ' ' << r.section.I1 << ' ' << r.section.I2 << ' ' << r.section.J << ' ' << r.intrinsic_curvature.transpose()
+     << ' ' << sc.mesh.nodes << ' ' << sc.initial_state.end_to_end << ' ' << sc.gravity;
+  return os.str();
+}
+
+namespace {
+
 // Whether an arch start is formed in this process without Trilinos: in one process on block
 // storage, from a straight rod (a curved one goes to LOCA's continuation, as over ranks).
 bool forms_arch_in_one_process(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
@@ -108,19 +122,14 @@ bool forms_arch_in_one_process(const scene::Scene& sc, const RodSetup& setup, MP
 // does over the ranks.
 rod::RodState arch_in_one_process(const scene::Scene& sc, std::string& description) {
   static std::optional<std::pair<std::string, solver::OneProcessArch>> last;
-  const auto& r = sc.rod;
-  std::ostringstream key;
-  key.precision(17);
-  key << r.length << ' ' << r.youngs_modulus << ' ' << r.shear_modulus << ' ' << r.density << ' ' << r.section.area
-      << ' ' << r.section.I1 << ' ' << r.section.I2 << ' ' << r.section.J << ' ' << r.intrinsic_curvature.transpose()
-      << ' ' << sc.mesh.nodes << ' ' << sc.initial_state.end_to_end << ' ' << sc.gravity;
-  const bool reused = last && last->first == key.str();
+  const std::string key = arch_scene_key(sc);
+  const bool reused = last && last->first == key;
   if (!reused) {
     last.reset();
-    solver::OneProcessArch formed = solver::form_arch_in_one_process(rod_properties(r), sc.mesh.nodes - 1, r.length,
-                                                                     sc.initial_state.end_to_end, sc.gravity);
+    solver::OneProcessArch formed = solver::form_arch_in_one_process(
+        rod_properties(sc.rod), sc.mesh.nodes - 1, sc.rod.length, sc.initial_state.end_to_end, sc.gravity);
     if (!formed.ok) throw std::runtime_error("arch formation: " + formed.message);
-    last.emplace(key.str(), std::move(formed));
+    last.emplace(key, std::move(formed));
   }
   const solver::OneProcessArch& arch = last->second;
   std::ostringstream os;

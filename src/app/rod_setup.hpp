@@ -23,6 +23,11 @@ namespace traverse::app {
 /// Section and material of the scene's rod.
 rod::RodProperties rod_properties(const scene::RodSpec& r);
 
+/// What an arch start (initial_state: arch) depends on in the scene: the rod, the mesh,
+/// initial_state.end_to_end and gravity, as text; a process keeps its last arch under it (and,
+/// for LOCA's formation, the solver parameters and the rank count) for the next case of a sweep.
+std::string arch_scene_key(const scene::Scene& sc);
+
 /// Stage 1 of a rod run: the rod model of a scene (material, scheme, ends, loads) and its
 /// validated solver parameters. Throws SceneError (solver parameters, a pair of end
 /// conditions that is not well posed).

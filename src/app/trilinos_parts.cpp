@@ -83,14 +83,8 @@ struct FormedArch {
 };
 
 std::string arch_key(const scene::Scene& sc, const ParamList& solver, MPI_Comm comm) {
-  const int ranks = par::size(comm);
-  const auto& r = sc.rod;
   std::ostringstream os;
-  os.precision(17);
-  os << r.length << ' ' << r.youngs_modulus << ' ' << r.shear_modulus << ' ' << r.density << ' ' << r.section.area
-     << ' ' << r.section.I1 << ' ' << r.section.I2 << ' ' << r.section.J << ' ' << r.intrinsic_curvature.transpose()
-     << ' ' << sc.mesh.nodes << ' ' << sc.initial_state.end_to_end << ' ' << sc.gravity << ' ' << ranks << '\n'
-     << solver::to_teuchos(solver);
+  os << arch_scene_key(sc) << ' ' << par::size(comm) << '\n' << solver::to_teuchos(solver);
   return os.str();
 }
 

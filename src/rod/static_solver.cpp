@@ -56,17 +56,8 @@ class SerialStaticSystem : public StaticNewtonSystem {
   double update(double length, double fscale) override {
     const VecX dx = lu_.solve(-r_);
     double step_max = 0.0;
-    Vec12 d = Vec12::Zero();
-    for (size_t j = 0; j < nodes_.size(); ++j) {
-      const Eigen::Index k = static_cast<Eigen::Index>(j);
-      if (solver_.planar) {
-        const std::array<int, 6> S = in_plane_components(solver_.planar->axis);
-        for (size_t c = 0; c < 6; ++c) d(S[c]) = dx(6 * k + static_cast<Eigen::Index>(c));
-      } else {
-        d = dx.segment<12>(12 * k);
-      }
-      step_max = std::max(step_max, static_update_node(nodes_[j], d, length, fscale));
-    }
+    for (size_t j = 0; j < nodes_.size(); ++j)
+      step_max = std::max(step_max, static_update_node(nodes_[j], static_node_update(solver_.planar, dx.data(), j), length, fscale));
     return step_max;
   }
   double residual_max(const StaticModel& m) override {

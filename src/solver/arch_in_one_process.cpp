@@ -77,14 +77,14 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
   straight.planar = rod::static_planar_split(pr.model());
   rod::StaticProblem arch = rod::pinned_arch_problem(pr, L);
   solver.planar = rod::static_planar_split(arch.model());
-  const int q = straight.planar ? 6 : 12;  // unknowns per node of the straight rod's system
-  auto at = [&](int component) {  // the position of an unknown of the 12 in that system
-    if (!straight.planar) return component;
+  // Where each of a node's 12 unknowns sits in the straight rod's system (-1: not in it).
+  const int q = straight.planar ? 6 : 12;
+  std::array<int, 12> at{};
+  for (int c = 0; c < 12; ++c) at[static_cast<size_t>(c)] = straight.planar ? -1 : c;
+  if (straight.planar) {
     const std::array<int, 6> S = rod::in_plane_components(straight.planar->axis);
-    for (int c = 0; c < 6; ++c)
-      if (S[static_cast<size_t>(c)] == component) return c;
-    return -1;
-  };
+    for (int c = 0; c < 6; ++c) at[static_cast<size_t>(S[static_cast<size_t>(c)])] = c;
+  }
 
   // 1. The pitchfork: the first sign change of det J(P) on the straight branch, bracketed in
   // steps of PE / 5 (as the continuation's first steps), then Illinois' regula falsi.
@@ -140,7 +140,7 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
     }
     v /= scale;
   }
-  const int ry = at(rod::svar::r + 1);
+  const int ry = at[rod::svar::r + 1];
   if (ry < 0) {
     out.message = "the rod's plane is not that of j and k";
     return out;
@@ -148,8 +148,8 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
   const double mid_y = v(q * static_cast<Eigen::Index>(num_cells / 2) + ry);
   double r_max = 0.0;
   for (Eigen::Index j = 0; j <= num_cells; ++j)
-    for (int c = 0; c < 3; ++c)
-      if (at(rod::svar::r + c) >= 0) r_max = std::max(r_max, std::abs(v(q * j + at(rod::svar::r + c))));
+    for (int c = rod::svar::r; c < rod::svar::r + 3; ++c)
+      if (at[static_cast<size_t>(c)] >= 0) r_max = std::max(r_max, std::abs(v(q * j + at[static_cast<size_t>(c)])));
   if (!(std::abs(mid_y) >= 0.5 * r_max)) {
     out.message = format("the first buckling mode (at %.6g N) does not lift the midpoint along j (it buckles out of "
                          "the plane of j and k)", P);
@@ -169,7 +169,8 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
   const double amplitude = 2.0 * L / std::acos(-1.0) * std::sqrt(delta / L);
   for (size_t j = 0; j < state.size(); ++j)
     for (int c = 0; c < 12; ++c)
-      if (at(c) >= 0) state[j].x(c) += amplitude * v(q * static_cast<Eigen::Index>(j) + at(c));
+      if (at[static_cast<size_t>(c)] >= 0)
+        state[j].x(c) += amplitude * v(q * static_cast<Eigen::Index>(j) + at[static_cast<size_t>(c)]);
   double done = 0.0, step = delta;
   while (done < total) {
     const double next = std::min(total, done + step);

@@ -52,15 +52,8 @@ class BlockStaticSystem : public rod::StaticNewtonSystem {
     // As the direct solve over Tpetra is accepted: converged, or a tiny achieved tolerance.
     if (!(worst <= tol_ || worst <= 1e-9) || !std::isfinite(max_abs(dx_))) return std::numeric_limits<double>::infinity();
     double step = 0.0;
-    Vec12 d = Vec12::Zero();
     for (size_t k = 0; k < nodes_.size(); ++k) {
-      if (planar_) {
-        const std::array<int, 6> S = rod::in_plane_components(planar_->axis);
-        for (size_t c = 0; c < 6; ++c) d(S[c]) = dx_[6 * k + c];
-      } else {
-        d = Eigen::Map<const Vec12>(&dx_[12 * k]);
-      }
-      const double s = rod::static_update_node(nodes_[k], d, length, fscale);
+      const double s = rod::static_update_node(nodes_[k], rod::static_node_update(planar_, dx_.data(), k), length, fscale);
       step = std::isfinite(s) ? std::max(step, s) : std::numeric_limits<double>::infinity();
     }
     return step;
