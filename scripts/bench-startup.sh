@@ -87,9 +87,9 @@ args=(sweep inputs/rod/hanging_cable_F2_a0.5.yaml --vary "loads.F.speed=$speeds"
       --set "output.fields=[]" --overwrite)
 # --bind-to none: Open MPI binds 2 ranks to one core each by default, which on a machine
 # shared with other work pins a rank to a busy core; one process alone is never bound.
-# The four sweeps run in turn, 3 times each.
+# The four sweeps run in turn, 5 times each.
 mpirun="mpirun --allow-run-as-root --oversubscribe --bind-to none"
-mapfile -t results < <(runs=3 measure "$exe ${args[*]} -o $work/sweep1" "$exe ${args[*]} -j 2 -o $work/sweepj" \
+mapfile -t results < <(runs=5 measure "$exe ${args[*]} -o $work/sweep1" "$exe ${args[*]} -j 2 -o $work/sweepj" \
   "$mpirun -n 2 $exe ${args[*]} -o $work/sweep2" "$mpirun -n 1 $exe ${args[*]} -o $work/sweep3")
 k=0
 for how in "one process" "2 worker processes (-j 2)" "2 MPI ranks (mpirun -n 2)" "1 MPI rank (mpirun -n 1)"; do

@@ -120,7 +120,7 @@ int sweep_in_workers(const app::CommandLine& cl, const app::Launch& launch, app:
                           "mpirun -n K traverse sweep ... without --jobs)"};
   app::install_interrupt_handlers();
   return app::run_sweep_jobs(cl, prepared.sweep ? *prepared.sweep : app::plan_sweep(cl), [&] {
-    if (needs_mpi(cl.command, launch)) mpi.start(argc, argv, launch);
+    if (needs_mpi(cl.command, launch)) mpi.start(argc, argv, launch, true);
     return mpi.comm();
   });
 }
@@ -151,7 +151,7 @@ int main(int argc, char** argv) {
       code = sweep_in_workers(cl, launch, prepared, mpi, &argc, &argv);
     } else {
       if (needs_mpi(cl.command, launch)) {
-        mpi.start(&argc, &argv, launch);
+        mpi.start(&argc, &argv, launch, cl.command == app::CommandLine::Command::Sweep);
         rank = mpi.rank();
       }
       code = execute(cl, rank, mpi.comm(), prepared);

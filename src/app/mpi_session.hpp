@@ -6,6 +6,8 @@
 #include <mpi.h>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace traverse::app {
 
@@ -34,7 +36,11 @@ class MpiSession {
   /// TMPDIR/traverse-mpi-XXXXXX, removed by finish). Under Open MPI's launcher with every
   /// rank on this host: pml ob1 (shared memory, no UCX network probing), the same hwloc
   /// settings and PMIx's hash datastore (PMIX_MCA_gds), unless the environment sets them.
-  void start(int* argc, char*** argv, const Launch& launch);
+  ///
+  /// `sweep`: MPI for a sweep only (its queue, its index rows, cases on MPI_COMM_SELF). Under
+  /// Open MPI's launcher with every rank on this host, Open MPI then opens only the components
+  /// that serve this (sweep_components), unless the environment selects them already.
+  void start(int* argc, char*** argv, const Launch& launch, bool sweep = false);
   bool started() const { return started_; }
   /// MPI_COMM_WORLD once started; MPI_COMM_NULL (this process alone, no MPI) before.
   MPI_Comm comm() const { return started_ ? MPI_COMM_WORLD : MPI_COMM_NULL; }
@@ -45,6 +51,15 @@ class MpiSession {
   bool started_ = false;
   std::string session_dir_;  ///< this process's own Open MPI session directory, if made here
 };
+
+/// The Open MPI component selections a sweep's ranks set before MPI_Init under Open MPI's
+/// launcher with every rank on this host, as (MCA variable, value) pairs: transports self,
+/// vader (shared memory) and tcp (only if shared memory fails; 1 ms), the collectives basic, self and libnbc (no tuned, han, adapt, sm or
+/// monitoring), one-sided sm (the queue's shared window), and the component a rank of the
+/// launcher selects anyway in four start-up frameworks (state app, errmgr default_app, shmem
+/// mmap, schizo ompi; ess and pmix the launcher restricts itself); no AVX reductions, no
+/// netlink reachability, no hugetlbfs memory pool. Each only if the environment does not set it.
+const std::vector<std::pair<const char*, const char*>>& sweep_components();
 
 /// Sets TCP_NODELAY on every connected TCP socket of this process whose peer is a loopback
 /// address (under mpirun: the rank's connection to the launcher's PMIx server, which PMIx

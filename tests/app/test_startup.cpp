@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "mpi_session.hpp"
 #include "process.hpp"
@@ -153,6 +154,39 @@ TEST(Startup, MpiStartLoadsNoHwlocDevicePlugins) {
   std::printf("hwloc plugins loaded with HWLOC_PLUGINS_BLACKLIST set empty: %zu\n", control);
   if (control == 0) GTEST_SKIP() << "this hwloc loads none of these plugins: nothing to leave out";
   EXPECT_EQ(plugins("", "run.h5"), 0u) << "traverse's MPI start still loads hwloc device plugins";
+}
+
+// A sweep's ranks under Open MPI's launcher on one host open only the Open MPI components a
+// sweep uses (app::sweep_components: docs/developer.md, "Start-up"): shared memory, not the
+// collectives over many ranks nor the one-sided transport over a network; a selection the
+// environment makes wins. The dynamic loader's log (LD_DEBUG=libs, in the ranks only) names
+// each component the ranks load.
+TEST(Startup, SweepRanksOpenOnlyTheComponentsASweepUses) {
+  const fs::path dir = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / "startup-sweep-components";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string mpiexec = std::string(TRAVERSE_MPIEXEC) + " --allow-run-as-root --oversubscribe -n 2 -x LD_DEBUG=libs ";
+  auto loaded = [&](const std::string& env, const std::string& name) {
+    const auto r = traverse::testing::run_command(mpiexec + env + kExe + " sweep " + kScene.string() + " -o " +
+                                                  (dir / name).string() +
+                                                  " --set mesh.ds=0.1 --set output.fields=[] --vary loads.F.speed=10,20 -q");
+    EXPECT_EQ(r.code, 0) << r.out.substr(0, 4000);
+    std::vector<std::string> names;
+    for (const char* c : {"mca_btl_vader.so", "mca_osc_sm.so", "mca_coll_tuned.so", "mca_coll_han.so", "mca_osc_rdma.so"})
+      if (count(r.out, std::string("/") + c) > 0) names.push_back(c);
+    std::string list;
+    for (const auto& n : names) list += n + " ";
+    std::printf("%s: %s\n", name.c_str(), list.c_str());
+    return list;
+  };
+  const std::string sweep = loaded("", "sweep");
+  EXPECT_NE(sweep.find("mca_btl_vader.so"), std::string::npos) << sweep;
+  EXPECT_NE(sweep.find("mca_osc_sm.so"), std::string::npos) << sweep;
+  for (const char* c : {"mca_coll_tuned.so", "mca_coll_han.so", "mca_osc_rdma.so"})
+    EXPECT_EQ(sweep.find(c), std::string::npos) << c << " loaded: " << sweep;
+  // The environment's selection wins.
+  const std::string chosen = loaded("-x OMPI_MCA_coll=basic,self,libnbc,tuned ", "chosen");
+  EXPECT_NE(chosen.find("mca_coll_tuned.so"), std::string::npos) << chosen;
 }
 
 // traverse links no Trilinos library (not even Teuchos or Kokkos: its parameter lists are
