@@ -1,6 +1,7 @@
 #include "traverse/rod/static_solver.hpp"
 
-#include <Eigen/SparseLU>
+#include "traverse/core/sparse_lu.hpp"
+
 
 #include <cmath>
 #include <cstdio>
@@ -35,7 +36,8 @@ void assemble(const StaticModel& m, const std::vector<StaticNode>& nodes, VecX& 
   add(static_right_block(m, nodes.back()));
 }
 
-/// The whole rod in this process: Eigen's sparse LU, the pattern analysed once per solve.
+/// The whole rod in this process: the LU in band storage (a rod's Jacobian couples neighbouring
+/// nodes only), or Eigen's SparseLU with the pattern analysed once per solve (SparseLUSolver).
 class SerialStaticSystem : public StaticNewtonSystem {
  public:
   SerialStaticSystem(const StaticSolver& s, std::vector<StaticNode>& nodes) : solver_(s), nodes_(nodes) {}
@@ -44,12 +46,11 @@ class SerialStaticSystem : public StaticNewtonSystem {
     return r_.allFinite();
   }
   bool factorize(std::string& why) override {
-    if (!analysed_) {
-      lu_.analyzePattern(J_);
+    // The pattern is the same through a Newton solve (start() begins one).
+    if (lu_.factorize(J_, analysed_)) {
       analysed_ = true;
+      return true;
     }
-    lu_.factorize(J_);
-    if (lu_.info() == Eigen::Success) return true;
     why = "singular static Jacobian";
     return false;
   }
@@ -78,7 +79,7 @@ class SerialStaticSystem : public StaticNewtonSystem {
   std::vector<StaticNode>& nodes_;
   std::vector<StaticNode> start_;
   Eigen::SparseMatrix<double> J_;
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
+  SparseLUSolver lu_;  // banded for a rod's Jacobian
   bool analysed_ = false;
   VecX r_;
 };

@@ -1,13 +1,12 @@
 // The arch formed in one process (arch_in_one_process.hpp).
 #include "traverse/solver/arch_in_one_process.hpp"
 
-#include <Eigen/SparseLU>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 
+#include "traverse/core/sparse_lu.hpp"
 #include "traverse/rod/static_solver.hpp"
 
 namespace traverse::solver {
@@ -35,7 +34,7 @@ std::vector<StaticNode> straight_under(const rod::StaticModel& m, double P) {
 /// The Jacobian of the straight rod under the end load P (the in-plane one when `solver` has a
 /// planar split), factorised.
 struct StraightJacobian {
-  Eigen::SparseLU<SpMat> lu;
+  SparseLUSolver lu;
   bool ok = false;
   StraightJacobian(const rod::StaticSolver& solver, const rod::StaticProblem& pr, double P) {
     rod::StaticProblem at = pr;
@@ -44,10 +43,7 @@ struct StraightJacobian {
     VecX r;
     SpMat J;
     solver.residual_and_jacobian(m, straight_under(m, P), r, J);
-    J.makeCompressed();
-    lu.analyzePattern(J);
-    lu.factorize(J);
-    ok = lu.info() == Eigen::Success;
+    ok = lu.factorize(J);
   }
 };
 
@@ -56,7 +52,7 @@ struct StraightJacobian {
 double relative_determinant(const rod::StaticSolver& solver, const rod::StaticProblem& pr, double P, double log0) {
   StraightJacobian J(solver, pr, P);
   if (!J.ok) return 0.0;
-  return J.lu.signDeterminant() * std::exp(J.lu.logAbsDeterminant() - log0);
+  return J.lu.sign_determinant() * std::exp(J.lu.log_abs_determinant() - log0);
 }
 
 }  // namespace
@@ -93,8 +89,8 @@ OneProcessArch form_arch_in_one_process(const rod::RodProperties& props, int num
     out.message = "the straight rod's Jacobian is singular without load";
     return out;
   }
-  const double log0 = J0.lu.logAbsDeterminant();
-  double a = 0.0, fa = J0.lu.signDeterminant(), b = 0.0, fb = fa;
+  const double log0 = J0.lu.log_abs_determinant();
+  double a = 0.0, fa = J0.lu.sign_determinant(), b = 0.0, fb = fa;
   for (int k = 1; k <= 8 && fa * fb > 0.0; ++k) {
     a = b;
     fa = fb;

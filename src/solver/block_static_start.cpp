@@ -126,7 +126,7 @@ StaticStart solve_static_start_in_one_process(const rod::StaticModel& m, bool pl
     }
   }
   std::vector<rod::StaticNode> nodes = rod::straight_static_nodes(m, 0, m.num_cells + 1);
-  out.linear_solver = "Eigen sparse LU (direct)";
+  out.linear_solver = "direct LU in one process (band storage; Eigen's SparseLU for a wide band)";
   out.report = rod::StaticSolver().solve_with_load_steps(m, nodes);
   if (out.report.converged) out.nodes = std::move(nodes);
   return out;

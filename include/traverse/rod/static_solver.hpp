@@ -1,6 +1,7 @@
 #pragma once
 // Newton solver for the static form (rod/static_kernels.hpp) with load stepping, on any
-// StaticNewtonSystem: serially with a sparse LU on the whole rod (tests, benchmarks, the
+// StaticNewtonSystem: serially with a direct LU on the whole rod (core/sparse_lu.hpp: in band
+// storage; the arch's formation, the one-process start's fallback, tests, benchmarks, the
 // reference the distributed solvers must reproduce), or over the ranks for the initial states
 // of dynamic runs (solver/static_start.hpp: the equilibrium under the scene's dead loads).
 #include <Eigen/SparseCore>
