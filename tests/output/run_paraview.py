@@ -1,11 +1,12 @@
 """Runs check_paraview.py in Debian's ParaView (pvbatch) on a display of its own: starts
-Xvfb on a free display number, runs pvbatch there, stops that Xvfb. The expected values
+Xvfb on a free display number (drawn at random), runs pvbatch there, stops that Xvfb. The expected values
 (times, nodes, a step's points and arrays, the load's position) come from the HDF5 files
 (h5py) and are handed to pvbatch as JSON.
 Usage: run_paraview.py PVBATCH ROD.xmf BEAM.xmf OUT_DIR      (exit status 1 on any failure)
 """
 import json
 import os
+import random
 import shutil
 import subprocess
 import sys
@@ -43,31 +44,36 @@ def expected(xmf):
 
 
 class XvfbDisplay:
-    """A display of our own: Xvfb picks a free display number and reports it (-displayfd) once
-    it accepts connections; stopped on exit. .env is the environment for pvbatch."""
+    """A display of our own: Xvfb on a display number drawn at random from 100-999 among those
+    without a lock file (not the lowest free one, which is the number a server that just
+    stopped had: pvbatch then often cannot connect, "bad X server connection"), reported by
+    Xvfb (-displayfd) once it accepts connections; stopped on exit. .env is the environment for
+    pvbatch."""
 
     def __enter__(self):
         xvfb = shutil.which("Xvfb")
         if xvfb is None:
             fail("Xvfb not found; install the Debian package xvfb")
-        rfd, wfd = os.pipe()
-        self.server = subprocess.Popen([xvfb, "-displayfd", str(wfd), "-ac", "-nolisten", "tcp",
-                                        "-screen", "0", "1280x1024x24"],
-                                       pass_fds=(wfd,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-        os.close(wfd)
-        number = b""
-        deadline = time.time() + 30
-        with os.fdopen(rfd, "rb") as r:
-            while not number.endswith(b"\n") and time.time() < deadline:
-                chunk = r.read(1)
-                if not chunk:
-                    break
-                number += chunk
-        if not number.strip().isdigit():
+        numbers = [n for n in random.sample(range(100, 1000), 900) if not os.path.exists(f"/tmp/.X{n}-lock")]
+        for n in numbers[:5]:  # a number taken meanwhile: Xvfb exits at once; the next one
+            rfd, wfd = os.pipe()
+            self.server = subprocess.Popen([xvfb, f":{n}", "-displayfd", str(wfd), "-ac", "-nolisten", "tcp",
+                                            "-screen", "0", "1280x1024x24"],
+                                           pass_fds=(wfd,), stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            os.close(wfd)
+            number = b""
+            deadline = time.time() + 30
+            with os.fdopen(rfd, "rb") as r:
+                while not number.endswith(b"\n") and time.time() < deadline:
+                    chunk = r.read(1)
+                    if not chunk:
+                        break
+                    number += chunk
+            if number.strip().isdigit():
+                self.env = dict(os.environ, DISPLAY=":" + number.decode().strip())
+                return self
             self.__exit__()
-            fail(f"Xvfb did not report a display (exit status {self.server.poll()})")
-        self.env = dict(os.environ, DISPLAY=":" + number.decode().strip())
-        return self
+        fail(f"Xvfb did not report a display (exit status {self.server.poll()})")
 
     def __exit__(self, *_):
         self.server.terminate()
@@ -79,14 +85,17 @@ class XvfbDisplay:
 
 def run_pvbatch(pvbatch, args, cwd=None, capture=False):
     """pvbatch ARGS on a display of our own. pvbatch sometimes cannot connect to a fresh Xvfb
-    ("bad X server connection", about 1 run in 5 here, right after an earlier server on the
-    same number stopped): then it is run again, on a new server, up to 3 times."""
+    ("bad X server connection": about 1 run in 5 here when each server took the lowest free
+    number, right after an earlier server on that number stopped, and three times in a row in
+    one full test run): then it is run again, on a new server on another number (XvfbDisplay
+    draws one at random), after a second's pause, up to 3 times."""
     for attempt in range(3):
         with XvfbDisplay() as x:
             run = subprocess.run([pvbatch] + args, cwd=cwd, env=x.env, capture_output=True, text=True)
         if "bad X server connection" not in run.stderr:
             break
         print(f"note: pvbatch could not connect to Xvfb ({x.env['DISPLAY']}), attempt {attempt + 1} of 3")
+        time.sleep(1.0)
     if not capture:
         sys.stdout.write(run.stdout)
         sys.stderr.write("\n".join(line for line in run.stderr.splitlines() if "0x" not in line))
