@@ -169,8 +169,9 @@ void MpiSession::start(int* argc, char*** argv, const Launch& launch, bool sweep
     setenv("PMIX_MCA_gds", "hash", 0);
     // A sweep's ranks use MPI for little (its queue, its index rows; each case on
     // MPI_COMM_SELF): Open MPI need not open (dlopen, register, select) the components for
-    // networks and for collectives over many ranks. 0.017-0.019 s of a trivial 2-rank sweep
-    // here (0.187 -> 0.168 s), 0.011 s of a 1-rank one (docs/benchmarks.md).
+    // networks and for collectives over many ranks: 24 components loaded instead of 46, a
+    // trivial 2-rank sweep 0.006-0.018 s faster here, a 1-rank one 0.008-0.011 s
+    // (docs/benchmarks.md, "A sweep's Open MPI components").
     if (sweep)
       for (const auto& [name, value] : sweep_components()) setenv(name, value, 0);
   }

@@ -54,11 +54,12 @@ class MpiSession {
 
 /// The Open MPI component selections a sweep's ranks set before MPI_Init under Open MPI's
 /// launcher with every rank on this host, as (MCA variable, value) pairs: transports self,
-/// vader (shared memory) and tcp (only if shared memory fails; 1 ms), the collectives basic, self and libnbc (no tuned, han, adapt, sm or
-/// monitoring), one-sided sm (the queue's shared window), and the component a rank of the
-/// launcher selects anyway in four start-up frameworks (state app, errmgr default_app, shmem
-/// mmap, schizo ompi; ess and pmix the launcher restricts itself); no AVX reductions, no
-/// netlink reachability, no hugetlbfs memory pool. Each only if the environment does not set it.
+/// vader (shared memory) and tcp (only if shared memory fails; 1 ms), the collectives basic,
+/// self and libnbc (no tuned, han, adapt, sm or monitoring), one-sided sm (the queue's shared
+/// window), and the component a rank of the launcher selects anyway in four start-up
+/// frameworks (state app, errmgr default_app, shmem mmap, schizo ompi; ess and pmix the
+/// launcher restricts itself); no AVX reductions, no netlink reachability, no hugetlbfs memory
+/// pool. Each only if the environment does not set it.
 const std::vector<std::pair<const char*, const char*>>& sweep_components();
 
 /// Sets TCP_NODELAY on every connected TCP socket of this process whose peer is a loopback
