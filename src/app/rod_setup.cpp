@@ -97,6 +97,27 @@ std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, c
 
 }  // namespace
 
+rod::RodState arch_dynamic_start(
+    const scene::Scene& sc, const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state,
+    const std::function<rod::StaticReport(const rod::StaticProblem&, std::vector<rod::StaticNode>&)>& solve,
+    std::string& description) {
+  // Without initial_state.loaded a load entering at a pinned end puts its force into the first
+  // cell at once, a step that excites grid-scale waves the undamped scheme keeps.
+  if (!sc.initial_state.loaded) return rod::dynamic_state_from_static(problem.model(), state);
+  const auto loads = scene::prescribed_loads_at_start(sc);
+  if (loads.size() != 1) throw std::logic_error("initial_state.loaded: the scene has not exactly one load at t = 0");
+  const double sigma = loads.front()->sigma(0.0);
+  rod::StaticProblem pr = problem;
+  pr.set_point_load(loads.front()->force, sigma);
+  std::vector<rod::StaticNode> loaded = state;
+  const rod::StaticReport r = solve(pr, loaded);
+  if (!r.converged) throw std::runtime_error("arch formation: the equilibrium with the load at t = 0: " + r.message);
+  std::ostringstream os;
+  os << "; in equilibrium with the load at s = " << sigma << " m (" << r.iterations << " Newton iterations)";
+  description += os.str();
+  return rod::dynamic_state_from_static(pr.model(), loaded);
+}
+
 std::string arch_scene_key(const scene::Scene& sc) {
   const auto& r = sc.rod;
   std::ostringstream os;
@@ -137,21 +158,13 @@ rod::RodState arch_in_one_process(const scene::Scene& sc, std::string& descripti
      << arch.problem.value(rod::StaticParameter::end_position) << " m apart (" << arch.displacement_steps
      << " displacement steps), pinned there; gravity raised to " << -arch.problem.gravity.y() << " m/s^2"
      << (reused ? " (formed earlier in this process, reused)" : "");
-  if (!sc.initial_state.loaded) {
-    description = os.str();
-    return rod::dynamic_state_from_static(arch.problem.model(), arch.state);
-  }
-  const auto loads = scene::prescribed_loads_at_start(sc);
-  if (loads.size() != 1) throw std::logic_error("initial_state.loaded: the scene has not exactly one load at t = 0");
-  rod::StaticProblem pr = arch.problem;
-  pr.set_point_load(loads.front()->force, loads.front()->sigma(0.0));
-  std::vector<rod::StaticNode> state = arch.state;
-  const rod::StaticReport rep = rod::StaticSolver().newton(pr.model(), state);
-  if (!rep.converged) throw std::runtime_error("arch formation: the equilibrium with the load at t = 0: " + rep.message);
-  os << "; in equilibrium with the load at s = " << loads.front()->sigma(0.0) << " m (" << rep.iterations
-     << " Newton iterations)";
   description = os.str();
-  return rod::dynamic_state_from_static(pr.model(), state);
+  return arch_dynamic_start(
+      sc, arch.problem, arch.state,
+      [](const rod::StaticProblem& pr, std::vector<rod::StaticNode>& state) {
+        return rod::StaticSolver().newton(pr.model(), state);
+      },
+      description);
 }
 
 // Equilibrium under gravity and the loads on the rod at t = 0 (Newton with load steps), over

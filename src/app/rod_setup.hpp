@@ -4,9 +4,11 @@
 
 #include "traverse/core/param_list.hpp"
 
+#include <functional>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "traverse/output/continuation_writer.hpp"
 #include "traverse/rod/end_condition.hpp"
@@ -14,6 +16,7 @@
 #include "traverse/rod/rod_model.hpp"
 #include "traverse/rod/static_kernels.hpp"
 #include "traverse/rod/static_problem.hpp"
+#include "traverse/rod/static_solver.hpp"
 #include "traverse/rod/rod_state.hpp"
 #include "traverse/scene/scene.hpp"
 #include "traverse/solver/rod_stepper.hpp"
@@ -27,6 +30,15 @@ rod::RodProperties rod_properties(const scene::RodSpec& r);
 /// initial_state.end_to_end and gravity, as text; a process keeps its last arch under it (and,
 /// for LOCA's formation, the solver parameters and the rank count) for the next case of a sweep.
 std::string arch_scene_key(const scene::Scene& sc);
+
+/// The dynamic start at rest from a formed arch (`problem`, `state`: the arch under gravity).
+/// With initial_state.loaded it is first solved again with the scene's one load at t = 0 on it
+/// (`solve`: Newton on that problem from the arch's state, in one process or over the ranks),
+/// what that took appended to `description`; a failure throws std::runtime_error.
+rod::RodState arch_dynamic_start(
+    const scene::Scene& sc, const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state,
+    const std::function<rod::StaticReport(const rod::StaticProblem&, std::vector<rod::StaticNode>&)>& solve,
+    std::string& description);
 
 /// Stage 1 of a rod run: the rod model of a scene (material, scheme, ends, loads) and its
 /// validated solver parameters. Throws SceneError (solver parameters, a pair of end

@@ -105,21 +105,18 @@ rod::RodState arch_start(const scene::Scene& sc, const ParamList& solver, MPI_Co
   const solver::ArchFormation& arch = last->arch;
   description = arch_summary(arch) + (reused ? " (formed earlier in this process, reused)" : "");
   // initial_state.loaded: the start in equilibrium with the prescribed load on the arch at
-  // t = 0 (as a static start is). Without it a load entering at a pinned end puts its force
-  // into the first cell at once, a step that excites grid-scale waves the undamped scheme keeps.
-  if (!sc.initial_state.loaded) return rod::dynamic_state_from_static(arch.problem.model(), arch.state);
-  const auto loads = scene::prescribed_loads_at_start(sc);
-  if (loads.size() != 1) throw std::logic_error("initial_state.loaded: the scene has not exactly one load at t = 0");
-  const scene::MovingLoadSpec* on = loads.front();
-  rod::StaticProblem pr = arch.problem;
-  pr.set_point_load(on->force, on->sigma(0.0));
-  std::vector<rod::StaticNode> state = arch.state;
-  const solver::StaticSolveReport r = solver::static_solve(pr, state, tcomm, solver);
-  if (!r.converged) throw std::runtime_error("arch formation: the equilibrium with the load at t = 0: " + r.message);
-  std::ostringstream os;
-  os << "; in equilibrium with the load at s = " << on->sigma(0.0) << " m (" << r.iterations << " Newton iterations)";
-  description += os.str();
-  return rod::dynamic_state_from_static(pr.model(), state);
+  // t = 0 (as a static start is), solved over the ranks.
+  return arch_dynamic_start(
+      sc, arch.problem, arch.state,
+      [&](const rod::StaticProblem& pr, std::vector<rod::StaticNode>& state) {
+        const solver::StaticSolveReport s = solver::static_solve(pr, state, tcomm, solver);
+        rod::StaticReport r;
+        r.converged = s.converged;
+        r.iterations = s.iterations;
+        r.message = s.message;
+        return r;
+      },
+      description);
 }
 
 }  // namespace traverse::app

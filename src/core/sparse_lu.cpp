@@ -19,9 +19,16 @@ void BandedLU::bandwidths(const Eigen::SparseMatrix<double>& A, int& kl, int& ku
 }
 
 bool BandedLU::factorize(const Eigen::SparseMatrix<double>& A) {
+  int kl = 0, ku = 0;
+  bandwidths(A, kl, ku);
+  return factorize(A, kl, ku);
+}
+
+bool BandedLU::factorize(const Eigen::SparseMatrix<double>& A, int kl, int ku) {
   if (A.rows() != A.cols()) throw std::invalid_argument("BandedLU: the matrix is not square");
   n_ = static_cast<int>(A.rows());
-  bandwidths(A, kl_, ku_);
+  kl_ = kl;
+  ku_ = ku;
   kv_ = kl_ + ku_;  // U's super-diagonals after the row interchanges
   ld_ = static_cast<size_t>(2 * kl_ + ku_ + 1);
   ab_.assign(ld_ * static_cast<size_t>(n_), 0.0);
@@ -91,7 +98,7 @@ bool SparseLUSolver::factorize(const Eigen::SparseMatrix<double>& A, bool same_p
   banded_ = band <= 16.0 * static_cast<double>(std::max<Eigen::Index>(A.nonZeros(), 1));
   if (banded_) {
     analysed_ = false;  // the pattern analysis (if any) was of another matrix
-    return band_.factorize(A);
+    return band_.factorize(A, kl, ku);
   }
   if (!A.isCompressed()) {
     Eigen::SparseMatrix<double> C = A;

@@ -2,7 +2,6 @@
 
 #include "traverse/core/sparse_lu.hpp"
 
-
 #include <cmath>
 #include <cstdio>
 

@@ -24,6 +24,8 @@ class BandedLU {
   /// Factorises `A` (square). False when a pivot is zero or not finite (`A` singular to
   /// working precision or not finite); solve and the determinant are then meaningless.
   bool factorize(const Eigen::SparseMatrix<double>& A);
+  /// The same with `A`'s bandwidths already known (bandwidths()).
+  bool factorize(const Eigen::SparseMatrix<double>& A, int kl, int ku);
   /// x with A x = b.
   VecX solve(const VecX& b) const;
   /// log |det A| and the sign of det A (+1 or -1).

@@ -12,8 +12,9 @@
 //     deflections;
 //  4. gravity raised from 0 to g by load steps.
 // The state is an equilibrium of the same problem on the same branch: it equals the LOCA arch
-// to the Newton tolerances (test_arch_in_one_process). Eigen's sparse LU (rod::StaticSolver), on
-// the in-plane rows and unknowns where the problem splits about the plane of j and k.
+// to the Newton tolerances (test_arch_in_one_process). The LU in band storage
+// (core/sparse_lu.hpp; rod::StaticSolver's), on the in-plane rows and unknowns where the
+// problem splits about the plane of j and k.
 #include <string>
 #include <vector>
 
