@@ -6,7 +6,8 @@
 # output, beam, rod, solver, app, validation, stress, ...), plus "mpi" with RANKS, plus
 # LABELS. MPI_MAIN links tests/support/mpi_main.cpp (MPI and Kokkos set up around
 # GoogleTest) instead of GTest::gtest_main. tests/support (process.hpp: the one helper for
-# tests that run the executable) is on every test's include path.
+# tests that run the executable; reference_stepper.hpp: the rod step's independent reference,
+# linked into every test) is on every test's include path.
 function(traverse_add_gtest name)
   cmake_parse_arguments(T "MPI_MAIN" "TIMEOUT" "SOURCES;LIBS;RANKS;LABELS" ${ARGN})
   get_filename_component(folder ${CMAKE_CURRENT_SOURCE_DIR} NAME)
@@ -16,7 +17,7 @@ function(traverse_add_gtest name)
   endif()
   add_executable(${name} ${T_SOURCES})
   target_include_directories(${name} PRIVATE ${PROJECT_SOURCE_DIR}/tests/support)
-  target_link_libraries(${name} PRIVATE ${T_LIBS} GTest::gtest traverse_warnings)
+  target_link_libraries(${name} PRIVATE ${T_LIBS} traverse_reference_stepper GTest::gtest traverse_warnings)
   target_compile_definitions(${name} PRIVATE
     TRAVERSE_SOURCE_DIR="${PROJECT_SOURCE_DIR}" TRAVERSE_BINARY_DIR="${PROJECT_BINARY_DIR}")
   if(NOT T_TIMEOUT)

@@ -1,13 +1,13 @@
 #!/usr/bin/env python3
 """Cantilever launch-barrel sweep of the scenes spec: runs inputs/beam/cantilever.yaml for
 mass fractions p in {5, 10, 20, 40} % and speeds v in {10, 50, 100, 200} m/s (in
-one `traverse sweep`, its cases spread over --ranks or --jobs; no file copies), then draws
+one `traverse sweep`, its cases spread over --ranks MPI ranks; no file copies), then draws
   cantilever_tip_by_speed.png  (a) one panel per v, a curve per mass fraction
   cantilever_tip_by_mass.png   (b) one panel per mass fraction, a curve per v
   cantilever_mass.png          deflection under the mass, one panel per v
 all against the beam coordinate x(t) = v t.
 
-Usage: cantilever_sweep.py --traverse BUILD/traverse [--out DIR] [--plot-only] [--modes N] [--ranks K | --jobs J]
+Usage: cantilever_sweep.py --traverse BUILD/traverse [--out DIR] [--plot-only] [--modes N] [--ranks K]
 """
 import argparse
 import os
@@ -42,11 +42,10 @@ def run_name(out, p, v):
     raise KeyError(f"{sweep_dir(out)}: no case p = {p}, v = {v} in the sweep's index")
 
 
-def run_all(exe, out, modes, ranks, jobs=1):
-    """The 4 x 4 cases in one `traverse sweep` (spread over `ranks` MPI ranks or `jobs` worker
-    processes)."""
+def run_all(exe, out, modes, ranks):
+    """The 4 x 4 cases in one `traverse sweep` (spread over `ranks` MPI ranks)."""
     os.makedirs(out, exist_ok=True)
-    cmd = traverse_io.command(exe, "sweep", ranks, jobs) + [
+    cmd = traverse_io.command(exe, "sweep", ranks) + [
         SCENE, "-o", sweep_dir(out), "--overwrite", "-q",
         "--vary", "loads.mass.mass_fraction=" + ",".join(repr(p) for p in FRACTIONS),
         "--vary", "loads.mass.speed=" + ",".join(repr(v) for v in SPEEDS),
@@ -86,15 +85,12 @@ def main(argv=None):
     ap.add_argument("--out", default="out/cantilever")
     ap.add_argument("--modes", type=int, default=3)
     ap.add_argument("--ranks", type=int, default=1, help="MPI ranks to spread the cases over")
-    ap.add_argument("--jobs", type=int, default=1, help="worker processes to spread the cases over (traverse sweep -j)")
     ap.add_argument("--plot-only", action="store_true")
     a = ap.parse_args(argv)
     if not a.plot_only:
         if not a.traverse:
             ap.error("--traverse is required unless --plot-only")
-        if a.ranks > 1 and a.jobs > 1:
-            ap.error("--ranks and --jobs: expected one of them, not both")
-        run_all(a.traverse, a.out, a.modes, a.ranks, a.jobs)
+        run_all(a.traverse, a.out, a.modes, a.ranks)
     pct = lambda p: f"M = {round(100 * p)} %"  # noqa: E731
     spd = lambda v: f"v = {v:g} m/s"  # noqa: E731
     panels(a.out, SPEEDS, FRACTIONS, spd, pct, lambda v, p: (p, v), "cantilever_tip_by_speed.png", "tip")

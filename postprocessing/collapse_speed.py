@@ -10,7 +10,7 @@ through the horizontal) at some output step while the load is on the arch.
 
 The bracket [LO, HI] must have LO snapping and HI not (checked first); each round then runs
 POINTS evenly spaced speeds inside it in one `traverse sweep` (its cases spread over --ranks
-or --jobs worker processes; POINTS = 1, the default with one of each, is bisection) and keeps the sub-interval where the snap
+MPI ranks; POINTS = 1, the default with one of each, is bisection) and keeps the sub-interval where the snap
 stops, until HI - LO <= TOL. Reported per ds: the bracket, the snap position at LO and the
 largest end rotation at HI. The bisection assumes one transition between LO and HI: use
 --scan to check that on a list of speeds first.
@@ -18,7 +18,7 @@ largest end rotation at HI. The bisection assumes one transition between LO and 
 Usage:
   collapse_speed.py --traverse BUILD/traverse [--ds 0.02 0.01 ...] [--lo 0.5] [--hi 5]
                     [--tol 0.01] [--threshold-deg T] [--work DIR] [--set KEY=VALUE ...]
-                    [--ranks K | --jobs J] [--points P]
+                    [--ranks K] [--points P]
   collapse_speed.py --traverse BUILD/traverse --ds 0.01 --scan 0.5 1 2 2.5 3 5 20
 """
 import argparse
@@ -37,11 +37,10 @@ SCENE = os.path.join(arches.INPUTS, "shallow_arch_v1.0.yaml")
 
 class Trial:
     """Runs speeds in rounds: each round is one `traverse sweep` over its speeds (spread over
-    `ranks` MPI ranks or `jobs` worker processes); results are kept per speed."""
+    `ranks` MPI ranks); results are kept per speed."""
 
-    def __init__(self, exe, work, ds, sets, threshold, ranks=1, jobs=1):
+    def __init__(self, exe, work, ds, sets, threshold, ranks=1):
         self.exe, self.work, self.ds, self.sets, self.threshold, self.ranks = exe, work, ds, sets, threshold, ranks
-        self.jobs = jobs
         self.count = 0
         self.rounds = 0
         self.seconds = 0.0
@@ -59,7 +58,7 @@ class Trial:
     def _sweep(self, speeds):
         self.rounds += 1
         out = os.path.join(self.work, f"shallow_ds{self.ds:g}_round{self.rounds}")
-        cmd = traverse_io.command(self.exe, "sweep", self.ranks, self.jobs) + [
+        cmd = traverse_io.command(self.exe, "sweep", self.ranks) + [
             SCENE, "-o", out, "--overwrite", "-q",
             "--vary", "loads.F.speed=" + ",".join(repr(v) for v in speeds),
             "--set", f"mesh.ds={self.ds!r}", "--set", "output.fields=[]"]
@@ -120,18 +119,15 @@ def main(argv=None):
     ap.add_argument("--work", default="out/collapse_speed", help="folder for the runs' outputs")
     ap.add_argument("--set", action="append", default=[], help="extra scene override (repeatable)")
     ap.add_argument("--ranks", type=int, default=1, help="MPI ranks of each round's sweep")
-    ap.add_argument("--jobs", type=int, default=1, help="worker processes of each round's sweep (traverse sweep -j)")
     ap.add_argument("--points", type=int,
-                    help="speeds per round inside the bracket (default: --ranks or --jobs; 1: bisection)")
+                    help="speeds per round inside the bracket (default: --ranks; 1: bisection)")
     a = ap.parse_args(argv)
-    if a.ranks > 1 and a.jobs > 1:
-        ap.error("--ranks and --jobs: expected one of them, not both")
-    points = max(1, a.points or max(a.ranks, a.jobs))
+    points = max(1, a.points or a.ranks)
     os.makedirs(a.work, exist_ok=True)
     thr = None if a.threshold_deg is None else math.radians(a.threshold_deg)
     rows = []
     for ds in a.ds:
-        trial = Trial(a.traverse, a.work, ds, a.set, thr, a.ranks, a.jobs)
+        trial = Trial(a.traverse, a.work, ds, a.set, thr, a.ranks)
         if a.scan:
             trial.batch(a.scan)
             continue

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Hanging-cable figures of the scenes spec. Runs inputs/rod/hanging_cable_F{2,20}_a*.yaml
 (alpha in {0.125, 0.25, 0.5, 1.0}) and a resonance sweep over alpha (0.1..2: one `traverse sweep`
-per load, its cases spread over the --ranks or --jobs worker processes),
+per load, its cases spread over the --ranks MPI ranks),
 then draws
   hanging_cable_midspan.png   midspan height y(L/2) against sigma, a curve per alpha, a panel per load
   hanging_cable_shapes.png    cable shapes at a few sigma (alpha = 0.5), a panel per load
@@ -11,7 +11,7 @@ then draws
                               (largest |y(L/2) - y_static| over two periods T1 = 2 pi / omega1
                               after the load has left), divided by the static sag under F
 
-Usage: hanging_cable.py --traverse BUILD/traverse [--out DIR] [--plot-only] [--ranks K | --jobs J]
+Usage: hanging_cable.py --traverse BUILD/traverse [--out DIR] [--plot-only] [--ranks K]
 """
 import argparse
 import os
@@ -52,23 +52,23 @@ def run(exe, args, ranks):
     subprocess.run(traverse_io.command(exe, "run", ranks) + args + ["--overwrite", "-q"], check=True)
 
 
-def run_sweep(exe, out, F, ranks, jobs):
+def run_sweep(exe, out, F, ranks):
     """The resonance sweep of one load in one `traverse sweep` (cases spread over the ranks or
     the worker processes): each speed alpha v1 with its end time (the crossing plus two periods
     of the first mode)."""
     speeds = ",".join(repr(a * V1) for a in SWEEP)
     ends = ",".join(repr(1.0 / (a * V1) + 2 * T1) for a in SWEEP)
-    subprocess.run(traverse_io.command(exe, "sweep", ranks, jobs) + [
+    subprocess.run(traverse_io.command(exe, "sweep", ranks) + [
         scene(F, 0.5), "-o", sweep_dir(out, F), "--vary", f"loads.F.speed={speeds}", "--with", f"time.end={ends}",
         "--set", "output.fields=[]", "--overwrite", "-q"], check=True)
 
 
-def run_all(exe, out, ranks, jobs=1):
+def run_all(exe, out, ranks):
     os.makedirs(out, exist_ok=True)
     for F in LOADS:
         for a in ALPHAS:
             run(exe, [scene(F, a), "-o", out_name(out, F, a)], ranks)
-        run_sweep(exe, out, F, ranks, jobs)
+        run_sweep(exe, out, F, ranks)
 
 
 def midspan_y(r):
@@ -80,15 +80,12 @@ def main(argv=None):
     ap.add_argument("--traverse")
     ap.add_argument("--out", default="out/hanging_cable")
     ap.add_argument("--ranks", type=int, default=1, help="MPI ranks of every run and sweep (mpirun)")
-    ap.add_argument("--jobs", type=int, default=1, help="worker processes of the sweeps (traverse sweep -j)")
     ap.add_argument("--plot-only", action="store_true")
     a = ap.parse_args(argv)
     if not a.plot_only:
         if not a.traverse:
             ap.error("--traverse is required unless --plot-only")
-        if a.ranks > 1 and a.jobs > 1:
-            ap.error("--ranks and --jobs: expected one of them, not both")
-        run_all(a.traverse, a.out, a.ranks, a.jobs)
+        run_all(a.traverse, a.out, a.ranks)
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
     for ax, F in zip(axes, LOADS):

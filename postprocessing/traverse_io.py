@@ -163,16 +163,11 @@ def load(path, allow_incomplete=False):
     return out
 
 
-def command(exe, verb, ranks=1, jobs=1):
-    """The start of a `traverse VERB ...` command line: under `mpirun -n RANKS` when ranks > 1;
-    a sweep in JOBS worker processes (`-j JOBS`, no launcher) when jobs > 1 (docs/sweeps.md)."""
-    if ranks > 1 and jobs > 1:
-        raise ValueError("ranks and jobs: expected one of them above 1, not both")
+def command(exe, verb, ranks=1):
+    """The start of a `traverse VERB ...` command line: under `mpirun -n RANKS` when ranks > 1
+    (a sweep's cases then spread over the ranks: docs/sweeps.md)."""
     cmd = ["mpirun", "--allow-run-as-root", "--oversubscribe", "-n", str(ranks)] if ranks > 1 else []
-    cmd += [exe, verb]
-    if verb == "sweep" and jobs > 1:
-        cmd += ["-j", str(jobs)]
-    return cmd
+    return cmd + [exe, verb]
 
 
 def sweep_index(directory):

@@ -1,6 +1,6 @@
 #pragma once
 // The arch formation of a scene (initial_state: arch), for the Trilinos parts only
-// (trilinos_parts.cpp and run_statics.cpp).
+// (solver_access.cpp and run_statics.cpp).
 #include <Teuchos_Comm.hpp>
 #include "traverse/core/param_list.hpp"
 #include <Teuchos_RCP.hpp>

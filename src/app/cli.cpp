@@ -14,20 +14,18 @@ Usage:
   traverse run --restart OUT.h5 [SCENE.yaml] [--set KEY.PATH=VALUE ...] [-q] [--progress]
   traverse check SCENE.yaml [--set KEY.PATH=VALUE ...] [--types] [--max-memory SIZE] [--max-steps N]
   traverse sweep SCENE.yaml -o DIR --vary KEY=v1,v2,... [--with KEY=...] [--vary KEY=a:b:step ...] [--set ...]
-               [--summary PROBE[.x|.y|.z]:REDUCTION] [-j J] [--overwrite] [-q] [--max-memory SIZE] [--max-steps N]
+               [--summary PROBE[.x|.y|.z]:REDUCTION] [--overwrite] [-q] [--max-memory SIZE] [--max-steps N]
   traverse xdmf OUT.h5 [-o OUT.xmf]
   traverse --help | --version
   mpirun -n K traverse run SCENE.yaml ...      (K MPI ranks)
-  mpirun -n K traverse sweep SCENE.yaml ...    (the cases spread over K ranks, one rank each;
-                                               on one machine -j K does it without mpirun)
+  mpirun -n K traverse sweep SCENE.yaml ...    (the cases spread over K ranks, one rank each)
 
 Commands:
   run      validate the scene, run it, write the HDF5 output (and its .xmf sidecar)
   check    validate only and print the complete scene, every default filled in and
            documented (--types: also list every end-condition, load, probe and section type)
   sweep    run the scene once per case of the cartesian product of the --vary options,
-           in one process (or spread over J processes on this machine, -j J, or over the
-           MPI ranks): DIR/case_NNNN.h5 per case and DIR/index.csv (case, each varied
+           in one process (or spread over the MPI ranks): DIR/case_NNNN.h5 per case and DIR/index.csv (case, each varied
            value, output, status, exit code, wall time, the --summary value); a failed
            case is recorded and the others go on; the exit code is 0 when every case
            completed, else that of the first failed case (docs/sweeps.md)
@@ -45,8 +43,6 @@ Options:
   --summary P:R       sweep: the index's scalar of each case, reduction R (min, max, absmax,
                       mean, final) of probe P over the output steps (P.x, P.y, P.z: one
                       component), e.g. --summary midspan.y:min
-  -j, --jobs J        sweep: spread the cases over J worker processes on this machine, each
-                      case in one of them (no MPI launcher; default 1: this process alone)
   --overwrite         replace an existing output file (sweep: the index and case files)
   -q, --quiet         no progress, no summary
   --progress          report progress on stderr even when it is not a terminal
@@ -88,7 +84,7 @@ void parse_xdmf(int argc, const char* const* argv, CommandLine& cl) {
     } else if ((a == "-o" || a == "--output") && i + 1 < argc && argv[i + 1][0] != '\0') {
       cl.output = argv[++i];
     } else if (!a.empty() && a[0] == '-') {
-      throw UsageError{"'xdmf': unknown option or missing value '" + a + "' (see traverse --help)"};
+      throw UsageError{"'xdmf': unknown option or missing value '" + a + "'"};
     } else if (cl.scene.empty()) {
       cl.scene = a;
     } else {
@@ -169,14 +165,6 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       cl.vary.back().with_previous = true;
     } else if (sweep && a == "--summary") {
       cl.summary = parse_summary(value(a));
-    } else if (sweep && (a == "-j" || a == "--jobs")) {
-      const std::string v = value(a);
-      char* end = nullptr;
-      const double x = std::strtod(v.c_str(), &end);
-      if (v.empty() || *end != '\0' || !(x >= 1.0) || x != std::floor(x) || !(x <= kMaxJobs))
-        throw UsageError{a + ": expected a whole number of worker processes in [1, " + std::to_string(kMaxJobs) +
-                         "], found '" + v + "'"};
-      cl.jobs = static_cast<int>(x);
     } else if (run && !sweep && a == "--restart") {
       cl.restart = value(a);
       if (cl.restart.empty()) throw UsageError{a + ": expected the output file to continue, found an empty string"};
@@ -210,7 +198,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
     } else if (!run && a == "--types") {
       cl.types = true;
     } else if (!a.empty() && a[0] == '-') {
-      throw UsageError{"'" + cmd + "': unknown option '" + a + "' (see traverse --help)"};
+      throw UsageError{"'" + cmd + "': unknown option '" + a + "'"};
     } else if (cl.scene.empty()) {
       cl.scene = a;
     } else {

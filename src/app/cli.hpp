@@ -16,8 +16,6 @@ enum ExitCode : int {
   kNumericsFailed = 3,  ///< non-convergence after the allowed retries
 };
 
-/// The most worker processes a sweep's --jobs may ask for.
-constexpr int kMaxJobs = 1024;
 
 struct CommandLine {
   enum class Command { Help, Version, Run, Check, Xdmf, Sweep };
@@ -33,7 +31,6 @@ struct CommandLine {
   bool types = false;                  ///< check --types: also document every registered type
   std::vector<VaryOption> vary;        ///< sweep --vary KEY=v1,v2,..., in order
   SummarySpec summary;                 ///< sweep --summary PROBE[.c]:REDUCTION
-  int jobs = 1;                        ///< sweep --jobs J: worker processes on this host
   RunLimits limits;                    ///< --max-memory, --max-steps (run and check)
   std::string invocation;              ///< the whole command line, for the output file
 };

@@ -6,7 +6,6 @@
 // Under mpirun the signal may reach only some ranks (or arrive as SIGTERM from mpirun):
 // the decision is an MPI_Allreduce, so all ranks stop at the same step.
 #include <mpi.h>
-#include <sys/types.h>
 
 #include <stdexcept>
 #include <string>
@@ -15,19 +14,6 @@ namespace traverse::app {
 
 /// Installs the SIGINT and SIGTERM handlers (idempotent).
 void install_interrupt_handlers();
-
-/// The most worker processes forward_interrupts_to passes a signal on to.
-constexpr int kMaxForwarded = 1024;
-
-/// A sweep's parent process (--jobs): the handlers pass SIGINT / SIGTERM on to `workers` too
-/// (a signal sent to the parent alone, e.g. by `kill`, stops every case).
-void forward_interrupts_to(const pid_t* workers, int count);
-
-/// A sweep's worker process, forked by `parent` (after install_interrupt_handlers): a signal
-/// the parent passes on asks the worker to stop, also when the same signal (a Ctrl-C to the
-/// terminal's process group) reached the worker directly; a second signal not from the parent
-/// ends the worker at once. Forwards to no one.
-void become_interrupt_worker(pid_t parent);
 
 /// The signal this rank received (0: none). Not collective.
 int local_interrupt_signal();

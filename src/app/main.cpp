@@ -8,14 +8,12 @@
 #include <string>
 
 #include "cli.hpp"
-#include "hand_over.hpp"
-#include "heap_pages.hpp"
 #include "interrupt.hpp"
 #include "mpi_session.hpp"
 #include "restart.hpp"
 #include "run.hpp"
 #include "sweep.hpp"
-#include "trilinos_parts.hpp"
+#include "solver_access.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/output/sidecar.hpp"
 #include "traverse/scene/scene.hpp"
@@ -25,11 +23,8 @@ using namespace traverse;
 
 namespace {
 
-// Whether `command` needs MPI: check and xdmf only under an MPI launcher (where every rank
-// takes part); --help and --version never; a run or a sweep in traverse-trilinos always, in
-// traverse only under a launcher (traverse hands runs under a launcher to traverse-trilinos;
-// what it runs itself in one process runs on MPI_COMM_NULL, without starting MPI; a sweep under
-// a launcher spreads its cases over the ranks).
+// Whether `command` starts MPI: a run and a sweep always; check and xdmf under an MPI launcher
+// (where every rank takes part); --help and --version never.
 bool needs_mpi(app::CommandLine::Command command, const app::Launch& launch) {
   using Command = app::CommandLine::Command;
   switch (command) {
@@ -38,14 +33,13 @@ bool needs_mpi(app::CommandLine::Command command, const app::Launch& launch) {
     case Command::Check:
     case Command::Xdmf: return launch.by_launcher;
     case Command::Run:
-    case Command::Sweep: return app::has_trilinos() || launch.by_launcher;  // traverse: this process alone
+    case Command::Sweep: return true;
     default: throw std::logic_error("traverse: command not handled");
   }
 }
 
 // `comm`: MPI_COMM_WORLD, or MPI_COMM_NULL when the command runs without MPI (needs_mpi).
-// `prepared`: what needs_trilinos loaded (traverse), used instead of loading it again.
-int execute(const app::CommandLine& cl, int rank, MPI_Comm comm, app::Prepared& prepared) {
+int execute(const app::CommandLine& cl, int rank, MPI_Comm comm) {
   using Command = app::CommandLine::Command;
   switch (cl.command) {
     case Command::Help:
@@ -85,9 +79,8 @@ int execute(const app::CommandLine& cl, int rank, MPI_Comm comm, app::Prepared& 
     case Command::Run: {
       app::install_interrupt_handlers();
       const bool restart = !cl.restart.empty();
-      const scene::Scene sc = prepared.scene                ? std::move(*prepared.scene)
-                              : restart ? app::restart_scene(cl.restart, cl.scene, cl.overrides)
-                                        : scene::load_scene(cl.scene, cl.overrides);
+      const scene::Scene sc = restart ? app::restart_scene(cl.restart, cl.scene, cl.overrides)
+                                      : scene::load_scene(cl.scene, cl.overrides);
       if (restart && sc.model == scene::Model::Rod && sc.continuation.enabled)
         throw app::UsageError{"--restart " + cl.restart + ": continuation (statics) runs cannot be restarted"};
       app::RunOptions opt;
@@ -104,36 +97,15 @@ int execute(const app::CommandLine& cl, int rank, MPI_Comm comm, app::Prepared& 
     }
     case Command::Sweep:
       app::install_interrupt_handlers();
-      return app::run_sweep(cl, prepared.sweep ? *prepared.sweep : app::plan_sweep(cl), comm);
+      return app::run_sweep(cl, app::plan_sweep(cl), comm);
     default:
       throw std::logic_error("traverse: command not handled");
   }
 }
 
-// traverse sweep -j J: worker processes forked before MPI starts (never under a launcher);
-// each starts MPI itself when its cases need it (needs_mpi).
-int sweep_in_workers(const app::CommandLine& cl, const app::Launch& launch, app::Prepared& prepared, app::MpiSession& mpi,
-                     int* argc, char*** argv) {
-  if (launch.by_launcher)
-    throw app::UsageError{"--jobs " + std::to_string(cl.jobs) +
-                          ": expected without an MPI launcher (under mpirun the cases spread over its ranks: "
-                          "mpirun -n K traverse sweep ... without --jobs)"};
-  app::install_interrupt_handlers();
-  return app::run_sweep_jobs(cl, prepared.sweep ? *prepared.sweep : app::plan_sweep(cl), [&] {
-    if (needs_mpi(cl.command, launch)) mpi.start(argc, argv, launch, true);
-    return mpi.comm();
-  });
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Memory once touched stays with the process and is reused (no mmap per large block, no
-  // trimming of the heap's top), and the heap's first 8 MiB lie on 2 MiB pages, one page fault
-  // each: a first touch of a 4 KiB page is the costliest thing a small run does on some virtual
-  // machines (about 10 us here; heap_pages.hpp). TRAVERSE_HUGE_PAGES=0: 4 KiB pages.
-  const char* huge = std::getenv("TRAVERSE_HUGE_PAGES");
-  app::set_up_heap(huge && std::string(huge) == "0" ? 0 : std::size_t{8} << 20);
   // MPI only for the commands that need it (needs_mpi); until it starts, the rank is the
   // launcher's (0 outside one), so that one rank reports.
   const app::Launch launch = app::launch_from_environment();
@@ -145,17 +117,11 @@ int main(int argc, char** argv) {
   };
   try {
     const app::CommandLine cl = app::parse_command_line(argc, argv);
-    app::Prepared prepared;
-    if (!app::has_trilinos() && app::needs_trilinos(cl, launch, prepared)) app::hand_over_to_trilinos(argv);
-    if (cl.command == app::CommandLine::Command::Sweep && cl.jobs > 1) {
-      code = sweep_in_workers(cl, launch, prepared, mpi, &argc, &argv);
-    } else {
-      if (needs_mpi(cl.command, launch)) {
-        mpi.start(&argc, &argv, launch, cl.command == app::CommandLine::Command::Sweep);
-        rank = mpi.rank();
-      }
-      code = execute(cl, rank, mpi.comm(), prepared);
+    if (needs_mpi(cl.command, launch)) {
+      mpi.start(&argc, &argv);
+      rank = mpi.rank();
     }
+    code = execute(cl, rank, mpi.comm());
   } catch (const app::UsageError& e) {
     report("", e.message + "\n(see traverse --help)");
     code = app::kBadInput;

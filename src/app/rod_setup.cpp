@@ -14,10 +14,8 @@
 #include "traverse/rod/static_solver.hpp"
 #include "traverse/mesh/mesh.hpp"
 #include "mpi_session.hpp"
-#include "traverse/solver/arch_in_one_process.hpp"
-#include "traverse/solver/block_stepper.hpp"
 #include "traverse/core/comm.hpp"
-#include "trilinos_parts.hpp"
+#include "solver_access.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 
 namespace traverse::app {
@@ -130,46 +128,8 @@ std::string arch_scene_key(const scene::Scene& sc) {
 
 namespace {
 
-// Whether an arch start is formed in this process without Trilinos: in one process on block
-// storage, from a straight rod (a curved one goes to LOCA's continuation, as over ranks).
-bool forms_arch_in_one_process(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
-  return steps_on_block_storage(setup.solver, comm_size(comm)) && sc.rod.intrinsic_curvature.squaredNorm() == 0.0;
-}
-
-// The scene's rod formed into an arch in this process (solver::form_arch_in_one_process). The
-// last arch formed is kept: the cases of a sweep that vary the load, the speed or the time
-// numerics form the same arch, which is then reused (the formation is deterministic). With
-// initial_state.loaded the arch is solved again with the load at t = 0 on it, as arch_start
-// does over the ranks.
-rod::RodState arch_in_one_process(const scene::Scene& sc, std::string& description) {
-  static std::optional<std::pair<std::string, solver::OneProcessArch>> last;
-  const std::string key = arch_scene_key(sc);
-  const bool reused = last && last->first == key;
-  if (!reused) {
-    last.reset();
-    solver::OneProcessArch formed = solver::form_arch_in_one_process(
-        rod_properties(sc.rod), sc.mesh.nodes - 1, sc.rod.length, sc.initial_state.end_to_end, sc.gravity);
-    if (!formed.ok) throw std::runtime_error("arch formation: " + formed.message);
-    last.emplace(key, std::move(formed));
-  }
-  const solver::OneProcessArch& arch = last->second;
-  std::ostringstream os;
-  os << "arch formed: Euler load " << arch.euler_load << " N; end load " << arch.forming_load << " N with the ends "
-     << arch.problem.value(rod::StaticParameter::end_position) << " m apart (" << arch.displacement_steps
-     << " displacement steps), pinned there; gravity raised to " << -arch.problem.gravity.y() << " m/s^2"
-     << (reused ? " (formed earlier in this process, reused)" : "");
-  description = os.str();
-  return arch_dynamic_start(
-      sc, arch.problem, arch.state,
-      [](const rod::StaticProblem& pr, std::vector<rod::StaticNode>& state) {
-        return rod::StaticSolver().newton(pr.model(), state);
-      },
-      description);
-}
-
-// Equilibrium under gravity and the loads on the rod at t = 0 (Newton with load steps), over
-// the ranks or in one process; this rank's nodes first .. first + count - 1 of the dynamic
-// state at rest.
+// Equilibrium under gravity and the loads on the rod at t = 0 (Newton with load steps) over
+// the ranks; this rank's nodes first .. first + count - 1 of the dynamic state at rest.
 InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
   const rod::RodModel& model = setup.model;
   const double L = sc.rod.length;
@@ -184,11 +144,7 @@ InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, M
     const double s0 = l.sigma(0.0);
     if (std::isfinite(s0) && s0 >= 0.0 && s0 <= L) sm.point_forces.push_back({l.force, s0});
   }
-  // In one process stepping on block storage, the start on block storage too (no Tpetra).
-  const solver::StaticStart st =
-      steps_on_block_storage(setup.solver, comm_size(comm))
-          ? solver::solve_static_start_in_one_process(sm, sc.scheme.planar != scene::PlanarMode::off)
-          : distributed_static_start(sm, setup.solver, comm);
+  const solver::StaticStart st = distributed_static_start(sm, setup.solver, comm);
   if (!st.report.converged) throw NumericsError(static_failure(sc, sm, st.report));
   InitialState out;
   out.state = solver::dynamic_state_piece(sm, st, out.first_node);
@@ -247,13 +203,9 @@ InitialState initial_state(const scene::Scene& sc, const RodSetup& setup, MPI_Co
       try {
         // The arch's statics get the scene's solver section unfilled, as a statics run does:
         // their 2-rank default (GMRES + ILUT) applies only when no preconditioner is given
-        // (docs/statics.md, "Linear solves"); the filled defaults' SCHWARZ fails there.
-        // In one process on block storage the arch is formed here without Trilinos (the same
-        // arch: docs/statics.md, "The arch in one process"); over ranks by LOCA's continuation.
+        // (docs/statics.md, "Methods"); the filled defaults' SCHWARZ fails there.
         if (sc.initial_state.type == T::arch)
-          out.state = forms_arch_in_one_process(sc, setup, comm)
-                          ? arch_in_one_process(sc, out.description)
-                          : arch_start(sc, sc.solver_parameters(), comm, out.description);
+          out.state = arch_start(sc, sc.solver_parameters(), comm, out.description);
         else
           out.state = file_start(sc, out.description);
       } catch (const std::runtime_error& e) {
@@ -438,26 +390,9 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
   scene::fail_at(sc, "solver", "a linear solver that is valid on " + std::to_string(ranks) + " rank(s)", e.what());
 }
 
-bool steps_on_block_storage(const ParamList& solver, int ranks) {
-  try {
-    return ranks == 1 && solver::block_stepper_applies(solver);
-  } catch (const std::invalid_argument&) {
-    return false;  // a linear solver the steppers refuse: make_stepper reports it
-  }
-}
-
-bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
-  // On block storage every initial state is made without Tpetra (rest, static, file; an arch
-  // from a straight rod).
-  if (sc.initial_state.type == scene::InitialStateType::arch && !forms_arch_in_one_process(sc, setup, comm))
-    return true;
-  return !steps_on_block_storage(setup.solver, comm_size(comm));
-}
-
 std::unique_ptr<solver::RodStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
   const int ranks = comm_size(comm);
   try {
-    if (steps_on_block_storage(setup.solver, ranks)) return std::make_unique<solver::BlockStepper>(setup.model, setup.solver);
     return distributed_stepper(setup.model, setup.solver, comm);
   } catch (const std::invalid_argument& e) {
     linear_solver_refused(sc, ranks, e);

@@ -116,21 +116,12 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
 /// SceneError located at `solver`: the scene's linear solver cannot run on `ranks` ranks.
 [[noreturn]] void linear_solver_refused(const scene::Scene& sc, int ranks, const std::invalid_argument& e);
 
-/// Whether a run with these solver parameters on `ranks` ranks steps in one process on block
-/// storage (solver::BlockStepper: one rank, the block-tridiagonal LU, BlockNewton), which needs
-/// no Tpetra; false for parameters the steppers refuse (make_stepper reports them).
-bool steps_on_block_storage(const ParamList& solver, int ranks);
-/// Whether a dynamic rod run needs Tpetra (and Kokkos): not when it steps on block storage
-/// from a rest, static or file initial state (all three made without Tpetra then).
-bool needs_tpetra(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);
-
 /// The global nodes `wanted` of the stepper's distributed state, on every rank (collective:
 /// each rank packs the ones it owns, one sum-reduction of wanted.size() nodes).
 std::vector<rod::RodNode> gather_nodes(const solver::RodStepper& st, const std::vector<int>& wanted, MPI_Comm comm);
 
-/// The time stepper of a scene's rod model (collective): BlockStepper where
-/// steps_on_block_storage, DistributedStepper otherwise (the same steps where both apply); a
-/// linear solver that cannot run on this many ranks is bad input (linear_solver_refused).
+/// The time stepper of a scene's rod model (collective); a linear solver that cannot run on
+/// this many ranks is bad input (linear_solver_refused).
 std::unique_ptr<solver::RodStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);
 
 }  // namespace traverse::app

@@ -118,15 +118,6 @@ double rod_stepper_bytes(int unknowns) {
   return 54000.0;
 }
 
-// One process on block storage (solver::BlockStepper, no Tpetra; measured at 2 x 10^4 nodes
-// from a rest state, the replicated states subtracted), by the 3D unknowns per node (12 with a
-// box scheme in space, 24 with carried ys) and the path; and the one-process static start.
-double block_stepper_bytes(int unknowns_3d, bool planar) {
-  if (unknowns_3d <= 12) return planar ? 4700.0 : 7900.0;
-  return planar ? 15600.0 : 26500.0;
-}
-constexpr double kBlockStaticStart = 5800.0;
-
 // The linear solver of the time steps and its memory relative to auto (the block-tridiagonal
 // LU): a direct KLU2 on one rank 1.07, a Krylov method with another preconditioner 1.4.
 double rod_solver_factor(const scene::Scene& sc, int ranks, std::string& name) {
@@ -332,22 +323,19 @@ MemoryPlan rod_memory(const scene::Scene& sc, const RodPathGuess& path) {
   const int u3 = rod_unknowns_3d(sc), u = path.planar ? u3 / 2 : u3;
   std::string solver;
   const double factor = rod_solver_factor(sc, path.ranks, solver);
-  const bool block = steps_on_block_storage(sc.solver_parameters(), path.ranks);
-  const double stepper = block ? block_stepper_bytes(u3, path.planar) : factor * rod_stepper_bytes(u);
-  if (block) solver += " on block storage, one process";
+  const double stepper = factor * rod_stepper_bytes(u);
   const bool static_start = sc.initial_state.type == scene::InitialStateType::static_equilibrium;
   const bool arch = sc.initial_state.type == scene::InitialStateType::arch;
   const double stepping = stepper * n;
   // The static start is solved and freed before the stepper is built: the larger one counts.
-  const double static_bytes = block ? kBlockStaticStart : kRodStaticStart;
-  const double starting = static_start ? static_bytes * n : arch ? kRodStatics * n : 0.0;
+  const double starting = static_start ? kRodStaticStart * n : arch ? kRodStatics * n : 0.0;
   m.bytes = kProgramBytes + std::max(stepping, starting) + replicated;
   const std::string stepping_text = count(n) + " nodes x " + kb(stepper) + " (time steps on the " +
                                     (path.planar ? "planar" : "3D") + " path, " + std::to_string(u) +
                                     " unknowns per node, linear solver " + solver + ")";
   std::string text;
   if (starting > stepping && static_start)
-    text = count(n) + " nodes x " + kb(static_bytes) +
+    text = count(n) + " nodes x " + kb(kRodStaticStart) +
            " (the static initial state: the 3D static system and its block-tridiagonal LU; initial_state.type)";
   else if (starting > stepping)
     text = count(n) + " nodes x " + kb(kRodStatics) + " (the arch formation; initial_state.type)";

@@ -28,7 +28,7 @@
 #include "traverse/solver/rod_stepper.hpp"
 #include "traverse/core/comm.hpp"
 #include "traverse/version.hpp"
-#include "trilinos_parts.hpp"
+#include "solver_access.hpp"
 
 namespace traverse::app {
 
@@ -659,7 +659,6 @@ void check_linear_solver(const scene::Scene& sc, const RodSetup& setup, MPI_Comm
   }
 }
 
-
 void print_start(const scene::Scene& sc, const TimeGrid& g, const std::string& initial,
                  const solver::RodStepper& st, const std::string& path_text) {
   char steps[160];
@@ -668,11 +667,11 @@ void print_start(const scene::Scene& sc, const TimeGrid& g, const std::string& i
                   sc.time.adaptive.tolerance, g.dt, g.dt * sc.output.every);
   else
     std::snprintf(steps, sizeof steps, "%ld steps of dt = %.6g s", g.steps, g.dt);
-  std::printf("rod scene '%s': %d nodes, %s to t = %.6g s; initial state: %s; linear solver: %s%s; Newton: %s; "
+  std::printf("rod scene '%s': %d nodes, %s to t = %.6g s; initial state: %s; linear solver: %s%s; "
               "path: %s\n",
               sc.file.c_str(), sc.mesh.nodes, steps, g.t_end, initial.c_str(), st.resolved_linear_solver().c_str(),
               st.linear_solver_rerouted() ? " (rerouted: Amesos2 gives wrong answers on 2+ ranks here)" : "",
-              st.newton_implementation().c_str(), path_text.c_str());
+              path_text.c_str());
 }
 
 }  // namespace
@@ -686,12 +685,9 @@ void check_rod(const scene::Scene& sc) {
 void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   const int rank = par::rank(comm);
   const RodSetup setup = build_rod_model(sc);
-  // Kokkos lives from the first rod run of the process that needs it to the process's end
-  // (finish_solver_runtime), Tpetra for this run only: a run stepping in one process on block
-  // storage, from a static or rest state, needs neither (nor do beam runs and the other
-  // commands).
-  std::optional<TpetraScope> tpetra;
-  if (needs_tpetra(sc, setup, comm)) tpetra.emplace(comm);
+  // Kokkos lives from the first rod run of the process to the process's end
+  // (finish_solver_runtime), Tpetra for this run only.
+  const TpetraScope tpetra(comm);
 
   // Model, limits and stepper first: the limits (steps, memory, load ratio: run_limits.hpp),
   // the partition (ranks <= nodes), the linear solver and a required planar path are bad

@@ -658,11 +658,11 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   }
   if (rank == 0 && !opt.quiet) {
     std::printf("rod scene '%s': %d nodes, up to %ld steps of dt = %.6g s to t = %.6g s%s; initial state: %s; coupled "
-                "mass '%s' (partitioned iteration); linear solver: %s; Newton: %s; path: %s\n",
+                "mass '%s' (partitioned iteration); linear solver: %s; path: %s\n",
                 sc.file.c_str(), sc.mesh.nodes, grid.steps, grid.dt, grid.t_end,
                 sc.time.adaptive.enabled ? " (adaptive: the first step and the output spacing)" : "",
                 start.description.c_str(), load.name.c_str(), st.resolved_linear_solver().c_str(),
-                st.newton_implementation().c_str(), path_text.c_str());
+                path_text.c_str());
     if (opt.restart)
       std::printf("restart from %s: time step %ld at t = %.9g s, %zu output steps kept\n", opt.output.c_str(),
                   point.step, point.time, point.steps_written);

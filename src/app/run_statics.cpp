@@ -17,7 +17,7 @@
 #include "traverse/solver/solver_parameters.hpp"
 #include "traverse/solver/static_continuation.hpp"
 #include "traverse/version.hpp"
-#include "trilinos_parts.hpp"
+#include "solver_access.hpp"
 
 namespace traverse::app {
 

@@ -1,31 +1,20 @@
-// traverse sweep: plan (everything checked up front), run the cases of this rank (or of this
-// worker process, -j), gather their records on rank 0 (the first process), write the index.
+// traverse sweep: plan (everything checked up front), run the cases of this rank, gather their
+// records on rank 0, write the index.
 #include "sweep.hpp"
 
-#include <sys/mman.h>
-#include <sys/prctl.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
-#include <cerrno>
-#include <csignal>
-#include <cstring>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <new>
 #include <optional>
 #include <sstream>
 
 #include "interrupt.hpp"
 #include "memory_limit.hpp"
 #include "mpi_session.hpp"
-#include "hand_over.hpp"
 #include "run.hpp"
 #include "run_limits.hpp"
 #include "traverse/core/comm.hpp"
@@ -157,7 +146,7 @@ std::vector<std::size_t> by_cost(const std::vector<SweepCase>& cases) {
   return order;
 }
 
-// Runs one case on `comm` (MPI_COMM_SELF, or MPI_COMM_NULL in a sweep without MPI) with
+// Runs one case on `comm` (MPI_COMM_SELF) with
 // `limits` (sweep_limits); every outcome becomes the record (an interrupted case also sets
 // `interrupted`).
 CaseRecord run_case(const CommandLine& cl, const RunLimits& limits, std::size_t k, const SweepCase& c, MPI_Comm comm,
@@ -267,14 +256,13 @@ void write_index(const CommandLine& cl, const std::vector<std::string>& rows) {
 
 // The limits of every case: the memory limit shared by the sweep's ranks on each host (a case
 // runs on MPI_COMM_SELF, which alone would see the whole host), unless --max-memory says.
-// With --jobs, MPI not started: the host's memory shared by the `processes` worker processes.
-RunLimits sweep_limits(const RunLimits& given, MPI_Comm comm, int processes) {
+RunLimits sweep_limits(const RunLimits& given, MPI_Comm comm) {
   RunLimits l = given;
   if (l.max_memory > 0.0) return l;
-  const MemoryLimit m = memory_limit(given, comm, processes);
+  const MemoryLimit m = memory_limit(given, comm, 1);
   if (m.bytes > 0.0) {
     l.max_memory = m.bytes;
-    l.memory_source = m.source + (processes > 1 ? ", for each of them" : ", for each of the sweep's ranks");
+    l.memory_source = m.source + ", for each of the sweep's ranks";
   }
   return l;
 }
@@ -298,7 +286,6 @@ SweepPlan plan_sweep(const CommandLine& cl) {
     try {
       const scene::Scene sc = case_scene(cl, c);
       c.cost = case_cost(sc);
-      if (!plan.needs_trilinos && scene_needs_trilinos(sc)) plan.needs_trilinos = true;
     } catch (const std::exception&) {
       // bad input (or a model that cannot be built): recorded as that case's failure when it runs
       c.cost = 0.0;
@@ -337,7 +324,7 @@ std::vector<CaseResult> run_cases(const CommandLine& cl, const SweepPlan& plan, 
   return mine;
 }
 
-// Results as text, to another rank or process: a "case \t code \t row" line each (a row holds
+// Results as text, to rank 0: a "case \t code \t row" line each (a row holds
 // no newline: csv_field).
 std::string pack(const std::vector<CaseResult>& results) {
   std::string text;
@@ -391,182 +378,37 @@ int finish_sweep(const CommandLine& cl, const SweepPlan& plan, Results& results,
   return code;
 }
 
-// Cases handed out in a given order (the most costly first) by a counter in memory that the
-// processes taking them share (-j: an anonymous shared mapping made before the fork; ranks: an
-// MPI-3 shared window of their host): each process takes the next case when it is free (a slow
-// or busy core gets fewer cases; a -j worker that dies loses only the case it was running),
-// and each case records which process took it.
+// The cases handed out one at a time, the most costly first, from a counter on rank 0 that
+// every rank increments atomically (MPI one-sided MPI_Fetch_and_op): each rank takes the next
+// case when it is free, so a slow or busy rank gets fewer cases.
 class CaseQueue {
  public:
-  /// The shared memory for `cases` cases.
-  static std::size_t bytes(std::size_t cases) { return sizeof(Shared) + cases * sizeof(std::atomic<int>); }
-  /// Over `order` (the same in every process), in `shared` (bytes(cases) long); exactly one of
-  /// the processes sets the shared state up (`set_up`), before any of them takes a case.
-  CaseQueue(std::vector<std::size_t> order, std::size_t cases, void* shared, bool set_up) : order_(std::move(order)) {
-    static_assert(std::atomic<std::size_t>::is_always_lock_free && std::atomic<int>::is_always_lock_free,
-                  "the case queue needs atomics that work between processes");
-    shared_ = static_cast<Shared*>(shared);
-    owner_ = reinterpret_cast<std::atomic<int>*>(static_cast<char*>(shared) + sizeof(Shared));
-    if (!set_up) return;
-    new (shared_) Shared;
-    for (std::size_t k = 0; k < cases; ++k) new (owner_ + k) std::atomic<int>(-1);
+  CaseQueue(std::vector<std::size_t> order, MPI_Comm comm) : order_(std::move(order)) {
+    const MPI_Aint bytes = comm_rank(comm) == 0 ? static_cast<MPI_Aint>(sizeof(long)) : 0;
+    MPI_Win_allocate(bytes, sizeof(long), MPI_INFO_NULL, comm, &next_, &window_);
+    if (comm_rank(comm) == 0) *next_ = 0;
+    MPI_Barrier(comm);  // nobody takes a case before the counter is set
   }
+  CaseQueue(const CaseQueue&) = delete;
+  CaseQueue& operator=(const CaseQueue&) = delete;
+  /// Collective: each rank arrives when the queue is empty.
+  ~CaseQueue() { MPI_Win_free(&window_); }
 
-  /// The next case, now owned by `taker`; nullopt when every case is taken.
-  std::optional<std::size_t> take(int taker) {
-    const std::size_t i = shared_->next.fetch_add(1);
-    if (i >= order_.size()) return std::nullopt;
-    owner_[order_[i]].store(taker);
-    return order_[i];
+  /// The next case; nullopt when every one is taken.
+  std::optional<std::size_t> take() {
+    const long one = 1;
+    long i = 0;
+    MPI_Win_lock(MPI_LOCK_SHARED, 0, 0, window_);
+    MPI_Fetch_and_op(&one, &i, MPI_LONG, 0, 0, MPI_SUM, window_);
+    MPI_Win_unlock(0, window_);
+    if (i < 0 || static_cast<std::size_t>(i) >= order_.size()) return std::nullopt;
+    return order_[static_cast<std::size_t>(i)];
   }
-  /// The process that took case k (-1: none).
-  int owner(std::size_t k) const { return owner_[k].load(); }
 
  private:
-  struct Shared {
-    std::atomic<std::size_t> next{0};
-  };
   std::vector<std::size_t> order_;
-  Shared* shared_ = nullptr;           ///< shared: the next position in order_
-  std::atomic<int>* owner_ = nullptr;  ///< shared: the process that took each case
-};
-
-// --jobs: anonymous memory shared with the worker processes forked after it is made.
-class SharedMapping {
- public:
-  explicit SharedMapping(std::size_t bytes) : bytes_(bytes) {
-    data_ = mmap(nullptr, bytes_, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
-    if (data_ == MAP_FAILED)
-      throw std::runtime_error(std::string("sweep --jobs: cannot map the case queue (") + std::strerror(errno) + ")");
-  }
-  SharedMapping(const SharedMapping&) = delete;
-  SharedMapping& operator=(const SharedMapping&) = delete;
-  ~SharedMapping() { munmap(data_, bytes_); }
-  void* data() const { return data_; }
-
- private:
-  std::size_t bytes_;
-  void* data_;
-};
-
-// --jobs: one forked worker process, its end of the pipe to the parent.
-struct Worker {
-  pid_t pid = -1;
-  int fd = -1;
-  int index = 0;
-};
-
-// Signals to this process go on to workers[first..] (those not yet reaped).
-void forward_to_running(const std::vector<Worker>& workers, std::size_t first) {
-  std::vector<pid_t> pids;
-  for (std::size_t i = first; i < workers.size(); ++i) pids.push_back(workers[i].pid);
-  forward_interrupts_to(pids.data(), static_cast<int>(pids.size()));
-}
-
-// Everything `fd` delivers, until the writer closes it.
-std::string read_all(int fd) {
-  std::string all;
-  char buf[1 << 14];
-  for (;;) {
-    const ssize_t n = read(fd, buf, sizeof buf);
-    if (n > 0) all.append(buf, static_cast<std::size_t>(n));
-    else if (n == 0 || errno != EINTR) break;
-  }
-  return all;
-}
-
-void write_all(int fd, const std::string& data) {
-  std::size_t done = 0;
-  while (done < data.size()) {
-    const ssize_t n = write(fd, data.data() + done, data.size() - done);
-    if (n > 0) done += static_cast<std::size_t>(n);
-    else if (errno != EINTR) break;
-  }
-}
-
-// How a worker process ended, for the record of the case it did not report.
-std::string worker_end(int status) {
-  if (WIFSIGNALED(status)) return "ended by " + signal_name(WTERMSIG(status));
-  if (WIFEXITED(status)) return "ended with exit code " + std::to_string(WEXITSTATUS(status));
-  return "ended";
-}
-
-}  // namespace
-
-std::vector<int> assign_groups(const std::vector<SweepCase>& cases, const std::vector<int>& capacities) {
-  std::vector<double> load(capacities.size(), 0.0);
-  std::vector<int> group_of(cases.size(), 0);
-  if (capacities.empty()) return group_of;
-  for (std::size_t k : by_cost(cases)) {
-    const double cost = std::max(cases[k].cost, 1e-300);
-    std::size_t best = 0;
-    for (std::size_t g = 1; g < load.size(); ++g)
-      if ((load[g] + cost) / capacities[g] < (load[best] + cost) / capacities[best]) best = g;
-    group_of[k] = static_cast<int>(best);
-    load[best] += cost;
-  }
-  return group_of;
-}
-
-namespace {
-
-// The ranks of one host take the cases from one CaseQueue in an MPI-3 shared window. With
-// ranks on several hosts, the hosts split the cases by cost in proportion to their ranks first
-// (assign_groups), each host's ranks then share its queue.
-class HostQueue {
- public:
-  HostQueue(const std::vector<SweepCase>& cases, MPI_Comm comm) {
-    const int rank = comm_rank(comm);
-    MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &host_);
-    const int host_rank = comm_rank(host_), host_ranks = comm_size(host_);
-    // Each host's first rank numbers the hosts and learns how many ranks each has.
-    MPI_Comm firsts = MPI_COMM_NULL;
-    MPI_Comm_split(comm, host_rank == 0 ? 0 : MPI_UNDEFINED, rank, &firsts);
-    int host = 0, hosts = 1;
-    if (firsts != MPI_COMM_NULL) {
-      host = comm_rank(firsts);
-      hosts = comm_size(firsts);
-    }
-    MPI_Bcast(&host, 1, MPI_INT, 0, host_);
-    MPI_Bcast(&hosts, 1, MPI_INT, 0, host_);
-    std::vector<int> capacities(static_cast<std::size_t>(hosts), host_ranks);
-    if (firsts != MPI_COMM_NULL) {
-      MPI_Allgather(&host_ranks, 1, MPI_INT, capacities.data(), 1, MPI_INT, firsts);
-      MPI_Comm_free(&firsts);
-    }
-    MPI_Bcast(capacities.data(), hosts, MPI_INT, 0, host_);
-    const std::vector<int> host_of = assign_groups(cases, capacities);
-    std::vector<std::size_t> order;
-    for (std::size_t k : by_cost(cases))
-      if (host_of[k] == host) order.push_back(k);
-    const std::size_t bytes = CaseQueue::bytes(cases.size());
-    void* mine = nullptr;
-    MPI_Win_allocate_shared(host_rank == 0 ? static_cast<MPI_Aint>(bytes) : 0, 1, MPI_INFO_NULL, host_, &mine, &window_);
-    MPI_Aint size = 0;
-    int unit = 0;
-    void* shared = nullptr;
-    MPI_Win_shared_query(window_, 0, &size, &unit, &shared);
-    queue_.emplace(std::move(order), cases.size(), shared, host_rank == 0);
-    MPI_Barrier(host_);  // nobody takes a case before the queue is set up
-    rank_ = rank;
-  }
-  HostQueue(const HostQueue&) = delete;
-  HostQueue& operator=(const HostQueue&) = delete;
-  /// Collective over the host's ranks: each arrives when its queue is empty.
-  ~HostQueue() {
-    queue_.reset();
-    MPI_Win_free(&window_);
-    MPI_Comm_free(&host_);
-  }
-
-  /// The next case of this host; nullopt when every one is taken.
-  std::optional<std::size_t> take() { return queue_->take(rank_); }
-
- private:
-  MPI_Comm host_ = MPI_COMM_NULL;
   MPI_Win window_ = MPI_WIN_NULL;
-  std::optional<CaseQueue> queue_;
-  int rank_ = 0;
+  long* next_ = nullptr;  ///< rank 0: the next position in order_
 };
 
 }  // namespace
@@ -576,107 +418,24 @@ int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
   const std::vector<SweepCase>& cases = plan.cases;
   prepare_directory(cl, cases, comm);
   const int size = comm_size(comm), rank = comm_rank(comm);
-  const RunLimits limits = sweep_limits(cl.limits, comm, 1);
+  const RunLimits limits = sweep_limits(cl.limits, comm);
   if (rank == 0 && !cl.quiet)
     std::printf("sweep of %s: %zu cases on %d rank(s) -> %s\n", cl.scene.c_str(), cases.size(), size, cl.output.c_str());
-  // One process: the cases in order, without MPI when the sweep did not start it. Ranks: from
-  // their host's queue; each case alone, on MPI_COMM_SELF.
+  // One rank: the cases in order. Ranks: from the shared queue. Each case alone, on MPI_COMM_SELF.
   std::vector<CaseResult> mine;
   if (size == 1) {
     std::size_t k = 0;
     mine = run_cases(
         cl, plan, limits, [&]() -> std::optional<std::size_t> { return k < cases.size() ? std::optional(k++) : std::nullopt; },
-        par::alone(comm) ? MPI_COMM_NULL : MPI_COMM_SELF);
+        MPI_COMM_SELF);
   } else {
-    HostQueue queue(cases, comm);
+    CaseQueue queue(by_cost(cases), comm);
     mine = run_cases(cl, plan, limits, [&] { return queue.take(); }, MPI_COMM_SELF);
   }
   const std::string all = gather_text(pack(mine), comm);
   if (rank != 0) return kSuccess;
   Results results(cases.size());
   results.add_packed(all, [](std::size_t) { return true; });
-  return finish_sweep(cl, plan, results, start);
-}
-
-int run_sweep_jobs(const CommandLine& cl, const SweepPlan& plan, const std::function<MPI_Comm()>& start_mpi) {
-  const Clock::time_point start = Clock::now();
-  static_assert(kMaxJobs - 1 <= kMaxForwarded, "every worker of the most --jobs gets the signals passed on");
-  const std::vector<SweepCase>& cases = plan.cases;
-  prepare_directory(cl, cases, MPI_COMM_NULL);
-  const int jobs = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(std::max(1, cl.jobs)),
-                                                          std::max<std::size_t>(1, cases.size())));
-  const RunLimits limits = sweep_limits(cl.limits, MPI_COMM_NULL, jobs);
-  if (!cl.quiet)
-    std::printf("sweep of %s: %zu cases in %d worker process(es) -> %s\n", cl.scene.c_str(), cases.size(), jobs,
-                cl.output.c_str());
-  SharedMapping memory(CaseQueue::bytes(cases.size()));
-  CaseQueue queue(by_cost(cases), cases.size(), memory.data(), true);
-  // Nothing buffered may be written twice, by the parent and by a copy in a worker.
-  std::fflush(stdout);
-  std::fflush(stderr);
-  const pid_t parent = getpid();
-  std::vector<Worker> workers;
-  int me = 0;
-  int to_parent = -1;
-  for (int w = 1; w < jobs; ++w) {
-    int fds[2];
-    if (pipe(fds) != 0) throw std::runtime_error(std::string("sweep --jobs: cannot make a pipe (") + std::strerror(errno) + ")");
-    const pid_t pid = fork();
-    if (pid < 0) {
-      close(fds[0]);
-      close(fds[1]);
-      throw std::runtime_error(std::string("sweep --jobs: cannot start worker process ") + std::to_string(w) + " (" +
-                               std::strerror(errno) + ")");
-    }
-    if (pid == 0) {  // the worker: cases from the queue, their records to the parent; killed with it
-      prctl(PR_SET_PDEATHSIG, SIGKILL);
-      if (getppid() != parent) _exit(kOtherError);
-      for (const Worker& other : workers) close(other.fd);
-      workers.clear();
-      close(fds[0]);
-      to_parent = fds[1];
-      me = w;
-      become_interrupt_worker(parent);
-      break;
-    }
-    close(fds[1]);
-    workers.push_back({pid, fds[0], w});
-    forward_to_running(workers, 0);
-  }
-  const MPI_Comm comm = start_mpi();
-  // After a signal no process takes another case.
-  const std::vector<CaseResult> mine = run_cases(
-      cl, plan, limits,
-      [&]() -> std::optional<std::size_t> {
-        if (local_interrupt_signal()) return std::nullopt;
-        return queue.take(me);
-      },
-      par::alone(comm) ? MPI_COMM_NULL : MPI_COMM_SELF);
-  if (me != 0) {  // a worker: its results to the parent
-    write_all(to_parent, pack(mine));
-    close(to_parent);
-    return kSuccess;
-  }
-  Results results(cases.size());
-  for (const CaseResult& r : mine) results.add(r);
-  for (const Worker& w : workers) {
-    results.add_packed(read_all(w.fd), [&](std::size_t k) { return queue.owner(k) == w.index; });
-    close(w.fd);
-    int status = 0;
-    while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
-    }
-    forward_to_running(workers, static_cast<std::size_t>(w.index));  // its pid is free for reuse now
-    // The case of a worker that ended before reporting it (killed, crashed).
-    for (std::size_t k = 0; k < cases.size(); ++k) {
-      if (queue.owner(k) != w.index || results.reported[k]) continue;
-      CaseRecord r;
-      r.code = kOtherError;
-      r.status = "error";
-      r.message = "worker process " + std::to_string(w.index) + " (pid " + std::to_string(w.pid) + ") " +
-                  worker_end(status) + " while running this case";
-      results.add({k, r.code, index_row(k, cases[k], r, cl.summary.given())});
-    }
-  }
   return finish_sweep(cl, plan, results, start);
 }
 

@@ -646,8 +646,7 @@ Writer::Writer(MPI_Comm comm, const std::string& path, bool overwrite, const Run
   Impl& w = *impl_;
   // MPI_COMM_NULL: this process alone, without MPI. A communicator of one rank is written
   // the same way (the POSIX driver, no MPI calls): MPI-IO's collective machinery buys
-  // nothing for one writer and cost a sweep's small cases about a tenth of their time
-  // (docs/benchmarks.md, "The 2-rank sweep").
+  // nothing for one writer.
   if (!par::alone(comm)) {
     int initialized = 0;
     MPI_Initialized(&initialized);

@@ -1,6 +1,5 @@
 #include "traverse/rod/coupled_mass_rod.hpp"
 
-#include <Eigen/SparseLU>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -37,55 +36,6 @@ struct CoupledRodStepper::Path {
 
 CoupledRodStepper::~CoupledRodStepper() = default;
 
-namespace {
-
-/// reference_rod_solve: Newton on the whole rod with the criteria of ReferenceStepper::step.
-class ReferenceRodSolve final : public CoupledRodSolve {
- public:
-  explicit ReferenceRodSolve(RodModel model) : stepper_(std::move(model)) {}
-  bool solve(const RodState& old, double dt, bool again, int& iterations) override {
-    const StepTimes st{old.t, dt};
-    if (!again) x_ = stepper_.unknowns(old);
-    if (!newton(st, old, iterations)) return false;
-    trial_ = stepper_.state_from_unknowns(old, x_, dt);
-    return true;
-  }
-  RodPointKinematics point(double sigma) const override { return point_kinematics(trial_, sigma); }
-  RodState solution() const override { return trial_; }
-
- private:
-  bool newton(const StepTimes& st, const RodState& old, int& iterations) {
-    VecX r;
-    Eigen::SparseMatrix<double> J;
-    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
-    double previous = 0.0;
-    for (int it = 1; it <= stepper_.max_iterations; ++it) {
-      stepper_.residual_and_jacobian(st, old, x_, r, J);
-      if (!r.allFinite()) return false;
-      lu.compute(J);
-      if (lu.info() != Eigen::Success) return false;
-      const VecX dx = lu.solve(-r);
-      if (!dx.allFinite()) return false;
-      x_ += dx;
-      ++iterations;
-      const double change = dx.cwiseAbs().maxCoeff(), scale = x_.cwiseAbs().maxCoeff();
-      if (change <= stepper_.rtol * scale + stepper_.atol) return true;
-      if (it > 1 && change <= 1e-9 * scale + stepper_.atol && change > 0.1 * previous) return true;
-      previous = change;
-    }
-    return false;
-  }
-  ReferenceStepper stepper_;
-  VecX x_;
-  RodState trial_;
-};
-
-}  // namespace
-
-std::unique_ptr<CoupledRodSolve> reference_rod_solve(RodModel model) {
-  return std::make_unique<ReferenceRodSolve>(std::move(model));
-}
-
 CoupledRodStepper::CoupledRodStepper(RodModel model, CoupledRodMass mass, const CoupledRodSolveFactory& make)
     : path_(std::make_shared<Path>()), mass_(mass) {
   if (!(mass_.mass > 0.0)) throw std::invalid_argument("CoupledRodStepper: mass must be > 0");
@@ -108,7 +58,8 @@ CoupledRodStepper::CoupledRodStepper(RodModel model, CoupledRodMass mass, const 
     model.loads.point_forces.push_back(f);
   }
   model_ = model;
-  solve_ = make ? make(std::move(model)) : reference_rod_solve(std::move(model));
+  if (!make) throw std::invalid_argument("CoupledRodStepper: no rod solve");
+  solve_ = make(std::move(model));
 }
 
 namespace {

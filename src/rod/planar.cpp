@@ -539,12 +539,4 @@ double restrict_static_block(const StaticModel& m, const StaticPlanarSplit& spli
   return dropped;
 }
 
-Vec12 static_node_update(const std::optional<StaticPlanarSplit>& split, const double* dx, std::size_t k) {
-  if (!split) return Eigen::Map<const Vec12>(dx + 12 * k);
-  Vec12 d = Vec12::Zero();
-  const std::array<int, 6> S = in_plane_components(split->axis);
-  for (std::size_t c = 0; c < 6; ++c) d(S[c]) = dx[6 * k + c];
-  return d;
-}
-
 }  // namespace traverse::rod

@@ -1,89 +1,9 @@
 #include "traverse/rod/static_solver.hpp"
 
-#include "traverse/core/sparse_lu.hpp"
-
 #include <cmath>
 #include <cstdio>
 
 namespace traverse::rod {
-
-namespace {
-
-void scatter(const LocalBlock& b, VecX& r, std::vector<Eigen::Triplet<double>>* trip) {
-  r.segment(b.row, b.residual.size()) += b.residual;
-  if (!trip) return;
-  for (size_t k = 0; k < b.cols.size(); ++k)
-    for (Eigen::Index i = 0; i < b.jac[k].rows(); ++i)
-      for (Eigen::Index c = 0; c < b.jac[k].cols(); ++c)
-        if (b.jac[k](i, c) != 0.0) trip->emplace_back(b.row + i, b.cols[k] + c, b.jac[k](i, c));
-}
-
-/// The residual (and the Jacobian's triplets) of the whole rod, or of its in-plane rows and
-/// unknowns when `planar` is given.
-void assemble(const StaticModel& m, const std::vector<StaticNode>& nodes, VecX& r,
-              std::vector<Eigen::Triplet<double>>* trip, const StaticPlanarSplit* planar = nullptr) {
-  r = VecX::Zero(planar ? 6 * static_cast<Eigen::Index>(m.num_cells + 1) : m.num_unknowns());
-  LocalBlock in_plane;
-  auto add = [&](const LocalBlock& full) {
-    if (!planar) return scatter(full, r, trip);
-    restrict_static_block(m, *planar, full, in_plane);
-    scatter(in_plane, r, trip);
-  };
-  add(static_left_block(m, nodes.front()));
-  for (int j = 1; j <= m.num_cells; ++j)
-    add(static_cell_block(m, j, nodes[static_cast<size_t>(j - 1)], nodes[static_cast<size_t>(j)]));
-  add(static_right_block(m, nodes.back()));
-}
-
-/// The whole rod in this process: the LU in band storage (a rod's Jacobian couples neighbouring
-/// nodes only), or Eigen's SparseLU with the pattern analysed once per solve (SparseLUSolver).
-class SerialStaticSystem : public StaticNewtonSystem {
- public:
-  SerialStaticSystem(const StaticSolver& s, std::vector<StaticNode>& nodes) : solver_(s), nodes_(nodes) {}
-  bool assemble(const StaticModel& m) override {
-    solver_.residual_and_jacobian(m, nodes_, r_, J_);
-    return r_.allFinite();
-  }
-  bool factorize(std::string& why) override {
-    // The pattern is the same through a Newton solve (start() begins one).
-    if (lu_.factorize(J_, analysed_)) {
-      analysed_ = true;
-      return true;
-    }
-    why = "singular static Jacobian";
-    return false;
-  }
-  double update(double length, double fscale) override {
-    const VecX dx = lu_.solve(-r_);
-    double step_max = 0.0;
-    for (size_t j = 0; j < nodes_.size(); ++j)
-      step_max = std::max(step_max, static_update_node(nodes_[j], static_node_update(solver_.planar, dx.data(), j), length, fscale));
-    return step_max;
-  }
-  double residual_max(const StaticModel& m) override {
-    const VecX rn = solver_.residual(m, nodes_);
-    return rn.size() ? rn.cwiseAbs().maxCoeff() : 0.0;
-  }
-  void rebase_all() override {
-    for (auto& n : nodes_) n.rebase();
-  }
-  void start() override {
-    start_ = nodes_;
-    analysed_ = false;
-  }
-  void restore() override { nodes_ = start_; }
-
- private:
-  const StaticSolver& solver_;
-  std::vector<StaticNode>& nodes_;
-  std::vector<StaticNode> start_;
-  Eigen::SparseMatrix<double> J_;
-  SparseLUSolver lu_;  // banded for a rod's Jacobian
-  bool analysed_ = false;
-  VecX r_;
-};
-
-}  // namespace
 
 double static_update_node(StaticNode& node, const Vec12& d, double length, double fscale) {
   node.x += d;
@@ -112,31 +32,6 @@ double static_force_scale(const StaticModel& m) {
   for (const auto& p : m.point_forces) fscale = std::max(fscale, p.force.norm());
   for (const StaticEnd* e : {&m.left, &m.right}) fscale = std::max({fscale, std::abs(e->axial_force), e->end_force.norm()});
   return fscale;
-}
-
-VecX StaticSolver::residual(const StaticModel& m, const std::vector<StaticNode>& nodes) const {
-  VecX r;
-  assemble(m, nodes, r, nullptr);
-  return r;
-}
-
-void StaticSolver::residual_and_jacobian(const StaticModel& m, const std::vector<StaticNode>& nodes, VecX& r,
-                                         Eigen::SparseMatrix<double>& J) const {
-  std::vector<Eigen::Triplet<double>> trip;
-  trip.reserve(static_cast<size_t>(m.num_unknowns()) * 30);
-  assemble(m, nodes, r, &trip, planar ? &*planar : nullptr);
-  J.resize(r.size(), r.size());
-  J.setFromTriplets(trip.begin(), trip.end());
-}
-
-StaticReport StaticSolver::newton(const StaticModel& m, std::vector<StaticNode>& nodes) const {
-  SerialStaticSystem sys(*this, nodes);
-  return newton(m, sys);
-}
-
-StaticReport StaticSolver::solve_with_load_steps(const StaticModel& m, std::vector<StaticNode>& nodes) const {
-  SerialStaticSystem sys(*this, nodes);
-  return solve_with_load_steps(m, sys);
 }
 
 StaticReport StaticSolver::newton(const StaticModel& m, StaticNewtonSystem& sys) const {

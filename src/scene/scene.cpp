@@ -162,7 +162,7 @@ std::shared_ptr<TypeRegistry> load_types() {
                .non_negative()
                .def(0.0),
            choice("resistance_through",
-                  "air: the resistance acts on the mass alone (spec section 4; its power c sigma' d3 . p' can "
+                  "air: the resistance acts on the mass alone (docs/rod.md, Coupled mass; its power c sigma' d3 . p' can "
                   "turn negative where the structure moves along its tangent faster than the mass moves along it); "
                   "structure: a force pair between mass and structure (wheels, a motor), the structure taking "
                   "+c sigma' d3, its loss c sigma'^2 never negative (a beam's load is transverse: both act alike "

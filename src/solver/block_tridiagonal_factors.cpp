@@ -14,8 +14,8 @@ namespace {
 
 /// X = A^{-1} R for a fixed-size LU and a matrix right-hand side, by row operations on X (the
 /// permutation, the unit lower and the upper triangle): Eigen's solve in another order of the
-/// same operations, without its general triangular-matrix kernel, which cost a tenth of the
-/// default scene's time stepping for the 6 x 6 blocks (docs/benchmarks.md, "Small scenes").
+/// same operations, without its general triangular-matrix kernel, which is slower for blocks
+/// as small as the planar path's 6 x 6.
 template <int B>
 void lu_solve_rows(const Eigen::PartialPivLU<Eigen::Matrix<double, B, B>>& lu,
                    const Eigen::Map<const Eigen::Matrix<double, B, B>>& R, Eigen::Matrix<double, B, B>& X) {

@@ -1,8 +1,7 @@
 #pragma once
 // The factorisation and solve of the block-tridiagonal LU (the algorithm is described in
-// block_tridiagonal_preconditioner.hpp), on raw blocks: Eigen only, no Trilinos, so that the
-// Tpetra operator (BlockTridiagonalPreconditioner) and the single-rank Newton on block storage
-// (block_newton.hpp) share it.
+// block_tridiagonal_preconditioner.hpp), on raw blocks: Eigen only, no Trilinos (the Tpetra
+// operator BlockTridiagonalPreconditioner works through it).
 //
 // Layout: per node k of this rank, `blocks` holds three b x b column-major blocks: L_k
 // (coupling to node k-1), D_k, U_k (node k+1); entry (r, c) of the slot-th block of node k is

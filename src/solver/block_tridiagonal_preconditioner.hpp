@@ -4,7 +4,7 @@
 // iteration).
 //
 // The rod's unknowns are node-major and the rows of node k couple nodes k-1..k+1 only
-// (docs/solver.md, "Row/unknown mapping"), so with the node's unknowns as one block the
+// (docs/solver.md, "The default linear solver: block-tridiagonal LU"), so with the node's unknowns as one block the
 // matrix is block tridiagonal. The block size is found from the graph (the smallest b for
 // which every rank's owned rows couple only the neighbouring b-blocks: 12 for the 3D rod, 6
 // for the planar one), so nothing else needs to tell it. One rank: the block Thomas algorithm

@@ -3,7 +3,6 @@
 #include <Teuchos_CommHelpers.hpp>
 #include <stdexcept>
 
-#include "block_newton.hpp"
 #include "linear_solver_builder.hpp"
 #include "reusable_ifpack2_factory.hpp"
 #include "traverse/mesh/distributed_mesh.hpp"
@@ -34,8 +33,6 @@ struct DistributedStepper::Impl {
   Teuchos::RCP<const mesh::DistributedMesh> mesh;
   Teuchos::RCP<RodStepModel> me;
   std::unique_ptr<NewtonSolver> newton;
-  std::unique_ptr<BlockNewton> block_newton;  ///< instead of NOX where it applies (block_newton_applies)
-  std::vector<double> xb;                      ///< its unknowns
   Teuchos::RCP<Tpetra::Vector<double>> x;
   int full_newton_retries = 0;
   std::shared_ptr<DirectSolverStats> direct_stats = std::make_shared<DirectSolverStats>();
@@ -48,7 +45,6 @@ struct DistributedStepper::Impl {
     const rod::RodModel& rm = *model;
     const int p = planar ? planar->unknowns_per_node() : rm.unknowns_per_node();
     newton.reset();
-    block_newton.reset();
     me = Teuchos::null;
     direct_stats = std::make_shared<DirectSolverStats>();
     reusing_klu2 = false;
@@ -74,23 +70,9 @@ struct DistributedStepper::Impl {
   }
 
   /// The Newton solver of the time steps (after build() and set_old_level).
-  void build_newton(const ParamList& params, const ParamList& np,
-                    const LinearSolverChoice& choice) {
-    if (block_newton_applies(params, choice, comm->getSize())) {
-      block_newton = std::make_unique<BlockNewton>(me->assembly(), block_newton_options(np, choice));
-      xb.assign(static_cast<size_t>(me->assembly().num_owned_nodes()) * me->unknowns_per_node(), 0.0);
-      return;
-    }
-    newton = std::make_unique<NewtonSolver>(me, np);
-  }
+  void build_newton(const ParamList& np) { newton = std::make_unique<NewtonSolver>(me, np); }
 
   NewtonReport solve_once(std::vector<VecX>& xg, std::optional<rod::InitialGuess> guess) {
-    if (block_newton) {
-      if (guess) me->assembly().initial_guess(xb.data(), *guess);
-      NewtonReport r = block_newton->solve(xb);
-      me->assembly().full_unknowns(xb.data(), xg);
-      return r;
-    }
     if (guess) me->initial_guess(*x, *guess);
     NewtonReport r = newton->solve(*x);
     xg = me->ghosted_unknowns(*x);
@@ -112,7 +94,7 @@ DistributedStepper::DistributedStepper(rod::RodModel rod_model,
   const rod::RodModel& rm = model();
   set_state(rod::straight_rest_state(rm.num_cells, rm.length));
   m.me->set_old_level(nodes(), rod::StepTimes{time(), 0.0});
-  m.build_newton(parameters(), newton_params(), choice());
+  m.build_newton(newton_params());
 }
 
 DistributedStepper::~DistributedStepper() = default;
@@ -121,7 +103,7 @@ void DistributedStepper::rebuild() {
   Impl& m = *impl_;
   m.build(shared_model(), planar_reduction(), parameters(), choice());
   m.me->set_old_level(nodes(), rod::StepTimes{time(), 0.0});
-  m.build_newton(parameters(), newton_params(), choice());
+  m.build_newton(newton_params());
 }
 
 void DistributedStepper::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes, const rod::StepTimes& step) {
@@ -151,7 +133,7 @@ NewtonReport DistributedStepper::solve_level(std::vector<VecX>& xg, std::optiona
 
 double DistributedStepper::dropped_residual_everywhere() const {
   const Impl& m = *impl_;
-  const double local = m.block_newton ? m.block_newton->last_dropped_residual() : m.me->last_dropped_residual();
+  const double local = m.me->last_dropped_residual();
   double d = local;
   Teuchos::reduceAll<int, double>(*m.comm, Teuchos::REDUCE_MAX, 1, &local, &d);
   return d;
@@ -173,10 +155,6 @@ rod::RodState DistributedStepper::gather_state() const {
   return s;
 }
 
-std::string DistributedStepper::newton_implementation() const {
-  return impl_->block_newton ? "block storage" : "NOX";
-}
-
 ReuseCounters DistributedStepper::reuse_counters() const {
   const Impl& m = *impl_;
   ReuseCounters c;
@@ -188,7 +166,6 @@ ReuseCounters DistributedStepper::reuse_counters() const {
   c.full_newton_retries = m.full_newton_retries;
   c.symbolic_factorizations = m.direct_stats->symbolic;
   c.numeric_factorizations = m.direct_stats->numeric;
-  if (m.block_newton) add_block_newton_counters(*m.block_newton, c);
   if (auto f = Teuchos::rcp_dynamic_cast<const ReusableIfpack2Factory>(m.me->prec_factory()); !f.is_null()) {
     c.preconditioners_created = f->counters().created;
     c.preconditioner_initializations = f->counters().initialized;

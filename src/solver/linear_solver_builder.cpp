@@ -241,6 +241,13 @@ class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<
   }
   std::string description() const override { return "traverse::solver::BlockTridiagonalSolveFactory"; }
 
+  /// x = LU^{-1} b with the last factorisation, without refinement; false when there is none.
+  bool solve_with_last_factors(const MV& b, MV& x) const {
+    if (lu_.is_null() || factored_version_ == -2) return false;
+    lu_->apply(b, x);
+    return true;
+  }
+
  private:
   std::function<long()> version_;
   std::shared_ptr<DirectSolverStats> stats_;
@@ -272,6 +279,15 @@ Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_block_tridi
     std::function<long()> jacobian_version, std::shared_ptr<DirectSolverStats> stats, double tolerance) {
   if (!stats) stats = std::make_shared<DirectSolverStats>();
   return Teuchos::rcp(new BlockTridiagonalSolveFactory(std::move(jacobian_version), std::move(stats), tolerance));
+}
+
+bool solve_with_last_factors(const Thyra::LinearOpWithSolveFactoryBase<double>& factory, const MV& b, MV& x) {
+  const auto* block = dynamic_cast<const BlockTridiagonalSolveFactory*>(&factory);
+  return block != nullptr && block->solve_with_last_factors(b, x);
+}
+
+bool is_block_tridiagonal_solve_factory(const Thyra::LinearOpWithSolveFactoryBase<double>& factory) {
+  return dynamic_cast<const BlockTridiagonalSolveFactory*>(&factory) != nullptr;
 }
 
 Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_reusing_klu2_factory(

@@ -2,6 +2,7 @@
 // Builds the Stratimikos linear solver objects of a LinearSolverChoice (private to solver).
 #include <Thyra_LinearOpWithSolveFactoryBase.hpp>
 #include <Thyra_PreconditionerFactoryBase.hpp>
+#include <Tpetra_MultiVector.hpp>
 
 #include "traverse/solver/linear_solver_choice.hpp"
 
@@ -16,5 +17,12 @@ struct LinearSolverObjects {
 
 /// Stratimikos builder with ReusableIfpack2Factory registered as "Ifpack2".
 LinearSolverObjects build_linear_solver(const LinearSolverChoice& choice);
+
+/// Whether `factory` is the block-tridiagonal LU of make_block_tridiagonal_solve_factory.
+bool is_block_tridiagonal_solve_factory(const Thyra::LinearOpWithSolveFactoryBase<double>& factory);
+/// With the block-tridiagonal LU's factory: x = LU^{-1} b with its last factorisation (no
+/// refinement). False for another factory, or before the first factorisation.
+bool solve_with_last_factors(const Thyra::LinearOpWithSolveFactoryBase<double>& factory,
+                             const Tpetra::MultiVector<double>& b, Tpetra::MultiVector<double>& x);
 
 }  // namespace traverse::solver

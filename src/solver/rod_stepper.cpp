@@ -1,4 +1,4 @@
-// The step logic both rod steppers share (rod_stepper.hpp).
+// The rod stepper's step logic (rod_stepper.hpp).
 #include "traverse/solver/rod_stepper.hpp"
 
 #include <algorithm>
@@ -9,12 +9,6 @@
 #include "traverse/solver/solver_parameters.hpp"
 
 namespace traverse::solver {
-
-bool block_newton_applies(const ParamList& params, const LinearSolverChoice& choice, int ranks) {
-  return ranks == 1 && choice.block_tridiagonal_direct && params.get<std::string>("Newton Implementation") == "auto" &&
-         params.get<std::string>("Line Search") == "Full Step" && !params.get<bool>("Jacobian Reuse") &&
-         (!params.isSublist("NOX") || params.sublist("NOX").numParams() == 0);
-}
 
 RodStepper::RodStepper(rod::RodModel model, const ParamList& params, int ranks, int rank) {
   const rod::EndConditionCheck check = rod::validate_end_conditions(model.left, model.right);

@@ -28,16 +28,11 @@ const std::vector<SolverKey>& solver_keys() {
       {"Update Absolute Tolerance", 1e-10, {}, "Convergence: WRMS update test atol"},
       {"Line Search", std::string("Full Step"), {"Full Step", "Backtrack", "Polynomial", "More'-Thuente"},
        "NOX line search method"},
-      {"Newton Implementation", std::string("auto"), {"auto", "NOX"},
-       "Rod time step: auto = traverse's Newton on block storage where it applies (one rank, the "
-       "block-tridiagonal LU, Full Step, no NOX sublist, no Jacobian Reuse; with 'Update Test: "
-       "Last Update' the same iterates as NOX, without its overhead), NOX elsewhere; NOX = always NOX"},
       {"Update Test", std::string("auto"), {"auto", "Last Update"},
-       "Newton's update test of a rod time step: auto = where traverse's Newton on block storage "
-       "runs, a step also converges when the next update, solved with the last factorisation, "
-       "passes the WRMS test (no iteration whose only purpose is the update test); NOX's test "
-       "elsewhere; Last Update = NOX's test everywhere (the update just taken; both Newtons then "
-       "take the same iterates)"},
+       "Newton's update test of a rod time step: auto = with the block-tridiagonal LU, a step also "
+       "converges when the next update, solved with the last factorisation, passes the WRMS test "
+       "(then taken; no iteration whose only purpose is the update test); NOX's test with the "
+       "other linear solvers; Last Update = NOX's test (the update just taken) everywhere"},
       {"Initial Guess", std::string("auto"), {"auto", "Old Level", "Secant"},
        "Newton's initial guess of a rod time step: Old Level = the old level's unknowns; Secant = "
        "the old level extrapolated along the last step's secant, y + dt (y - y_prev) / dt_prev "

@@ -155,4 +155,13 @@ StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<con
   return out;
 }
 
+rod::RodState dynamic_state_piece(const rod::StaticModel& m, const StaticStart& start, int& first_node) {
+  first_node = std::max(0, start.first_owned_node - 1);
+  const int count = std::min(m.num_cells, start.first_owned_node + start.num_owned_nodes) - first_node + 1;
+  rod::RodState piece;
+  piece.ds = m.ds();
+  piece.nodes = rod::dynamic_nodes_from_static(m, start.nodes, start.first_node, first_node, count);
+  return piece;
+}
+
 }  // namespace traverse::solver

@@ -1,9 +1,8 @@
 // traverse sweep (docs/sweeps.md): the --vary parser (ranges without drift, lists, the
-// cartesian product), the sweep in one process, on 2 ranks and in 4 worker processes (-j)
-// against separate `traverse run --set` runs (same index, the same numbers in every case
-// file), bad options refused before any case runs, failing cases recorded while the others
-// finish, worker processes that stop with their parent and a lost worker's cases recorded,
-// ranks that share one queue (a signal to one rank ends the sweep), the hosts' split by cost.
+// cartesian product), the sweep in one process and on 2 ranks against separate `traverse run
+// --set` runs (same index, the same numbers in every case file), bad options refused before
+// any case runs, failing cases recorded while the others finish, ranks that share one queue
+// (a signal to one rank ends the sweep).
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -113,28 +112,7 @@ TEST(SweepSpec, RangesListsAndProduct) {
   EXPECT_EQ(traverse::app::parse_summary("midspan.y:min").component, 1);
 }
 
-// The hosts of a sweep's ranks split the cases by estimated cost in proportion to their ranks.
-TEST(SweepSpec, CasesSplitByCostInProportionToRanks) {
-  std::vector<traverse::app::SweepCase> cases;
-  for (double cost : {5.0, 1.0, 4.0, 2.0, 3.0, 3.0, 2.0, 1.0, 6.0}) cases.push_back({{}, "", cost});
-  auto loads = [&](const std::vector<int>& group, std::size_t groups) {
-    std::vector<double> load(groups, 0.0);
-    for (std::size_t k = 0; k < cases.size(); ++k) load[static_cast<std::size_t>(group[k])] += cases[k].cost;
-    return load;
-  };
-  // Equal groups: the most costly first, each to the least loaded (6 | 5 | 4, then 3 3 2 2 1 1).
-  const auto even = traverse::app::assign_groups(cases, {1, 1, 1});
-  EXPECT_EQ(even[8], 0);
-  EXPECT_EQ(even[0], 1);
-  EXPECT_EQ(even[2], 2);
-  EXPECT_EQ(loads(even, 3), (std::vector<double>{9.0, 9.0, 9.0}));
-  // A host with 2 ranks gets twice the cost of a host with one (27 in all: 18 and 9).
-  EXPECT_EQ(loads(traverse::app::assign_groups(cases, {2, 1}), 2), (std::vector<double>{18.0, 9.0}));
-  EXPECT_EQ(loads(traverse::app::assign_groups(cases, {1, 2}), 2), (std::vector<double>{9.0, 18.0}));
-  EXPECT_EQ(traverse::app::assign_groups(cases, {4}), std::vector<int>(cases.size(), 0));
-}
-
-TEST(Sweep, OneProcessRanksAndJobsMatchSeparateRuns) {
+TEST(Sweep, OneProcessAndRanksMatchSeparateRuns) {
   const fs::path d = scratch("sweep-ranks");
   const std::string common = " --set mesh.ds=0.04 --set output.fields=[r]";
   const std::string vary = " --vary loads.F.speed=2,3.5:4.5:1 --vary scheme.rho_inf=1,0.8 --summary midspan.y:min";
@@ -144,20 +122,20 @@ TEST(Sweep, OneProcessRanksAndJobsMatchSeparateRuns) {
   const auto two = traverse::testing::run_command(mpiexec(2) + kExe + " sweep " + kCable.string() + " -o " +
                                                   (d / "np2").string() + common + vary + " -q");
   ASSERT_EQ(two.code, 0) << two.out;
-  // 4 worker processes for 6 cases (not quiet: the header names them, the summary line gives the
-  // sweep's own wall time).
+  // 2 ranks again, not quiet: the header names them, the summary line gives the sweep's own
+  // wall time.
   const auto t0 = std::chrono::steady_clock::now();
-  const auto jobs = traverse::testing::run_command(kExe + " sweep " + kCable.string() + " -o " + (d / "j4").string() +
-                                                   common + vary + " -j 4");
+  const auto loud = traverse::testing::run_command(mpiexec(2) + kExe + " sweep " + kCable.string() + " -o " +
+                                                   (d / "np2-loud").string() + common + vary);
   const double process_wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  ASSERT_EQ(jobs.code, 0) << jobs.out;
-  EXPECT_NE(jobs.out.find("6 cases in 4 worker process(es)"), std::string::npos) << jobs.out;
+  ASSERT_EQ(loud.code, 0) << loud.out;
+  EXPECT_NE(loud.out.find("6 cases on 2 rank(s)"), std::string::npos) << loud.out;
   const std::string done = "sweep done: 6 of 6 cases complete in ";
-  const std::size_t at = jobs.out.find(done);
-  ASSERT_NE(at, std::string::npos) << jobs.out;
-  const double own_wall = std::stod(jobs.out.substr(at + done.size()));
+  const std::size_t at = loud.out.find(done);
+  ASSERT_NE(at, std::string::npos) << loud.out;
+  const double own_wall = std::stod(loud.out.substr(at + done.size()));
   const auto a = read_csv(d / "np1" / "index.csv"), b = read_csv(d / "np2" / "index.csv"),
-             j = read_csv(d / "j4" / "index.csv");
+             j = read_csv(d / "np2-loud" / "index.csv");
   ASSERT_EQ(a.size(), 7u);  // the header and 3 x 2 cases
   ASSERT_EQ(b.size(), a.size());
   ASSERT_EQ(j.size(), a.size());
@@ -171,20 +149,20 @@ TEST(Sweep, OneProcessRanksAndJobsMatchSeparateRuns) {
     for (std::size_t c = 0; c < h.size(); ++c) {
       if (c == wall) continue;
       EXPECT_EQ(a[row][c], b[row][c]) << "row " << row << " column " << h[c];
-      EXPECT_EQ(a[row][c], j[row][c]) << "-j 4: row " << row << " column " << h[c];
+      EXPECT_EQ(a[row][c], j[row][c]) << "2 ranks, not quiet: row " << row << " column " << h[c];
     }
     EXPECT_EQ(a[row][status], "complete");
     // Each case ran within the sweep's own time, which the process's wall time holds (the
     // printed times have 4 and 3 decimals).
     EXPECT_LE(std::stod(j[row][wall]), own_wall + 1e-3) << j[row][wall] << " s, sweep " << own_wall << " s";
-    EXPECT_LE(own_wall, process_wall) << jobs.out;
+    EXPECT_LE(own_wall, process_wall) << loud.out;
     // The case as a run of its own, with --set.
     const std::string single = (d / ("single_" + std::to_string(row - 1) + ".h5")).string();
     const auto r = traverse::testing::run_command(kExe + " run " + kCable.string() + " -o " + single + common +
                                                   " --set loads.F.speed=" + a[row][speed] +
                                                   " --set scheme.rho_inf=" + a[row][rho] + " -q");
     ASSERT_EQ(r.code, 0) << r.out;
-    for (const char* dir : {"np1", "np2", "j4"}) {
+    for (const char* dir : {"np1", "np2", "np2-loud"}) {
       std::string why;
       const double diff = traverse::testing::max_file_difference((d / dir / a[row][out]).string(), single, why);
       std::printf("case %zu (%s): %s vs the single run: max difference %g %s\n", row - 1, a[row][speed].c_str(), dir,
@@ -222,10 +200,7 @@ TEST(Sweep, BadOptionsRefusedBeforeAnyCase) {
       {"--vary loads.F.speed=1 --summary midspan:min", "--summary midspan:min: expected a component"},
       {"--vary loads.F.speed=1 --summary nowhere.y:min", "--summary nowhere.y:min: expected a probe of"},
       {"", "'sweep': expected at least one --vary"},
-      {"--vary loads.F.speed=1 -j 0", "-j: expected a whole number of worker processes in [1, 1024], found '0'"},
-      {"--vary loads.F.speed=1 --jobs 2.5", "--jobs: expected a whole number of worker processes"},
-      {"--vary loads.F.speed=1 -j 1025", "-j: expected a whole number of worker processes in [1, 1024]"},
-      {"--vary loads.F.speed=1 -j", "-j: expected a value after it"},
+      {"--vary loads.F.speed=1 -j 2", "unknown option '-j'"},
   };
   for (const auto& b : bad) {
     const fs::path out = d / "out";
@@ -237,13 +212,6 @@ TEST(Sweep, BadOptionsRefusedBeforeAnyCase) {
   const auto no_dir = traverse::testing::run_command(kExe + " sweep " + kCable.string() + " --vary loads.F.speed=1");
   EXPECT_EQ(no_dir.code, 2) << no_dir.out;
   EXPECT_NE(no_dir.out.find("-o DIR"), std::string::npos) << no_dir.out;
-  // Worker processes are this machine's alternative to a launcher, not an addition to one.
-  const fs::path out = d / "out";
-  const auto both = traverse::testing::run_command(mpiexec(2) + kExe + " sweep " + kCable.string() + " -o " +
-                                                   out.string() + " --vary loads.F.speed=1,2 -j 2");
-  EXPECT_NE(both.code, 0) << both.out;
-  EXPECT_NE(both.out.find("--jobs 2: expected without an MPI launcher"), std::string::npos) << both.out;
-  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(Sweep, FailingCasesRecordedOthersFinish) {
@@ -254,7 +222,7 @@ TEST(Sweep, FailingCasesRecordedOthersFinish) {
   struct Variant {
     std::string name, launcher, options;
   };
-  for (const Variant& v : {Variant{"np1", "", ""}, Variant{"np2", mpiexec(2), ""}, Variant{"j3", "", " -j 3"}}) {
+  for (const Variant& v : {Variant{"np1", "", ""}, Variant{"np2", mpiexec(2), ""}}) {
     const std::string& ranks = v.name;
     const fs::path out = d / v.name;
     const auto r = traverse::testing::run_command(v.launcher + kExe + " sweep " + kBeam.string() + " -o " + out.string() +
@@ -289,81 +257,6 @@ TEST(Sweep, FailingCasesRecordedOthersFinish) {
   EXPECT_NE(again.out.find("--overwrite"), std::string::npos) << again.out;
 }
 
-// -j 2 on 4 long cases of equal cost (each process takes the next case when it is free: the
-// first two cases start at once): a SIGTERM to the parent alone, and a SIGINT to the process
-// group, stop both running cases at a time step (interrupted, restartable files), no process
-// takes another case (recorded as not run), no worker outlives the sweep. A worker killed
-// (SIGKILL) leaves the case it was running recorded as an error that names it, its file as a
-// killed run leaves it; the parent runs the other three cases.
-TEST(Sweep, JobsStopWithTheParentAndALostWorkerIsRecorded) {
-  const fs::path d = scratch("sweep-jobs-signals");
-  auto start = [&](const std::string& name, const std::string& prefix = "") {
-    return traverse::testing::spawn(
-        traverse::testing::split_args(prefix + kExe + " sweep " + kCable.string() + " -o " + (d / name).string() +
-                                      " --set mesh.ds=0.05 --set time.dt=1e-4 --set time.end=4 --set output.fields=[]"
-                                      " --vary loads.F.speed=1,2,3,4 -j 2 -q"),
-        (d / (name + ".log")).string());
-  };
-  auto gone = [](pid_t pid) { return kill(pid, 0) != 0 && errno == ESRCH; };
-  // SIGTERM to the parent alone (kill PID); SIGINT to the whole process group, as Ctrl-C in a
-  // terminal sends it (setsid: the sweep leads a group of its own), so that each worker gets it
-  // twice, directly and passed on by the parent, and still stops cleanly.
-  for (const int sig : {SIGTERM, SIGINT}) {
-    const std::string name = sig == SIGTERM ? "term" : "int";
-    const auto c = start(name, sig == SIGINT ? "setsid " : "");
-    ASSERT_TRUE(traverse::testing::wait_for_steps(c, (d / name / "case_0000.h5").string(), 100)) << read_text(c.log);
-    ASSERT_TRUE(traverse::testing::wait_for_steps(c, (d / name / "case_0001.h5").string(), 100)) << read_text(c.log);
-    const auto workers = children_of(c.pid);
-    ASSERT_EQ(workers.size(), 1u);
-    kill(sig == SIGTERM ? c.pid : -c.pid, sig);
-    EXPECT_EQ(traverse::testing::wait_exit(c), 128 + sig) << read_text(c.log);
-    EXPECT_TRUE(gone(workers[0])) << "the worker outlived the sweep";
-    const auto rows = read_csv(d / name / "index.csv");
-    ASSERT_EQ(rows.size(), 5u) << read_text(c.log);
-    const std::size_t status = column(rows[0], "status"), code = column(rows[0], "exit_code");
-    for (std::size_t k = 0; k < 4; ++k) {
-      EXPECT_EQ(rows[k + 1][status], k < 2 ? "interrupted" : "not run") << name << ", case " << k;
-      EXPECT_EQ(rows[k + 1][code], k < 2 ? std::to_string(128 + sig) : "-1") << name << ", case " << k;
-    }
-    for (const char* f : {"case_0000.h5", "case_0001.h5"}) {
-      const std::string st = traverse::output::Reader((d / name / f).string()).status();
-      EXPECT_EQ(st.rfind("interrupted at t = ", 0), 0u) << name << ", " << f << ": " << st;
-    }
-  }
-  {
-    const auto c = start("kill");
-    ASSERT_TRUE(traverse::testing::wait_for_steps(c, (d / "kill" / "case_0001.h5").string(), 100))
-        << read_text(c.log);
-    const auto workers = children_of(c.pid);
-    ASSERT_EQ(workers.size(), 1u);
-    kill(workers[0], SIGKILL);
-    EXPECT_EQ(traverse::testing::wait_exit(c), 1) << read_text(c.log);
-    const auto rows = read_csv(d / "kill" / "index.csv");
-    ASSERT_EQ(rows.size(), 5u) << read_text(c.log);
-    const std::size_t status = column(rows[0], "status"), message = column(rows[0], "message"),
-                      file = column(rows[0], "output");
-    std::size_t lost = 0, complete = 0;
-    for (std::size_t k = 0; k < 4; ++k) {
-      const auto& row = rows[k + 1];
-      if (row[status] == "complete") {
-        ++complete;
-        continue;
-      }
-      ++lost;
-      EXPECT_LT(k, 2u) << "case " << k << " started after the kill: " << row[status];
-      EXPECT_EQ(row[status], "error") << "case " << k;
-      EXPECT_NE(row[message].find("worker process 1 (pid " + std::to_string(workers[0]) +
-                                  ") ended by SIGKILL while running this case"),
-                std::string::npos)
-          << row[message];
-      ASSERT_EQ(row[file], "case_000" + std::to_string(k) + ".h5");
-      EXPECT_EQ(traverse::output::Reader((d / "kill" / row[file]).string()).status(), "running");
-    }
-    EXPECT_EQ(lost, 1u);
-    EXPECT_EQ(complete, 3u);
-  }
-}
-
 // On 2 ranks the ranks share one queue: SIGTERM to one rank interrupts its case at a time step,
 // that rank records every case left in the queue as not run, so the other rank ends after the
 // case it is running (completed): no rank starts another case.
@@ -395,18 +288,17 @@ TEST(Sweep, RanksShareTheQueueAndASignalToOneEndsTheSweep) {
   }
 }
 
-// A sweep whose cases need Trilinos (here KLU2 through Tpetra) is handed to traverse-trilinos,
-// whose worker processes each start MPI on their own (forked before it starts): the same files
-// as in one process. (The arch's formation needed Trilinos too until it ran in one process.)
-TEST(Sweep, JobsWithCasesThatNeedMpi) {
-  const fs::path d = scratch("sweep-jobs-mpi");
+// A sweep whose cases solve through Tpetra (KLU2): on 2 ranks, each case on one rank, the
+// same files as in one process.
+TEST(Sweep, CasesOnTpetraMatchOneProcess) {
+  const fs::path d = scratch("sweep-tpetra");
   const std::string args = " --set mesh.ds=0.05 --set 'solver.Linear Solver=KLU2' --vary loads.F.speed=10,20,30 -q";
-  for (const char* name : {"one", "j2"}) {
-    const auto r = traverse::testing::run_command(kExe + " sweep " + kArch.string() + " -o " + (d / name).string() +
-                                                  args + (std::string(name) == "j2" ? " -j 2" : ""));
+  for (const char* name : {"one", "np2"}) {
+    const auto r = traverse::testing::run_command((std::string(name) == "np2" ? mpiexec(2) : std::string()) + kExe +
+                                                  " sweep " + kArch.string() + " -o " + (d / name).string() + args);
     ASSERT_EQ(r.code, 0) << name << "\n" << r.out;
   }
-  const auto a = read_csv(d / "one" / "index.csv"), b = read_csv(d / "j2" / "index.csv");
+  const auto a = read_csv(d / "one" / "index.csv"), b = read_csv(d / "np2" / "index.csv");
   ASSERT_EQ(a.size(), 4u);
   ASSERT_EQ(b.size(), a.size());
   const std::size_t status = column(a[0], "status"), out = column(a[0], "output");
@@ -414,7 +306,7 @@ TEST(Sweep, JobsWithCasesThatNeedMpi) {
     EXPECT_EQ(b[row][status], "complete") << "case " << row - 1;
     std::string why;
     const double diff = traverse::testing::max_file_difference((d / "one" / a[row][out]).string(),
-                                                               (d / "j2" / b[row][out]).string(), why);
+                                                               (d / "np2" / b[row][out]).string(), why);
     EXPECT_EQ(diff, 0.0) << "case " << row - 1 << ": " << why;
   }
 }

@@ -10,7 +10,7 @@
 #include <cmath>
 
 #include "traverse/beam/beam_simulation.hpp"
-#include "traverse/rod/reference_stepper.hpp"
+#include "reference_stepper.hpp"
 #include "traverse/rod/static_solver.hpp"
 
 using namespace traverse;

@@ -10,6 +10,8 @@
 // remains.
 #include <gtest/gtest.h>
 
+#include "reference_stepper.hpp"
+
 #include "hanging_cable.hpp"
 
 #include <cmath>
@@ -35,7 +37,8 @@ Compare compare(double g, int cells) {
   rod::RodState state =
       traverse::testing::static_start(traverse::testing::hanging_cable_statics(props, cells, L, g, M * g, s0), converged);
   EXPECT_TRUE(converged);
-  rod::CoupledRodStepper stepper(traverse::testing::hanging_cable_model(props, cells, L, g), {M, 0.0, 0.0});
+  rod::CoupledRodStepper stepper(traverse::testing::hanging_cable_model(props, cells, L, g), {M, 0.0, 0.0},
+                                 rod::reference_rod_solve);
   std::vector<Vec3> r = rod::centreline_in_space(state);
   // The beam's x is the axial (k) position, the rod's sigma the material arclength: they differ
   // at O(w_x^2), the order of the mass's departure from uniform motion. The rod's mass starts

@@ -2,6 +2,8 @@
 // prescribed-motion limit, order in dt, energy drift, rigid-wire limit.
 #include <gtest/gtest.h>
 
+#include "reference_stepper.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +11,7 @@
 #include <vector>
 
 #include "traverse/rod/coupled_mass_rod.hpp"
+#include "reference_statics.hpp"
 #include "traverse/rod/static_solver.hpp"
 
 using namespace traverse;
@@ -37,7 +40,7 @@ RodSetup cable(int cells, double stiffen, double M, double sigma0) {
   sm.gravity = Vec3(0, -kG, 0);
   sm.point_forces.push_back({Vec3(0, -M * kG, 0), sigma0});
   auto nodes = rod::straight_static_state(sm);
-  EXPECT_TRUE(rod::StaticSolver().solve_with_load_steps(sm, nodes).converged);
+  EXPECT_TRUE(rod::serial_load_steps(rod::StaticSolver(), sm, nodes).converged);
   RodSetup s;
   s.model.props = sm.props;
   s.model.num_cells = cells;
@@ -59,7 +62,7 @@ struct Trace {
 /// Steps rod + mass by dt to t_end (or until sigma leaves [0.02, 0.98] L), recording every
 /// `every` steps; the energies from the centreline advanced in time.
 Trace advance(RodSetup s, const rod::CoupledRodMass& mass, rod::CoupledMassState m, double dt, double t_end, int every = 1) {
-  rod::CoupledRodStepper stepper(s.model, mass);
+  rod::CoupledRodStepper stepper(s.model, mass, rod::reference_rod_solve);
   std::vector<Vec3> r = rod::centreline_in_space(s.state);
   Trace tr;
   auto record = [&]() {
@@ -211,7 +214,7 @@ RodSetup rigid_arc(int cells, double M, double s0) {
     nd.x.segment<3>(rod::svar::kappa) = sm.props.kappa0;
   }
   EXPECT_LT(r_rest.back().y(), -0.3) << "the arc must curve down from the clamp";
-  EXPECT_TRUE(rod::StaticSolver().solve_with_load_steps(sm, nodes).converged);
+  EXPECT_TRUE(rod::serial_load_steps(rod::StaticSolver(), sm, nodes).converged);
   RodSetup s;
   s.model.props = sm.props;
   s.model.num_cells = cells;
@@ -309,7 +312,7 @@ TEST(CoupledMassRod, FrictionReversesOnAnInclinedWire) {
 double balance_error(int cells, const rod::CoupledRodMass& mass, double T, rod::CoupledMassState& end) {
   const double s0 = 0.1, v0 = 2.0;
   RodSetup s = cable(cells, 1.0, mass.mass, s0);
-  rod::CoupledRodStepper stepper(s.model, mass);
+  rod::CoupledRodStepper stepper(s.model, mass, rod::reference_rod_solve);
   rod::CoupledMassState m{s0, v0};
   std::vector<Vec3> r = rod::centreline_in_space(s.state);
   const double dt = (1.0 / cells) / v0;
@@ -404,7 +407,7 @@ TEST(CoupledMassRod, FrictionStopsAMassOnALevelRod) {
   std::vector<double> et;
   for (double dt : {5e-3, 2.5e-3}) {
     RodSetup s = cable(20, 1e4, M, s0);
-    rod::CoupledRodStepper stepper(s.model, {M, 0.0, 0.0, mu});
+    rod::CoupledRodStepper stepper(s.model, {M, 0.0, 0.0, mu}, rod::reference_rod_solve);
     rod::CoupledMassState m{s0, v0};
     std::vector<Vec3> r = rod::centreline_in_space(s.state);
     const double b0 = rod::coupled_energies(stepper.model(), s.state, r, m, M).balance();
@@ -446,7 +449,7 @@ TEST(CoupledMassRod, LiftOffFromARigidWire) {
   const double M = 0.05, s0 = 0.05, v0 = 1.0, dt = 1e-3, R = 1.0;
   RodSetup s = rigid_arc(cells, M, s0);
   const rod::CoupledRodMass mass{M, 0.0, 0.0};
-  rod::CoupledRodStepper stepper(s.model, mass);
+  rod::CoupledRodStepper stepper(s.model, mass, rod::reference_rod_solve);
   rod::CoupledMassState m{s0, v0};
   double up_prev = 0.0, s_prev = s0, lift = -1.0, tang = 0.0, up_first = 0.0;
   for (int k = 1; k <= 800 && lift < 0.0; ++k) {

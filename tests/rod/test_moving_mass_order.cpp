@@ -22,7 +22,7 @@
 #include <vector>
 
 #include "traverse/beam/beam_simulation.hpp"
-#include "traverse/rod/reference_stepper.hpp"
+#include "reference_stepper.hpp"
 #include "traverse/rod/static_solver.hpp"
 
 using namespace traverse;

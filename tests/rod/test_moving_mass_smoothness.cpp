@@ -25,7 +25,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "traverse/rod/reference_stepper.hpp"
+#include "reference_stepper.hpp"
 #include "traverse/rod/static_solver.hpp"
 
 using namespace traverse;

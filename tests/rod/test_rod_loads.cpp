@@ -6,7 +6,7 @@
 #include <cstdio>
 
 #include "rod_test_util.hpp"
-#include "traverse/rod/reference_stepper.hpp"
+#include "reference_stepper.hpp"
 
 namespace traverse::rod {
 namespace {

@@ -6,6 +6,7 @@
 
 #include "traverse/core/so3.hpp"
 #include "traverse/rod/static_problem.hpp"
+#include "reference_statics.hpp"
 #include "traverse/rod/static_solver.hpp"
 
 using namespace traverse;
@@ -88,7 +89,7 @@ TEST(RodStatics, CantileverUnderSelfWeightMatchesBeamTheoryInTheStiffLimit) {
   m.gravity = Vec3(0, -9.8, 0);
   auto nodes = straight_static_state(m);
   StaticSolver solver;
-  const auto rep = solver.solve_with_load_steps(m, nodes);
+  const auto rep = serial_load_steps(solver, m, nodes);
   ASSERT_TRUE(rep.converged) << rep.message;
   const double q = m.props.rhoA * 9.8, EI = m.props.K(0);
   const double beam = q / (8 * EI);
@@ -112,7 +113,7 @@ TEST(RodStatics, LargeDeflectionCantileverTipLoadMatchesTheElastica) {
     m.right.end_force = Vec3(0, -EI, 0);
     auto nodes = straight_static_state(m);
     StaticSolver solver;
-    const auto rep = solver.solve_with_load_steps(m, nodes);
+    const auto rep = serial_load_steps(solver, m, nodes);
     ASSERT_TRUE(rep.converged) << rep.message;
     const Vec3 tip = nodes.back().x.segment<3>(svar::r);
     errs[c] = -tip.y();
@@ -139,7 +140,7 @@ TEST(RodStatics, HangingCableSagMatchesTheClampedClampedBeamInTheStiffLimit) {
     m.gravity = Vec3(0, -9.8, 0);
     auto nodes = straight_static_state(m);
     StaticSolver solver;
-    const auto rep = solver.solve_with_load_steps(m, nodes);
+    const auto rep = serial_load_steps(solver, m, nodes);
     ASSERT_TRUE(rep.converged) << rep.message;
     const double q = m.props.rhoA * 9.8, EI = m.props.K(0);
     const double beam = q / (384 * EI);
@@ -161,7 +162,7 @@ TEST(RodStatics, StaticStateIsConsistentWithTheDynamicCurvatureFrame) {
   StaticModel m = scene_model(30);
   m.gravity = Vec3(0, -9.8, 0);
   auto nodes = straight_static_state(m);
-  ASSERT_TRUE(StaticSolver().solve_with_load_steps(m, nodes).converged);
+  ASSERT_TRUE(serial_load_steps(StaticSolver(), m, nodes).converged);
   const RodState s = dynamic_state_from_static(m, nodes);
   for (size_t j = 1; j < nodes.size(); ++j) {
     const Vec3 kb = 0.5 * (s.nodes[j - 1].y.segment<3>(var::kappa) + s.nodes[j].y.segment<3>(var::kappa));
@@ -177,7 +178,7 @@ TEST(RodStatics, DynamicStatePiecesEqualTheWholeState) {
   StaticModel m = scene_model(12);
   m.gravity = Vec3(0, -9.8, 0);
   auto nodes = straight_static_state(m);
-  ASSERT_TRUE(StaticSolver().solve_with_load_steps(m, nodes).converged);
+  ASSERT_TRUE(serial_load_steps(StaticSolver(), m, nodes).converged);
   const RodState whole = dynamic_state_from_static(m, nodes);
   const int N = m.num_cells;
   for (const auto& [from, count] : std::vector<std::pair<int, int>>{{0, 2}, {0, 5}, {4, 4}, {9, 4}, {11, 2}, {0, 13}}) {

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <string>
 
-#include "traverse/rod/reference_stepper.hpp"
+#include "reference_stepper.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
 
 namespace traverse::solver::test {

@@ -12,7 +12,6 @@
 #include "rod_mpi_test_util.hpp"
 #include "traverse/rod/planar.hpp"
 #include "traverse/rod/static_solver.hpp"
-#include "traverse/solver/block_stepper.hpp"
 
 namespace traverse::solver {
 namespace {
@@ -131,83 +130,23 @@ TEST(PlanarStepper, CarriedYsDampedArchWithMovingMassMatches3D) {
   check_agreement("pinned arc, carried ys, rho 0.8/0.7, moving mass, N = 40", damped_arch(40));
 }
 
-// The single-rank Newton on block storage (BlockNewton, "Newton Implementation: auto") with
-// NOX's update test ("Update Test: Last Update") against NOX on the same steps ("NOX"), on the
-// 3D and the planar path of both problems: the same
-// Newton iterations in every step; on the hanging cable the same residual histories and states
-// bit for bit; on the pinned arc (carried ys) the block LU's residual check asks for iterative
-// refinement, whose residual NOX's path forms with Tpetra's sparse product (another order of
-// the sums), so there the states agree to round-off (< 1e-10).
-// BlockStepper (one process, no Tpetra) takes DistributedStepper's BlockNewton steps bit for bit:
-// the same iterations, residual histories and states in every step.
-TEST(PlanarStepper, BlockNewtonTakesNoxsIterates) {
-  if (test::ranks() != 1) GTEST_SKIP() << "BlockNewton is the single-rank path (2 ranks run NOX, tested above)";
-  const Problem problems[2] = {hanging_cable(50), damped_arch(40)};
-  for (const Problem& pb : problems) {
-    const rod::PlanarCheck chk = rod::check_planar(pb.model, pb.initial, pb.forces);
-    ASSERT_TRUE(chk.planar) << chk.reason;
-    for (const bool planar : {false, true}) {
-      traverse::ParamList nox = test::solver_params("auto"), block = test::solver_params("auto");
-      nox.set("Newton Implementation", std::string("NOX"));
-      block.set("Update Test", std::string("Last Update"));
-      DistributedStepper a(pb.model, test::comm(), block), b(pb.model, test::comm(), nox);
-      BlockStepper c(pb.model, block);  // the same Newton without Tpetra
-      EXPECT_EQ(a.newton_implementation(), "block storage");
-      EXPECT_EQ(b.newton_implementation(), "NOX");
-      EXPECT_EQ(c.newton_implementation(), "block storage");
-      for (RodStepper* st : {static_cast<RodStepper*>(&a), static_cast<RodStepper*>(&b), static_cast<RodStepper*>(&c)}) {
-        st->set_state(pb.initial);
-        if (planar) st->set_planar(&chk.symmetry);
-      }
-      EXPECT_EQ(c.path_description(), a.path_description());
-      long its = 0;
-      double worst = 0.0;
-      for (int i = 0; i < pb.steps; ++i) {
-        const StepReport ra = a.step(pb.dt), rb = b.step(pb.dt), rc = c.step(pb.dt);
-        ASSERT_EQ(ra.newton_iterations, rb.newton_iterations) << "step " << i;
-        ASSERT_EQ(rc.newton_iterations, ra.newton_iterations) << "step " << i;
-        ASSERT_EQ(rc.last.residual_history, ra.last.residual_history) << "step " << i;
-        ASSERT_EQ(test::max_difference(c.gather_state(), a.gather_state()), 0.0) << "step " << i;
-        // Both histories: max|f| at the initial guess and after each iteration.
-        ASSERT_EQ(ra.last.residual_history.size(), static_cast<size_t>(ra.newton_iterations) + 1) << "step " << i;
-        ASSERT_EQ(rb.last.residual_history.size(), ra.last.residual_history.size()) << "step " << i;
-        if (!pb.model.carries_ys()) {
-          EXPECT_EQ(ra.last.residual_history, rb.last.residual_history) << "step " << i;
-        }
-        its += ra.newton_iterations;
-        worst = std::max(worst, test::max_difference(a.gather_state(), b.gather_state()));
-      }
-      say("%s, %s path: %ld Newton iterations in %d steps on both, max |state difference| %.1e\n",
-          pb.model.carries_ys() ? "pinned arc (carried ys)" : "hanging cable", planar ? "planar" : "3D", its, pb.steps,
-          worst);
-      if (pb.model.carries_ys()) {
-        EXPECT_LT(worst, 1e-10);
-      } else {
-        EXPECT_EQ(worst, 0.0);
-      }
-    }
-  }
-}
-
-// Newton's update test (solver key 'Update Test'): with the default, auto, the Newton on block
-// storage also ends a step once max|f| passes and the next Newton update (solved with the last
-// factorisation refining against the new Jacobian) passes the WRMS test, and takes it: the
-// iteration NOX's test adds to see a round-off update costs no factorisation. Fewer iterations
-// (at most 0.85 of NOX's test asserted on the cable), the same states within the Newton
-// tolerances (the unknowns within 1e-6, rtol 1e-8 of values up to about 100 here; measured
-// 6e-26 on the cable, 2.3e-13 on the arc; yt, which magnifies them by 1 / (gt dt), is printed,
-// not compared), and the same iterates as 'Last Update' up to the step where the two tests
-// first differ.
+// Newton's update test (solver key 'Update Test'): with the default, auto, and the
+// block-tridiagonal LU, NOX also ends a step once max|f| passes and the next Newton update
+// (solved with the last factorisation, next_update_test.hpp) passes the WRMS test, and takes
+// it: the iteration NOX's own test adds to see a round-off update costs no factorisation.
+// Fewer iterations (at most 0.85 of NOX's test asserted on the cable), the same states within
+// the Newton tolerances (the unknowns within 1e-6, rtol 1e-8 of values up to about 100 here;
+// yt, which magnifies them by 1 / (gt dt), is printed, not compared), and the same iterates as
+// 'Last Update' up to the step where the two tests first differ. On 1 and 2 ranks.
 TEST(PlanarStepper, NextUpdateTestSkipsTheRoundOffIteration) {
-  if (test::ranks() != 1) GTEST_SKIP() << "one process (BlockStepper)";
   for (const Problem& pb : {hanging_cable(50), damped_arch(40)}) {
     for (const bool planar : {false, true}) {
       const rod::PlanarCheck chk = rod::check_planar(pb.model, pb.initial, pb.forces);
       ASSERT_TRUE(chk.planar) << chk.reason;
       traverse::ParamList last = test::solver_params("auto");
       last.set("Update Test", std::string("Last Update"));
-      BlockStepper a(pb.model, test::solver_params("auto")), b(pb.model, last);
-      for (BlockStepper* st : {&a, &b}) {
+      DistributedStepper a(pb.model, test::comm(), test::solver_params("auto")), b(pb.model, test::comm(), last);
+      for (DistributedStepper* st : {&a, &b}) {
         st->set_state(pb.initial);
         if (planar) st->set_planar(&chk.symmetry);
       }
@@ -251,13 +190,12 @@ TEST(PlanarStepper, NextUpdateTestSkipsTheRoundOffIteration) {
 // states within 2e-13; at ds = 0.01 with the default test 2.98 -> 2.00 (Secant) and 2.09
 // (auto) per step (docs/solver.md).
 TEST(PlanarStepper, ExtrapolatedInitialGuessesSaveNewtonIterationsOnTheCable) {
-  if (test::ranks() != 1) GTEST_SKIP() << "one process (BlockStepper)";
   for (const Problem& pb : {hanging_cable(50), damped_arch(40)}) {
     auto stepper = [&](const char* guess) {
       traverse::ParamList p = test::solver_params("auto");
       p.set("Update Test", std::string("Last Update"));
       if (guess) p.set("Initial Guess", std::string(guess));
-      auto st = std::make_unique<BlockStepper>(pb.model, p);
+      auto st = std::make_unique<DistributedStepper>(pb.model, test::comm(), p);
       st->set_state(pb.initial);
       return st;
     };
@@ -293,14 +231,13 @@ TEST(PlanarStepper, ExtrapolatedInitialGuessesSaveNewtonIterationsOnTheCable) {
 // from the old level before any halving, so it lands where 'Old Level' lands bit for bit, the
 // report counts the retry, and the next step starts from the old level too (yg zero).
 TEST(PlanarStepper, AutoGuessFailingRetriesFromTheOldLevel) {
-  if (test::ranks() != 1) GTEST_SKIP() << "one process (BlockStepper)";
   const Problem pb = hanging_cable(50);
   rod::RodState wild = pb.initial;
   for (rod::RodNode& nd : wild.nodes) nd.yg = Vec12::Constant(1e7);  // a blend far off
   auto stepper = [&](const char* guess) {
     traverse::ParamList p = test::solver_params("auto");
     p.set("Initial Guess", std::string(guess));
-    auto st = std::make_unique<BlockStepper>(pb.model, p);
+    auto st = std::make_unique<DistributedStepper>(pb.model, test::comm(), p);
     st->set_state(wild);
     return st;
   };

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "rod_mpi_test_util.hpp"
+#include "reference_statics.hpp"
 #include "traverse/rod/static_solver.hpp"
 #include "traverse/solver/static_start.hpp"
 
@@ -72,7 +73,7 @@ struct Solved {
 Solved solve_both(const rod::StaticModel& m) {
   Solved out;
   auto serial = rod::straight_static_state(m);
-  out.serial = rod::StaticSolver().solve_with_load_steps(m, serial);
+  out.serial = rod::serial_load_steps(rod::StaticSolver(), m, serial);
   out.start = solve_static_start(m, test::comm());
   if (out.serial.converged && out.start.report.converged) out.agreement = against_serial(out.start, serial);
   return out;
@@ -120,90 +121,6 @@ TEST(StaticStart, PinnedLeftEndUsesTheStaticsSolver) {
   EXPECT_LT(a.r, 1e-9);
   EXPECT_LT(a.frame, 1e-9);
   expect_halo(st, N);
-}
-
-// The start in one process without Tpetra (block_static_start.hpp) against the distributed
-// start on this many ranks: with a clamped left end both run the block LU on the same blocks,
-// so on 1 rank the nodes are equal bit for bit (on more, to rounding); with a pinned left end
-// the sparse LU against the statics solver (both direct: to rounding).
-TEST(StaticStart, InOneProcessIsTheDistributedStart) {
-  for (const auto left : {rod::EndCondition::Type::clamped, rod::EndCondition::Type::pinned}) {
-    const int N = 40;
-    const rod::StaticModel m = cable(N, left);
-    const StaticStart one = solve_static_start_in_one_process(m);
-    const StaticStart dist = solve_static_start(m, test::comm());
-    ASSERT_TRUE(one.report.converged) << one.report.message;
-    ASSERT_TRUE(dist.report.converged) << dist.report.message;
-    ASSERT_EQ(one.nodes.size(), static_cast<size_t>(N + 1));
-    EXPECT_EQ(one.first_node, 0);
-    EXPECT_EQ(one.report.load_steps, dist.report.load_steps);
-    EXPECT_EQ(one.report.iterations, dist.report.iterations);
-    const Agreement a = against_serial(dist, one.nodes);
-    const bool clamped = left == rod::EndCondition::Type::clamped;
-    say("  %s left end, %d rank(s): one process (%s) against distributed (%s): %d / %d Newton iterations, max |dr| "
-        "%.2e m, |dkappa| %.2e 1/m, |dn| %.2e N, |dR| %.2e\n",
-        clamped ? "clamped" : "pinned", test::ranks(), one.linear_solver.c_str(), dist.linear_solver.c_str(),
-        one.report.iterations, dist.report.iterations, a.r, a.kappa, a.n, a.frame);
-    EXPECT_EQ(one.linear_solver.find("block-tridiagonal LU") != std::string::npos, clamped) << one.linear_solver;
-    if (clamped && test::ranks() == 1) {
-      EXPECT_EQ(a.r + a.kappa + a.n + a.frame, 0.0);
-    } else {
-      EXPECT_LT(a.r, 1e-9);
-      EXPECT_LT(a.frame, 1e-9);
-    }
-  }
-}
-
-// The in-plane system of the start in one process (planar = true): on the cable, symmetric
-// about the plane of j and k, the same load steps and Newton iterations as the full system
-// and the same state to rounding; with a point force out of that plane there is no split and
-// the full system runs, bit for bit as without asking for the planar one.
-TEST(StaticStart, InOneProcessTheInPlaneSystemGivesTheFullSystemsState) {
-  const int N = 40;
-  const rod::StaticModel m = cable(N, rod::EndCondition::Type::clamped);
-  const StaticStart full = solve_static_start_in_one_process(m, false);
-  const StaticStart planar = solve_static_start_in_one_process(m, true);
-  ASSERT_TRUE(full.report.converged) << full.report.message;
-  ASSERT_TRUE(planar.report.converged) << planar.report.message;
-  EXPECT_NE(planar.linear_solver.find("in-plane"), std::string::npos) << planar.linear_solver;
-  EXPECT_EQ(full.linear_solver.find("in-plane"), std::string::npos) << full.linear_solver;
-  EXPECT_EQ(planar.report.load_steps, full.report.load_steps);
-  EXPECT_EQ(planar.report.iterations, full.report.iterations);
-  const Agreement a = [&] {
-    Agreement x;
-    for (size_t k = 0; k < planar.nodes.size(); ++k) {
-      const rod::StaticNode& p = planar.nodes[k];
-      const rod::StaticNode& f = full.nodes[k];
-      auto d = [&](int v) { return (p.x.segment<3>(v) - f.x.segment<3>(v)).cwiseAbs().maxCoeff(); };
-      x.r = std::max(x.r, d(rod::svar::r));
-      x.kappa = std::max(x.kappa, d(rod::svar::kappa));
-      x.n = std::max(x.n, d(rod::svar::n));
-      x.frame = std::max(x.frame, (p.frame() - f.frame()).cwiseAbs().maxCoeff());
-    }
-    return x;
-  }();
-  say("  in-plane against full start (%d nodes, %d Newton iterations): max |dr| %.2e m, |dkappa| %.2e 1/m, |dn| "
-      "%.2e N, |dR| %.2e\n",
-      N + 1, planar.report.iterations, a.r, a.kappa, a.n, a.frame);
-  EXPECT_LT(a.r, 1e-14);
-  EXPECT_LT(a.kappa, 1e-12);
-  EXPECT_LT(a.n, 1e-12);
-  EXPECT_LT(a.frame, 1e-14);
-  for (const rod::StaticNode& p : planar.nodes) {  // exactly in the plane
-    EXPECT_EQ(p.x(rod::svar::r), 0.0);
-    EXPECT_EQ(p.x(rod::svar::n), 0.0);
-    EXPECT_EQ(p.frame()(0, 0), 1.0);
-  }
-  rod::StaticModel skew = m;
-  skew.point_forces[0].force = Vec3(0.3, -2.0, 0.0);
-  const StaticStart skew_full = solve_static_start_in_one_process(skew, false);
-  const StaticStart skew_asked = solve_static_start_in_one_process(skew, true);
-  ASSERT_TRUE(skew_asked.report.converged) << skew_asked.report.message;
-  EXPECT_EQ(skew_asked.linear_solver, skew_full.linear_solver);
-  EXPECT_TRUE(skew_asked.first_failure.empty()) << skew_asked.first_failure;
-  ASSERT_EQ(skew_asked.nodes.size(), skew_full.nodes.size());
-  for (size_t k = 0; k < skew_full.nodes.size(); ++k) EXPECT_EQ(skew_asked.nodes[k].x, skew_full.nodes[k].x);
-  EXPECT_GT(std::abs(skew_asked.nodes[N / 2].x(rod::svar::r)), 1e-6);  // it does leave the plane
 }
 
 // A load the rod cannot carry: the same failure report on every rank, no nodes.

@@ -11,6 +11,7 @@
 
 #include "statics_test_util.hpp"
 #include "traverse/core/so3.hpp"
+#include "reference_statics.hpp"
 #include "traverse/rod/static_solver.hpp"
 #include "traverse/solver/static_continuation.hpp"
 
@@ -118,7 +119,7 @@ TEST(StaticsContinuation, BuckledElasticaMatchesClosedForm) {
     prob.value(StaticParameter::end_load) = last.parameter;
     auto serial_state = last.state;
     rod::StaticSolver ser;
-    const auto rep = ser.newton(prob.model(), serial_state);
+    const auto rep = rod::serial_newton(ser, prob.model(), serial_state);
     ASSERT_TRUE(rep.converged) << rep.message;
     const double diff = solver::max_position_difference(serial_state, last.state);
     if (root()) std::printf("  elastica N=%d: distributed vs serial max |dr| = %.2e m\n", N, diff);

@@ -1,8 +1,8 @@
 #pragma once
 // The MPI calls of traverse, also for a process without MPI: MPI_COMM_NULL stands for this
-// process alone, MPI not started (docs/developer.md, "Start-up"). Alone, a reduction or a
-// gather is a copy, a broadcast or a barrier nothing, rank 0 of size 1. Header only; whoever
-// includes it links MPI (the library is loaded, MPI_Init is what is skipped).
+// process alone, MPI not started (check outside a launcher: docs/developer.md, "Start-up").
+// Alone, a reduction or a gather is a copy, a broadcast or a barrier nothing, rank 0 of size 1.
+// Header only.
 #include <mpi.h>
 
 #include <algorithm>

@@ -1,6 +1,6 @@
 #pragma once
 // SO(3) helpers: the hat map, the Rodrigues exponential and its derivative.
-// Convention (docs/rod.md, "Equations as implemented"): R maps fixed-frame components to body components;
+// Convention (docs/rod.md, "Equations"): R maps fixed-frame components to body components;
 // its rows are the directors d1, d2, d3 in fixed components. A rotation rate omega (body
 // components) advances R by R(t+dt) = exp(-hat(omega dt)) R(t).
 #include "traverse/core/types.hpp"

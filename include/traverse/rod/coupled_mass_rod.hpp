@@ -1,13 +1,13 @@
 #pragma once
 // A mass that moves by itself along the rod (two-way coupling, physics spec section 4): sigma
 // and its speed are unknowns of each time step, found by a partitioned iteration converged to
-// the Newton tolerance (docs/rod.md "Coupled mass"). The rod's step inside it is solved by the
-// serial reference Newton or by any other rod solver (CoupledRodSolve: the app's runs use
-// solver::DistributedStepper, on any ranks, either path and any linear solver).
+// the Newton tolerance (docs/rod.md "Coupled mass"). The rod's step inside it is solved by a
+// CoupledRodSolve: the runs use solver::DistributedStepper (on any ranks, either path, any
+// linear solver), the tests also an independent reference.
 #include <functional>
 #include <memory>
 
-#include "traverse/rod/reference_stepper.hpp"
+#include "traverse/rod/rod_kernels.hpp"
 
 namespace traverse::rod {
 
@@ -66,9 +66,6 @@ class CoupledRodSolve {
 };
 /// Makes the rod solve from the model with the mass's loads.
 using CoupledRodSolveFactory = std::function<std::unique_ptr<CoupledRodSolve>(RodModel)>;
-/// The serial reference Newton (ReferenceStepper's residual and Jacobian, sparse LU of the
-/// whole rod; its tolerances), warm-started from the last solution on `again`.
-std::unique_ptr<CoupledRodSolve> reference_rod_solve(RodModel model);
 
 struct CoupledStepReport {
   bool converged = false;
@@ -97,8 +94,8 @@ struct CoupledStepReport {
 class CoupledRodStepper {
  public:
   /// `model` without the mass; `make` builds the rod solve from it with the mass's loads
-  /// added (default: reference_rod_solve).
-  CoupledRodStepper(RodModel model, CoupledRodMass mass, const CoupledRodSolveFactory& make = {});
+  /// added (std::invalid_argument when empty).
+  CoupledRodStepper(RodModel model, CoupledRodMass mass, const CoupledRodSolveFactory& make);
   ~CoupledRodStepper();
 
   /// One step of dt; on failure state and m are unchanged.

@@ -183,9 +183,5 @@ std::optional<StaticPlanarSplit> static_planar_split(const StaticModel& m, doubl
 /// layout. Returns the largest |residual| of the dropped rows (zero at a symmetric state).
 double restrict_static_block(const StaticModel& m, const StaticPlanarSplit& split, const LocalBlock& full,
                              LocalBlock& out);
-/// Node k's share (12 entries) of a Newton update `dx` of the whole rod: in the full layout
-/// (12 per node) without a split, in restrict_static_block's (6 per node, the out-of-plane
-/// entries zero) with one.
-Vec12 static_node_update(const std::optional<StaticPlanarSplit>& split, const double* dx, std::size_t k);
 
 }  // namespace traverse::rod

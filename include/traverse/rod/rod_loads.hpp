@@ -25,7 +25,7 @@ struct PointForce {
 /// The kernels use the momentum form: M p'' is the rate of the mass's momentum M p',
 /// p' = R^T (u + v e3) = U + v d3 (fixed frame), taken for a short line mass of the same total
 /// mass on [sigma - ds, sigma + ds], whose impulse over each cell's space-time box enters that
-/// cell (docs/rod.md, "Moving mass"). speed must be the derivative of sigma; accel is not
+/// cell (docs/rod.md, "Loads"). speed must be the derivative of sigma; accel is not
 /// read by the kernels (the change of v carries it).
 /// The weight M g is applied like a PointForce. With inertia = false only the weight acts
 /// (a moving force).
@@ -83,7 +83,7 @@ MassPathSegment mass_path_in_cell(double sigma_old, double sigma_new, int cell, 
 
 /// The part [l, r] of cell `cell` (nodes cell - 1, cell) covered by a moving mass's line
 /// mass at sigma: the kernels spread the mass's inertia uniformly over [sigma - ds,
-/// sigma + ds] (docs/rod.md, "Moving mass"). False if the cell gets none, or if the mass is
+/// sigma + ds] (docs/rod.md, "Loads"). False if the cell gets none, or if the mass is
 /// off the rod (the same test as point_load_weights); the part beyond the rod's ends is
 /// not in any cell.
 bool line_mass_part(double sigma, int cell, int num_cells, double ds, double& l, double& r);

@@ -1,15 +1,10 @@
 #pragma once
 // Newton solver for the static form (rod/static_kernels.hpp) with load stepping, on any
-// StaticNewtonSystem: serially with a direct LU on the whole rod (core/sparse_lu.hpp: in band
-// storage; the arch's formation, the one-process start's fallback, tests, benchmarks, the
-// reference the distributed solvers must reproduce), or over the ranks for the initial states
-// of dynamic runs (solver/static_start.hpp: the equilibrium under the scene's dead loads).
-#include <Eigen/SparseCore>
-
-#include <optional>
+// StaticNewtonSystem: over the ranks for the initial states of dynamic runs
+// (solver/static_start.hpp: the equilibrium under the scene's dead loads), or the tests'
+// serial reference on the whole rod.
 #include <string>
 
-#include "traverse/rod/planar.hpp"
 #include "traverse/rod/static_kernels.hpp"
 
 namespace traverse::rod {
@@ -29,9 +24,8 @@ struct StaticReport {
   std::string failed_reason;   ///< why it failed
 };
 
-/// The state and the linear algebra the static Newton works on: the whole rod in one
-/// process (StaticSolver, Eigen sparse LU) or one rank's piece of it (the distributed start,
-/// solver/static_start.hpp). Every call is collective where the state is distributed, and
+/// The state and the linear algebra the static Newton works on: one rank's piece of the rod
+/// (the distributed start, solver/static_start.hpp), or the whole rod (the tests' reference). Every call is collective where the state is distributed, and
 /// returns the same value on every rank.
 class StaticNewtonSystem {
  public:
@@ -58,26 +52,11 @@ class StaticSolver {
   double ftol = 1e-9;      ///< ... and max|r| <= ftol * (load scale)
   int max_iterations = 30;
   int max_load_steps = 200;
-  /// When set (rod::static_planar_split of the models solved), residual_and_jacobian and the
-  /// Newton systems of newton() and solve_with_load_steps() on nodes hold only the in-plane
-  /// rows and unknowns (6 per node, restrict_static_block's layout; the out-of-plane updates
-  /// are zero); residual() and the convergence test still cover every row.
-  std::optional<StaticPlanarSplit> planar;
-
-  VecX residual(const StaticModel& m, const std::vector<StaticNode>& nodes) const;
-  void residual_and_jacobian(const StaticModel& m, const std::vector<StaticNode>& nodes, VecX& r,
-                             Eigen::SparseMatrix<double>& J) const;
-
-  /// Newton from `nodes` (updated in place; frames rebased on success, restored on failure).
-  StaticReport newton(const StaticModel& m, std::vector<StaticNode>& nodes) const;
-
-  /// Equilibrium under `m`'s loads reached from `nodes` (equilibrium under no load) by
-  /// scaling gravity, point forces and end forces with lambda from 0 to 1: first in one step,
-  /// halving the increment after a failure and doubling it after an easy success.
-  StaticReport solve_with_load_steps(const StaticModel& m, std::vector<StaticNode>& nodes) const;
-
-  /// The same two on any StaticNewtonSystem (the state is the system's).
+  /// Newton from the system's state (frames rebased on success, restored on failure).
   StaticReport newton(const StaticModel& m, StaticNewtonSystem& sys) const;
+  /// Equilibrium under `m`'s loads reached from the system's state (equilibrium under no
+  /// load) by scaling gravity, point forces and end forces with lambda from 0 to 1: first in
+  /// one step, halving the increment after a failure and doubling it after an easy success.
   StaticReport solve_with_load_steps(const StaticModel& m, StaticNewtonSystem& sys) const;
 };
 

@@ -1,7 +1,6 @@
 #pragma once
-// The blocks of one rod time step on one rank's nodes, written once for every Newton that
-// solves the step: the Thyra model evaluator over Tpetra (solver::RodStepModel, NOX, any rank
-// count and linear solver) and the single-rank Newton on block storage (solver::BlockNewton).
+// The blocks of one rod time step on one rank's nodes, for the Thyra model evaluator over
+// Tpetra that NOX solves (solver::RodStepModel, any rank count and linear solver).
 // It holds the old level of the rank's ghosted nodes (its owned nodes plus one ghost on each
 // side where there is one), their old-level fluxes (fixed during the step's Newton
 // iterations) and, on the planar path, the reduction that maps the full node blocks to the

@@ -1,7 +1,7 @@
 #pragma once
 // The coupled mass's rod step (rod::CoupledRodStepper, docs/rod.md "Coupled mass") solved by
-// a RodStepper: BlockStepper in one process, DistributedStepper on any ranks; the planar or the
-// 3D path, any linear solver and either Newton implementation. No Trilinos solver headers.
+// a RodStepper on any ranks; the planar or the 3D path, any linear solver. No Trilinos solver
+// headers.
 #include <mpi.h>
 
 #include <memory>

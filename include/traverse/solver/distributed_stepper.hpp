@@ -1,10 +1,8 @@
 #pragma once
-// Time stepper of the rod over MPI ranks (a RodStepper): holds this rank's nodes (owned plus
-// one ghost each side), the Newton solver and everything reused across steps (mesh maps and
-// graph, the W matrix, the linear solver and the preconditioner object). On one rank with the
-// block-tridiagonal LU it steps with BlockNewton (NOX's iterates with 'Update Test: Last
-// Update'; by default one round-off iteration fewer per step); the single-process
-// run uses BlockStepper instead, which gives the same steps without Tpetra (block_stepper.hpp).
+// Time stepper of the rod on any number of MPI ranks (a RodStepper): holds this rank's nodes
+// (owned plus one ghost each side), NOX's Newton solver (newton_solver.hpp) and everything
+// reused across steps (mesh maps and graph, the W matrix, the linear solver and the
+// preconditioner object).
 //
 // Only Teuchos (comm, parameter list) and the rod kernels appear here; Trilinos solver
 // headers stay in the .cpp files.
@@ -29,9 +27,6 @@ class DistributedStepper : public RodStepper {
   ~DistributedStepper() override;
 
   rod::RodState gather_state() const override;
-  /// "block storage" when the steps use BlockNewton (one rank, block-tridiagonal LU: the same
-  /// iterates as NOX), "NOX" otherwise.
-  std::string newton_implementation() const override;
   ReuseCounters reuse_counters() const override;
   /// Identity of the reused objects (for tests): the W matrix and its graph.
   const void* jacobian_address() const;

@@ -66,7 +66,7 @@ class RodStepModel : public BlockAssemblyModel {
   void set_old_level(std::vector<rod::RodNode> ghosted_old_nodes, const rod::StepTimes& step);
   const std::vector<rod::RodNode>& old_ghosted_nodes() const { return asm_.old_nodes(); }
   const rod::StepTimes& step_times() const { return asm_.step(); }
-  /// The step's blocks (shared with the Newton on block storage, solver::BlockNewton).
+  /// The step's blocks.
   const rod::StepAssembly& assembly() const { return asm_; }
 
   /// The Newton initial guess `g` of the owned nodes (rod::StepAssembly::initial_guess), on the

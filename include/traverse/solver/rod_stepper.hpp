@@ -1,14 +1,9 @@
 #pragma once
 // The rod's time stepper as the run driver sees it: the state of this rank's nodes (owned
 // plus one ghost each side), the step with its subdivision, the adaptive loop's try / undo /
-// redo, and the path (planar or 3D). What the steps are solved with is the concrete
-// stepper's:
-//   - BlockStepper (block_stepper.hpp): one process, the block-tridiagonal LU on block
-//     storage and BlockNewton. Eigen and the rod kernels only: no Tpetra, no Kokkos, no MPI.
-//   - DistributedStepper (distributed_stepper.hpp): Tpetra over any ranks, NOX or BlockNewton,
-//     any linear solver.
-// Both take the same iterates where both apply (one rank, the block LU, BlockNewton): this
-// class holds the step logic they share. No Trilinos: the parameters are a ParamList.
+// redo, and the path (planar or 3D). What the steps are solved with (Tpetra, NOX and the
+// linear solver) is DistributedStepper's (distributed_stepper.hpp); this class holds the step
+// logic and names no Trilinos type.
 #include "traverse/core/param_list.hpp"
 
 #include <memory>
@@ -66,12 +61,6 @@ struct ReuseCounters {
   int symbolic_factorizations = 0;
   int numeric_factorizations = 0;
 };
-
-/// Whether the rod's time steps can run on BlockNewton (with 'Update Test: Last Update' the
-/// same iterates as NOX; without Tpetra, Thyra and NOX): one rank, the block-tridiagonal LU as the direct solver, a full
-/// Newton step, no NOX pass-through keys, no modified Newton, and not "Newton Implementation:
-/// NOX". `params`: validated solver parameters.
-bool block_newton_applies(const ParamList& params, const LinearSolverChoice& choice, int ranks);
 
 class RodStepper {
  public:
@@ -138,8 +127,6 @@ class RodStepper {
   const std::string& resolved_linear_solver() const { return choice_.resolved; }
   const std::string& requested_linear_solver() const { return choice_.requested; }
   bool linear_solver_rerouted() const { return choice_.rerouted; }
-  /// "block storage" when the steps use BlockNewton, "NOX" otherwise.
-  virtual std::string newton_implementation() const = 0;
   /// Newton report of the last solve attempted (converged or not).
   const NewtonReport& last_newton_report() const { return last_; }
   virtual ReuseCounters reuse_counters() const = 0;

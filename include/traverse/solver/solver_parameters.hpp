@@ -23,15 +23,12 @@
 //                                  "Polynomial" | "More'-Thuente" (default "Full Step")
 //   NOX                    sublist optional NOX parameters, merged over the defaults built
 //                                  from the keys above (a user's value wins)
-//   Newton Implementation  string  "auto" (default: the rod time step's Newton on block storage,
-//                                  solver/block_newton.hpp, on one rank with the block-tridiagonal
-//                                  LU, Full Step, no NOX sublist and no Jacobian Reuse; NOX
-//                                  otherwise) | "NOX" (always NOX)
-//   Update Test            string  "auto" | "Last Update" (default "auto"): with auto, the
-//                                  Newton on block storage also ends a step when max|f| passes
+//   Update Test            string  "auto" | "Last Update" (default "auto"): with auto and the
+//                                  block-tridiagonal LU, a step also ends when max|f| passes
 //                                  and the next update (solved with the last factorisation)
-//                                  passes the WRMS test; NOX's test (the update just taken)
-//                                  elsewhere and with "Last Update" (docs/solver.md)
+//                                  passes the WRMS test (next_update_test.hpp, a NOX status
+//                                  test); NOX's test (the update just taken) with the other
+//                                  linear solvers and with "Last Update" (docs/solver.md)
 //   Initial Guess          string  "auto" | "Old Level" | "Secant" (default "auto"): Newton's
 //                                  initial guess of a time step, the old level itself or
 //                                  extrapolated along the last step's secant

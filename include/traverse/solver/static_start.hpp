@@ -5,21 +5,35 @@
 // rebasing of the frames) on the static model on Tpetra (StaticRodModel), each rank holding
 // only its nodes and their ghosts. The linear solver is the block-tridiagonal LU (direct,
 // exact across ranks) when the left end is clamped; otherwise, or when that fails, the
-// statics solver of solver_parameters.hpp (docs/solver.md, "Static initial state"). In one
-// process the same start without Tpetra: block_static_start.hpp.
+// statics solver of solver_parameters.hpp (docs/solver.md, "Static initial state").
 #include <Teuchos_Comm.hpp>
 #include "traverse/core/param_list.hpp"
 #include <Teuchos_RCP.hpp>
 #include <string>
 #include <vector>
 
-#include "traverse/solver/block_static_start.hpp"
+#include "traverse/rod/rod_state.hpp"
+#include "traverse/rod/static_solver.hpp"
 
 namespace traverse::solver {
+
+struct StaticStart {
+  rod::StaticReport report;            ///< of the load stepping that ended the solve
+  int first_node = 0;                  ///< global index of nodes.front()
+  int first_owned_node = 0, num_owned_nodes = 0;  ///< this rank's nodes (the mesh's partition)
+  /// Converged: this rank's nodes and up to `halo` more on each side, rebased (theta = 0).
+  std::vector<rod::StaticNode> nodes;
+  std::string linear_solver;           ///< what solved the Newton systems (the last one tried)
+  std::string first_failure;           ///< when the block LU was tried first and failed: why
+};
 
 /// Collective over `comm`. `solver`: the run's solver parameters (the statics defaults of
 /// StaticLinearSolver apply to them when the block LU is not used).
 StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
                                const ParamList& solver = ParamList(), int halo = 2);
+
+/// This rank's piece of the dynamic state at rest from a converged start: its nodes and one
+/// ghost each side, as the steppers partition the rod (first_node: the first's index).
+rod::RodState dynamic_state_piece(const rod::StaticModel& m, const StaticStart& start, int& first_node);
 
 }  // namespace traverse::solver

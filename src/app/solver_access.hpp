@@ -1,10 +1,6 @@
 #pragma once
-// What a run needs from Trilinos (beyond Teuchos' parameter list), behind declarations that
-// name no Trilinos type (docs/developer.md, "Start-up"). Two definitions: trilinos_parts.cpp
-// (Tpetra, NOX, LOCA, Anasazi: the executable traverse-trilinos and the tests) and
-// trilinos_absent.cpp (the executable traverse, which links no Trilinos solver library and
-// hands every run that needs one over to traverse-trilinos before it starts: main.cpp,
-// needs_trilinos; its definitions throw std::logic_error if reached anyway).
+// What a run asks of the solver module (Tpetra, NOX, LOCA), behind declarations that name no
+// Trilinos type: app's other translation units compile without the Trilinos headers.
 #include <mpi.h>
 
 #include "traverse/core/param_list.hpp"
@@ -15,13 +11,10 @@
 #include "traverse/rod/rod_model.hpp"
 #include "traverse/rod/rod_state.hpp"
 #include "traverse/scene/scene.hpp"
-#include "traverse/solver/block_static_start.hpp"
+#include "traverse/solver/static_start.hpp"
 #include "traverse/solver/rod_stepper.hpp"
 
 namespace traverse::app {
-
-/// Whether this executable has the Trilinos parts (false: traverse, true: traverse-trilinos).
-bool has_trilinos();
 
 /// Kokkos (started once, until finish_solver_runtime) and Tpetra for the lifetime of the object.
 class TpetraScope {

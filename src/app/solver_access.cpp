@@ -1,5 +1,5 @@
-// The Trilinos parts of a run (trilinos_parts.hpp), in traverse-trilinos and the tests.
-#include "trilinos_parts.hpp"
+// What a run asks of the solver module (solver_access.hpp).
+#include "solver_access.hpp"
 
 #include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_Core.hpp>
@@ -22,8 +22,6 @@ namespace traverse::app {
 namespace {
 Teuchos::RCP<const Teuchos::Comm<int>> teuchos_comm(MPI_Comm comm) { return Teuchos::rcp(new Teuchos::MpiComm<int>(comm)); }
 }  // namespace
-
-bool has_trilinos() { return true; }
 
 struct TpetraScope::Impl {
   explicit Impl(MPI_Comm comm) {

@@ -1,9 +1,13 @@
 #pragma once
-// Dense/sparse-direct reference stepper (tests and small problems only, N <= ~200): plain
-// Newton with the exact Jacobian on the whole rod, one time step at a time. It is the
-// specification the distributed solver must reproduce.
+// The tests' independent reference for the rod's time step (small problems only, N <= ~200):
+// plain Newton with the exact Jacobian on the whole rod and Eigen's sparse LU, one time step
+// at a time, written apart from the solver module's NOX path that it checks; and the coupled
+// mass's rod solve on it (reference_rod_solve).
 #include <Eigen/SparseCore>
 
+#include <memory>
+
+#include "traverse/rod/coupled_mass_rod.hpp"
 #include "traverse/rod/rod_kernels.hpp"
 
 namespace traverse::rod {
@@ -43,5 +47,9 @@ class ReferenceStepper {
  private:
   RodModel model_;
 };
+
+/// The coupled mass's rod solve on ReferenceStepper's residual and Jacobian (sparse LU of the
+/// whole rod; its tolerances), warm-started from the last solution on `again`.
+std::unique_ptr<CoupledRodSolve> reference_rod_solve(RodModel model);
 
 }  // namespace traverse::rod
