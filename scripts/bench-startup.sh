@@ -1,14 +1,14 @@
 #!/bin/bash
-# Start-up and sweep figures of issue 16 (docs/benchmarks.md, "Start-up and sweeps"): the
-# median wall and CPU time (user + system, children included) of
+# Whole-process figures (docs/benchmarks.md, "Whole runs"): the median wall and CPU time
+# (user + system, children included) of
 #   traverse --version, traverse check inputs/default.yaml, the cable run (inputs/default.yaml)
 #   at ds = 0.04, 0.02 and the scene's 0.01 (26, 51, 101 nodes; output every step), the
 #   shallow arch at v = 2 m/s (inputs/arch/shallow_arch_v2.0.yaml: the arch's formation and
 #   0.5 s of snap-through)
 # for each executable given (e.g. the build of main and this one; the executables take turns,
 # run by run, so that their medians see the same load), then the F = 2 N resonance
-# sweep (20 speeds, postprocessing/hanging_cable.py's) with the last one: in one process, in 2
-# worker processes (-j 2), on 1 and on 2 MPI ranks (mpirun -n 1, -n 2), in turn.
+# sweep (20 speeds, postprocessing/hanging_cable.py's) with the last one: in one process and on
+# 1 and on 2 MPI ranks (mpirun -n 1, -n 2), in turn.
 # Usage: bash scripts/bench-startup.sh [-n RUNS] [--no-sweep] EXE [EXE ...]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -87,16 +87,16 @@ args=(sweep inputs/rod/hanging_cable_F2_a0.5.yaml --vary "loads.F.speed=$speeds"
       --set "output.fields=[]" --overwrite)
 # --bind-to none: Open MPI binds 2 ranks to one core each by default, which on a machine
 # shared with other work pins a rank to a busy core; one process alone is never bound.
-# The four sweeps run in turn, 5 times each.
+# The three sweeps run in turn, 5 times each.
 mpirun="mpirun --allow-run-as-root --oversubscribe --bind-to none"
-mapfile -t results < <(runs=5 measure "$exe ${args[*]} -o $work/sweep1" "$exe ${args[*]} -j 2 -o $work/sweepj" \
+mapfile -t results < <(runs=5 measure "$exe ${args[*]} -o $work/sweep1" \
   "$mpirun -n 2 $exe ${args[*]} -o $work/sweep2" "$mpirun -n 1 $exe ${args[*]} -o $work/sweep3")
 k=0
-for how in "one process" "2 worker processes (-j 2)" "2 MPI ranks (mpirun -n 2)" "1 MPI rank (mpirun -n 1)"; do
+for how in "one process" "2 MPI ranks (mpirun -n 2)" "1 MPI rank (mpirun -n 1)"; do
   read -r wall cpu own <<< "${results[$k]}"
   echo "resonance sweep (F = 2 N, 20 speeds) in $how: wall $wall s, CPU $cpu s; the sweep's own wall $own s"
   eval "wall$k=$wall own$k=$own"
   k=$((k + 1))
 done
-$py -c "print('resonance sweep, wall: -j 2 %.2fx, mpirun -n 2 %.2fx faster than one process; mpirun -n 2 %.2fx faster than mpirun -n 1' % ($wall0 / $wall1, $wall0 / $wall2, $wall3 / $wall2))"
-$py -c "print('resonance sweep, its own wall (start-up, MPI and launcher excluded): -j 2 %.2fx, mpirun -n 2 %.2fx faster than one process; mpirun -n 2 %.2fx faster than mpirun -n 1' % ($own0 / $own1, $own0 / $own2, $own3 / $own2))"
+$py -c "print('resonance sweep, wall: mpirun -n 2 %.2fx faster than one process, %.2fx faster than mpirun -n 1' % ($wall0 / $wall1, $wall2 / $wall1))"
+$py -c "print('resonance sweep, its own wall (start-up, MPI and launcher excluded): mpirun -n 2 %.2fx faster than one process, %.2fx faster than mpirun -n 1' % ($own0 / $own1, $own2 / $own1))"
