@@ -138,3 +138,26 @@ TEST(AxleTrain, NoResidualFirstModeAtCancellationSpeeds) {
     EXPECT_NEAR((off / ref) / (expected_off / expected_ref), 1.0, 1e-6);
   }
 }
+
+TEST(AxleTrain, AccelerationProbeMatchesClosedForm) {
+  // Undamped, one force P at speed v from rest: Y_i = -P / (m (w^2 - W^2)) (sin W t - W / w sin w t),
+  // m = rhoA L / 2, w = omega_i, W = i pi v / L, so Y_i'' = -P / (m (w^2 - W^2)) (W w sin w t - W^2 sin W t).
+  const double P = 1e5, v = 40.0, m = kRhoA * kL / 2.0;
+  const int n = 6;
+  BeamProblem p = bridge(n, 2.5e-5, kL / v, 0.0);
+  p.accelerations = true;
+  add_force(p, P, v, 0.0);
+  BeamSimulation sim(p);
+  double worst = 0, peak = 0;
+  sim.run([&](const BeamSnapshot& s) {
+    double a = 0;
+    for (int i = 1; i <= n; ++i) {
+      const double w = std::pow(i * kPi / kL, 2) * std::sqrt(kEI / kRhoA), W = i * kPi * v / kL;
+      a += std::sin(i * kPi / 2.0) * -P / (m * (w * w - W * W)) * (W * w * std::sin(w * s.t) - W * W * std::sin(W * s.t));
+    }
+    worst = std::max(worst, std::abs(s.acceleration(0.5 * kL) - a));
+    peak = std::max(peak, std::abs(a));
+  });
+  std::cout << "w_tt(L/2): largest error " << worst / peak << " of the peak " << peak << " m/s^2\n";
+  EXPECT_LT(worst, 1e-7 * peak);
+}

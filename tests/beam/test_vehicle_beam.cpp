@@ -429,3 +429,33 @@ TEST(BeamDamping, OrdersWithMovingMassAndDamping) {
   EXPECT_NEAR(order(e1, e2), 4.0, 0.2);
   EXPECT_NEAR(order(n1, n2), 2.0, 0.1);
 }
+
+TEST(SprungMass, UnilateralContactEndsAtLiftOff) {
+  // A stiff suspension (417 rad/s) coming from level ground (it reaches x = 0 at 0.01 s) onto the
+  // bridge sagged under its own weight: at entry the wheel follows the slope w_x(0) < 0 down at v |w_x(0)| = 0.06 m/s, more than the body on its
+  // spring can follow (v |w_x| omega_v > g), so the contact force falls to zero within a quarter
+  // period of the suspension. The run ends there (|F| ~ 0); the bilateral run, stopped at the
+  // same instant, has the same (zero) force: the event is located on the trajectory.
+  const double k = 1e9, omega_v = std::sqrt(k / kMv);
+  BeamProblem p = bridge(8, 1e-5, kL / kV);
+  p.self_weight = true;
+  Vehicle v = sprung(k, 0.0);
+  v.motion.entry_time = 0.01;
+  Vehicle bilateral = v;
+  v.unilateral = true;
+  VehicleBeam sim(p, {v});
+  sim.run();
+  ASSERT_EQ(sim.end_reason(), VehicleEnd::LiftOff);
+  const double t_off = sim.time(), F = sim.contact_force(0, 0);
+  std::cout << "lift-off at t = " << t_off << " s (a quarter period: " << 0.5 * kPi / omega_v << " s), contact force "
+            << F << " N\n";
+  EXPECT_GT(t_off, 0.01);
+  EXPECT_LT(t_off, 0.01 + 0.5 * kPi / omega_v);
+  EXPECT_LT(std::abs(F), 1e-8 * kMv * kG);
+  BeamProblem q = p;
+  q.t_end = t_off;
+  VehicleBeam both(q, {bilateral});
+  both.run();
+  EXPECT_EQ(both.end_reason(), VehicleEnd::EndTime);
+  EXPECT_LT(std::abs(both.contact_force(0, 0)), 1e-6 * kMv * kG);
+}
