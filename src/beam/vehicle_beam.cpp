@@ -84,10 +84,12 @@ VehicleBeam::VehicleBeam(BeamProblem problem, std::vector<Vehicle> vehicles)
       const Axle& ax = v.axles[a];
       if (!(ax.stiffness > 0) || !(ax.damping >= 0) || !(ax.wheel_mass >= 0))
         throw std::invalid_argument("VehicleBeam: vehicle '" + v.name + "': axle stiffness > 0, damping and wheel mass >= 0");
-      if (pitch && std::abs(ax.offset - v.axles[0].offset) == 0.0 && a > 0 && v.axles.size() == 2)
-        throw std::invalid_argument("VehicleBeam: vehicle '" + v.name + "': two axles at the same offset");
       axles_.push_back({j, a, row, pitch ? row + 1 : -1});
     }
+    const auto [lo, hi] = std::minmax_element(v.axles.begin(), v.axles.end(),
+                                              [](const Axle& a, const Axle& b) { return a.offset < b.offset; });
+    if (pitch && lo->offset == hi->offset)
+      throw std::invalid_argument("VehicleBeam: vehicle '" + v.name + "': its axles need distinct offsets (pitch)");
     row += pitch ? 2 : 1;
   }
   N_ = row;
