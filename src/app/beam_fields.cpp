@@ -6,6 +6,32 @@
 
 namespace traverse::app {
 
+beam::ModalDamping beam_damping(const scene::BeamSpec& b) {
+  beam::ModalDamping d;
+  switch (b.damping) {
+    case scene::BeamSpec::Damping::none: break;
+    case scene::BeamSpec::Damping::ratios:
+      d.kind = beam::ModalDamping::Kind::Ratios;
+      d.ratios = b.damping_ratios;
+      break;
+    case scene::BeamSpec::Damping::rayleigh:
+      d.kind = beam::ModalDamping::Kind::Rayleigh;
+      d.mass = b.rayleigh_mass;
+      d.stiffness = b.rayleigh_stiffness;
+      break;
+    default: throw std::logic_error("beam_damping: unknown kind");
+  }
+  return d;
+}
+
+void declare_beam_probe(output::Writer& w, const scene::OutputProbeSpec& pr) {
+  const std::string at = " at x = " + scene::format_number(pr.at) + " m";
+  if (pr.type == scene::ProbeType::acceleration)
+    w.add_probe({pr.name, 1, "m/s^2", "transverse acceleration w_tt (positive up, +j)" + at, {}});
+  else
+    w.add_probe({pr.name, 1, "m", "transverse deflection w (positive up, +j)" + at, {}});
+}
+
 BeamFields::BeamFields(const scene::Scene& sc, const beam::BeamProblem& p, const beam::ModeSet& modes, MPI_Comm comm)
     : EI_(p.EI) {
   const int rank = par::rank(comm), ranks = par::size(comm);

@@ -15,6 +15,12 @@
 
 namespace traverse::app {
 
+/// The beam's structural damping of a scene (beam.damping).
+beam::ModalDamping beam_damping(const scene::BeamSpec& b);
+
+/// Declares an output probe of a beam scene (deflection [m] or acceleration [m/s^2] at a point).
+void declare_beam_probe(output::Writer& w, const scene::OutputProbeSpec& probe);
+
 class BeamFields {
  public:
   BeamFields(const scene::Scene& sc, const beam::BeamProblem& p, const beam::ModeSet& modes, MPI_Comm comm);

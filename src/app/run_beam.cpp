@@ -1,5 +1,6 @@
 // A beam run in stages: the problem (beam_problem), the outputs (BeamOutputs), the restart
 // replay check (OutputReplay), the observer of each output step (BeamObserver), the report.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -11,6 +12,7 @@
 #include "output_replay.hpp"
 #include "run.hpp"
 #include "run_beam_coupled.hpp"
+#include "run_beam_vehicles.hpp"
 #include "traverse/beam/beam_simulation.hpp"
 #include "traverse/output/reader.hpp"
 #include "step_control.hpp"
@@ -38,6 +40,20 @@ beam::MovingLoad moving_load(const scene::MovingLoadSpec& l) {
   return m;
 }
 
+/// The moving forces of an axle train: axle a, e_a behind the head, enters when the head has
+/// travelled e_a, at the head's speed then.
+void add_axle_train(const scene::MovingLoadSpec& l, std::vector<beam::MovingLoad>& loads) {
+  for (std::size_t a = 0; a < l.train_offsets.size(); ++a) {
+    beam::MovingLoad m = moving_load(l);
+    m.kind = beam::LoadKind::Force;
+    m.mass = 0.0;
+    m.force = -l.train_loads[a];
+    m.entry_time = l.travel_time(l.train_offsets[a]);
+    m.speed = std::abs(l.velocity(m.entry_time));
+    loads.push_back(m);
+  }
+}
+
 /// Stage 1: the beam problem of a scene on the time grid of its checked run plan
 /// (run_limits.hpp: dt auto is a twentieth of the highest mode's period, at most the time a
 /// load needs to cross one mesh cell; end auto is when the last load leaves).
@@ -54,9 +70,16 @@ beam::BeamProblem beam_problem(const scene::Scene& sc, const TimeGrid& grid) {
   p.quadrature_nodes.back() = b.length;
   p.gauss_points = b.quadrature_points;
   p.gravity = sc.gravity;
-  p.self_weight = true;
+  p.self_weight = b.self_weight;
   p.initial_state = beam::InitialState::Static;
-  for (const auto& l : sc.loads) p.loads.push_back(moving_load(l));
+  for (const auto& l : sc.loads) {
+    if (l.type == scene::LoadType::axle_train)
+      add_axle_train(l, p.loads);
+    else if (!l.suspended())  // vehicles on suspensions: run_beam_vehicles
+      p.loads.push_back(moving_load(l));
+  }
+  p.damping = beam_damping(b);
+  for (const auto& pr : sc.output.probes) p.accelerations |= pr.type == scene::ProbeType::acceleration;
   p.t_start = grid.t_start;
   p.t_end = grid.t_end;
   p.dt = grid.dt;
@@ -88,12 +111,17 @@ class BeamOutputs {
   BeamFields fields_;
   std::vector<std::vector<double>> probes_;
   std::vector<double> sigma_;
+  std::vector<std::size_t> first_;  ///< per scene load: its first load of the problem (a train's head)
 };
 
 BeamOutputs::BeamOutputs(const scene::Scene& sc, const beam::BeamProblem& p, const beam::ModeSet& modes, MPI_Comm comm)
     : sc_(sc), fields_(sc, p, modes, comm) {
   probes_.assign(sc.output.probes.size() + 2 * sc.loads.size(), std::vector<double>(1));
   sigma_.assign(std::max<size_t>(1, sc.loads.size()), std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t i = 0, k = 0; i < sc.loads.size(); ++i) {
+    first_.push_back(k);
+    k += sc.loads[i].type == scene::LoadType::axle_train ? sc.loads[i].train_offsets.size() : 1;
+  }
 }
 
 std::vector<std::string> BeamOutputs::probe_names() const {
@@ -109,11 +137,10 @@ std::vector<std::string> BeamOutputs::probe_names() const {
 std::vector<std::string> BeamOutputs::field_names() const { return fields_.names(); }
 
 void BeamOutputs::declare(output::Writer& w) const {
-  for (const auto& pr : sc_.output.probes)
-    w.add_probe({pr.name, 1, "m", "transverse deflection w (positive up, +j) at x = " + scene::format_number(pr.at) + " m",
-                 {}});
+  for (const auto& pr : sc_.output.probes) declare_beam_probe(w, pr);
   for (const auto& l : sc_.loads) {
-    w.add_probe({l.name + "_position", 1, "m", "position x(t) of load '" + l.name + "' along the beam", {}});
+    w.add_probe({l.name + "_position", 1, "m", "position x(t) of load '" + l.name + "' along the beam" +
+                 (l.type == scene::LoadType::axle_train ? " (its head)" : ""), {}});
     w.add_probe({l.name + "_deflection", 1, "m",
                  "deflection w(x(t), t) under load '" + l.name + "' (NaN while it is off the beam)", {}});
   }
@@ -122,11 +149,12 @@ void BeamOutputs::declare(output::Writer& w) const {
 
 void BeamOutputs::evaluate(const beam::BeamSnapshot& s) {
   size_t k = 0;
-  for (const auto& pr : sc_.output.probes) probes_[k++][0] = s.deflection(pr.at);
+  for (const auto& pr : sc_.output.probes)
+    probes_[k++][0] = pr.type == scene::ProbeType::acceleration ? s.acceleration(pr.at) : s.deflection(pr.at);
   for (size_t i = 0; i < sc_.loads.size(); ++i) {
-    sigma_[i] = s.load_position(i);
-    probes_[k++][0] = s.load_position(i);
-    probes_[k++][0] = s.load_deflection(i);
+    sigma_[i] = s.load_position(first_[i]);
+    probes_[k++][0] = s.load_position(first_[i]);
+    probes_[k++][0] = s.load_deflection(first_[i]);
   }
   fields_.evaluate(s.Y);
 }
@@ -214,6 +242,10 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   const beam::BeamProblem p = beam_problem(sc, grid);
   if (coupled_load(sc)) {
     run_beam_coupled(sc, p, opt, comm);
+    return;
+  }
+  if (std::any_of(sc.loads.begin(), sc.loads.end(), [](const scene::MovingLoadSpec& l) { return l.suspended(); })) {
+    run_beam_vehicles(sc, p, opt, comm);
     return;
   }
   beam::BeamSimulation sim(p);

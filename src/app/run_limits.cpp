@@ -261,6 +261,16 @@ TimePlan beam_time_plan(const scene::Scene& sc) {
                 fmt(omega_max) + " rad/s) = " + fmt(p.dt) + " s";
     p.dt_keys = {"beam.modes", "beam.youngs_modulus", "beam.density", "beam.section"};
     p.dt_from_modes = true;
+    for (const auto& l : sc.loads)  // a suspension faster than the highest mode sets the step
+      for (std::size_t a = 0; a < l.axle_stiffness.size(); ++a) {
+        const double m = l.wheel_masses[a] > 0.0 ? std::min(l.wheel_masses[a], l.mass) : l.mass;
+        const double omega = std::sqrt(l.axle_stiffness[a] / m), dt = 2.0 * constants::pi / omega / 20.0;
+        if (!(dt < p.dt)) continue;
+        p.dt = dt;
+        p.dt_text = "time.dt: auto = a twentieth of the period of axle " + std::to_string(a + 1) + " of '" + l.name +
+                    "' on its suspension (" + fmt(omega) + " rad/s) = " + fmt(p.dt) + " s";
+        p.dt_keys = {"loads." + l.name + ".stiffness", "loads." + l.name + ".mass"};
+      }
     if (v_max > 0.0 && !(p.dt <= sc.mesh.ds / v_max)) {
       p.dt = sc.mesh.ds / v_max;
       const std::string k = "loads." + fast->name;

@@ -47,6 +47,11 @@ std::vector<std::pair<std::string, int>> probes_of(const scene::Scene& sc) {
   for (const auto& l : sc.loads) {
     out.emplace_back(l.name + "_position", 1);
     if (beam) out.emplace_back(l.name + "_deflection", 1);
+    if (!l.suspended()) continue;  // sprung_mass, vehicle: run_beam_vehicles.cpp
+    out.emplace_back(l.name + "_body_displacement", 1);
+    out.emplace_back(l.name + "_body_acceleration", 1);
+    if (l.type == scene::LoadType::vehicle) out.emplace_back(l.name + "_pitch", 1);
+    out.emplace_back(l.name + "_contact_force", static_cast<int>(l.axle_offsets.size()));
   }
   return out;
 }

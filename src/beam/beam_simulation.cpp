@@ -81,6 +81,7 @@ BeamSimulation::BeamSimulation(BeamProblem problem) : problem_(std::move(problem
   mats_ = assemble_galerkin(*modes_, nodes, ra, ei, p.self_weight ? p.gravity : 0.0,
                             p.gauss_points);
   Mb_inv_ = mats_.Mb.ldlt().solve(MatX::Identity(n, n));
+  if (p.damping.active()) C_ = modal_damping_matrix(mats_, p.damping);
 
   for (const MovingLoad& l : p.loads) {
     kin_.emplace_back(l, p.length);
@@ -166,11 +167,12 @@ void BeamSimulation::eval_loads(double t) {
   w.eval_epoch = w.epoch;
 }
 
-// r = -Pb - Kb Y + sum_k Phi_k (F_k - M_k (2 v Phi_k'.V + v^2 Phi_k''.Y + a Phi_k'.Y))
+// r = -Pb - Kb Y - C V + sum_k Phi_k (F_k - M_k (2 v Phi_k'.V + v^2 Phi_k''.Y + a Phi_k'.Y))
 void BeamSimulation::residual(const VecX& Y, const VecX& V, Eigen::Ref<VecX> r) const {
   const Work& w = *w_;
   r.noalias() = -mats_.Pb;
   r.noalias() -= mats_.Kb * Y;
+  if (C_.size() > 0) r.noalias() -= C_ * V;
   for (int k : w.active) {
     const std::size_t ks = static_cast<std::size_t>(k);
     double f = force_[ks];
@@ -269,7 +271,8 @@ const MatX& BeamSimulation::newmark_inverse(double h) {
   const int s = w.next_slot;
   w.next_slot = 1 - s;
   const Eigen::Index n = w.n;
-  const MatX B = mats_.Mb + (0.25 * h * h) * mats_.Kb;
+  MatX B = mats_.Mb + (0.25 * h * h) * mats_.Kb;
+  if (C_.size() > 0) B += (0.5 * h) * C_;
   w.B_inv[s] = B.ldlt().solve(MatX::Identity(n, n));
   w.h_cache[s] = h;
   return w.B_inv[s];
@@ -342,7 +345,7 @@ void BeamSimulation::run(const BeamObserver& observer) {
   reset();
   const BeamProblem& p = problem_;
   Work& w = *w_;
-  if (observer) observer(BeamSnapshot(*this, t_, Y_, V_));
+  if (observer) observer(snapshot());
   std::vector<double> events;
   if (p.split_at_load_events)
     for (const LoadKinematics& k : kin_) {
@@ -373,7 +376,7 @@ void BeamSimulation::run(const BeamObserver& observer) {
       ta = te;
     }
     t_ = tb;
-    if (observer && (k % p.output_every == 0 || k == N)) observer(BeamSnapshot(*this, t_, Y_, V_));
+    if (observer && (k % p.output_every == 0 || k == N)) observer(snapshot());
   }
   (void)w;
 }
@@ -444,6 +447,14 @@ void BeamSimulation::adaptive_advance(double ta, double tb) {
   }
 }
 
+BeamSnapshot BeamSimulation::snapshot() {
+  if (!problem_.accelerations) return BeamSnapshot(*this, t_, Y_, V_, nullptr);
+  // The equation of the loads' current status (that of the step just taken) at this instant.
+  A_out_.resize(Y_.size());
+  acceleration(t_, Y_, V_, A_out_);
+  return BeamSnapshot(*this, t_, Y_, V_, &A_out_);
+}
+
 void BeamSimulation::evaluate_modes(double x) const {
   modes_->evaluate(x, w_->sphi, w_->sdphi, w_->sddphi);
 }
@@ -464,6 +475,11 @@ double BeamSnapshot::slope(double x) const {
 double BeamSnapshot::velocity(double x) const {
   sim_->evaluate_modes(x);
   return sim_->w_->sphi.dot(Ydot);
+}
+double BeamSnapshot::acceleration(double x) const {
+  if (!Yddot_) throw std::logic_error("BeamSnapshot::acceleration: BeamProblem::accelerations is off");
+  sim_->evaluate_modes(x);
+  return sim_->w_->sphi.dot(*Yddot_);
 }
 std::size_t BeamSnapshot::load_count() const { return sim_->kin_.size(); }
 double BeamSnapshot::load_position(std::size_t k) const { return sim_->kin_.at(k).position(t); }

@@ -18,7 +18,7 @@ namespace traverse::scene {
   }
 TRAVERSE_ENUM_NAMES(Supports, "simply-supported", "clamped-free", "clamped-clamped", "clamped-pinned")
 TRAVERSE_ENUM_NAMES(BeamIntegrator, "rk4", "newmark")
-TRAVERSE_ENUM_NAMES(LoadType, "moving_mass", "moving_force", "coupled_mass")
+TRAVERSE_ENUM_NAMES(LoadType, "moving_mass", "moving_force", "coupled_mass", "sprung_mass", "vehicle", "axle_train")
 TRAVERSE_ENUM_NAMES(Contact, "bilateral", "unilateral")
 TRAVERSE_ENUM_NAMES(ResistanceThrough, "air", "structure")
 TRAVERSE_ENUM_NAMES(Entry, "left", "right")
@@ -28,7 +28,7 @@ TRAVERSE_ENUM_NAMES(ContinuationParameter, "end_load", "end_position", "gravity_
                     "load_magnitude")
 TRAVERSE_ENUM_NAMES(ContinuationMethod, "arclength", "natural")
 TRAVERSE_ENUM_NAMES(ContinuationProbeType, "point", "end_compression")
-TRAVERSE_ENUM_NAMES(ProbeType, "deflection", "point")
+TRAVERSE_ENUM_NAMES(ProbeType, "deflection", "point", "acceleration")
 TRAVERSE_ENUM_NAMES(Quantity, "position", "u", "omega", "kappa", "n", "m", "d1", "d2", "d3")
 TRAVERSE_ENUM_NAMES(Frame, "fixed", "body")
 TRAVERSE_ENUM_NAMES(Field, "u", "omega", "kappa", "n", "m", "r", "R", "deflection", "slope", "bending_moment")
@@ -121,6 +121,102 @@ Check exactly_one(std::vector<std::string> keys) {
   };
 }
 
+// A list key of a vehicle: empty, one value (for every axle) or one per axle.
+Check per_axle(const std::string& key, const std::string& axes_key) {
+  return [key, axes_key](const ParameterList& s, const CheckContext& ctx) {
+    if (!s.isParameter(key)) return;
+    const std::size_t n = s.get<std::vector<double>>(axes_key).size(), k = s.get<std::vector<double>>(key).size();
+    if (k != 1 && k != n)
+      ctx.fail(key, "one value (for every axle) or one per axle (" + std::to_string(n) + " in " + axes_key + ")",
+               std::to_string(k) + " values");
+  };
+}
+
+void add_vehicle_types(TypeRegistry& r) {
+  const Param contact = choice("contact", "bilateral: the wheels stay on the structure; unilateral: a contact force "
+                                          "that would pull ends the run (the event lift_off)",
+                               enum_names<Contact>()).def("bilateral");
+  {
+    TypeInfo t{"sprung_mass",
+               "A moving oscillator (beam): a body on a spring and damper above a contact point moving at the "
+               "prescribed speed, its bounce an unknown coupled with the beam through the contact force "
+               "(static weight included); starts in static equilibrium",
+               {real("mass", "Body mass M_v (sprung)", "kg").positive().required(),
+                real("stiffness", "Suspension stiffness k_v", "N/m").positive().required(),
+                real("damping", "Suspension damping c_v", "N s/m").non_negative().def(0.0),
+                real("wheel_mass", "Unsprung mass m_w riding on the structure (moving-mass inertia)", "kg")
+                    .non_negative().def(0.0),
+                contact},
+               {moves("sprung mass")}};
+    for (const auto& p : motion_params()) t.params.push_back(p);
+    r.add(t);
+  }
+  {
+    TypeInfo t{"vehicle",
+               "A rigid body with bounce and pitch on several axles (beam), each with its own suspension; the "
+               "motion keys give the leading axle's path (the vehicle comes from rigid ground before entry_time)",
+               {real("mass", "Body mass M_v (sprung)", "kg").positive().required(),
+                real("pitch_inertia", "Body pitch inertia J_v about its centre", "kg m^2").positive().required(),
+                real_list("axle_offsets", "Axle positions e_a from the body's centre, positive ahead", "m").required(),
+                real_list("stiffness", "Suspension stiffness k_a per axle (one value: every axle)", "N/m")
+                    .positive().required(),
+                real_list("damping", "Suspension damping c_a per axle (one value: every axle)", "N s/m")
+                    .non_negative().def("[0]"),
+                real_list("wheel_masses", "Unsprung mass m_w per axle (one value: every axle)", "kg")
+                    .non_negative().def("[0]"),
+                contact},
+               {moves("vehicle"), per_axle("stiffness", "axle_offsets"), per_axle("damping", "axle_offsets"),
+                per_axle("wheel_masses", "axle_offsets"),
+                [](const ParameterList& s, const CheckContext& ctx) {
+                  auto e = s.get<std::vector<double>>("axle_offsets");
+                  if (e.size() < 2) ctx.fail("axle_offsets", "at least 2 axles (one: use type sprung_mass)",
+                                             std::to_string(e.size()));
+                  std::sort(e.begin(), e.end());
+                  for (std::size_t i = 1; i < e.size(); ++i)
+                    if (e[i] == e[i - 1]) ctx.fail("axle_offsets", "distinct offsets", "two at " + format_number(e[i]));
+                }}};
+    for (const auto& p : motion_params()) t.params.push_back(p);
+    r.add(t);
+  }
+  {
+    Param gen = section("generator", "A generic articulated train instead of the lists: a leading and a trailing "
+                                     "car and `coaches` articulated coaches, all of length D, on N + 3 two-axle "
+                                     "bogies D apart (one at each joint), axles d apart, P each");
+    gen.only_if_given();
+    gen.add(integer("coaches", "Number N of articulated coaches between the end cars").at_least(1).at_most(100).required());
+    gen.add(real("coach_length", "Coach length D (the bogie spacing)", "m").positive().required());
+    gen.add(real("bogie_axle_spacing", "Axle spacing d within a bogie (< D)", "m").positive().required());
+    gen.add(real("axle_load", "Force P of every axle, acting along -j", "N").positive().required());
+    gen.check([](const ParameterList& s, const CheckContext& ctx) {
+      if (s.get<double>("bogie_axle_spacing") >= s.get<double>("coach_length"))
+        ctx.fail("bogie_axle_spacing", "less than coach_length = " + format_number(s.get<double>("coach_length")),
+                 format_number(s.get<double>("bogie_axle_spacing")));
+    });
+    TypeInfo t{"axle_train",
+               "A train of moving forces (no inertia) at fixed distances behind its head, the first axle, whose path "
+               "the motion keys give: lists of offsets and loads, or a generator",
+               {real_list("offsets", "Axle distances e_a behind the head (the first 0), increasing", "m").non_negative(),
+                real_list("loads", "Axle forces P_a along -j (one value: every axle)", "N").positive(),
+                gen},
+               {moves("axle train"), per_axle("loads", "offsets"),
+                [](const ParameterList& s, const CheckContext& ctx) {
+                  const bool lists = s.isParameter("offsets") || s.isParameter("loads");
+                  if (lists == s.isSublist("generator"))
+                    ctx.fail(lists ? "generator" : "offsets", "either offsets and loads, or generator",
+                             lists ? "both" : "neither");
+                  if (!lists) return;
+                  if (!s.isParameter("offsets") || !s.isParameter("loads"))
+                    ctx.fail(s.isParameter("offsets") ? "loads" : "offsets", "both offsets and loads", "one of them");
+                  const auto e = s.get<std::vector<double>>("offsets");
+                  if (e.empty() || e[0] != 0.0) ctx.fail("offsets", "a list starting at 0 (the head)", "another first value");
+                  for (std::size_t i = 1; i < e.size(); ++i)
+                    if (!(e[i] > e[i - 1])) ctx.fail("offsets", "increasing offsets", "offsets[" + std::to_string(i) + "] = " + format_number(e[i]));
+                }}};
+    for (const auto& p : motion_params()) t.params.push_back(p);
+    r.add(t);
+  }
+}
+
 std::shared_ptr<TypeRegistry> load_types() {
   auto r = std::make_shared<TypeRegistry>("load");
   {
@@ -177,6 +273,7 @@ std::shared_ptr<TypeRegistry> load_types() {
                   enum_names<Contact>())
                .def("bilateral")},
           {}});
+  add_vehicle_types(*r);
   return r;
 }
 
@@ -222,6 +319,9 @@ std::shared_ptr<TypeRegistry> end_types() {
 std::shared_ptr<TypeRegistry> probe_types() {
   auto r = std::make_shared<TypeRegistry>("probe");
   r->add({"deflection", "Beam: transverse deflection w (positive up) at a fixed point [m]",
+          {real("at", "Position along the beam", "m").non_negative().required()}, {}});
+  r->add({"acceleration", "Beam: transverse acceleration w_tt (positive up) at a fixed point, from the modal "
+                          "accelerations of the equation of motion [m/s^2]",
           {real("at", "Position along the beam", "m").non_negative().required()}, {}});
   r->add({"point",
           "Rod: a vector quantity at a fixed arclength (linear interpolation between nodes), 3 components",
@@ -315,6 +415,33 @@ Param build_schema() {
   beam.add(integer("quadrature_points", "Gauss points per mesh cell for the Galerkin integrals").at_least(1).at_most(20).def(6.0));
   beam.add(choice("integrator", "rk4: classical 4th-order Runge–Kutta (reference); newmark: average-acceleration "
                                 "Newmark, unconditionally stable, 2nd order", enum_names<BeamIntegrator>()).def("rk4"));
+  beam.add(boolean("self_weight", "Include the beam's own weight; false: the deflections are taken about the "
+                                  "beam's static equilibrium under its weight (the deck's sag cambered out, the "
+                                  "usual convention of bridge dynamics: a vehicle then enters on a level deck)")
+               .def("true"));
+  Param damping = section("damping", "Structural damping in the beam's modes (default none): ratio (every mode), "
+                                     "ratios (one per mode), or Rayleigh mass and/or stiffness coefficients");
+  damping.only_if_given();
+  damping.add(real("ratio", "Damping ratio zeta of every mode", "").non_negative().below(1.0));
+  damping.add(real_list("ratios", "Damping ratio zeta_i of each mode (as many as beam.modes)", "").non_negative().below(1.0));
+  damping.add(real("mass", "Rayleigh coefficient a of C = a M + b K (zeta_i = a / (2 omega_i) + b omega_i / 2)", "1/s")
+                  .non_negative());
+  damping.add(real("stiffness", "Rayleigh coefficient b of C = a M + b K", "s").non_negative());
+  damping.check([](const ParameterList& s, const CheckContext& ctx) {
+    const int given = int(s.isParameter("ratio")) + int(s.isParameter("ratios")) +
+                      int(s.isParameter("mass") || s.isParameter("stiffness"));
+    if (given != 1)
+      ctx.fail(s.isParameter("ratios") ? "ratios" : "", "exactly one of 'ratio', 'ratios' and the Rayleigh "
+               "coefficients 'mass' / 'stiffness'", given == 0 ? "none" : std::to_string(given) + " of them");
+  });
+  beam.add(damping);
+  beam.check([](const ParameterList& s, const CheckContext& ctx) {
+    if (!s.isSublist("damping") || !s.sublist("damping").isParameter("ratios")) return;
+    const std::size_t k = s.sublist("damping").get<std::vector<double>>("ratios").size();
+    if (static_cast<int>(k) != s.get<int>("modes"))
+      ctx.fail("damping.ratios", "one ratio per mode (beam.modes = " + std::to_string(s.get<int>("modes")) + ")",
+               std::to_string(k) + " ratios");
+  });
   root.add(beam);
 
   Param rod = section(kRod, "Inextensible, unshearable Cosserat rod, initially straight along k (model: rod)");
@@ -465,9 +592,9 @@ Param build_schema() {
       const auto& pr = entry.list();
       const std::string key = "output.probes." + entry.name();
       const std::string type = pr.get<std::string>("type");
-      if ((type == "deflection") != (model == kBeam))
+      if ((type != "point") != (model == kBeam))
         ctx.fail(key + ".type", std::string("a probe type of model ") + model + " (" +
-                 (model == kBeam ? "deflection" : "point") + ")", "'" + type + "'");
+                 (model == kBeam ? "deflection, acceleration" : "point") + ")", "'" + type + "'");
       if (pr.get<double>("at") > length)
         ctx.fail(key + ".at", "a position on the structure, in [0, " + format_number(length) + "]",
                  format_number(pr.get<double>("at")));
@@ -578,12 +705,67 @@ MovingLoadSpec build_coupled_mass(const std::string& name, const ParameterList& 
   return m;
 }
 
+// A list of one value (every axle) or one per axle, as n values.
+std::vector<double> per_axle_values(const ParameterList& l, const std::string& key, std::size_t n) {
+  std::vector<double> v = l.get<std::vector<double>>(key);
+  if (v.size() == 1) v.assign(n, v[0]);
+  return v;
+}
+
+// sprung_mass, vehicle, axle_train: their own keys (the motion keys are read by build_load).
+void read_vehicle(const ParameterList& l, MovingLoadSpec& m, double g) {
+  if (m.type == LoadType::sprung_mass) {
+    m.mass = l.get<double>("mass");
+    m.axle_offsets = {0.0};
+    m.axle_stiffness = {l.get<double>("stiffness")};
+    m.axle_damping = {l.get<double>("damping")};
+    m.wheel_masses = {l.get<double>("wheel_mass")};
+  } else if (m.type == LoadType::vehicle) {
+    m.mass = l.get<double>("mass");
+    m.pitch_inertia = l.get<double>("pitch_inertia");
+    m.axle_offsets = l.get<std::vector<double>>("axle_offsets");
+    const std::size_t n = m.axle_offsets.size();
+    m.axle_stiffness = per_axle_values(l, "stiffness", n);
+    m.axle_damping = per_axle_values(l, "damping", n);
+    m.wheel_masses = per_axle_values(l, "wheel_masses", n);
+  } else if (l.isSublist("generator")) {
+    const auto& gen = l.sublist("generator");
+    const int coaches = gen.get<int>("coaches");
+    const double D = gen.get<double>("coach_length"), d = gen.get<double>("bogie_axle_spacing");
+    for (int b = 0; b < coaches + 3; ++b)
+      for (const double e : {b * D, b * D + d}) m.train_offsets.push_back(e);
+    m.train_loads.assign(m.train_offsets.size(), gen.get<double>("axle_load"));
+  } else {
+    m.train_offsets = l.get<std::vector<double>>("offsets");
+    m.train_loads = per_axle_values(l, "loads", m.train_offsets.size());
+  }
+  if (m.suspended()) {
+    m.contact = enum_of<Contact>(l.get<std::string>("contact"));
+    double weight = m.mass;
+    for (const double mw : m.wheel_masses) weight += mw;
+    m.force = Vec3(0.0, -weight * g, 0.0);
+  } else {
+    double total = 0.0;
+    for (const double P : m.train_loads) total += P;
+    m.force = Vec3(0.0, -total, 0.0);
+  }
+}
+
 MovingLoadSpec build_load(const std::string& name, const ParameterList& l, double structure_mass, double length,
                           double g) {
   MovingLoadSpec m;
   m.name = name;
   m.type = enum_of<LoadType>(l.get<std::string>("type"));
   if (m.type == LoadType::coupled_mass) return build_coupled_mass(name, l, g);
+  if (m.type == LoadType::sprung_mass || m.type == LoadType::vehicle || m.type == LoadType::axle_train) {
+    read_vehicle(l, m, g);
+    m.speed = l.get<double>("speed");
+    m.acceleration = l.get<double>("acceleration");
+    m.entry = enum_of<Entry>(l.get<std::string>("entry"));
+    m.start = l.isParameter("start") ? l.get<double>("start") : (m.entry == Entry::left ? 0.0 : length);
+    m.entry_time = l.get<double>("entry_time");
+    return m;
+  }
   m.inertia = m.type == LoadType::moving_mass;
   if (l.isParameter("mass")) m.mass = l.get<double>("mass");
   if (l.isParameter("mass_fraction")) {
@@ -624,8 +806,16 @@ double MovingLoadSpec::sigma(double t) const {
 
 double MovingLoadSpec::velocity(double t) const { return direction() * (speed + acceleration * (t - entry_time)); }
 
+double MovingLoadSpec::extent() const {
+  if (!train_offsets.empty()) return train_offsets.back();
+  if (axle_offsets.empty()) return 0.0;
+  return *std::max_element(axle_offsets.begin(), axle_offsets.end()) -
+         *std::min_element(axle_offsets.begin(), axle_offsets.end());
+}
+
 double MovingLoadSpec::exit_time(double length) const {
-  return travel_time(direction() > 0 ? length - start : start);  // the distance to the far end
+  // The distance the leading axle travels until the trailing one reaches the far end.
+  return travel_time((direction() > 0 ? length - start : start) + extent());
 }
 
 double MovingLoadSpec::travel_time(double d) const {
@@ -662,6 +852,18 @@ void read_beam(const ParameterList& b, BeamSpec& beam) {
   beam.modes = b.get<int>("modes");
   beam.quadrature_points = b.get<int>("quadrature_points");
   beam.integrator = enum_of<BeamIntegrator>(b.get<std::string>("integrator"));
+  beam.self_weight = b.get<bool>("self_weight");
+  if (!b.isSublist("damping")) return;
+  const auto& d = b.sublist("damping");
+  if (d.isParameter("ratio") || d.isParameter("ratios")) {
+    beam.damping = BeamSpec::Damping::ratios;
+    beam.damping_ratios = d.isParameter("ratio") ? std::vector<double>{d.get<double>("ratio")}
+                                                 : d.get<std::vector<double>>("ratios");
+  } else {
+    beam.damping = BeamSpec::Damping::rayleigh;
+    beam.rayleigh_mass = d.isParameter("mass") ? d.get<double>("mass") : 0.0;
+    beam.rayleigh_stiffness = d.isParameter("stiffness") ? d.get<double>("stiffness") : 0.0;
+  }
 }
 
 void read_rod(const ParameterList& r, RodSpec& rod) {
@@ -780,10 +982,31 @@ void check_coupled_masses(Scene& sc) {
     coupled = &l;
   }
   if (!coupled) return;
+  if (sc.beam.damping != BeamSpec::Damping::none && sc.model == Model::Beam)
+    fail_at(sc, "beam.damping", "no structural damping with a coupled_mass (not yet supported)", "a damping section");
   if (sc.loads.size() > 1)
     fail_at(sc, "loads." + coupled->name + ".type",
             "a coupled_mass as the only load of its scene (not yet supported: together with other loads)",
             std::to_string(sc.loads.size()) + " loads");
+}
+
+// sprung_mass, vehicle, axle_train: beam scenes only; vehicles on suspensions only with each other.
+void check_vehicles(const Scene& sc) {
+  const MovingLoadSpec* suspended = nullptr;
+  const MovingLoadSpec* other = nullptr;
+  for (const auto& l : sc.loads) {
+    const bool vehicle_type = l.suspended() || l.type == LoadType::axle_train;
+    if (vehicle_type && sc.model != Model::Beam)
+      fail_at(sc, "loads." + l.name + ".type", "a load type of the rod (moving_mass, moving_force, coupled_mass; "
+              "vehicles and axle trains ride on the beam model)", "'" + name_of(l.type) + "'");
+    (l.suspended() ? suspended : other) = &l;
+  }
+  if (suspended && other)
+    fail_at(sc, "loads." + other->name + ".type", "only sprung_mass and vehicle loads together with the sprung_mass or "
+            "vehicle '" + suspended->name + "' (not yet supported: mixed with other loads)", "'" + name_of(other->type) + "'");
+  if (suspended && sc.time.adaptive.enabled)
+    fail_at(sc, "time.adaptive", "fixed steps with a sprung_mass or vehicle (adaptive steps are not supported)",
+            "a section");
 }
 
 // time.adaptive, when given.
@@ -906,7 +1129,13 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
               std::to_string(on) + " such loads");
   }
   read_time(p.sublist("time"), sc);
+  check_vehicles(sc);
   read_output(p.sublist("output"), file_name, sc.output);
+  for (const auto& pr : sc.output.probes)
+    if (pr.type == ProbeType::acceleration && std::any_of(sc.loads.begin(), sc.loads.end(),
+                                                          [](const MovingLoadSpec& l) { return l.coupled; }))
+      fail_at(sc, "output.probes." + pr.name + ".type", "a deflection probe with a coupled_mass (acceleration: not yet "
+              "supported there)", "'acceleration'");
   sc.text = describe(sc.tree, scene_schema(), false);
   return sc;
 }

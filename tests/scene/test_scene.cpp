@@ -134,7 +134,7 @@ TEST(Scene, MissingRequiredKey) {
 }
 
 TEST(Scene, UnknownTypeNamesListTheKnownOnes) {
-  expect_error({"loads.m.type=moving_mas"}, {"loads.m.type", "one of {coupled_mass, moving_force, moving_mass}", "did you mean 'moving_mass'"});
+  expect_error({"loads.m.type=moving_mas"}, {"loads.m.type", "one of {axle_train, coupled_mass, moving_force, moving_mass, sprung_mass, vehicle}", "did you mean 'moving_mass'"});
   expect_error({"beam.section.type=square"}, {"beam.section.type", "cross-section type"});
   expect_error({"beam.supports=free-free"}, {"beam.supports", "one of {simply-supported"});
   expect_error({"model=plate"}, {"model", "one of {beam, rod}"});

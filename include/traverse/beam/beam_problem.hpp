@@ -5,6 +5,7 @@
 
 #include "traverse/core/step_controller.hpp"
 #include "traverse/beam/galerkin.hpp"
+#include "traverse/beam/modal_damping.hpp"
 #include "traverse/beam/mode_set.hpp"
 #include "traverse/beam/moving_load.hpp"
 #include "traverse/beam/uniform_modes.hpp"
@@ -37,6 +38,8 @@ struct BeamProblem {
   /// Quadrature node set 0 = x_0 < ... < x_N = L; empty: uniform with max(16, 4 n) elements.
   std::vector<double> quadrature_nodes;
   int gauss_points = 8;  ///< Gauss-Legendre points per element
+  /// Structural damping in the beam's modes (none by default): the modal equations gain C Y'.
+  ModalDamping damping;
 
   // --- loading ---
   double gravity = 9.8;     ///< g [m/s^2], acts along -w
@@ -50,6 +53,9 @@ struct BeamProblem {
   double dt = 1e-3;      ///< nominal fixed step [s]
   Integrator integrator = Integrator::RK4;
   int output_every = 1;  ///< observer every k grid steps (plus initial and final states)
+  /// Evaluate the modal accelerations Y'' at the output instants (BeamSnapshot::acceleration):
+  /// one more solve of the equation of motion per output.
+  bool accelerations = false;
   /// Split a step at the instants where a load enters or leaves the beam, so that the
   /// piecewise-smooth right-hand side keeps the methods' full order.
   bool split_at_load_events = true;

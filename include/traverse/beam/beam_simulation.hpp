@@ -21,6 +21,9 @@ class BeamSnapshot {
   double deflection(double x) const;  ///< w(x, t) [m], positive up
   double slope(double x) const;       ///< w_x(x, t) [-]
   double velocity(double x) const;    ///< w_t(x, t) [m/s]
+  /// w_tt(x, t) [m/s^2] from the modal accelerations Y'' of the equation of motion at this
+  /// state (needs BeamProblem::accelerations; throws std::logic_error otherwise).
+  double acceleration(double x) const;
   std::size_t load_count() const;
   double load_position(std::size_t k) const;  ///< x_k(t) [m] (may lie outside [0, L])
   bool load_on_beam(std::size_t k) const;     ///< t >= entry and 0 <= x_k <= L
@@ -29,18 +32,20 @@ class BeamSnapshot {
 
  private:
   friend class BeamSimulation;
-  BeamSnapshot(const BeamSimulation& s, double time, const VecX& y, const VecX& ydot)
-      : t(time), Y(y), Ydot(ydot), sim_(&s) {}
+  BeamSnapshot(const BeamSimulation& s, double time, const VecX& y, const VecX& ydot, const VecX* yddot)
+      : t(time), Y(y), Ydot(ydot), sim_(&s), Yddot_(yddot) {}
   const BeamSimulation* sim_;
+  const VecX* Yddot_;
 };
 
 /// Observer callback, called at t_start, every `output_every` grid steps and at t_end.
 using BeamObserver = std::function<void(const BeamSnapshot&)>;
 
 /// Solves
-///   (Mb + sum M_k Phi_k Phi_k^T) Y'' + sum 2 M_k v_k Phi_k Phi_k'^T Y'
+///   (Mb + sum M_k Phi_k Phi_k^T) Y'' + (C + sum 2 M_k v_k Phi_k Phi_k'^T) Y'
 ///     + (Kb + sum M_k (v_k^2 Phi_k Phi_k''^T + a_k Phi_k Phi_k'^T)) Y = -Pb + sum F_k Phi_k
-/// (Phi_k = Phi(x_k(t)), F_k = -M_k g by default; M_k = 0 for a moving force) with fixed steps.
+/// (Phi_k = Phi(x_k(t)), F_k = -M_k g by default; M_k = 0 for a moving force; C the structural
+/// damping of BeamProblem::damping, modal_damping.hpp) with fixed steps.
 /// The mass matrix is inverted by a Woodbury update of the precomputed Mb^{-1}
 /// (resp. (Mb + h^2/4 Kb)^{-1} for Newmark), so a step costs O(n^2) per load.
 /// Adaptive stepping: a step whose error stays above the tolerance at the smallest step.
@@ -99,6 +104,8 @@ class BeamSimulation {
   void newmark_step(double ta, double tb);
   const MatX& newmark_inverse(double h);
   void evaluate_modes(double x) const;
+  /// The observer's snapshot of the current state (with Y'' when BeamProblem::accelerations).
+  BeamSnapshot snapshot();
 
   BeamProblem problem_;
   std::shared_ptr<const ModeSet> modes_;
@@ -106,6 +113,8 @@ class BeamSimulation {
   std::vector<LoadKinematics> kin_;
   std::vector<double> force_, inertia_;  // per load: F_k [N], M_k [kg]
   MatX Mb_inv_;
+  MatX C_;              ///< structural damping matrix (zero size when undamped)
+  VecX A_out_;          ///< Y'' at the output instant (BeamProblem::accelerations)
   std::unique_ptr<Work> w_;
   double t_ = 0.0;
   long steps_ = 0;

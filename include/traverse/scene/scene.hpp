@@ -23,7 +23,7 @@ enum class Supports { simply_supported, clamped_free, clamped_clamped, clamped_p
 enum class BeamIntegrator { rk4, newmark };
 /// The end condition types and their parameters: declared in traverse/core/end_types.hpp.
 using traverse::EndType;
-enum class LoadType { moving_mass, moving_force, coupled_mass };
+enum class LoadType { moving_mass, moving_force, coupled_mass, sprung_mass, vehicle, axle_train };
 /// How a coupled mass is held on the structure: threaded on it (bilateral) or resting on its
 /// +d2 side (unilateral: it may lift off).
 enum class Contact { bilateral, unilateral };
@@ -35,7 +35,7 @@ enum class InitialStateType { static_equilibrium, rest, file, arch };
 enum class ContinuationParameter { end_load, end_position, gravity_factor, load_position, load_magnitude };
 enum class ContinuationMethod { arclength, natural };
 enum class ContinuationProbeType { point, end_compression };
-enum class ProbeType { deflection, point };
+enum class ProbeType { deflection, point, acceleration };
 /// A vector quantity of the rod at a point (probes) or at every node (fields).
 enum class Quantity { position, u, omega, kappa, n, m, d1, d2, d3 };
 enum class Frame { fixed, body };
@@ -94,6 +94,12 @@ struct BeamSpec {
   int modes = 3;                ///< Galerkin modes
   int quadrature_points = 6;    ///< Gauss points per mesh cell
   BeamIntegrator integrator = BeamIntegrator::rk4;
+  bool self_weight = true;      ///< the beam's own weight acts (false: deflections about its static sag)
+  /// Structural damping (beam.damping): none, modal ratios (one for every mode, or one per
+  /// mode), or Rayleigh coefficients a [1/s] (mass) and b [s] (stiffness).
+  enum class Damping { none, ratios, rayleigh } damping = Damping::none;
+  std::vector<double> damping_ratios;
+  double rayleigh_mass = 0.0, rayleigh_stiffness = 0.0;
   double mass() const { return density * section.area * length; }  ///< beam mass [kg]
 };
 
@@ -134,13 +140,24 @@ struct MovingLoadSpec {
   ResistanceThrough resistance_through = ResistanceThrough::air;  ///< who takes its reaction
   double friction = 0.0;        ///< Coulomb friction coefficient mu >= 0
   Contact contact = Contact::bilateral;
+  // sprung_mass and vehicle (physics spec section 6): a body (mass = its mass M_v) on axles, each
+  // with a suspension; the motion functions give the leading axle's path.
+  double pitch_inertia = 0.0;        ///< J_v [kg m^2] (vehicle)
+  std::vector<double> axle_offsets;  ///< e_a [m] from the body's centre, positive ahead
+  std::vector<double> axle_stiffness, axle_damping, wheel_masses;  ///< per axle [N/m], [N s/m], [kg]
+  // axle_train: moving forces P_a [N] (positive down) at e_a [m] behind the head (the first axle).
+  std::vector<double> train_offsets, train_loads;
+  /// Whether the load carries a body on suspensions (sprung_mass, vehicle).
+  bool suspended() const { return type == LoadType::sprung_mass || type == LoadType::vehicle; }
+  /// Distance [m] from the leading to the trailing axle (0 for a single point load).
+  double extent() const;
   /// Initial velocity along +s [m/s] (coupled_mass).
   double initial_velocity() const { return direction() * speed; }
   int direction() const { return entry == Entry::left ? +1 : -1; }
   /// Position [m] at time t >= entry_time (also beyond the ends).
   double position(double t) const;
   double velocity(double t) const;  ///< signed [m/s]
-  /// Time at which the load reaches the far end of a structure of length L, or +inf.
+  /// Time at which the load (its trailing axle) reaches the far end of a structure of length L, or +inf.
   double exit_time(double length) const;
   /// Time at which the load has travelled the distance d >= 0 from `start` along its
   /// direction, or +inf if it never does (it stops before).
