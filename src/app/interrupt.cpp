@@ -2,8 +2,11 @@
 
 #include <csignal>
 #include <cstring>
+#include <sstream>
 
+#include "progress.hpp"
 #include "traverse/core/comm.hpp"
+#include "traverse/output/writer.hpp"
 
 namespace traverse::app {
 
@@ -38,6 +41,18 @@ int interrupt_requested(MPI_Comm comm) {
   int mine = local_interrupt_signal(), any = 0;
   par::allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm);
   return any;
+}
+
+void stop_interrupted_run(int signal, double t, const std::string& where, output::Writer& writer,
+                          const std::string& output, Progress& progress, const std::function<void()>& store) {
+  progress.done();
+  std::ostringstream os;
+  os.precision(12);
+  os << "interrupted at t = " << t << " s (" << where << ", " << signal_name(signal) << "); " << writer.steps_written()
+     << " output steps written; continue with traverse run --restart " << output;
+  if (store) store();
+  writer.fail(os.str());
+  throw Interrupted(signal, output, os.str(), os.str());
 }
 
 std::string signal_name(int signal) {

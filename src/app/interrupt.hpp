@@ -7,10 +7,17 @@
 // the decision is an MPI_Allreduce, so all ranks stop at the same step.
 #include <mpi.h>
 
+#include <functional>
 #include <stdexcept>
 #include <string>
 
+namespace traverse::output {
+class Writer;
+}
+
 namespace traverse::app {
+
+class Progress;
 
 /// Installs the SIGINT and SIGTERM handlers (idempotent).
 void install_interrupt_handlers();
@@ -34,6 +41,14 @@ class Interrupted : public std::runtime_error {
   int signal_;
   std::string output_, status_;
 };
+
+/// Ends a run that `signal` stopped at time t [s] (`where`: the step, e.g. "time step 12"):
+/// closes the progress line, stores the restart point (`store`, when given), marks the output
+/// file "interrupted at t = ... (where, SIGINT); N output steps written; continue with traverse
+/// run --restart OUT" and throws Interrupted with that message.
+[[noreturn]] void stop_interrupted_run(int signal, double t, const std::string& where, output::Writer& writer,
+                                       const std::string& output, Progress& progress,
+                                       const std::function<void()>& store = {});
 
 /// Name of a signal for messages ("SIGINT", "SIGTERM", "SIGKILL"; "signal 77" for one without a name).
 std::string signal_name(int signal);

@@ -220,16 +220,9 @@ void BeamObserver::operator()(const beam::BeamSnapshot& s) {
   else
     progress_.update(s.t, sim_.steps_taken());
   if (s.t >= p_.t_end) return;
-  if (const int sig = interrupt_requested(comm_)) {
-    progress_.done();
-    std::ostringstream os;
-    os.precision(12);
-    os << "interrupted at t = " << s.t << " s (time step " << sim_.steps_taken() << ", " << signal_name(sig) << "); "
-       << w_.steps_written() << " output steps written; continue with traverse run --restart " << opt_.output;
-    store_restart();
-    w_.fail(os.str());
-    throw Interrupted(sig, opt_.output, os.str(), os.str());
-  }
+  if (const int sig = interrupt_requested(comm_))
+    stop_interrupted_run(sig, s.t, "time step " + std::to_string(sim_.steps_taken()), w_, opt_.output, progress_,
+                         [&] { store_restart(); });
 }
 
 }  // namespace

@@ -155,16 +155,8 @@ void run_beam_vehicles(const scene::Scene& sc, const beam::BeamProblem& problem,
     replay.written(static_cast<std::size_t>(written), comm);
     progress.update(s.time(), s.steps_taken());
     if (s.time() >= p.t_end || s.end_reason() != beam::VehicleEnd::EndTime) return;
-    if (const int sig = interrupt_requested(comm)) {
-      progress.done();
-      std::ostringstream os;
-      os.precision(12);
-      os << "interrupted at t = " << s.time() << " s (time step " << s.steps_taken() << ", " << signal_name(sig)
-         << "); " << writer.steps_written() << " output steps written; continue with traverse run --restart "
-         << opt.output;
-      writer.fail(os.str());
-      throw Interrupted(sig, opt.output, os.str(), os.str());
-    }
+    if (const int sig = interrupt_requested(comm))
+      stop_interrupted_run(sig, s.time(), "time step " + std::to_string(s.steps_taken()), writer, opt.output, progress);
   };
   sim.run(observe);
   progress.done();

@@ -319,14 +319,7 @@ struct RodLoopParts {
   MPI_Comm comm;
   /// `where`, e.g. "time step 12 of 100"; the restart point is that of `step`.
   [[noreturn]] void interrupt(long step, const std::string& where, int sig, Progress& progress) const {
-    progress.done();
-    std::ostringstream os;
-    os.precision(12);
-    os << "interrupted at t = " << st.time() << " s (" << where << ", " << signal_name(sig) << "); "
-       << w.steps_written() << " output steps written; continue with traverse run --restart " << opt.output;
-    rp.store(step, left.position());
-    w.fail(os.str());
-    throw Interrupted(sig, opt.output, os.str(), os.str());
+    stop_interrupted_run(sig, st.time(), where, w, opt.output, progress, [&] { rp.store(step, left.position()); });
   }
   /// The state is that of `step` (before the step that lost planarity).
   [[noreturn]] void fail_planar(long step, const std::string& what, Progress& progress) const {

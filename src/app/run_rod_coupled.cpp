@@ -275,14 +275,9 @@ class CoupledLoop {
   double shorten_to_stop(const rod::RodState& old, const rod::CoupledMassState& m_old, double h);
   void step_events(const rod::RodState& old, const rod::CoupledMassState& m_old, double h);
   void check_interrupt(bool more) {
-    if (const int sig = more && events.empty() ? interrupt_requested(comm_) : 0) {
-      progress_.done();
-      const std::string msg = "interrupted at t = " + scene::format_number(state_.t) + " s (" + signal_name(sig) +
-                              "); continue with traverse run --restart " + opt_.output;
-      store();
-      w_.fail(msg);
-      throw Interrupted(sig, opt_.output, msg, msg);
-    }
+    if (const int sig = more && events.empty() ? interrupt_requested(comm_) : 0)
+      stop_interrupted_run(sig, state_.t, "time step " + std::to_string(steps), w_, opt_.output, progress_,
+                           [&] { store(); });
   }
   bool adaptive_step(double h);
   /// After an output step: a restart point when the interval has passed (rank 0's clock decides).

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <set>
 
 #include "traverse/output/output_error.hpp"
@@ -124,6 +125,63 @@ bool load_point(std::size_t global_nodes, std::size_t first, std::size_t n, cons
   return true;
 }
 
+namespace {
+
+// The loads' temporal collection (a point per load at each output step), when every output
+// step has every load on the structure; `pass_on(false)` after each step.
+void write_loads_grid(const XdmfModel& m, std::string& o, const std::function<void(bool)>& pass_on) {
+  const std::size_t steps = m.times.size();
+  const std::size_t W = m.load_width();
+  bool loads_grid = m.loads > 0 && steps > 0 && m.sigma.size() == steps * m.loads &&
+                    m.load_values.size() == W * steps * m.loads;
+  for (std::size_t i = 0; loads_grid && i < m.sigma.size(); ++i) loads_grid = std::isfinite(m.sigma[i]);
+  if (!loads_grid) return;
+  std::string vertices;
+  for (std::size_t l = 0; l < m.loads; ++l) vertices += (l ? " " : "") + std::to_string(l);
+  const std::string L = std::to_string(m.loads);
+  auto xml_item = [&](const std::string& dims, std::size_t k, std::size_t offset, std::size_t count) {
+    o += "<DataItem Dimensions=\"" + dims + "\" DataType=\"Float\" Precision=\"8\" Format=\"XML\">";
+    for (std::size_t l = 0; l < m.loads; ++l)
+      for (std::size_t c = 0; c < count; ++c) {
+        if (l || c) o += ' ';
+        number(o, m.load_values[W * (m.loads * k + l) + offset + c]);
+      }
+    o += "</DataItem>";
+  };
+  o += "    <Grid Name=\"loads\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (std::size_t k = 0; k < steps; ++k) {
+    o += "      <Grid Name=\"loads_";
+    count(o, k);
+    o += "\" GridType=\"Uniform\">\n        <Time Value=\"";
+    number(o, m.times[k]);
+    o += "\"/>\n        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" + L +
+         "\" NodesPerElement=\"1\"><DataItem Dimensions=\"" + L +
+         "\" DataType=\"Int\" Precision=\"4\" Format=\"XML\">" + vertices + "</DataItem></Topology>\n";
+    o += "        <Geometry GeometryType=\"XYZ\">";
+    xml_item(L + " 3", k, 0, 3);
+    o += "</Geometry>\n        <Attribute Name=\"s\" AttributeType=\"Scalar\" Center=\"Node\">"
+         "<DataItem Dimensions=\"" + L + "\" DataType=\"Float\" Precision=\"8\" Format=\"XML\">";
+    for (std::size_t l = 0; l < m.loads; ++l) {
+      if (l) o += ' ';
+      number(o, m.sigma[m.loads * k + l]);
+    }
+    o += "</DataItem></Attribute>\n";
+    std::size_t offset = 3;
+    for (const XdmfView& a : m.arrays) {
+      o += "        <Attribute Name=\"" + xml_escape(a.array) + "\" AttributeType=\"" +
+           (a.count == 3 ? "Vector" : "Scalar") + "\" Center=\"Node\">";
+      xml_item(a.count == 3 ? L + " 3" : L, k, offset, a.count);
+      o += "</Attribute>\n";
+      offset += a.count;
+    }
+    o += "      </Grid>\n";
+    pass_on(false);
+  }
+  o += "    </Grid>\n";
+}
+
+}  // namespace
+
 void write_xdmf_document(const XdmfModel& m, std::ostream& out) {
   const std::string h5 = xml_escape(m.h5_name);
   const std::size_t steps = m.times.size();
@@ -139,54 +197,7 @@ void write_xdmf_document(const XdmfModel& m, std::ostream& out) {
   };
   o += "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n";
 
-  const std::size_t W = m.load_width();
-  bool loads_grid = m.loads > 0 && steps > 0 && m.sigma.size() == steps * m.loads &&
-                    m.load_values.size() == W * steps * m.loads;
-  for (std::size_t i = 0; loads_grid && i < m.sigma.size(); ++i) loads_grid = std::isfinite(m.sigma[i]);
-  if (loads_grid) {
-    std::string vertices;
-    for (std::size_t l = 0; l < m.loads; ++l) vertices += (l ? " " : "") + std::to_string(l);
-    const std::string L = std::to_string(m.loads);
-    auto xml_item = [&](const std::string& dims, std::size_t k, std::size_t offset, std::size_t count) {
-      o += "<DataItem Dimensions=\"" + dims + "\" DataType=\"Float\" Precision=\"8\" Format=\"XML\">";
-      for (std::size_t l = 0; l < m.loads; ++l)
-        for (std::size_t c = 0; c < count; ++c) {
-          if (l || c) o += ' ';
-          number(o, m.load_values[W * (m.loads * k + l) + offset + c]);
-        }
-      o += "</DataItem>";
-    };
-    o += "    <Grid Name=\"loads\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-    for (std::size_t k = 0; k < steps; ++k) {
-      o += "      <Grid Name=\"loads_";
-      count(o, k);
-      o += "\" GridType=\"Uniform\">\n        <Time Value=\"";
-      number(o, m.times[k]);
-      o += "\"/>\n        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" + L +
-           "\" NodesPerElement=\"1\"><DataItem Dimensions=\"" + L +
-           "\" DataType=\"Int\" Precision=\"4\" Format=\"XML\">" + vertices + "</DataItem></Topology>\n";
-      o += "        <Geometry GeometryType=\"XYZ\">";
-      xml_item(L + " 3", k, 0, 3);
-      o += "</Geometry>\n        <Attribute Name=\"s\" AttributeType=\"Scalar\" Center=\"Node\">"
-           "<DataItem Dimensions=\"" + L + "\" DataType=\"Float\" Precision=\"8\" Format=\"XML\">";
-      for (std::size_t l = 0; l < m.loads; ++l) {
-        if (l) o += ' ';
-        number(o, m.sigma[m.loads * k + l]);
-      }
-      o += "</DataItem></Attribute>\n";
-      std::size_t offset = 3;
-      for (const XdmfView& a : m.arrays) {
-        o += "        <Attribute Name=\"" + xml_escape(a.array) + "\" AttributeType=\"" +
-             (a.count == 3 ? "Vector" : "Scalar") + "\" Center=\"Node\">";
-        xml_item(a.count == 3 ? L + " 3" : L, k, offset, a.count);
-        o += "</Attribute>\n";
-        offset += a.count;
-      }
-      o += "      </Grid>\n";
-      pass_on(false);
-    }
-    o += "    </Grid>\n";
-  }
+  write_loads_grid(m, o, pass_on);
 
   const std::string N = std::to_string(n);
   std::string topology;
