@@ -69,9 +69,10 @@ void check_summary(const scene::Scene& sc, const SummarySpec& s) {
     if (components > 1 && s.component < 0)
       throw UsageError{"--summary " + s.text + ": expected a component of probe '" + name + "' (" + name + ".x, " + name +
                        ".y or " + name + ".z), found none"};
-    if (components == 1 && s.component > 0)
-      throw UsageError{"--summary " + s.text + ": expected probe '" + name + "' without a component (it has one), found ." +
-                       std::string(1, char('x' + s.component))};
+    if (components == 1 && s.component >= 0)
+      throw UsageError{"--summary " + s.text + ": expected probe '" + name + "' without a component (it is a scalar), found ." +
+                       std::string(1, char('x' + s.component)) + "; write --summary " + name +
+                       s.text.substr(s.text.rfind(':'))};
     return;
   }
   throw UsageError{"--summary " + s.text + ": expected a probe of " + sc.file + " {" + names + "}, found '" + s.probe + "'"};

@@ -199,6 +199,9 @@ TEST(Sweep, BadOptionsRefusedBeforeAnyCase) {
       {"--vary output.file=x.h5", "--vary output.file: expected a scene key"},
       {"--vary loads.F.speed=1 --summary midspan:min", "--summary midspan:min: expected a component"},
       {"--vary loads.F.speed=1 --summary nowhere.y:min", "--summary nowhere.y:min: expected a probe of"},
+      {"--vary loads.F.speed=1 --summary F_position.x:max",
+       "--summary F_position.x:max: expected probe 'F_position' without a component (it is a scalar), found .x; write "
+       "--summary F_position:max"},
       {"", "'sweep': expected at least one --vary"},
       {"--vary loads.F.speed=1 -j 2", "unknown option '-j'"},
   };
