@@ -79,7 +79,7 @@ double rlimit_bytes(int resource) {
   return static_cast<double>(r.rlim_cur);
 }
 
-MemoryLimit this_rank(int ranks_on_host, const char* kind = "ranks") {
+MemoryLimit this_rank(int ranks_on_host) {
   MemoryLimit m;
   double host = proc_kb("/proc/meminfo", "MemAvailable");
   m.source = "MemAvailable of this host";
@@ -93,7 +93,7 @@ MemoryLimit this_rank(int ranks_on_host, const char* kind = "ranks") {
     m.source = "the available physical memory of this host";
   }
   m.bytes = host / ranks_on_host;
-  if (ranks_on_host > 1) m.source += " shared by the " + std::to_string(ranks_on_host) + " " + kind + " on it";
+  if (ranks_on_host > 1) m.source += " shared by the " + std::to_string(ranks_on_host) + " ranks on it";
   // An address-space limit counts mapped but not resident memory too (libraries, MPI
   // segments): what is left of it for resident memory is the limit minus that overhead.
   const double size = proc_kb("/proc/self/status", "VmSize"), rss = proc_kb("/proc/self/status", "VmRSS");
@@ -116,11 +116,11 @@ MemoryLimit this_rank(int ranks_on_host, const char* kind = "ranks") {
 
 }  // namespace
 
-MemoryLimit memory_limit(const RunLimits& limits, MPI_Comm comm, int processes) {
+MemoryLimit memory_limit(const RunLimits& limits, MPI_Comm comm) {
   if (limits.max_memory > 0.0)
     return {limits.max_memory,
             limits.memory_source.empty() ? "--max-memory " + format_bytes(limits.max_memory) : limits.memory_source};
-  if (comm == MPI_COMM_NULL) return this_rank(std::max(1, processes), "worker processes");  // MPI not started
+  if (comm == MPI_COMM_NULL) return this_rank(1);  // MPI not started
   MPI_Comm host;
   MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &host);
   int on_host = 1;

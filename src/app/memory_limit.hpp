@@ -11,8 +11,8 @@ namespace traverse::app {
 /// cgroup limit, sysconf when neither is readable) shared by the ranks on this host, and at
 /// most the room left under the process's address-space and data limits (ulimit -v, -d).
 /// Collective over `comm`: every rank gets the smallest figure of all ranks (and its source),
-/// so every rank takes the same decision. MPI_COMM_NULL: MPI not started, the host's memory
-/// shared by `processes` processes (a sweep's worker processes, --jobs; 1: this one alone).
-MemoryLimit memory_limit(const RunLimits& limits, MPI_Comm comm, int processes = 1);
+/// so every rank takes the same decision. MPI_COMM_NULL: MPI not started (check outside a
+/// launcher), this process alone.
+MemoryLimit memory_limit(const RunLimits& limits, MPI_Comm comm);
 
 }  // namespace traverse::app

@@ -265,7 +265,7 @@ void write_index(const CommandLine& cl, const std::vector<std::string>& rows) {
 RunLimits sweep_limits(const RunLimits& given, MPI_Comm comm) {
   RunLimits l = given;
   if (l.max_memory > 0.0) return l;
-  const MemoryLimit m = memory_limit(given, comm, 1);
+  const MemoryLimit m = memory_limit(given, comm);
   if (m.bytes > 0.0) {
     l.max_memory = m.bytes;
     l.memory_source = m.source + ", for each of the sweep's ranks";
