@@ -1,4 +1,4 @@
-// A beam run with a coupled mass (issue 17, docs/beam.md "Coupled mass"): the mass's position
+// A beam run with a coupled mass (docs/beam.md "Coupled mass"): the mass's position
 // is an unknown of the beam's ODE (beam::CoupledMassBeam). Outputs: the deflection probes and
 // fields of a beam run, the mass's probes (position, speed, fixed-frame position and velocity,
 // contact forces), the energies, and the events table (the run ends at the first event).

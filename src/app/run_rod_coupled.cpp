@@ -1,4 +1,4 @@
-// A rod run with a coupled mass (issue 17, docs/rod.md "Coupled mass"): the mass's position an
+// A rod run with a coupled mass (docs/rod.md "Coupled mass"): the mass's position an
 // unknown of each step (rod::CoupledRodStepper), the rod's step solved by
 // solver::RodStepper (any ranks, the planar or the 3D path, any linear solver), the whole
 // state kept on every rank between the steps. Outputs: the rod's probes and fields, the mass's probes (position, speed, fixed-frame position

@@ -1,6 +1,6 @@
 #pragma once
-// A beam carrying a mass that moves by itself (two-way coupling, physics spec section 4, last
-// paragraph): the mass's axial position x(t) is an unknown of the Galerkin ODE.
+// A beam carrying a mass that moves by itself (two-way coupling, docs/beam.md
+// "Coupled mass"): the mass's axial position x(t) is an unknown of the Galerkin ODE.
 #include <functional>
 #include <memory>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// Structural damping of the beam in its own modes (physics spec section 6).
+// Structural damping of the beam in its own modes (docs/beam.md).
 #include <vector>
 
 #include "traverse/beam/galerkin.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// A beam crossed by vehicles on suspensions (physics spec section 6): the vehicles' bodies are
+// A beam crossed by vehicles on suspensions (docs/beam.md): the vehicles' bodies are
 // unknowns coupled with the beam's modes through the axles' contact forces.
 #include <functional>
 #include <memory>

@@ -1,5 +1,5 @@
 #pragma once
-// A mass that moves by itself along the rod (two-way coupling, physics spec section 4): sigma
+// A mass that moves by itself along the rod (two-way coupling): sigma
 // and its speed are unknowns of each time step, found by a partitioned iteration converged to
 // the Newton tolerance (docs/rod.md "Coupled mass"). The rod's step inside it is solved by a
 // CoupledRodSolve: the runs use solver::DistributedStepper (on any ranks, either path, any
@@ -19,7 +19,7 @@ struct CoupledRodMass {
   double resistance = 0.0;  ///< c [N s/m]: the force -c sigma' d3 on the mass
   double friction = 0.0;    ///< Coulomb coefficient mu >= 0: tangential contact force -mu |C_perp| sign(sigma')
   /// false (air): the resistance acts on the mass alone, the rod's load is M (g - p'') - c sigma' d3
-  /// and the loss c sigma' d3 . p' (spec section 4). true: a force pair with the rod (wheels, a
+  /// and the loss c sigma' d3 . p' (docs/rod.md, "Coupled mass"). true: a force pair with the rod (wheels, a
   /// motor), the rod taking +c sigma' d3: its load is M (g - p''), the loss c sigma'^2 >= 0.
   bool resistance_through_rod = false;
 };
@@ -138,7 +138,7 @@ struct CoupledContact {
 CoupledContact step_contact(const RodState& old_state, const CoupledMassState& m_old, const RodState& new_state,
                             const CoupledMassState& m_new, const CoupledRodMass& mass, const Vec3& gravity, double dt);
 
-/// Energies of rod + coupled mass [J] (physics spec section 4).
+/// Energies of rod + coupled mass [J] (docs/rod.md, "Coupled mass").
 struct CoupledRodEnergies {
   double rod = 0.0;           ///< kinetic + elastic, discrete_energy (cell averages)
   double rod_gravity = 0.0;   ///< sum over cells of ds rhoA (-g . r_cell_average)

@@ -1,6 +1,6 @@
 #pragma once
 // External loads on the rod: gravity, fixed-frame distributed loads, moving point forces and
-// moving masses (physics spec section 2, "Moving point load and moving mass").
+// moving masses (docs/rod.md, "Loads").
 #include <array>
 #include <functional>
 #include <vector>

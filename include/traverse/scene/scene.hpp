@@ -130,7 +130,7 @@ struct MovingLoadSpec {
   double start = 0.0;      ///< position at entry_time [m]
   double entry_time = 0.0;    ///< [s]
   // coupled_mass (type LoadType::coupled_mass): the mass moves by itself along the structure
-  // (physics spec section 4). Its initial velocity along +s is direction() * speed (entry
+  // (docs/rod.md, "Coupled mass"). Its initial velocity along +s is direction() * speed (entry
   // left for a velocity >= 0, right for one < 0), acceleration 0 and entry_time 0: the
   // motion functions above give the uncoupled, constant-speed path, used only for the
   // up-front limits (dt auto, speed checks), never for the physics.
@@ -140,7 +140,7 @@ struct MovingLoadSpec {
   ResistanceThrough resistance_through = ResistanceThrough::air;  ///< who takes its reaction
   double friction = 0.0;        ///< Coulomb friction coefficient mu >= 0
   Contact contact = Contact::bilateral;
-  // sprung_mass and vehicle (physics spec section 6): a body (mass = its mass M_v) on axles, each
+  // sprung_mass and vehicle (docs/beam.md): a body (mass = its mass M_v) on axles, each
   // with a suspension; the motion functions give the leading axle's path.
   double pitch_inertia = 0.0;        ///< J_v [kg m^2] (vehicle)
   std::vector<double> axle_offsets;  ///< e_a [m] from the body's centre, positive ahead
