@@ -11,16 +11,16 @@ bool progress_wanted(bool quiet, bool forced) {
   return forced || isatty(fileno(stderr));
 }
 
-Progress::Progress(bool enabled, std::string what, std::string units, double start, double total)
+Progress::Progress(bool enabled, std::string what, std::string units, double start, double total, double interval)
     : enabled_(enabled), tty_(isatty(fileno(stderr)) != 0), what_(std::move(what)), units_(std::move(units)),
-      start_(start), total_(total), begin_(std::chrono::steady_clock::now()), last_(begin_) {
+      start_(start), total_(total), interval_(interval), begin_(std::chrono::steady_clock::now()), last_(begin_) {
   recent_.push_back({begin_, start, 0});
 }
 
 void Progress::update(double current, long steps, const char* detail) {
   if (!enabled_) return;
   const auto now = std::chrono::steady_clock::now();
-  if (now - last_ < std::chrono::seconds(1)) return;
+  if (now - last_ < interval_) return;
   last_ = now;
   // The rate over the last 10 s: keep the newest sample older than that as the reference.
   while (recent_.size() > 1 && now - recent_[1].when >= std::chrono::seconds(10)) recent_.pop_front();
@@ -38,7 +38,7 @@ void Progress::update(double current, long steps, const char* detail) {
   printed_ = true;
 }
 
-bool Progress::due() const { return enabled_ && std::chrono::steady_clock::now() - last_ >= std::chrono::seconds(1); }
+bool Progress::due() const { return enabled_ && std::chrono::steady_clock::now() - last_ >= interval_; }
 
 void Progress::update(double current, long steps, double proposed_dt, const StepControlTotals& totals) {
   if (!due()) return;

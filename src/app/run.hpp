@@ -27,6 +27,8 @@ struct RunOptions {
   bool progress = false;
   std::string invocation;
   double restart_interval = 60.0;  ///< wall seconds between restart points (0: every output step)
+  double progress_interval = 1.0;  ///< wall seconds between progress reports (output.progress_interval)
+  double flush_interval = 1.0;     ///< wall seconds between flushes of the output (output.flush_interval)
   bool restart = false;  ///< continue the run of `output` from its last restart point (traverse/output/restart.hpp)
   RunLimits limits;      ///< --max-memory, --max-steps
 };

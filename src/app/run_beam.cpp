@@ -187,6 +187,7 @@ class BeamObserver {
   Progress& progress_;
   const RunOptions& opt_;
   MPI_Comm comm_;
+  const BeamDeflectionCheck deflection_check_{sc_};
   long outputs_ = 0;
   std::vector<double> restart_state_, restart_meta_;
 };
@@ -211,6 +212,8 @@ void BeamObserver::operator()(const beam::BeamSnapshot& s) {
   if (o < replay_.kept()) replay_.check(o, s.t, out_.probes());
   out_.write(w_, s.t);
   ++outputs_;
+  // After the write: the file keeps the state that left the model's range.
+  if (const std::string why = deflection_check_.why(s.t, s); !why.empty()) throw NumericsError(why);
   replay_.written(static_cast<std::size_t>(outputs_), comm_);
   restart_state_.assign(s.Y.data(), s.Y.data() + s.Y.size());
   restart_state_.insert(restart_state_.end(), s.Ydot.data(), s.Ydot.data() + s.Ydot.size());
@@ -247,8 +250,10 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "beam"};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(),
                         std::max<size_t>(1, sc.loads.size()));
+  writer.set_intervals(opt.flush_interval, writer.xdmf_interval());
   outputs.declare(writer);
-  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end);
+  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end,
+                    opt.progress_interval);
   BeamObserver observe(sc, p, sim, outputs, replay, writer, progress, opt, comm);
   const auto wall_start = std::chrono::steady_clock::now();
   try {
@@ -267,6 +272,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   }
   progress.done();
   observe.store_restart();
+  if (p.adaptive) write_adaptive_totals(writer, sim.adaptive_totals());
   writer.finish();
   replay.finished(static_cast<std::size_t>(observe.outputs()), comm);  // a shorter run
   if (rank == 0 && !opt.quiet)

@@ -12,6 +12,7 @@
 #include "progress.hpp"
 #include "run.hpp"
 #include "run_beam_coupled.hpp"
+#include "step_control.hpp"
 #include "traverse/beam/coupled_mass_beam.hpp"
 #include "traverse/output/reader.hpp"
 #include "traverse/output/restart.hpp"
@@ -156,11 +157,14 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   const CoupledReplay replay(opt, outputs.probe_names(), outputs.field_names(), "the beam and its coupled mass", comm);
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "beam"};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
+  writer.set_intervals(opt.flush_interval, writer.xdmf_interval());
   outputs.declare(writer);
-  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end);
+  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end,
+                    opt.progress_interval);
   long written = 0;
   const auto wall_start = std::chrono::steady_clock::now();
   const std::string integrator = scene::name_of(sc.beam.integrator);
+  const BeamDeflectionCheck deflection_check(sc);
   auto observe = [&](const beam::CoupledMassBeam& s) {
     if (!s.Y().allFinite() || !s.Ydot().allFinite() || !std::isfinite(s.position()) || !std::isfinite(s.speed())) {
       std::ostringstream os;
@@ -177,6 +181,11 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
     outputs.write(writer, s.time());
     ++written;
     replay.written(static_cast<std::size_t>(written), comm);
+    if (const std::string why = deflection_check.why(s.time(), s); !why.empty()) {
+      progress.done();
+      writer.fail(why);
+      throw NumericsError(why);
+    }
     if (p.adaptive)
       progress.update(s.time(), s.steps_taken(), s.proposed_dt(), s.adaptive_totals());
     else
@@ -202,6 +211,7 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   if (event) events.push_back({sim.time(), sim.position(), load.name, beam::coupled_end_name(sim.end_reason())});
   add_time_limit_event(sc, events, sim.time(), sim.position(), opt.quiet || rank != 0);
   writer.write_events(events);
+  if (p.adaptive) write_adaptive_totals(writer, sim.adaptive_totals());
   writer.finish();
   replay.finished(static_cast<std::size_t>(written), comm);
   if (rank == 0 && !opt.quiet) {

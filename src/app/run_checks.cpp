@@ -36,6 +36,7 @@ CheckedRun check_beam_run(const scene::Scene& sc, const RunLimits& limits, MPI_C
   CheckedRun out;
   check_properties(sc);
   check_load_ratio(sc);
+  check_beam_static_deflection(sc);
   check_load_speeds(sc);
   const MemoryPlan memory = beam_memory(sc, comm_size(comm));
   const MemoryLimit limit = memory_limit(limits, comm);

@@ -214,13 +214,18 @@ TimePlan rod_time_plan(const scene::Scene& sc) {
   TimePlan p;
   p.dt = sc.time.dt;
   if (sc.time.dt_auto) {
+    const double end = sc.time.end_auto ? -1.0 : sc.time.end;
     const scene::MovingLoadSpec* fast = nullptr;
     for (const auto& l : sc.loads)
-      if (!fast || l.speed > fast->speed) fast = &l;
+      if (!fast || l.fastest_speed(sc.length(), end) > fast->fastest_speed(sc.length(), end)) fast = &l;
+    const double v = fast ? fast->fastest_speed(sc.length(), end) : 0.0;
     const std::string k = fast ? "loads." + fast->name + ".speed" : "loads";
-    p.dt_text = "time.dt: auto = mesh.ds / " + k + " = " + fmt(sc.mesh.ds) + " m / " + fmt(fast ? fast->speed : 0.0) +
-                " m/s = " + fmt(p.dt) + " s";
+    const bool accelerates = fast && v > fast->speed;
+    p.dt_text = "time.dt: auto = mesh.ds / " +
+                (accelerates ? "(the fastest speed of load '" + fast->name + "' on the rod)" : k) + " = " +
+                fmt(sc.mesh.ds) + " m / " + fmt(v) + " m/s = " + fmt(p.dt) + " s";
     p.dt_keys = {k, mesh_key(sc)};
+    if (accelerates) p.dt_keys.insert(p.dt_keys.begin() + 1, "loads." + fast->name + ".acceleration");
   } else {
     p.dt_text = "time.dt = " + fmt(p.dt) + " s";
     p.dt_keys = {"time.dt"};
@@ -518,6 +523,121 @@ void check_load_ratio(const scene::Scene& sc) {
                      " m (" + model + ".length), E I = " + fmt(r.EI) + " N m^2 (" + model + ".youngs_modulus = " +
                      fmt(E) + " Pa, I = " + fmt(I) + " m^4 of " + model + ".section): use a smaller load or a stiffer " +
                      model);
+}
+
+}  // namespace traverse::app
+
+namespace traverse::app {
+
+namespace {
+
+// Largest static deflection and slope of a uniform beam under a uniform load q, in units of
+// q L^4 / (E I) and q L^3 / (E I) (the closed forms of the four supports).
+// Largest static deflection of a uniform beam under a point load P at its worst place, in
+// units of P L^3 / (E I).
+double point_load_coefficient(scene::Supports s) {
+  using S = scene::Supports;
+  switch (s) {
+    case S::simply_supported: return 1.0 / 48.0;
+    case S::clamped_free: return 1.0 / 3.0;
+    case S::clamped_clamped: return 1.0 / 192.0;
+    case S::clamped_pinned: return 1.0 / (48.0 * std::sqrt(5.0));
+    default: throw std::logic_error("point_load_coefficient: unknown supports");
+  }
+}
+
+void uniform_load_coefficients(scene::Supports s, double& deflection, double& slope) {
+  using S = scene::Supports;
+  switch (s) {
+    case S::simply_supported: deflection = 5.0 / 384.0, slope = 1.0 / 24.0; return;
+    case S::clamped_free: deflection = 1.0 / 8.0, slope = 1.0 / 6.0; return;
+    case S::clamped_clamped: deflection = 1.0 / 384.0, slope = 1.0 / (72.0 * std::sqrt(3.0)); return;
+    case S::clamped_pinned: deflection = (39.0 + 55.0 * std::sqrt(33.0)) / 65536.0, slope = 1.0 / 48.0; return;
+    default: throw std::logic_error("uniform_load_coefficients: unknown supports");
+  }
+}
+
+std::string stiffness_text(const scene::Scene& sc) {
+  const auto& b = sc.beam;
+  return "E I = " + fmt(b.youngs_modulus * b.section.I1) + " N m^2 (beam.youngs_modulus = " + fmt(b.youngs_modulus) +
+         " Pa, I = " + fmt(b.section.I1) + " m^4 of beam.section)";
+}
+
+}  // namespace
+
+void check_beam_static_deflection(const scene::Scene& sc) {
+  const auto& b = sc.beam;
+  const double L = b.length, EI = b.youngs_modulus * b.section.I1;
+  const double q = b.density * b.section.area * sc.gravity;
+  double cw = 0.0, cs = 0.0;
+  uniform_load_coefficients(b.supports, cw, cs);
+  const double w = cw * q * std::pow(L, 4) / EI, slope = cs * q * std::pow(L, 3) / EI;
+  if (w <= kMaxBeamDeflectionRatio * L && slope <= kMaxBeamSlope) return;
+  scene::fail_at(sc, deciding_key(sc, {"beam.youngs_modulus", "beam.section", "beam.density", "gravity", "beam.length"}),
+                 "a beam whose static deflection under its own weight stays in the small-deflection range of the "
+                 "beam model, |w| <= L / 10 = " + fmt(kMaxBeamDeflectionRatio * L) +
+                     " m and |w_x| <= 0.2 (docs/beam.md \"Validity\"; is beam.youngs_modulus in Pa?)",
+                 "|w| = " + fmt(w) + " m, |w_x| = " + fmt(slope) + " under q = rho A g = " + fmt(q) + " N/m with " +
+                     stiffness_text(sc) + ", beam.length = " + fmt(L) + " m");
+}
+
+BeamDeflectionCheck::BeamDeflectionCheck(const scene::Scene& sc) : sc_(sc) {
+  const int n = 8 * std::max(1, sc.beam.modes);
+  for (int i = 0; i <= n; ++i) points_.push_back(sc.beam.length * i / n);
+  const auto& b = sc.beam;
+  const double L = b.length, EI = b.youngs_modulus * b.section.I1;
+  double cw = 0.0, cs = 0.0;
+  uniform_load_coefficients(b.supports, cw, cs);
+  double P = 0.0;
+  for (const auto& l : sc.loads) P += l.force.norm();
+  static_bound_ = cw * b.density * b.section.area * sc.gravity * std::pow(L, 4) / EI +
+                  point_load_coefficient(b.supports) * P * std::pow(L, 3) / EI;
+}
+
+std::string BeamDeflectionCheck::message(double t, const Extreme& w, const Extreme& slope) const {
+  const double L = sc_.beam.length;
+  const bool deflection_out = !(std::abs(w.value) <= kMaxBeamDeflectionRatio * L);
+  const bool slope_out = !(std::abs(slope.value) <= kMaxBeamSlope);
+  if (!deflection_out && !slope_out) return "";
+  if (std::abs(w.value) > 10.0 * static_bound_)
+    return "beam solver: the deflection grew to " + fmt(std::abs(w.value)) + " m at t = " + fmt(t) +
+           " s, more than 10 times the largest static deflection the loads can cause (" + fmt(static_bound_) +
+           " m): the time integration is unstable; reduce time.dt or use beam.integrator: newmark";
+  const LoadRatio r = load_ratio(sc_);
+  std::string what = deflection_out ? "|w| = " + fmt(std::abs(w.value)) + " m at x = " + fmt(w.at) +
+                                          " m is more than L / 10 = " + fmt(kMaxBeamDeflectionRatio * L) +
+                                          " m (beam.length = " + fmt(L) + " m)"
+                                    : "";
+  if (slope_out)
+    what += std::string(deflection_out ? "; " : "") + "|w_x| = " + fmt(std::abs(slope.value)) + " at x = " +
+            fmt(slope.at) + " m is more than " + fmt(kMaxBeamSlope);
+  return "beam model: the deflection leaves the small-deflection range of the beam at t = " + fmt(t) + " s: " + what +
+         ". Decided by the largest load, " + r.what + " = " + fmt(r.W) + " N, against " + stiffness_text(sc_) +
+         " (docs/beam.md \"Validity\"): use a smaller load or a stiffer beam, or the rod model for large deflections";
+}
+
+std::vector<std::string> idle_load_warnings(const scene::Scene& sc) {
+  std::vector<std::string> out;
+  const bool fixed_end = !sc.time.end_auto && !sc.time.end_at_event;
+  for (const auto& l : sc.loads) {
+    const std::string k = "loads." + l.name;
+    if (fixed_end && !l.coupled && l.entry_time >= sc.time.end)
+      out.push_back(sc.file + ": " + k + ".entry_time: load '" + l.name + "' can do nothing: it enters at t = " +
+                    fmt(l.entry_time) + " s, at or after time.end = " + fmt(sc.time.end) + " s");
+    if (!(l.force.norm() == 0.0) || l.drive != 0.0) continue;
+    const auto& p = sc.tree.params.sublist("loads").sublist(l.name);
+    const bool weight = !p.isParameter("force") && !p.isParameter("force_vector");
+    std::string why;
+    if (weight && sc.gravity == 0.0)
+      why = "its force is the weight M g of " + (p.isParameter("mass") ? k + ".mass" : k + ".mass_fraction") +
+            ", and gravity = 0";
+    else
+      why = "its force is zero (" + load_magnitude_key(sc, l) + ")";
+    out.push_back(sc.file + ": " + k + ": load '" + l.name + "' can do nothing: " + why +
+                  (l.inertia || l.coupled ? "; a mass that weighs nothing only rides along" : "") +
+                  " (set gravity, or give the load a force)");
+  }
+  return out;
 }
 
 }  // namespace traverse::app

@@ -5,6 +5,7 @@
 // scene::SceneError located at the key that decides it (exit code 2). Pure functions of the
 // scene: no MPI, no Trilinos (the fuzz target calls them too); memory_limit.hpp finds what the
 // machine allows.
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -111,6 +112,56 @@ constexpr double kSpeedOfLight = 299792458.0;
 /// speed at entry, or at the far end when it accelerates): no load does, and far beyond it
 /// the moving-load terms (M v^2) and the time steps (dt = ds / v) leave double precision.
 void check_load_speeds(const scene::Scene& sc);
+
+/// The small-deflection range of the beam model (docs/beam.md "Validity"): |w| <= L / 10 and
+/// |w_x| <= 0.2. Beyond it the terms the linear theory drops (the curvature's factor
+/// (1 + w_x^2)^(3/2), the axial shortening w_x^2 / 2) change the answer by more than about 6 %.
+constexpr double kMaxBeamDeflectionRatio = 0.1;
+constexpr double kMaxBeamSlope = 0.2;
+
+/// Throws SceneError when the beam's static deflection under its own weight (where every beam
+/// run starts) already leaves the small-deflection range: closed forms of the uniform load on
+/// the scene's supports. Keys: beam.youngs_modulus, beam.section, beam.density, gravity.
+void check_beam_static_deflection(const scene::Scene& sc);
+
+/// The small-deflection check of a running beam: the largest |w| and |w_x| over 8 points per
+/// mode (and the ends) at an output time. `why` gives the message of a state outside the range
+/// (the figures, the bound, the keys that decide it), or "" for a state inside. A deflection
+/// above 10 times the largest static deflection the loads can cause (the beam's weight and
+/// every load's force at its worst place, closed forms: twice that is the most a suddenly
+/// applied load gives) is no physics but an unstable integration, and is reported as such.
+class BeamDeflectionCheck {
+ public:
+  explicit BeamDeflectionCheck(const scene::Scene& sc);
+  template <class State>
+  std::string why(double t, const State& s) const {
+    Extreme w, slope;
+    for (double x : points_) {
+      w.take(s.deflection(x), x);
+      slope.take(s.slope(x), x);
+    }
+    return message(t, w, slope);
+  }
+
+ private:
+  struct Extreme {
+    double value = 0.0, at = 0.0;
+    void take(double v, double x) {
+      if (!(std::abs(v) <= std::abs(value))) value = v, at = x;
+    }
+  };
+  std::string message(double t, const Extreme& w, const Extreme& slope) const;
+  const scene::Scene& sc_;
+  std::vector<double> points_;
+  double static_bound_ = 0.0;  ///< the largest static deflection the loads can cause [m]
+};
+
+/// Warnings for the loads that can do nothing (docs/reliability.md "Runs outside what the
+/// models answer"): a load whose force is zero (a moving mass, or a force given as a weight,
+/// with gravity: 0; a force_vector of zero) and that has no drive, or that enters at or after a given
+/// time.end; one line per load naming its keys. A structure at rest under no load
+/// stays at rest: such a run computes nothing the scene meant.
+std::vector<std::string> idle_load_warnings(const scene::Scene& sc);
 
 /// Bytes as "512 MiB", "3.2 GiB".
 std::string format_bytes(double bytes);

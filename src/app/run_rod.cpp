@@ -384,7 +384,7 @@ void RodTimeLoop::fail_step(long i, double t0, const solver::StepFailure& e, Pro
 }
 
 LoopTotals RodTimeLoop::run(long first_step, bool show_progress) {
-  Progress progress(show_progress, "t", "s", p_.st.time(), p_.g.t_end);
+  Progress progress(show_progress, "t", "s", p_.st.time(), p_.g.t_end, p_.opt.progress_interval);
   LoopTotals tot;
   tot.last_step = first_step - 1;
   const auto start = std::chrono::steady_clock::now();
@@ -568,7 +568,7 @@ bool RodAdaptiveLoop::doubled_step(double h, Progress& progress) {
 }
 
 LoopTotals RodAdaptiveLoop::run(bool show_progress) {
-  Progress progress(show_progress, "t", "s", p_.st.time(), p_.g.t_end);
+  Progress progress(show_progress, "t", "s", p_.st.time(), p_.g.t_end, p_.opt.progress_interval);
   const auto start = std::chrono::steady_clock::now();
   const long outputs = (p_.g.steps + p_.every - 1) / p_.every;
   long k = 1;  // the next output time: the first one after the current time
@@ -726,6 +726,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
                      {"initial_state", start.description}};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(),
                         std::max<size_t>(1, sc.loads.size()));
+  writer.set_intervals(opt.flush_interval, writer.xdmf_interval());
   outputs.declare(writer);
 
   const Vec3 r0 = opt.restart ? Vec3(extra[0], extra[1], extra[2]) : Vec3(Vec3::Zero());
@@ -761,6 +762,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     tot = loop.run(first_step, progress);
   }
   points.store(tot.last_step, left.position());  // the end (a no-op when the last output step stored it)
+  if (adaptive) write_adaptive_totals(writer, adaptive->totals());
   writer.finish();
   if (rank == 0 && !opt.quiet)
     std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve%s) on the %s path; %zu output steps -> %s; "

@@ -231,6 +231,8 @@ class CoupledLoop {
   std::vector<output::RunEvent> events;
   long newton = 0, coupling = 0, steps = 0;
   std::string adaptive_summary() const { return rc_ ? rc_->totals().summary() : std::string(); }
+  /// The adaptive counters, or nullptr for fixed steps.
+  const StepControlTotals* adaptive_totals() const { return rc_ ? &rc_->totals() : nullptr; }
 
  private:
   /// One coupled solve of length h from the current state; false (state unchanged) when it fails.
@@ -638,8 +640,10 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   info.attributes = {{"rod_path", path.planar ? "planar" : "3D"}, {"rod_path_detail", path_text + " (coupled_mass)"},
                      {"initial_state", start.description}};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
+  writer.set_intervals(opt.flush_interval, writer.xdmf_interval());
   outputs.declare(writer);
-  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", grid.t_start, grid.t_end);
+  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", grid.t_start, grid.t_end,
+                    opt.progress_interval);
   CoupledLoop loop(sc, stepper, state, m, outputs, writer, opt, grid, path.planar, first, count, comm, progress);
   if (opt.restart) {
     output::copy_output_steps(source, writer, point.steps_written, outputs.probe_names(), outputs.field_names(),
@@ -672,6 +676,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   add_time_limit_event(sc, events, state.t, m.sigma, opt.quiet || rank != 0);
   loop.store();  // the end: a restart of the complete file continues nothing
   writer.write_events(events);
+  if (loop.adaptive_totals()) write_adaptive_totals(writer, *loop.adaptive_totals());
   writer.finish();
   if (rank == 0 && !opt.quiet) {
     std::printf("done: %ld steps, %ld coupling iterations, %ld Newton iterations", loop.steps, loop.coupling,

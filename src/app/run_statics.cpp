@@ -179,7 +179,7 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   int branch = 0;
   long points = 0;
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), rod::parameter_name(par),
-                    rod::parameter_unit(par), start, cs.stop);
+                    rod::parameter_unit(par), start, cs.stop, opt.progress_interval);
   const double lo = std::min(start, cs.stop), hi = std::max(start, cs.stop), slack = 1e-12 * (1.0 + hi - lo);
   auto on_point = [&](const solver::ContinuationPoint& p) {
     // The stepper shows the point that overshot a bound before landing on the bound: skip it.

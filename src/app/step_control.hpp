@@ -1,7 +1,11 @@
 #pragma once
 // The step controller's parameters from a scene's time.adaptive (docs/adaptive.md), for the
 // rod and the beam runners.
+#include <cstdio>
+#include <string>
+
 #include "traverse/core/step_controller.hpp"
+#include "traverse/output/writer.hpp"
 #include "traverse/scene/scene.hpp"
 
 namespace traverse::app {
@@ -18,6 +22,20 @@ inline StepControlParameters step_control_parameters(const scene::AdaptiveSpec& 
   p.newton_target = a.newton_target;
   p.order = order;
   return p;
+}
+
+/// The counters of an adaptive run as root attributes of its output (docs/output.md):
+/// `steps_accepted`, `steps_rejected` (error above the tolerance), `steps_failed` (Newton),
+/// `dt_smallest` and `dt_largest` [s] of the accepted steps (17 digits).
+inline void write_adaptive_totals(output::Writer& w, const StepControlTotals& t) {
+  w.set_attribute("steps_accepted", std::to_string(t.accepted));
+  w.set_attribute("steps_rejected", std::to_string(t.rejected));
+  w.set_attribute("steps_failed", std::to_string(t.failed));
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", t.smallest_dt);
+  w.set_attribute("dt_smallest", buf);
+  std::snprintf(buf, sizeof buf, "%.17g", t.largest_dt);
+  w.set_attribute("dt_largest", buf);
 }
 
 }  // namespace traverse::app

@@ -96,6 +96,7 @@ void remove_restart_source(const std::string& path, MPI_Comm comm) {
 }
 
 void set_file_status(const std::string& path, const std::string& status, MPI_Comm comm) {
+  if (path.empty()) return;
   const int rank = par::rank(comm);
   par::barrier(comm);
   if (rank == 0) {

@@ -621,13 +621,6 @@ void Writer::Impl::write_mesh() {
 void Writer::Impl::create_groups() {
   Impl& w = *this;
   const hid_t root = w.file.get();
-  // TRAVERSE_OUTPUT_FLUSH_INTERVAL=S overrides the flush cadence (0: after every step);
-  // only rank 0's value matters (it decides).
-  if (const char* env = std::getenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL")) {
-    char* end = nullptr;
-    const double v = std::strtod(env, &end);
-    if (end != env && *end == '\0' && v >= 0.0 && std::isfinite(v)) w.flush_seconds = v;
-  }
   w.probes_group = create_group(root, "probes");
   w.fields_group = create_group(root, "fields");
   w.xdmf_group = create_group(root, "xdmf");
@@ -1014,6 +1007,12 @@ void Writer::write_events(const std::vector<RunEvent>& events) {
   }
   detail::write_string_attribute(root, "end_reason", events.empty() ? "end_time" : events.front().reason);
   w.flush_file();
+}
+
+void Writer::set_attribute(const std::string& name, const std::string& value) {
+  Impl& w = *impl_;
+  w.require_open("set_attribute");
+  detail::write_string_attribute(w.file.get(), name, value);
 }
 
 void Writer::finish() {

@@ -1,5 +1,7 @@
 #include "traverse/rod/static_solver.hpp"
 
+#include "traverse/core/stop_request.hpp"
+
 #include <cmath>
 #include <cstdio>
 
@@ -40,6 +42,7 @@ StaticReport StaticSolver::newton(const StaticModel& m, StaticNewtonSystem& sys)
   // Scales: forces by the largest of the weight and the end and point forces, or EI/L^2.
   const double fscale = static_force_scale(m);
   for (int it = 0; it < max_iterations; ++it) {
+    throw_if_stop_requested("the static solve (Newton iteration " + std::to_string(it + 1) + ")");
     if (!sys.assemble(m)) break;
     if (!sys.factorize(rep.message)) break;
     ++rep.iterations;

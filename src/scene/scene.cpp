@@ -557,8 +557,9 @@ Param build_schema() {
 
   Param time = section("time", "Time stepping");
   time.add(real("dt", "Time step; auto: beam: a twentieth of the period of the highest mode, at most the time a "
-                      "load needs to cross one mesh cell; rod: ds / v of the fastest load (the load sits on a "
-                      "node at every step)", "s").positive().allow_auto().def("auto"));
+                      "load needs to cross one mesh cell; rod: ds / v of the fastest load, v its largest speed "
+                      "while on the rod (a load at constant speed sits on a node at every step; an accelerating "
+                      "one crosses at most one cell per step)", "s").positive().allow_auto().def("auto"));
   time.add(real("end", "End time; auto: when the last load leaves the structure (a coupled_mass: at its first event, "
                        "at the latest at time.auto_limit)", "s").positive().allow_auto().def("auto"));
   time.add(real("auto_limit", "With a coupled_mass and time.end: auto: the latest end time; reached without an event, "
@@ -578,6 +579,15 @@ Param build_schema() {
                                    "output step (the command line's --restart-interval wins)", "s")
               .non_negative()
               .def(60.0));
+  out.add(real("flush_interval", "Wall time between flushes of the output file while the run goes on (the steps "
+                                 "flushed are readable by another process and survive a kill); 0: after every "
+                                 "output step", "s")
+              .non_negative()
+              .def(1.0));
+  out.add(real("progress_interval", "Wall time between progress reports on stderr (--progress, or a terminal); 0: "
+                                    "at every time step", "s")
+              .non_negative()
+              .def(1.0));
   out.add(collection("probes", "Time series of chosen quantities, each under a name of your choice", probe_types()));
   out.add(word_list("fields", "Fields written at every node at each output step (beam: deflection, slope, "
                               "bending_moment; rod: u, omega, kappa, n, m (body components), r (centreline), "
@@ -802,6 +812,13 @@ std::vector<const MovingLoadSpec*> prescribed_loads_at_start(const Scene& sc) {
 
 double MovingLoadSpec::sigma(double t) const {
   return t < entry_time ? std::numeric_limits<double>::quiet_NaN() : position(t);
+}
+
+double MovingLoadSpec::fastest_speed(double length, double t_end) const {
+  double t_last = exit_time(length);
+  if (t_end >= 0.0) t_last = std::min(t_last, t_end);
+  const double at_last = t_last > entry_time && std::isfinite(t_last) ? std::abs(velocity(t_last)) : 0.0;
+  return std::max(speed, at_last);
 }
 
 double MovingLoadSpec::velocity(double t) const { return direction() * (speed + acceleration * (t - entry_time)); }
@@ -1061,8 +1078,8 @@ void read_time(const ParameterList& t, Scene& sc) {
   read_adaptive(t, sc);
   if (sc.model == Model::Rod && sc.time.dt_auto && !sc.continuation.enabled) {
     double v = 0.0;
-    for (const auto& l : sc.loads) v = std::max(v, l.speed);
-    if (v <= 0.0) fail_at(sc, "time.dt", "a number when no load moves at entry (auto is ds / v)", "auto");
+    for (const auto& l : sc.loads) v = std::max(v, l.fastest_speed(sc.length(), sc.time.end_auto ? -1.0 : sc.time.end));
+    if (!(v > 0.0)) fail_at(sc, "time.dt", "a number when no load moves (auto is ds / v)", "auto");
     sc.time.dt = sc.mesh.ds / v;
   }
 }
@@ -1072,6 +1089,8 @@ void read_output(const ParameterList& o, const std::string& file_name, OutputSpe
   if (out.file == "auto") out.file = std::filesystem::path(file_name).stem().string() + ".h5";
   out.every = o.get<int>("every");
   out.restart_interval = o.get<double>("restart_interval");
+  out.flush_interval = o.get<double>("flush_interval");
+  out.progress_interval = o.get<double>("progress_interval");
   const auto& probes = o.sublist("probes");
   for (const auto& entry : probes) {
     const auto& pr = entry.list();

@@ -17,6 +17,7 @@
 using traverse::testing::scratch;
 
 namespace fs = std::filesystem;
+using traverse::output::Reader;
 
 namespace {
 
@@ -109,13 +110,23 @@ TEST(Cli, RunWritesOutputAndRefusesToOverwrite) {
   EXPECT_EQ(r.code, 0) << r.out;
 }
 
+// The later --set wins over kFast's and reaches the run: the file has an output step every
+// time step (output.every = 1 against 50) and the modal state of 4 modes (positions and
+// velocities: 8 values, against 4 for kFast's 2 modes).
 TEST(Cli, SetOverridesReachTheRun) {
   const fs::path d = scratch("set");
-  const auto r = run("run " + kScene.string() + " -o " + (d / "a.h5").string() + kFast +
-                     " --set beam.modes=4 --set output.every=1");
+  const std::string a = (d / "a.h5").string(), b = (d / "b.h5").string();
+  const auto r = run("run " + kScene.string() + " -o " + a + kFast + " --set beam.modes=4 --set output.every=1");
   ASSERT_EQ(r.code, 0) << r.out;
-  const auto c = run("check " + kScene.string() + " --set beam.modes=4");
-  EXPECT_NE(c.out.find("modes: 4"), std::string::npos);
+  ASSERT_EQ(run("run " + kScene.string() + " -o " + b + kFast).code, 0);
+  const Reader ra(a), rb(b);
+  const std::vector<double> t = ra.time(), tb = rb.time();
+  ASSERT_GE(t.size(), 3u);
+  ASSERT_GE(tb.size(), 3u);
+  EXPECT_NEAR(t[1] - t[0], 1e-4, 1e-12);
+  EXPECT_NEAR(tb[1] - tb[0], 50 * 1e-4, 1e-12);
+  EXPECT_EQ(ra.restart("modal_state").values.size(), 8u);
+  EXPECT_EQ(rb.restart("modal_state").values.size(), 4u);
 }
 
 TEST(Cli, UnstableTimeStepFailsWithCode3AndAMarkedFile) {
@@ -505,4 +516,96 @@ TEST(Cli, CoupledMassRodLiftOff) {
   const double exact = std::acos((1.0 / 9.8 + 2.0 * std::cos(0.05)) / 3.0);
   std::printf("  lift-off at t = %.6f s, sigma = %.6f m (rigid wire %.6f m)\n", events[0].time, events[0].position, exact);
   EXPECT_NEAR(events[0].position, exact, 5e-3 * exact);
+}
+
+// A Young's modulus typed in GPa (210 for steel) on a 20 m beam: the static deflection under
+// its own weight is thousands of spans. Refused before the run (exit 2, no output), by run
+// and by check, naming the key and the bound.
+TEST(Cli, BeamBeyondSmallDeflectionsIsRefusedBeforeTheRun) {
+  const fs::path d = scratch("validity-static");
+  const std::string out = (d / "gpa.h5").string();
+  const std::string gpa = " --set beam.youngs_modulus=210 --set beam.length=20";
+  for (const std::string& cmd : {"run " + kScene.string() + " -o " + out + kFast + gpa, "check " + kScene.string() + gpa}) {
+    const auto r = run(cmd);
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("beam.youngs_modulus: expected a beam whose static deflection"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("L / 10 = 2 m"), std::string::npos) << r.out;
+  }
+  EXPECT_FALSE(fs::exists(out));
+  // Steel in Pa: a 10 m cantilever sags 0.15 m under its own weight (q L^4 / 8 E I), inside
+  // the range; at 20 m it sags 2.5 m, more than L / 10.
+  EXPECT_EQ(run("check " + kScene.string() + " --set beam.length=10").code, 0);
+  EXPECT_EQ(run("check " + kScene.string() + " --set beam.length=20").code, 2);
+}
+
+// A soft cantilever (E = 6e8 Pa: 8 cm of static tip deflection) under a mass of 0.6 of the
+// total: the tip passes L / 10 = 0.2 m while the mass rides out. Exit 3 at the first output
+// step beyond the bound, which the file keeps (marked failed); every earlier one is inside.
+TEST(Cli, BeamLeavingSmallDeflectionsFailsWithCode3) {
+  const fs::path d = scratch("validity-run");
+  const std::string out = (d / "soft.h5").string();
+  const auto r = run("run " + kScene.string() + " -o " + out + " -q --set beam.youngs_modulus=6e8 --set time.dt=1e-4"
+                     " --set loads.mass.speed=5 --set loads.mass.mass_fraction=0.6 --set output.every=1");
+  EXPECT_EQ(r.code, 3) << r.out;
+  EXPECT_NE(r.out.find("leaves the small-deflection range"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("loads.mass.mass_fraction"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("beam.youngs_modulus"), std::string::npos) << r.out;
+  const Reader f(out);
+  EXPECT_EQ(f.status().rfind("failed: beam model: the deflection leaves", 0), 0u) << f.status();
+  const auto tip = f.probe("tip").values;
+  ASSERT_GE(tip.size(), 2u);
+  EXPECT_GT(std::abs(tip.back()), 0.2);
+  for (std::size_t i = 0; i + 1 < tip.size(); ++i) EXPECT_LE(std::abs(tip[i]), 0.2) << "output step " << i;
+}
+
+// A load that can do nothing: a moving mass (beam) and a force given as a weight (rod) with
+// gravity 0 are warned about, naming the key; with gravity, or a force, nothing is said.
+TEST(Cli, LoadsThatCanDoNothingAreWarnedAbout) {
+  const fs::path d = scratch("idle-loads");
+  const auto beam = run("run " + kScene.string() + " -o " + (d / "beam.h5").string() + kFast + " --set gravity=0");
+  EXPECT_EQ(beam.code, 0) << beam.out;
+  EXPECT_NE(beam.out.find("warning"), std::string::npos) << beam.out;
+  EXPECT_NE(beam.out.find("loads.mass.mass_fraction, and gravity = 0"), std::string::npos) << beam.out;
+  const auto rod = run("run " + kCable.string() + " -o " + (d / "rod.h5").string() + kCoarse +
+                       " --set gravity=0 --set 'loads.F={type: moving_force, mass: 0.2, speed: 3.63418}'");
+  EXPECT_EQ(rod.code, 0) << rod.out;
+  EXPECT_NE(rod.out.find("loads.F.mass, and gravity = 0"), std::string::npos) << rod.out;
+  const auto zero = run("run " + kCable.string() + " -o " + (d / "zero.h5").string() + kCoarse +
+                        " --set 'loads.F={type: moving_force, force_vector: [0, 0, 0], speed: 3.63418}'");
+  EXPECT_NE(zero.out.find("its force is zero (loads.F.force_vector)"), std::string::npos) << zero.out;
+  const auto late = run("run " + kScene.string() + " -o " + (d / "late.h5").string() + kFast +
+                        " --set time.end=0.01 --set loads.mass.entry_time=1");
+  EXPECT_EQ(late.code, 0) << late.out;
+  EXPECT_NE(late.out.find("loads.mass.entry_time: load 'mass' can do nothing: it enters at t = 1 s, at or after "
+                          "time.end = 0.01 s"),
+            std::string::npos)
+      << late.out;
+  for (const std::string& loaded : {"run " + kScene.string() + " -o " + (d / "b2.h5").string() + kFast,
+                                    "run " + kCable.string() + " -o " + (d / "r2.h5").string() + kCoarse +
+                                        " --set gravity=0"}) {
+    const auto r = run(loaded);
+    EXPECT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(r.out.find("can do nothing"), std::string::npos) << r.out;
+  }
+}
+
+// time.dt: auto with a load that starts almost at rest and accelerates almost not at all
+// (speed and acceleration 1e-300): the step is ds over the load's largest speed on the rod,
+// so the load crosses at most one cell per step (never the whole rod in one step).
+TEST(Cli, AutoStepResolvesASlowAcceleratingLoad) {
+  const fs::path d = scratch("slow-load");
+  const std::string out = (d / "slow.h5").string();
+  const auto r = run("run " + kCable.string() + " -o " + out + kCoarse +
+                     " --set loads.F.speed=1e-300 --set loads.F.acceleration=1e-300 --set output.fields=[]");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Reader f(out);
+  const auto sigma = f.sigma().values;
+  ASSERT_GE(sigma.size(), 20u);  // at least L / ds = 20 steps
+  for (std::size_t i = 1; i < sigma.size(); ++i) {
+    if (std::isfinite(sigma[i]) && std::isfinite(sigma[i - 1])) {
+      EXPECT_LE(sigma[i] - sigma[i - 1], 0.05 * (1.0 + 1e-9)) << "step " << i;
+    }
+  }
+  EXPECT_NEAR(sigma.back(), 1.0, 1e-9);
+  for (double y : f.probe("midspan").values) EXPECT_TRUE(std::isfinite(y));
 }

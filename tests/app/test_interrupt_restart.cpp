@@ -25,6 +25,9 @@ const std::string kBeam = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/beam/canti
 // A restart point after every output step (--restart-interval 0, which also flushes every
 // output step), so that a stop mid-run leaves a recent point to restart from.
 const std::string kRodArgs = " --set mesh.ds=0.02 --set output.fields=[r,R,u,omega,kappa,n,m] --restart-interval 0 -q";
+// Output steps flushed one by one, so that a test sees them in the file while a short run
+// goes on, however fast it is.
+const std::string kFlushEveryStep = " --set output.flush_interval=0";
 // Cantilever: 3 modes, 200 output steps.
 const std::string kBeamArgs = " --set time.dt=2e-5 --set output.every=5 --set output.fields=[deflection,slope,bending_moment] -q";
 
@@ -152,12 +155,14 @@ TEST(InterruptRestart, RodSigkillThenRestart) {
 // What makes a kill -9 inside a flush harmless (docs/reliability.md): while the run goes on,
 // the file is longer than anything its superblock can record (a hole of at least 64 MiB past
 // the end of allocation, no disk space), and cut back to its true size when it is closed.
-// The run (27500 steps, a few seconds) must outlast the first flush after t = 0 (1 s).
+// The output is flushed after every output step (output.flush_interval = 0), so the file is
+// seen running after 3 of its 101 output steps however fast the run is.
 TEST(InterruptRestart, RunningOutputIsPaddedPastItsAllocationAndClosedToSize) {
   const fs::path d = scratch("padding");
   const std::string out = (d / "run.h5").string();
   const Child c = spawn(command(1, "run " + kCable + " -o " + out +
-                                       " --set mesh.ds=0.02 --set time.dt=1e-5 --set output.every=275 -q"),
+                                       " --set mesh.ds=0.02 --set time.dt=1e-5 --set output.every=275"
+                                       " --set output.flush_interval=0 -q"),
                         (d / "run.log").string());
   ASSERT_TRUE(wait_for_steps(c, out, 3)) << read_text((d / "run.log").string());
   struct stat running {};
@@ -179,22 +184,24 @@ TEST(InterruptRestart, RodTwoRanksSigintToOneRankThenRestart) {
 
 // SIGINT to mpiexec: Open MPI's mpirun forwards it to the ranks as SIGTERM. On a loaded
 // machine the forwarding took longer than a short run had left (with 50 and with 500 time
-// steps), so this run has 10000 (dt = ds / (200 v), 100 output steps; seconds of stepping):
-// the signal arrives while it is stepping.
+// steps), so this run has 10000 (dt = ds / (200 v), 100 output steps), flushed after every
+// output step (output.flush_interval = 0): the signal, sent at output step 3 .. 40, finds
+// more than half of the run left.
 TEST(InterruptRestart, RodTwoRanksSigintToMpiexecThenRestart) {
   stop_and_restart("rod-np2-mpiexec", 2, kCable,
                    " --set mesh.ds=0.02 --set time.dt=2.75e-5 --set output.every=100 --set output.fields=[r,n]"
-                   " --restart-interval 0 -q",
+                   " --set output.flush_interval=0 --restart-interval 0 -q",
                    3, 40, Stop::sigint_mpiexec);
 }
 
 // The default restart cadence (output.restart_interval = 60 s): a run of a few seconds (27500
 // steps, 101 output steps) has only the restart point of its start when it is killed; its
-// output steps are flushed once a second. The restart recomputes from t = 0 and ends bit for
-// bit equal to the uninterrupted run.
+// output steps are flushed after each one (output.flush_interval = 0). The restart recomputes
+// from t = 0 and ends bit for bit equal to the uninterrupted run.
 TEST(InterruptRestart, RodSigkillAtTheDefaultCadenceRestartsFromTheStart) {
   stop_and_restart("rod-sigkill-cadence", 1, kCable,
-                   " --set mesh.ds=0.02 --set time.dt=1e-5 --set output.every=275 --set output.fields=[r,n] -q", 3,
+                   " --set mesh.ds=0.02 --set time.dt=1e-5 --set output.every=275 --set output.fields=[r,n]"
+                   " --set output.flush_interval=0 -q", 3,
                    40, Stop::sigkill);
 }
 
@@ -205,15 +212,11 @@ TEST(InterruptRestart, RodTwoRanksSigkillThenRestart) {
 // The beam run takes well under the output's 1 s flush cadence: it must flush every step for
 // the test to see output steps in the file while the run goes on.
 TEST(InterruptRestart, BeamSigintThenRestart) {
-  setenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL", "0", 1);
-  stop_and_restart("beam-sigint", 1, kBeam, kBeamArgs, 5, 150, Stop::sigint_process);
-  unsetenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL");
+  stop_and_restart("beam-sigint", 1, kBeam, kBeamArgs + kFlushEveryStep, 5, 150, Stop::sigint_process);
 }
 
 TEST(InterruptRestart, BeamSigkillThenRestart) {
-  setenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL", "0", 1);
-  stop_and_restart("beam-sigkill", 1, kBeam, kBeamArgs, 5, 150, Stop::sigkill);
-  unsetenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL");
+  stop_and_restart("beam-sigkill", 1, kBeam, kBeamArgs + kFlushEveryStep, 5, 150, Stop::sigkill);
 }
 
 // A restart that was itself killed while copying leaves OUT.h5.before-restart (the file
@@ -297,11 +300,10 @@ TEST(BadInputBeyondTheSuite, ReadOnlyFolderAndMoreRanksThanNodes) {
 // re-integrating from t = 0 (the output steps in the file checked against the replay); the
 // result, events table included, equals the uninterrupted run.
 TEST(InterruptRestart, CoupledBeamSigintThenRestart) {
-  setenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL", "0", 1);
   const std::string scene = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/beam/coupled_bead.yaml";
-  stop_and_restart("coupled-beam-sigint", 1, scene, " --set time.dt=5e-6 --set output.every=50 -q", 5, 1000,
+  stop_and_restart("coupled-beam-sigint", 1, scene,
+                   " --set time.dt=5e-6 --set output.every=50 -q" + kFlushEveryStep, 5, 1000,
                    Stop::sigint_process);
-  unsetenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL");
   const std::string out = std::string(TRAVERSE_BINARY_DIR) + "/test-scratch/coupled-beam-sigint/run.h5";
   const auto ev = Reader(out).events();
   ASSERT_EQ(ev.size(), 1u);
@@ -311,12 +313,12 @@ TEST(InterruptRestart, CoupledBeamSigintThenRestart) {
 // The same with adaptive steps (docs/adaptive.md "Beam module"): the replay takes the same
 // steps, so the restarted run equals the uninterrupted one bit for bit.
 TEST(InterruptRestart, CoupledBeamAdaptiveSigintThenRestart) {
-  setenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL", "0", 1);
   const std::string scene = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/beam/coupled_bead.yaml";
   stop_and_restart("coupled-beam-adaptive-sigint", 1, scene,
-                   " --set time.dt=1e-4 --set output.every=5 --set time.adaptive.tolerance=1e-10 -q", 5, 1000,
+                   " --set time.dt=1e-4 --set output.every=5 --set time.adaptive.tolerance=1e-10 -q" +
+                       kFlushEveryStep,
+                   5, 1000,
                    Stop::sigint_process, 0.0);
-  unsetenv("TRAVERSE_OUTPUT_FLUSH_INTERVAL");
   const auto ev = Reader(std::string(TRAVERSE_BINARY_DIR) + "/test-scratch/coupled-beam-adaptive-sigint/run.h5").events();
   ASSERT_EQ(ev.size(), 1u);
   EXPECT_EQ(ev[0].reason, "left_beam_at_L");
@@ -351,4 +353,48 @@ TEST(InterruptRestart, CoupledRodTwoRanksSigkillThenRestart) {
 TEST(InterruptRestart, CoupledRodAdaptiveSigintThenRestart) {
   coupled_rod_restart("coupled-rod-adaptive-sigint", 1, " --set time.adaptive.tolerance=1e-4 --set output.every=1",
                       Stop::sigint_process);
+}
+
+namespace {
+
+// Whether process `pid` catches SIGINT (its handler is installed: /proc/PID/status, SigCgt).
+bool catches_sigint(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("SigCgt:", 0) == 0) return (std::stoull(line.substr(7), nullptr, 16) >> (SIGINT - 1)) & 1ULL;
+  return false;
+}
+
+}  // namespace
+
+// A signal during the set-up stops the run there too: the static initial state polls for it
+// at every Newton iteration (over the ranks), so the run ends at the first iteration after
+// the signal (130, naming the static solve) with nothing written. The signal is sent once
+// the process (each rank) has its handler and before the static solve can have ended: the
+// run is 10001 nodes, its static start tens of Newton iterations.
+TEST(InterruptRestart, SigintDuringTheStaticStartStopsThere) {
+  for (int ranks : {1, 2}) {
+    const fs::path d = scratch("setup-sigint-np" + std::to_string(ranks));
+    const std::string out = (d / "run.h5").string(), log = (d / "run.log").string();
+    const Child c = spawn(command(ranks, "run " + kCable + " -o " + out + " --set mesh.ds=1e-4 -q"), log);
+    std::vector<pid_t> pids;
+    for (int tries = 0; tries < 60000; ++tries) {  // up to 5 minutes
+      pids = ranks > 1 ? children_of(c.pid) : std::vector<pid_t>{c.pid};
+      if (static_cast<int>(pids.size()) == ranks && std::all_of(pids.begin(), pids.end(), catches_sigint)) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    ASSERT_EQ(static_cast<int>(pids.size()), ranks);
+    kill(pids.back(), SIGINT);
+    const int code = wait_exit(c);
+    const std::string text = read_text(log);
+    std::cout << "  " << ranks << " rank(s): exit " << code << ": " << text.substr(0, text.find('\n')) << "\n";
+    if (ranks == 1) {
+      EXPECT_EQ(code, 130) << text;
+    } else {
+      EXPECT_NE(code, 0) << text;  // mpiexec's own code for a rank that ended with 130
+    }
+    EXPECT_NE(text.find("stopped during the static solve (Newton iteration"), std::string::npos) << text;
+    EXPECT_FALSE(fs::exists(out)) << "nothing is written before the time loop";
+  }
 }

@@ -1,5 +1,5 @@
 // Planar fast path through the traverse executable: the path each scene gets
-// (scheme.planar: auto), the output attribute and run summary that say so, planar against
+// (scheme.planar: auto), the output attribute that says so and the motion it allows, planar against
 // forced-3D output files on 1 and 2 ranks, and 'on' refused (exit 2, naming the key) for a
 // scene that is not planar.
 #include <gtest/gtest.h>
@@ -7,6 +7,7 @@
 
 #include <signal.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -39,6 +40,19 @@ std::string mpirun(int ranks) {
                                std::to_string(ranks) + " ";
 }
 
+// The largest |x| (the component along d1, the plane normal (1, 0, 0) of these scenes) of the
+// centreline r over every node and output step of a file: 0 on the planar path, where the
+// motion is in the plane by construction; the deep arch's lateral trigger moves it out of it.
+double largest_out_of_plane(const std::string& file) {
+  const Reader r(file);
+  double x = 0.0;
+  for (std::size_t step = 0; step < r.steps_written(); ++step) {
+    const std::vector<double> v = r.field("r", step);
+    for (std::size_t k = 0; k < v.size(); k += 3) x = std::max(x, std::abs(v[k]));
+  }
+  return x;
+}
+
 // The linear solver is named so that these tests do not depend on the default choice.
 std::string solver(int ranks) {
   return ranks == 1 ? " --set 'solver.Linear Solver=KLU2'" : " --set 'solver.Linear Solver=GMRES'";
@@ -55,13 +69,9 @@ TEST(PlanarCli, CablePlanarEquals3D) {
     ASSERT_EQ(ra.code, 0) << ra.out;
     const Result rb = run(mpirun(ranks), "run " + kCable + " -o " + b + common + " --set scheme.planar=off" + kFields);
     ASSERT_EQ(rb.code, 0) << rb.out;
-    EXPECT_NE(ra.out.find("path: planar (6 unknowns per node, plane normal (1, 0, 0) = d1); detected"),
-              std::string::npos)
-        << ra.out;
-    EXPECT_NE(ra.out.find("on the planar path"), std::string::npos) << ra.out;
     EXPECT_EQ(Reader(a).attribute("rod_path"), "planar");
     EXPECT_EQ(Reader(b).attribute("rod_path"), "3D");
-    EXPECT_EQ(Reader(b).attribute("rod_path_detail"), "3D (12 unknowns per node); scheme.planar: off");
+    EXPECT_EQ(largest_out_of_plane(a), 0.0);
     std::string why;
     const double diff = traverse::testing::max_file_difference(a, b, why);
     std::printf("  cable, %d rank(s): planar vs 3D output max |difference| %.2e (%s); %s\n", ranks, diff,
@@ -88,13 +98,15 @@ TEST(PlanarCli, ArchPaths) {
   EXPECT_LE(diff, 1e-10) << why;
 
   const std::string da = (d / "deep.h5").string();
-  const Result r3 = run("", "run " + kDeepArch + " -o " + da + " --set mesh.ds=0.05 --set time.end=10" + solver(1) + " -q");
+  const Result r3 = run("", "run " + kDeepArch + " -o " + da + " --set mesh.ds=0.05 --set time.end=10 --set output.fields=[r]" + solver(1) + " -q");
   ASSERT_EQ(r3.code, 0) << r3.out;
   const std::string detail = Reader(da).attribute("rod_path_detail");
-  std::printf("  deep arch: %s\n", detail.c_str());
+  const double lateral = largest_out_of_plane(da);
+  std::printf("  deep arch: %s; largest |x| of the centreline %.3e m\n", detail.c_str(), lateral);
   EXPECT_EQ(Reader(da).attribute("rod_path"), "3D");
-  EXPECT_NE(detail.find("not planar: about d1: point force 0 (3.8e-06, -3.8, 0) has a component"), std::string::npos)
-      << detail;
+  // The lateral trigger (a force component along d1) moves the arch out of its plane, which
+  // the planar path could not represent.
+  EXPECT_GT(lateral, 0.0);
 }
 
 // A killed planar run restarts on the planar path (the path is stored with the restart
@@ -124,8 +136,7 @@ TEST(PlanarCli, RestartKeepsThePath) {
     EXPECT_LT(kept, 51);
     if (mode.empty()) {
       EXPECT_EQ(diff, 0.0) << why;
-      EXPECT_EQ(detail, "planar (6 unknowns per node, plane normal (1, 0, 0) = d1); the path of the run being restarted "
-                        "(scheme.planar: auto)");
+      EXPECT_EQ(Reader(out).attribute("rod_path"), "planar");
     } else {
       EXPECT_LE(diff, 1e-10) << why;
       EXPECT_EQ(Reader(out).attribute("rod_path"), "3D");
@@ -163,8 +174,8 @@ TEST(PlanarCli, CoupledMassOnBothPathsAndRanks) {
   const std::string ref = (d / "planar.h5").string();
   const Result r0 = run("", "run " + scene + " -o " + ref + common);
   ASSERT_EQ(r0.code, 0) << r0.out;
-  EXPECT_NE(r0.out.find("path: planar (6 unknowns per node"), std::string::npos) << r0.out;
   EXPECT_EQ(Reader(ref).attribute("rod_path"), "planar");
+  EXPECT_EQ(largest_out_of_plane(ref), 0.0);
   const auto sigma = Reader(ref).probe("trolley_position").values;
   EXPECT_LT(sigma.front(), 0.5);
   EXPECT_GT(sigma.back(), 0.55);  // crossed into the second rank's nodes

@@ -88,13 +88,20 @@ def run_pvbatch(pvbatch, args, cwd=None, capture=False):
     ("bad X server connection": about 1 run in 5 here when each server took the lowest free
     number, right after an earlier server on that number stopped, and three times in a row in
     one full test run): then it is run again, on a new server on another number (XvfbDisplay
-    draws one at random), after a second's pause, up to 3 times."""
+    draws one at random), after a second's pause, up to 3 times. A retry that was needed is
+    recorded in the file TRAVERSE_TEST_NOTES names (set by ctest): scripts/setup.sh test prints
+    it after the tests, where CI shows it."""
     for attempt in range(3):
         with XvfbDisplay() as x:
             run = subprocess.run([pvbatch] + args, cwd=cwd, env=x.env, capture_output=True, text=True)
         if "bad X server connection" not in run.stderr:
             break
-        print(f"note: pvbatch could not connect to Xvfb ({x.env['DISPLAY']}), attempt {attempt + 1} of 3")
+        note = f"pvbatch {' '.join(os.path.basename(a) for a in args)}: could not connect to Xvfb " \
+               f"({x.env['DISPLAY']}), attempt {attempt + 1} of 3"
+        print("note: " + note)
+        if os.environ.get("TRAVERSE_TEST_NOTES"):
+            with open(os.environ["TRAVERSE_TEST_NOTES"], "a") as fh:
+                fh.write(note + "\n")
         time.sleep(1.0)
     if not capture:
         sys.stdout.write(run.stdout)

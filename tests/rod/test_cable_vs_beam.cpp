@@ -104,15 +104,22 @@ TEST(CableVsBeam, TheDifferenceIsTheRodsSecondOrderDiscretisationError) {
   const double o1 = std::log2(d[0] / d[1]), o2 = std::log2(d[1] / d[2]);
   std::cout << "  relative differences " << d[0] << ", " << d[1] << ", " << d[2] << ": orders " << o1 << ", " << o2
             << "\n";
+  EXPECT_NEAR(o1, 2.0, 0.3);
   EXPECT_NEAR(o2, 2.0, 0.3);
 }
 
 TEST(CableVsBeam, TheSceneLoadOfTwoNewtonsStaysCloseToTheBeam) {
   // The scene's F = 2 N with full gravity: deflections reach ~0.15 L, so the rod departs
-  // from the linear beam; measured and bounded here, reported in docs/rod.md.
-  const Histories h = run(2.0, 9.8, 0.5, 100, 20);
-  const double rel = max_diff(h) / max_abs(h.beam);
+  // from the linear beam (reported in docs/rod.md). The terms the linear beam drops are of
+  // first order in the slopes, themselves of the order of the deflection ratio max |w| / L:
+  // the relative difference stays below that ratio, and far above the small-load
+  // difference of the same discretisation (F = 0.02 N, g = 0.098: the rod's ds^2 error).
+  const Histories h = run(2.0, 9.8, 0.5, 100, 20), small = run(0.02, 0.098, 0.5, 100, 20);
+  const double rel = max_diff(h) / max_abs(h.beam), floor = max_diff(small) / max_abs(small.beam);
+  const double ratio = max_abs(h.beam) / 1.0;  // L = 1 m
   std::cout << "  F = 2 N, alpha = 0.5: max |y_rod - w_beam| / max |w_beam| = " << rel << " (max |w| = "
-            << max_abs(h.beam) << " m, max |y| = " << max_abs(h.rod) << " m)\n";
-  EXPECT_LT(rel, 0.15);
+            << max_abs(h.beam) << " m, max |y| = " << max_abs(h.rod) << " m); deflection ratio " << ratio
+            << ", small-load difference " << floor << "\n";
+  EXPECT_LT(rel, ratio);
+  EXPECT_GT(rel, 10.0 * floor);
 }

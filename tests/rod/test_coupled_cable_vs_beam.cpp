@@ -121,7 +121,12 @@ TEST(CoupledCableVsBeam, AgreementImprovesWithTheLoadsSmallness) {
   const double ow1 = std::log2(w[0] / w[1]), ow2 = std::log2(w[1] / w[2]);
   const double od1 = std::log2(d[0] / d[1]), od2 = std::log2(d[1] / d[2]);
   std::printf("orders in ds: midspan %.3f %.3f, dx %.3f %.3f\n", ow1, ow2, od1, od2);
-  EXPECT_GT(ow2, 1.2);
-  EXPECT_GT(od1, 1.5);
-  EXPECT_GT(od2, 1.5);
+  // dx, the mass's own motion, shows the rod's second order (within 0.15 at these three
+  // levels). The midspan history's largest difference converges more slowly at these
+  // resolutions (1.5 .. 1.6): above 1.4 it still rules out a first-order error (1.0), which
+  // a wrong coupling term (the load's kinematics to first order) would give.
+  EXPECT_NEAR(od1, 2.0, 0.15);
+  EXPECT_NEAR(od2, 2.0, 0.15);
+  EXPECT_GT(ow1, 1.4);
+  EXPECT_GT(ow2, 1.4);
 }

@@ -52,6 +52,11 @@ Probe run_forced(int N, double dt, double T, const AlphaParameters& alpha = {},
   return {mid(var::u + 1), mid(var::kappa), s.nodes[0].y(var::n + 1)};
 }
 
+// The shear force n2 at the clamped end is second order like the interior quantities, but a
+// boundary value (one-sided at the end node): its third-order term is larger at these
+// resolutions, so its observed order from three levels lies further from 2 (2.09 .. 2.17).
+constexpr double kEndForceOrderTolerance = 0.25;
+
 double order(double a, double b, double c) { return std::log2(std::abs(a - b) / std::abs(b - c)); }
 
 TEST(RodDynamics, SecondOrderInSpaceAtDefaultParameters) {
@@ -70,6 +75,7 @@ TEST(RodDynamics, SecondOrderInSpaceAtDefaultParameters) {
   std::printf("observed order in ds: u2 %.3f, kappa1 %.3f, n2(0) %.3f\n", pu, pk, pn);
   EXPECT_NEAR(pu, 2.0, 0.1);
   EXPECT_NEAR(pk, 2.0, 0.1);
+  EXPECT_NEAR(pn, 2.0, kEndForceOrderTolerance);
 }
 
 TEST(RodDynamics, SecondOrderInTimeAtDefaultParameters) {
@@ -88,6 +94,7 @@ TEST(RodDynamics, SecondOrderInTimeAtDefaultParameters) {
   std::printf("observed order in dt: u2 %.3f, kappa1 %.3f, n2(0) %.3f\n", pu, pk, pn);
   EXPECT_NEAR(pu, 2.0, 0.1);
   EXPECT_NEAR(pk, 2.0, 0.1);
+  EXPECT_NEAR(pn, 2.0, kEndForceOrderTolerance);
 }
 
 
@@ -158,6 +165,7 @@ TEST(RodDynamics, TimeOrderForRhoInfBelowOne) {
               "kappa1 %.3f, n2(0) %.3f\n", pu, pk, pn);
   EXPECT_NEAR(pu, 2.0, 0.15);
   EXPECT_NEAR(pk, 2.0, 0.15);
+  EXPECT_NEAR(pn, 2.0, kEndForceOrderTolerance);
 }
 
 TEST(RodDynamics, SpaceOrderWithCarriedSpatialHistory) {

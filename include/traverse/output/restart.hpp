@@ -41,7 +41,8 @@ std::string move_aside_for_restart(const std::string& path, MPI_Comm comm);
 void remove_restart_source(const std::string& path, MPI_Comm comm);
 
 /// Rank 0 rewrites the root attribute `status` of the closed file `path` (HDF5 C API);
-/// collective (barrier before and after). Errors are reported on stderr, never thrown.
+/// collective (barrier before and after). Errors are reported on stderr, never thrown. An
+/// empty `path` (a run stopped before it opened its output) does nothing.
 void set_file_status(const std::string& path, const std::string& status, MPI_Comm comm);
 
 /// One restart point as read back (full state on every rank).

@@ -87,6 +87,9 @@ class Writer {
   /// are written).
   void write_events(const std::vector<RunEvent>& events);
 
+  /// Sets the root string attribute `name` (collective: every rank passes the same value).
+  void set_attribute(const std::string& name, const std::string& value);
+
   /// Flushes the kept steps, writes the sidecar, sets status "complete" and flushes. The file
   /// stays open until destruction.
   void finish();

@@ -157,6 +157,9 @@ struct MovingLoadSpec {
   /// Position [m] at time t >= entry_time (also beyond the ends).
   double position(double t) const;
   double velocity(double t) const;  ///< signed [m/s]
+  /// The largest speed [m/s] while on a structure of length L, up to t_end (t_end < 0: until
+  /// it leaves): at entry, or where it leaves (or at t_end) when it accelerates.
+  double fastest_speed(double length, double t_end) const;
   /// Time at which the load (its trailing axle) reaches the far end of a structure of length L, or +inf.
   double exit_time(double length) const;
   /// Time at which the load has travelled the distance d >= 0 from `start` along its
@@ -259,6 +262,8 @@ struct OutputSpec {
   std::string file;  ///< HDF5 output path
   int every = 1;     ///< write every this many steps (plus the first and the last state)
   double restart_interval = 60.0;  ///< wall seconds between rod restart points (0: every output step)
+  double flush_interval = 1.0;     ///< wall seconds between flushes of the output file (0: every output step)
+  double progress_interval = 1.0;  ///< wall seconds between progress reports (0: every time step)
   std::vector<OutputProbeSpec> probes;
   std::vector<Field> fields;
 };

@@ -59,6 +59,11 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
+// The smoke runs' own checks (a failed check: exit 1): the floor's residual and the agreement
+// of the planar and the 3D path's final states (max |dy|, |dR|, gt dt |dyt|).
+constexpr double kFloorResidual = 1e-9;
+constexpr double kPathAgreement = 1e-8;
+
 constexpr double kV1 = 7.2684;  // first-resonance speed of the hanging cable [m/s]
 constexpr double kAlpha = 0.5;
 
@@ -418,7 +423,19 @@ int cost(int argc, char** argv) {
                  std::to_string(lin_setup) + "," + std::to_string(newton ? double(linear) / newton : 0.0) + "," +
                  std::to_string(kb_sum) + "," + std::to_string(kb_sum / nodes) + "," + std::to_string(setup) + "," +
                  std::to_string(sc.static_seconds) + "," + std::to_string(mean_step) + "," + std::to_string(kb_max));
-  return 0;
+  // The run's own checks: every step converged (a failed step throws) with Newton iterations,
+  // and the floor solved its system (max |A x - b| at rounding of its O(1) entries).
+  bool ok = true;
+  if (!(floor_res <= kFloorResidual) && root()) {
+    std::fprintf(stderr, "bench_rod cost: the floor's residual max |A x - b| = %.3e exceeds %.0e\n", floor_res,
+                 kFloorResidual);
+    ok = false;
+  }
+  if (newton < steps) {
+    std::fprintf(stderr, "bench_rod cost: %ld Newton iterations in %d steps\n", newton, steps);
+    ok = false;
+  }
+  return ok ? 0 : 1;
 }
 
 int planar(int argc, char** argv) {
@@ -529,6 +546,14 @@ int planar(int argc, char** argv) {
                 "the median s/Newton)\n# speed-up 3D / planar: run time %.2fx, per Newton iteration %.2fx\n"
                 "# final states differ by max|dy| %.2e, max|dR| %.2e, max gt dt |dyt| %.2e\n",
                 run[0] / run[1], per_newton[0] / per_newton[1], dy, dR, dyt);
+  // The run's own check: both paths solve the same planar problem, so their final states
+  // agree to the Newton tolerance's level, far below the motion (the cable moves ~0.1 m).
+  if (!(std::max({dy, dR, dyt}) <= kPathAgreement)) {
+    if (root())
+      std::fprintf(stderr, "bench_rod planar: the paths' final states differ by %.3e > %.0e\n",
+                   std::max({dy, dR, dyt}), kPathAgreement);
+    return 1;
+  }
   return 0;
 }
 
