@@ -78,11 +78,13 @@ def copy_sources(repo, dest):
 
 
 def failed_tests(output):
-    """The names ctest lists as failed."""
+    """The names ctest lists as failed, each with the GoogleTest cases that failed in it."""
     tail = output.split("The following tests FAILED:", 1)
     if len(tail) < 2:
         return []
-    return re.findall(r"^\s*\d+ - (\S+)", tail[1], re.M)
+    cases = sorted(set(re.findall(r"^\S*\[  FAILED  \]\S* (\w+\.\w+)", output, re.M)))
+    names = re.findall(r"^\s*\d+ - (\S+)", tail[1], re.M)
+    return names + ([f"({', '.join(cases)})"] if cases else [])
 
 
 def check_fault(fault, src, build, jobs, log):

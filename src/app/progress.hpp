@@ -1,8 +1,8 @@
 #pragma once
 // Progress on stderr: position, steps per second and estimated time left, at most once per
-// interval (output.progress_interval, default 1 s; 0: at every update), only where enabled (a terminal, or --progress) and never with -q. On a terminal
-// the line is rewritten in place; elsewhere (a log file, a pipe) every report is its own
-// line. Rate and time left come from the last 10 s of the run, not from its start.
+// interval (output.progress_interval, default 1 s; 0: at every update), only where enabled
+// (a terminal, or --progress) and never with -q. On a terminal the line is rewritten in
+// place; elsewhere (a log file, a pipe) every report is its own line. Rate and time left come from the last 10 s of the run, not from its start.
 #include <chrono>
 #include <deque>
 #include <string>

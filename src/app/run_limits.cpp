@@ -573,7 +573,9 @@ void check_beam_static_deflection(const scene::Scene& sc) {
   uniform_load_coefficients(b.supports, cw, cs);
   const double w = cw * q * std::pow(L, 4) / EI, slope = cs * q * std::pow(L, 3) / EI;
   if (w <= kMaxBeamDeflectionRatio * L && slope <= kMaxBeamSlope) return;
-  scene::fail_at(sc, deciding_key(sc, {"beam.youngs_modulus", "beam.section", "beam.density", "gravity", "beam.length"}),
+  const std::vector<std::string> keys = {"beam.youngs_modulus", "beam.section", "beam.density", "gravity",
+                                         "beam.length"};
+  scene::fail_at(sc, deciding_key(sc, keys),
                  "a beam whose static deflection under its own weight stays in the small-deflection range of the "
                  "beam model, |w| <= L / 10 = " + fmt(kMaxBeamDeflectionRatio * L) +
                      " m and |w_x| <= 0.2 (docs/beam.md \"Validity\"; is beam.youngs_modulus in Pa?)",

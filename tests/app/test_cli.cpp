@@ -525,7 +525,8 @@ TEST(Cli, BeamBeyondSmallDeflectionsIsRefusedBeforeTheRun) {
   const fs::path d = scratch("validity-static");
   const std::string out = (d / "gpa.h5").string();
   const std::string gpa = " --set beam.youngs_modulus=210 --set beam.length=20";
-  for (const std::string& cmd : {"run " + kScene.string() + " -o " + out + kFast + gpa, "check " + kScene.string() + gpa}) {
+  for (const std::string& cmd :
+       {"run " + kScene.string() + " -o " + out + kFast + gpa, "check " + kScene.string() + gpa}) {
     const auto r = run(cmd);
     EXPECT_EQ(r.code, 2) << r.out;
     EXPECT_NE(r.out.find("beam.youngs_modulus: expected a beam whose static deflection"), std::string::npos) << r.out;

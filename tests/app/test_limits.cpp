@@ -70,7 +70,8 @@ int expected_exit(const CaseNumbers& c) {
     const double last = t_last > c.entry ? std::abs(c.v + c.a * (t_last - c.entry)) : 0.0;
     const double v_max = c.beam ? std::max(c.v, at_exit) : std::max(c.v, last);
     if (c.beam) {
-      const double ro = 0.1, ri = 0.05, A = M_PI * (ro * ro - ri * ri), I = M_PI / 4 * (std::pow(ro, 4) - std::pow(ri, 4));
+      const double ro = 0.1, ri = 0.05, A = M_PI * (ro * ro - ri * ri);
+      const double I = M_PI / 4 * (std::pow(ro, 4) - std::pow(ri, 4));
       const double beta2 = 4.694091132974174;  // second root of 1 + cos x cosh x = 0
       const double omega2 = beta2 * beta2 * std::sqrt(2.0e11 * I / (7850.0 * A * std::pow(L, 4)));
       dt = std::min(2.0 * M_PI / omega2 / 20.0, v_max > 0.0 ? ds / v_max : INFINITY);

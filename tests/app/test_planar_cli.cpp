@@ -98,7 +98,8 @@ TEST(PlanarCli, ArchPaths) {
   EXPECT_LE(diff, 1e-10) << why;
 
   const std::string da = (d / "deep.h5").string();
-  const Result r3 = run("", "run " + kDeepArch + " -o " + da + " --set mesh.ds=0.05 --set time.end=10 --set output.fields=[r]" + solver(1) + " -q");
+  const Result r3 = run("", "run " + kDeepArch + " -o " + da +
+                                " --set mesh.ds=0.05 --set time.end=10 --set output.fields=[r]" + solver(1) + " -q");
   ASSERT_EQ(r3.code, 0) << r3.out;
   const std::string detail = Reader(da).attribute("rod_path_detail");
   const double lateral = largest_out_of_plane(da);
