@@ -395,6 +395,26 @@ Param adaptive_section() {
   return a;
 }
 
+// beam.damping (docs/beam.md "Structural damping").
+Param damping_section() {
+  Param damping = section("damping", "Structural damping in the beam's modes (default none): ratio (every mode), "
+                                     "ratios (one per mode), or Rayleigh mass and/or stiffness coefficients");
+  damping.only_if_given();
+  damping.add(real("ratio", "Damping ratio zeta of every mode", "").non_negative().below(1.0));
+  damping.add(real_list("ratios", "Damping ratio zeta_i of each mode (as many as beam.modes)", "").non_negative().below(1.0));
+  damping.add(real("mass", "Rayleigh coefficient a of C = a M + b K (zeta_i = a / (2 omega_i) + b omega_i / 2)", "1/s")
+                  .non_negative());
+  damping.add(real("stiffness", "Rayleigh coefficient b of C = a M + b K", "s").non_negative());
+  damping.check([](const ParameterList& s, const CheckContext& ctx) {
+    const int given = int(s.isParameter("ratio")) + int(s.isParameter("ratios")) +
+                      int(s.isParameter("mass") || s.isParameter("stiffness"));
+    if (given != 1)
+      ctx.fail(s.isParameter("ratios") ? "ratios" : "", "exactly one of 'ratio', 'ratios' and the Rayleigh "
+               "coefficients 'mass' / 'stiffness'", given == 0 ? "none" : std::to_string(given) + " of them");
+  });
+  return damping;
+}
+
 const std::vector<std::string> kBeamFields = {"deflection", "slope", "bending_moment"};
 const std::vector<std::string> kRodFields = {"u", "omega", "kappa", "n", "m", "r", "R"};
 
@@ -419,22 +439,7 @@ Param build_schema() {
                                   "beam's static equilibrium under its weight (the deck's sag cambered out, the "
                                   "usual convention of bridge dynamics: a vehicle then enters on a level deck)")
                .def("true"));
-  Param damping = section("damping", "Structural damping in the beam's modes (default none): ratio (every mode), "
-                                     "ratios (one per mode), or Rayleigh mass and/or stiffness coefficients");
-  damping.only_if_given();
-  damping.add(real("ratio", "Damping ratio zeta of every mode", "").non_negative().below(1.0));
-  damping.add(real_list("ratios", "Damping ratio zeta_i of each mode (as many as beam.modes)", "").non_negative().below(1.0));
-  damping.add(real("mass", "Rayleigh coefficient a of C = a M + b K (zeta_i = a / (2 omega_i) + b omega_i / 2)", "1/s")
-                  .non_negative());
-  damping.add(real("stiffness", "Rayleigh coefficient b of C = a M + b K", "s").non_negative());
-  damping.check([](const ParameterList& s, const CheckContext& ctx) {
-    const int given = int(s.isParameter("ratio")) + int(s.isParameter("ratios")) +
-                      int(s.isParameter("mass") || s.isParameter("stiffness"));
-    if (given != 1)
-      ctx.fail(s.isParameter("ratios") ? "ratios" : "", "exactly one of 'ratio', 'ratios' and the Rayleigh "
-               "coefficients 'mass' / 'stiffness'", given == 0 ? "none" : std::to_string(given) + " of them");
-  });
-  beam.add(damping);
+  beam.add(damping_section());
   beam.check([](const ParameterList& s, const CheckContext& ctx) {
     if (!s.isSublist("damping") || !s.sublist("damping").isParameter("ratios")) return;
     const std::size_t k = s.sublist("damping").get<std::vector<double>>("ratios").size();
