@@ -1,9 +1,6 @@
 // traverse: parse the command line, read the scene, dispatch, report.
 #include <mpi.h>
 
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -13,7 +10,6 @@
 #include "restart.hpp"
 #include "run.hpp"
 #include "sweep.hpp"
-#include "solver_access.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/output/sidecar.hpp"
 #include "traverse/scene/scene.hpp"
