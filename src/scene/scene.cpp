@@ -698,6 +698,15 @@ SectionSpec build_section(const ParameterList& s) {
   return out;
 }
 
+// The kinematics every moving load shares: speed, acceleration, entry end, start and entry time.
+void read_kinematics(const ParameterList& l, double length, MovingLoadSpec& m) {
+  m.speed = l.get<double>("speed");
+  m.acceleration = l.get<double>("acceleration");
+  m.entry = enum_of<Entry>(l.get<std::string>("entry"));
+  m.start = l.isParameter("start") ? l.get<double>("start") : (m.entry == Entry::left ? 0.0 : length);
+  m.entry_time = l.get<double>("entry_time");
+}
+
 MovingLoadSpec build_coupled_mass(const std::string& name, const ParameterList& l, double g) {
   MovingLoadSpec m;
   m.name = name;
@@ -774,11 +783,7 @@ MovingLoadSpec build_load(const std::string& name, const ParameterList& l, doubl
   if (m.type == LoadType::coupled_mass) return build_coupled_mass(name, l, g);
   if (m.type == LoadType::sprung_mass || m.type == LoadType::vehicle || m.type == LoadType::axle_train) {
     read_vehicle(l, m, g);
-    m.speed = l.get<double>("speed");
-    m.acceleration = l.get<double>("acceleration");
-    m.entry = enum_of<Entry>(l.get<std::string>("entry"));
-    m.start = l.isParameter("start") ? l.get<double>("start") : (m.entry == Entry::left ? 0.0 : length);
-    m.entry_time = l.get<double>("entry_time");
+    read_kinematics(l, length, m);
     return m;
   }
   m.inertia = m.type == LoadType::moving_mass;
@@ -791,11 +796,7 @@ MovingLoadSpec build_load(const std::string& name, const ParameterList& l, doubl
   else if (l.isParameter("force_vector")) m.force = vec3_of(l, "force_vector");
   else m.force = Vec3(0.0, -m.mass * g, 0.0);
   if (!m.inertia && !l.isParameter("mass") && !l.isParameter("mass_fraction")) m.mass = 0.0;
-  m.speed = l.get<double>("speed");
-  m.acceleration = l.get<double>("acceleration");
-  m.entry = enum_of<Entry>(l.get<std::string>("entry"));
-  m.start = l.isParameter("start") ? l.get<double>("start") : (m.entry == Entry::left ? 0.0 : length);
-  m.entry_time = l.get<double>("entry_time");
+  read_kinematics(l, length, m);
   return m;
 }
 
