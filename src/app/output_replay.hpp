@@ -11,6 +11,7 @@
 
 #include "run.hpp"
 #include "traverse/output/reader.hpp"
+#include "traverse/output/writer.hpp"
 
 namespace traverse::app {
 
@@ -26,6 +27,16 @@ class OutputReplay {
   /// After each written output step / at the end: removes the source once it is replaced.
   void written(std::size_t steps, MPI_Comm comm) const;
   void finished(std::size_t steps, MPI_Comm comm) const;
+  /// Writes output step `written` of `outputs` (evaluated: probes(), write(w, t)) at time t,
+  /// checked against the file while it replays a kept step, and counts it.
+  template <class Outputs>
+  void write(Outputs& outputs, output::Writer& w, double t, long& written, MPI_Comm comm) const {
+    const auto o = static_cast<std::size_t>(written);
+    if (o < kept()) check(o, t, outputs.probes());
+    outputs.write(w, t);
+    ++written;
+    this->written(static_cast<std::size_t>(written), comm);
+  }
 
  private:
   const RunOptions& opt_;

@@ -1,13 +1,14 @@
 // A beam run in stages: the problem (beam_problem), the outputs (BeamOutputs), the restart
-// replay check (OutputReplay), the observer of each output step (BeamObserver), the report.
+// replay check (OutputReplay), what each output step writes (BeamRecord), the time
+// integrator's run with the run's observer (RunObserver), the report.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
 
-#include "interrupt.hpp"
 #include "progress.hpp"
+#include "run_observer.hpp"
 #include "beam_fields.hpp"
 #include "output_replay.hpp"
 #include "run.hpp"
@@ -164,42 +165,41 @@ void BeamOutputs::write(output::Writer& w, double t) const {
 }
 
 /// What a beam run does at each output step: check the state, evaluate and write the
-/// outputs (checked against the file on a restart), keep the restart arrays, stop on a signal.
-class BeamObserver {
+/// outputs (checked against the file on a restart), keep the restart arrays.
+class BeamRecord {
  public:
-  BeamObserver(const scene::Scene& sc, const beam::BeamProblem& p, const beam::BeamSimulation& sim, BeamOutputs& out,
-               const OutputReplay& replay, output::Writer& w, Progress& progress, const RunOptions& opt, MPI_Comm comm)
-      : sc_(sc), p_(p), sim_(sim), out_(out), replay_(replay), w_(w), progress_(progress), opt_(opt), comm_(comm) {}
-  void operator()(const beam::BeamSnapshot& s);
+  BeamRecord(const scene::Scene& sc, const beam::BeamProblem& p, beam::BeamSimulation& sim, BeamOutputs& out,
+             const OutputReplay& replay, output::Writer& w, MPI_Comm comm)
+      : sc_(sc), p_(p), sim_(sim), out_(out), replay_(replay), w_(w), comm_(comm) {}
+  void write();
   long outputs() const { return outputs_; }
   /// /restart of a beam run: the modal state (Y then Y') and [t, steps taken, output steps]
-  /// of the last output step, written when the run stops (a restart re-integrates from t = 0
-  /// and needs only the output steps; these arrays document the state).
+  /// of the last output step (a restart re-integrates from t = 0 and needs only the output
+  /// steps; these arrays document the state).
   void store_restart();
 
  private:
   const scene::Scene& sc_;
   const beam::BeamProblem& p_;
-  const beam::BeamSimulation& sim_;
+  beam::BeamSimulation& sim_;
   BeamOutputs& out_;
   const OutputReplay& replay_;
   output::Writer& w_;
-  Progress& progress_;
-  const RunOptions& opt_;
   MPI_Comm comm_;
   const BeamDeflectionCheck deflection_check_{sc_};
   long outputs_ = 0;
   std::vector<double> restart_state_, restart_meta_;
 };
 
-void BeamObserver::store_restart() {
+void BeamRecord::store_restart() {
   if (restart_meta_.empty()) return;
   w_.write_restart(restart_meta_[0],
                    {{"modal_state", output::RestartDistribution::replicated, 1, output::DoubleView(restart_state_)},
                     {"meta", output::RestartDistribution::replicated, 1, output::DoubleView(restart_meta_)}});
 }
 
-void BeamObserver::operator()(const beam::BeamSnapshot& s) {
+void BeamRecord::write() {
+  const beam::BeamSnapshot s = sim_.snapshot();
   if (!s.Y.allFinite() || !s.Ydot.allFinite()) {
     std::ostringstream os;
     os << "beam solver: the modal state is not finite at t = " << s.t << " s (after " << sim_.steps_taken()
@@ -208,24 +208,12 @@ void BeamObserver::operator()(const beam::BeamSnapshot& s) {
     throw NumericsError(os.str());
   }
   out_.evaluate(s);
-  const auto o = static_cast<std::size_t>(outputs_);
-  if (o < replay_.kept()) replay_.check(o, s.t, out_.probes());
-  out_.write(w_, s.t);
-  ++outputs_;
+  replay_.write(out_, w_, s.t, outputs_, comm_);
   // After the write: the file keeps the state that left the model's range.
   if (const std::string why = deflection_check_.why(s.t, s); !why.empty()) throw NumericsError(why);
-  replay_.written(static_cast<std::size_t>(outputs_), comm_);
   restart_state_.assign(s.Y.data(), s.Y.data() + s.Y.size());
   restart_state_.insert(restart_state_.end(), s.Ydot.data(), s.Ydot.data() + s.Ydot.size());
   restart_meta_ = {s.t, static_cast<double>(sim_.steps_taken()), static_cast<double>(outputs_)};
-  if (p_.adaptive)
-    progress_.update(s.t, sim_.steps_taken(), sim_.proposed_dt(), sim_.adaptive_totals());
-  else
-    progress_.update(s.t, sim_.steps_taken());
-  if (s.t >= p_.t_end) return;
-  if (const int sig = interrupt_requested(comm_))
-    stop_interrupted_run(sig, s.t, "time step " + std::to_string(sim_.steps_taken()), w_, opt_.output, progress_,
-                         [&] { store_restart(); });
 }
 
 }  // namespace
@@ -254,34 +242,35 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   outputs.declare(writer);
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end,
                     opt.progress_interval);
-  BeamObserver observe(sc, p, sim, outputs, replay, writer, progress, opt, comm);
+  BeamRecord record(sc, p, sim, outputs, replay, writer, comm);
+  auto write = [&] {
+    try {
+      record.write();
+    } catch (const NumericsError& e) {  // a state the outputs refuse: the file keeps it
+      progress.done();
+      record.store_restart();
+      writer.fail(e.what());
+      throw;
+    }
+  };
+  RunObserver observer({write, [&](long) { record.store_restart(); }, [&] { return sim.time(); }, {}}, writer, opt,
+                       progress, comm);
+  time::TimeIntegrator integrator(sim.schedule(), sim, observer);
   const auto wall_start = std::chrono::steady_clock::now();
-  try {
-    sim.run([&](const beam::BeamSnapshot& s) { observe(s); });
-  } catch (const NumericsError& e) {
-    progress.done();
-    observe.store_restart();
-    writer.fail(e.what());
-    throw;
-  } catch (const beam::StepSizeUnderflow& e) {
-    progress.done();
-    observe.store_restart();
-    const std::string msg = std::string(e.what()) + "; try a larger time.adaptive.tolerance or dt_min";
-    writer.fail(msg);
-    throw NumericsError(msg);
-  }
+  write();
+  integrator.run();
   progress.done();
-  observe.store_restart();
-  if (p.adaptive) write_adaptive_totals(writer, sim.adaptive_totals());
+  record.store_restart();
+  if (p.adaptive) write_adaptive_totals(writer, integrator.totals());
   writer.finish();
-  replay.finished(static_cast<std::size_t>(observe.outputs()), comm);  // a shorter run
+  replay.finished(static_cast<std::size_t>(record.outputs()), comm);  // a shorter run
   if (rank == 0 && !opt.quiet)
     std::printf("beam scene '%s': %d modes, %ld steps of dt = %.4g s (%s) to t = %.6g s; %ld output steps -> %s; "
                 "time stepping %.3f s (wall, output included)\n",
                 sc.file.c_str(), sc.beam.modes, sim.steps_taken(), p.dt, scene::name_of(sc.beam.integrator).c_str(),
-                p.t_end, observe.outputs(), opt.output.c_str(),
+                p.t_end, record.outputs(), opt.output.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
-  if (rank == 0 && !opt.quiet && p.adaptive) std::printf("adaptive: %s\n", sim.adaptive_totals().summary().c_str());
+  if (rank == 0 && !opt.quiet && p.adaptive) std::printf("adaptive: %s\n", integrator.totals().summary().c_str());
 }
 
 }  // namespace traverse::app

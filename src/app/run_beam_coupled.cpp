@@ -8,8 +8,8 @@
 #include <sstream>
 
 #include "beam_fields.hpp"
-#include "interrupt.hpp"
 #include "progress.hpp"
+#include "run_observer.hpp"
 #include "run.hpp"
 #include "run_beam_coupled.hpp"
 #include "step_control.hpp"
@@ -162,56 +162,39 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end,
                     opt.progress_interval);
   long written = 0;
-  const auto wall_start = std::chrono::steady_clock::now();
   const std::string integrator = scene::name_of(sc.beam.integrator);
   const BeamDeflectionCheck deflection_check(sc);
-  auto observe = [&](const beam::CoupledMassBeam& s) {
-    if (!s.Y().allFinite() || !s.Ydot().allFinite() || !std::isfinite(s.position()) || !std::isfinite(s.speed())) {
-      std::ostringstream os;
-      os << "beam solver: the state of the beam and coupled mass '" << load.name << "' is not finite at t = " << s.time()
-         << " s (after " << s.steps_taken() << " steps of " << (p.adaptive ? "adaptive dt, first " : "dt = ") << p.dt
-         << " s with " << integrator << "); " << (p.adaptive ? "reduce time.adaptive.tolerance" : "reduce time.dt");
-      progress.done();
-      writer.fail(os.str());
-      throw NumericsError(os.str());
-    }
-    outputs.evaluate(s);
-    const auto o = static_cast<std::size_t>(written);
-    if (o < replay.kept()) replay.check(o, s.time(), outputs.probes());
-    outputs.write(writer, s.time());
-    ++written;
-    replay.written(static_cast<std::size_t>(written), comm);
-    if (const std::string why = deflection_check.why(s.time(), s); !why.empty()) {
-      progress.done();
-      writer.fail(why);
-      throw NumericsError(why);
-    }
-    if (p.adaptive)
-      progress.update(s.time(), s.steps_taken(), s.proposed_dt(), s.adaptive_totals());
-    else
-      progress.update(s.time(), s.steps_taken());
-    if (s.time() >= p.t_end || s.end_reason() != beam::CoupledEnd::EndTime) return;
-    if (const int sig = interrupt_requested(comm))
-      stop_interrupted_run(sig, s.time(), "time step " + std::to_string(s.steps_taken()), writer, opt.output, progress);
-  };
-  try {
-    sim.run(observe);
-  } catch (const std::runtime_error& e) {  // the Newmark iteration, dt_min (NumericsError, Interrupted pass)
-    if (dynamic_cast<const NumericsError*>(&e) || dynamic_cast<const Interrupted*>(&e)) throw;
+  auto fail = [&](const std::string& why) {  // a state the outputs refuse: the file keeps it
     progress.done();
-    const std::string msg = dynamic_cast<const beam::StepSizeUnderflow*>(&e)
-                                ? std::string(e.what()) + "; try a larger time.adaptive.tolerance or dt_min"
-                                : std::string(e.what());
-    writer.fail(msg);
-    throw NumericsError(msg);
-  }
+    writer.fail(why);
+    throw NumericsError(why);
+  };
+  auto write = [&] {
+    if (!sim.Y().allFinite() || !sim.Ydot().allFinite() || !std::isfinite(sim.position()) ||
+        !std::isfinite(sim.speed())) {
+      std::ostringstream os;
+      os << "beam solver: the state of the beam and coupled mass '" << load.name << "' is not finite at t = "
+         << sim.time() << " s (after " << sim.steps_taken() << " steps of "
+         << (p.adaptive ? "adaptive dt, first " : "dt = ") << p.dt << " s with " << integrator << "); "
+         << (p.adaptive ? "reduce time.adaptive.tolerance" : "reduce time.dt");
+      fail(os.str());
+    }
+    outputs.evaluate(sim);
+    replay.write(outputs, writer, sim.time(), written, comm);
+    if (const std::string why = deflection_check.why(sim.time(), sim); !why.empty()) fail(why);
+  };
+  RunObserver observer({write, [](long) {}, [&] { return sim.time(); }, {}}, writer, opt, progress, comm);
+  time::TimeIntegrator steps(sim.schedule(), sim, observer);
+  const auto wall_start = std::chrono::steady_clock::now();
+  write();
+  steps.run();  // stuck at the start: no step
   progress.done();
   std::vector<output::RunEvent> events;
   const bool event = sim.end_reason() != beam::CoupledEnd::EndTime;
   if (event) events.push_back({sim.time(), sim.position(), load.name, beam::coupled_end_name(sim.end_reason())});
   add_time_limit_event(sc, events, sim.time(), sim.position(), opt.quiet || rank != 0);
   writer.write_events(events);
-  if (p.adaptive) write_adaptive_totals(writer, sim.adaptive_totals());
+  if (p.adaptive) write_adaptive_totals(writer, steps.totals());
   writer.finish();
   replay.finished(static_cast<std::size_t>(written), comm);
   if (rank == 0 && !opt.quiet) {
@@ -224,7 +207,7 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
     std::printf("; %ld output steps -> %s; time stepping %.3f s (wall, output included)\n", written, opt.output.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count());
   }
-  if (rank == 0 && !opt.quiet && p.adaptive) std::printf("adaptive: %s\n", sim.adaptive_totals().summary().c_str());
+  if (rank == 0 && !opt.quiet && p.adaptive) std::printf("adaptive: %s\n", steps.totals().summary().c_str());
 }
 
 }  // namespace traverse::app

@@ -8,9 +8,9 @@
 #include <sstream>
 
 #include "beam_fields.hpp"
-#include "interrupt.hpp"
 #include "output_replay.hpp"
 #include "progress.hpp"
+#include "run_observer.hpp"
 #include "run_beam_vehicles.hpp"
 #include "traverse/beam/vehicle_beam.hpp"
 #include "traverse/core/comm.hpp"
@@ -135,30 +135,25 @@ void run_beam_vehicles(const scene::Scene& sc, const beam::BeamProblem& problem,
   outputs.declare(writer);
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end);
   long written = 0;
-  const auto wall_start = std::chrono::steady_clock::now();
   const std::string integrator = scene::name_of(sc.beam.integrator);
-  auto observe = [&](const beam::VehicleBeam& s) {
-    if (!s.Y().allFinite() || !s.Ydot().allFinite() || !std::isfinite(s.body_displacement(0))) {
+  auto write = [&] {
+    if (!sim.Y().allFinite() || !sim.Ydot().allFinite() || !std::isfinite(sim.body_displacement(0))) {
       std::ostringstream os;
-      os << "beam solver: the state of the beam and its vehicles is not finite at t = " << s.time() << " s (after "
-         << s.steps_taken() << " steps of dt = " << p.dt << " s with " << integrator
+      os << "beam solver: the state of the beam and its vehicles is not finite at t = " << sim.time() << " s (after "
+         << sim.steps_taken() << " steps of dt = " << p.dt << " s with " << integrator
          << "); reduce time.dt or use beam.integrator: newmark";
       progress.done();
       writer.fail(os.str());
       throw NumericsError(os.str());
     }
-    outputs.evaluate(s);
-    const auto o = static_cast<std::size_t>(written);
-    if (o < replay.kept()) replay.check(o, s.time(), outputs.probes());
-    outputs.write(writer, s.time());
-    ++written;
-    replay.written(static_cast<std::size_t>(written), comm);
-    progress.update(s.time(), s.steps_taken());
-    if (s.time() >= p.t_end || s.end_reason() != beam::VehicleEnd::EndTime) return;
-    if (const int sig = interrupt_requested(comm))
-      stop_interrupted_run(sig, s.time(), "time step " + std::to_string(s.steps_taken()), writer, opt.output, progress);
+    outputs.evaluate(sim);
+    replay.write(outputs, writer, sim.time(), written, comm);
   };
-  sim.run(observe);
+  RunObserver observer({write, [](long) {}, [&] { return sim.time(); }, {}}, writer, opt, progress, comm);
+  time::TimeIntegrator steps(sim.schedule(), sim, observer);
+  const auto wall_start = std::chrono::steady_clock::now();
+  write();
+  steps.run();
   progress.done();
   std::vector<output::RunEvent> events;
   const bool lift_off = sim.end_reason() == beam::VehicleEnd::LiftOff;

@@ -1,12 +1,14 @@
 // A dynamic rod run in stages (docs/developer.md, "Module map"):
 //   model (rod_setup: build_rod_model) -> initial state (rod_setup: initial_state, each rank
-//   its piece) -> stepper and path -> output plan (RodOutputs) -> time loop (RodTimeLoop) ->
+//   its piece) -> stepper and path -> output plan (RodOutputs) -> the time integrator with the
+//   rod as its model (solver::RodTimeModel) and the run's observer (RunObserver) ->
 //   report.
 // Each stage is a function or a class of its own; run_rod only strings them together.
 #include <mpi.h>
 
 #include <algorithm>
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -16,6 +18,8 @@
 #include "interrupt.hpp"
 #include "progress.hpp"
 #include "rod_adaptive.hpp"
+#include "run_observer.hpp"
+#include "step_control.hpp"
 #include "rod_quantities.hpp"
 #include "restart.hpp"
 #include "rod_setup.hpp"
@@ -26,6 +30,8 @@
 #include "run_rod_coupled.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/solver/rod_stepper.hpp"
+#include "traverse/solver/rod_time_model.hpp"
+#include "traverse/time/time_integrator.hpp"
 #include "traverse/core/comm.hpp"
 #include "traverse/version.hpp"
 #include "solver_access.hpp"
@@ -33,13 +39,6 @@
 namespace traverse::app {
 
 namespace {
-
-/// The adaptive estimate's quantities of this rank's owned nodes, now.
-std::vector<rod::NodeLevel> owned_levels(const solver::RodStepper& st) {
-  std::vector<rod::NodeLevel> y(static_cast<size_t>(st.num_owned_nodes()));
-  for (int k = 0; k < st.num_owned_nodes(); ++k) y[static_cast<size_t>(k)] = rod::node_level(st.owned_node(k));
-  return y;
-}
 
 /// A load that crosses more than one cell per time step is resolved by the space grid but
 /// not in time: the run goes on (it converges as dt falls), with a warning naming the keys.
@@ -55,36 +54,6 @@ void warn_under_resolved_loads(const scene::Scene& sc, const TimeGrid& g) {
                    sc.file.c_str(), g.dt, l.name.c_str(), v, g.dt * v / ds, ds);
   }
 }
-
-/// The position of the rod's left end: fixed for ends that hold it, else integrated in time
-/// from its velocity R^T u (trapezoidal, second order).
-class LeftEnd {
- public:
-  LeftEnd(const solver::RodStepper& st, bool moves, const Vec3& r0, MPI_Comm comm)
-      : st_(st), moves_(moves), r0_(r0), comm_(comm) {}
-  const Vec3& position() const { return r0_; }
-  void set_position(const Vec3& r) { r0_ = r; }
-  /// Call before a step of length h, then after_step(h).
-  void before_step() { v_old_ = moves_ ? velocity() : Vec3::Zero(); }
-  void after_step(double h) {
-    if (moves_) r0_ = rod::trapezoidal_step(r0_, v_old_, velocity(), h);
-  }
-
- private:
-  Vec3 velocity() const {  // R^T u at node 0, broadcast from its owner
-    Vec3 v = Vec3::Zero();
-    int root = 0;
-    if (st_.first_owned_node() == 0) v = rod::fixed_velocity(st_.owned_node(0));
-    const int owner = st_.first_owned_node() == 0 ? par::rank(comm_) : 0;
-    par::allreduce(&owner, &root, 1, MPI_INT, MPI_MAX, comm_);
-    par::bcast(v.data(), 3, MPI_DOUBLE, root, comm_);
-    return v;
-  }
-  const solver::RodStepper& st_;
-  bool moves_;
-  Vec3 r0_, v_old_ = Vec3::Zero();
-  MPI_Comm comm_;
-};
 
 /// The outputs of a rod run: the scene's probes and fields plus each load's position,
 /// declared in the output file and evaluated at an output step.
@@ -244,7 +213,7 @@ void RodOutputs::write(output::Writer& w, double t, const Vec3& r0) {
 /// Values per node of a rod run's restart point: the node, and with time.adaptive the
 /// controller's two earlier levels.
 std::size_t restart_components(const scene::Scene& sc) {
-  return rod::kPackedNodeValues + (sc.time.adaptive.enabled ? RodAdaptiveControl::kPerNode : 0);
+  return rod::kPackedNodeValues + (sc.time.adaptive.enabled ? solver::RodErrorEstimate::kPerNode : 0);
 }
 
 /// Restart points of a rod run (docs/reliability.md): the state, the time, the step index
@@ -252,12 +221,14 @@ std::size_t restart_components(const scene::Scene& sc) {
 /// time.adaptive the controller's scalars).
 class RodRestartPoints {
  public:
-  RodRestartPoints(const solver::RodStepper& st, output::Writer& w, double dt, bool planar, double interval,
-                   const RodAdaptiveControl* adaptive, MPI_Comm comm)
-      : st_(st), w_(w), dt_(dt), planar_(planar), interval_(interval), adaptive_(adaptive), comm_(comm),
-        components_(rod::kPackedNodeValues + (adaptive ? RodAdaptiveControl::kPerNode : 0)),
+  RodRestartPoints(const solver::RodStepper& st, output::Writer& w, double dt, bool planar,
+                   const solver::RodErrorEstimate* adaptive, MPI_Comm comm)
+      : st_(st), w_(w), dt_(dt), planar_(planar), adaptive_(adaptive),
+        components_(rod::kPackedNodeValues + (adaptive ? solver::RodErrorEstimate::kPerNode : 0)),
         slots_(comm, components_, static_cast<std::size_t>(st.first_owned_node())),
-        packed_(components_ * static_cast<std::size_t>(st.num_owned_nodes())), last_(std::chrono::steady_clock::now()) {}
+        packed_(components_ * static_cast<std::size_t>(st.num_owned_nodes())) {}
+  /// The controller whose state an adaptive run's points keep.
+  const time::TimeIntegrator* integrator = nullptr;
   /// Stores the point of time step i (once per step).
   void store(long i, const Vec3& r0) {
     if (i == stored_at_) return;
@@ -268,27 +239,21 @@ class RodRestartPoints {
     }
     std::vector<double> extra = {r0.x(), r0.y(), r0.z(), dt_, planar_ ? 1.0 : 0.0};
     if (adaptive_)
-      for (const double v : adaptive_->pack_scalars()) extra.push_back(v);
+      for (const double v : adaptive_->pack_scalars(integrator->controller_state())) extra.push_back(v);
     slots_.write(w_, st_.time(), i, extra, packed_);
     stored_at_ = i;
-    last_ = std::chrono::steady_clock::now();
   }
-  /// Whether the restart interval has passed since the last point (rank 0's clock decides).
-  bool due() const { return restart_due(last_, interval_, comm_); }
 
  private:
   const solver::RodStepper& st_;
   output::Writer& w_;
   double dt_;
   bool planar_;
-  double interval_;
-  const RodAdaptiveControl* adaptive_;
-  MPI_Comm comm_;
+  const solver::RodErrorEstimate* adaptive_;
   std::size_t components_;
   output::RestartSlots slots_;
   std::vector<double> packed_;
   long stored_at_ = -1;
-  std::chrono::steady_clock::time_point last_;
 };
 
 /// ", N solves retried from the other initial guess" (solver key 'Initial Guess: auto'), or "".
@@ -297,308 +262,40 @@ std::string retries_note(long retries) {
   return ", " + std::to_string(retries) + (retries == 1 ? " solve" : " solves") + " retried from the other initial guess";
 }
 
-/// Counters of the time loop, for the final report.
-struct LoopTotals {
-  long newton = 0, solves = 0;
-  long guess_retries = 0;  ///< solves that failed from the blended guess and were redone from the old level
-  long last_step = 0;  ///< index of the last time step taken
-  double seconds = 0.0;
-};
-
-/// What both time loops work on, and their common ends: a stop on a signal and the planar
-/// path's loss (each stores a restart point, sets the file's status and throws).
-struct RodLoopParts {
-  solver::RodStepper& st;
-  RodOutputs& out;
-  output::Writer& w;
-  RodRestartPoints& rp;
-  LeftEnd& left;
-  const TimeGrid& g;
-  int every;
-  const RunOptions& opt;
-  MPI_Comm comm;
-  /// `where`, e.g. "time step 12 of 100"; the restart point is that of `step`.
-  [[noreturn]] void interrupt(long step, const std::string& where, int sig, Progress& progress) const {
-    stop_interrupted_run(sig, st.time(), where, w, opt.output, progress, [&] { rp.store(step, left.position()); });
-  }
-  /// The state is that of `step` (before the step that lost planarity).
-  [[noreturn]] void fail_planar(long step, const std::string& what, Progress& progress) const {
-    progress.done();
-    const std::string msg = what + "; traverse run --restart " + opt.output +
-                            " --set scheme.planar=off continues on the 3D path";
-    rp.store(step, left.position());
-    w.fail(msg);
-    throw NumericsError(msg);
-  }
-};
-
-/// The time loop: steps, output steps, restart points, interrupts and failures.
-class RodTimeLoop {
- public:
-  RodTimeLoop(const RodLoopParts& parts, const LoadRatio& load) : p_(parts), load_(load) {}
-  LoopTotals run(long first_step, bool show_progress);
-
- private:
-  [[noreturn]] void fail_step(long i, double t0, const solver::StepFailure& e, Progress& progress);
-  RodLoopParts p_;
-  LoadRatio load_;
-};
-
-void RodTimeLoop::fail_step(long i, double t0, const solver::StepFailure& e, Progress& progress) {
-  progress.done();
+/// The message of a failed fixed step: where and why, and what to try. A step far shorter
+/// than the time a bending wave needs to cross a cell cannot converge by shortening it: the
+/// residual's 1/dt terms round above the absolute residual tolerance.
+std::string explain_step_failure(const std::string& where, const solver::StepFailure& e, const rod::RodModel& model,
+                                 const TimeGrid& g, const LoadRatio& load) {
   std::ostringstream os;
-  os << "time step " << i << " of " << p_.g.steps << " (t = " << e.time() << " s, dt = " << e.step()
-     << " s) failed after halving it " << e.depth() << " times: " << e.report().status << " (residual ";
+  os << where << " (t = " << e.time() << " s, dt = " << e.step() << " s) failed after halving it " << e.depth()
+     << " times: " << e.report().status << " (residual ";
   // A norm is >= 0: NOX reports a non-finite residual as a huge negative number.
   const double residual = e.report().residual_norm;
   if (residual >= 0.0 && std::isfinite(residual)) os << residual;
   else os << "not finite";
   os << "); ";
-  // A step far shorter than the time a bending wave needs to cross a cell: the residual's
-  // 1/dt terms round above the absolute residual tolerance, so a smaller dt cannot help. The
-  // step is time.dt, or the last one, shortened to end at time.end.
-  const auto& props = p_.st.model().props;
-  const double ds = p_.st.model().ds(), cell_time = ds * ds * std::sqrt(props.rhoA / props.bending_stiffness());
+  const double ds = model.ds(), cell_time = ds * ds * std::sqrt(model.props.rhoA / model.props.bending_stiffness());
   const double h = e.step();
-  const bool last = i == p_.g.steps && h < p_.g.dt * (1.0 - 1e-6);
+  // The step is time.dt, or the last one, shortened to end at time.end.
+  const bool last = std::abs(e.time() + h - g.t_end) <= 1e-9 * g.dt && h < g.dt * (1.0 - 1e-6);
   if (h < 1e-6 * cell_time) {
-    os << (last ? "the last step, to time.end = " + scene::format_number(p_.g.t_end) + " s, is "
-                : "time.dt = " + scene::format_number(p_.g.dt) + " s is ")
+    os << (last ? "the last step, to time.end = " + scene::format_number(g.t_end) + " s, is "
+                : "time.dt = " + scene::format_number(g.dt) + " s is ")
        << cell_time / h << " times shorter than a bending wave needs to cross a cell (mesh.ds^2 sqrt(rho A / (E I)) = "
        << cell_time << " s), where the rounding of the 1/dt terms keeps the residual above 'Residual Tolerance': try "
        << (!last ? "a larger time.dt (auto: mesh.ds / the fastest loads.*.speed)"
-           : p_.g.steps == 1 ? "a larger time.end" : "a time.end that is a whole number of time.dt steps")
+           : g.steps == 1 ? "a larger time.end" : "a time.end that is a whole number of time.dt steps")
        << " or a larger 'Residual Tolerance' in solver";
   } else {
     os << "try scheme.rho_inf < 1, a smaller time.dt, or a larger 'Max Subdivision Depth' in solver";
   }
   // A load the rod can hardly carry: say so, with the keys (the static start's criterion).
-  if (load_.ratio > 1e5)
-    os << "; the load ratio W L^2 / (E I) = " << load_.ratio << " is large (W = " << load_.W << " N from " << load_.what
-       << ", E I = " << load_.EI << " N m^2 from rod.youngs_modulus and rod.section): a smaller load or a stiffer rod "
+  if (load.ratio > 1e5)
+    os << "; the load ratio W L^2 / (E I) = " << load.ratio << " is large (W = " << load.W << " N from " << load.what
+       << ", E I = " << load.EI << " N m^2 from rod.youngs_modulus and rod.section): a smaller load or a stiffer rod "
        << "may be needed";
-  os << " (traverse run --restart " << p_.opt.output << " --set ... continues from t = " << t0 << " s)";
-  p_.rp.store(i - 1, p_.left.position());  // the stepper kept the state before the failed step
-  p_.w.fail(os.str());
-  throw NumericsError(os.str());
-}
-
-LoopTotals RodTimeLoop::run(long first_step, bool show_progress) {
-  Progress progress(show_progress, "t", "s", p_.st.time(), p_.g.t_end, p_.opt.progress_interval);
-  LoopTotals tot;
-  tot.last_step = first_step - 1;
-  const auto start = std::chrono::steady_clock::now();
-  for (long i = first_step; i <= p_.g.steps; ++i) {
-    // Step i ends at the grid time i dt (t_end for the last): computed from i, not accumulated,
-    // so the stepper's time (t0 + h, exact) stays on the grid and the run takes the steps it
-    // reported (core/time_grid.hpp bounds the rounding of i dt).
-    const double t0 = p_.st.time();
-    const double h = p_.g.time(i) - t0;
-    if (!(h > 0.0))
-      throw std::logic_error("rod time loop: step " + std::to_string(i) + " of " + std::to_string(p_.g.steps) +
-                             " has length " + std::to_string(h) + " s (t = " + std::to_string(t0) + " s)");
-    p_.left.before_step();
-    try {
-      const auto rep = p_.st.step(h);
-      tot.newton += rep.newton_iterations;
-      tot.solves += rep.substeps;
-      tot.guess_retries += rep.guess_retries;
-    } catch (const solver::StepFailure& e) {
-      fail_step(i, t0, e, progress);
-    } catch (const solver::PlanarityLost& e) {
-      p_.fail_planar(i - 1, "time step " + std::to_string(i) + " of " + std::to_string(p_.g.steps) + ": " + e.what(),
-                     progress);
-    }
-    p_.left.after_step(h);
-    tot.last_step = i;
-    if (i % p_.every == 0 || i == p_.g.steps) {
-      p_.out.write(p_.w, p_.st.time(), p_.left.position());
-      if (p_.rp.due()) p_.rp.store(i, p_.left.position());
-    }
-    progress.update(p_.st.time(), i);
-    if (const int sig = i < p_.g.steps ? interrupt_requested(p_.comm) : 0)
-      p_.interrupt(i, "time step " + std::to_string(i) + " of " + std::to_string(p_.g.steps), sig, progress);
-  }
-  progress.done();
-  tot.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return tot;
-}
-
-/// The adaptive time loop (time.adaptive, docs/adaptive.md): each step's length comes from
-/// the error estimate; the steps land on the output times of the fixed-dt grid (every
-/// output.every steps of time.dt, and time.end), so outputs compare point for point with a
-/// fixed-dt run. The first step of a run, without the three levels the extrapolation estimate
-/// needs, is checked by step doubling.
-class RodAdaptiveLoop {
- public:
-  /// `loads`: the scene's; the steps land on their node crossings (next_node_crossing).
-  RodAdaptiveLoop(const RodLoopParts& parts, RodAdaptiveControl& ctl, const std::vector<scene::MovingLoadSpec>& loads,
-                  bool land_on_nodes)
-      : p_(parts), ctl_(ctl), loads_(loads), land_(land_on_nodes) {}
-  LoopTotals run(bool show_progress);
-
- private:
-  double output_time(long k) const { return p_.g.time(std::min(k * static_cast<long>(p_.every), p_.g.steps)); }
-  /// One Newton solve of h; false (the state unchanged, failure_ set) when it did not converge.
-  bool try_step(double h, solver::StepReport& rep, Progress& progress);
-  bool extrapolated_step(double h, Progress& progress);
-  bool doubled_step(double h, Progress& progress);
-  /// A failed or rejected step of length h (the state as before it): the next try, or the
-  /// end of the run at dt_min.
-  void retry_smaller(double h, double next, const std::string& why, Progress& progress);
-  [[noreturn]] void fail(const std::string& why, Progress& progress);
-  RodLoopParts p_;
-  RodAdaptiveControl& ctl_;
-  const std::vector<scene::MovingLoadSpec>& loads_;
-  bool land_;
-  LoopTotals tot_;
-  std::string failure_;  ///< why the last try_step failed
-};
-
-void RodAdaptiveLoop::fail(const std::string& why, Progress& progress) {
-  progress.done();
-  std::ostringstream os;
-  os.precision(12);
-  os << "adaptive time stepping (time.adaptive) at t = " << p_.st.time() << " s: " << why
-     << "; try a larger time.adaptive.tolerance or dt_min, or scheme.rho_inf < 1 (traverse run --restart "
-     << p_.opt.output << " --set ... continues from t = " << p_.st.time() << " s)";
-  p_.rp.store(ctl_.totals().accepted, p_.left.position());  // the state before the failed step
-  p_.w.fail(os.str());
-  throw NumericsError(os.str());
-}
-
-void RodAdaptiveLoop::retry_smaller(double h, double next, const std::string& why, Progress& progress) {
-  const double dt_min = ctl_.controller().parameters().dt_min;
-  if (h <= dt_min * (1.0 + 1e-12)) {
-    std::ostringstream os;
-    os << why << " at the smallest step, time.adaptive.dt_min = " << dt_min << " s";
-    fail(os.str(), progress);
-  }
-  ctl_.next_dt = std::min(next, h);
-}
-
-bool RodAdaptiveLoop::try_step(double h, solver::StepReport& rep, Progress& progress) {
-  bool ok = false;
-  try {
-    ok = p_.st.try_step(h, rep);
-  } catch (const solver::PlanarityLost& e) {
-    p_.fail_planar(ctl_.totals().accepted, e.what(), progress);
-  }
-  tot_.newton += rep.newton_iterations;
-  ++tot_.solves;
-  tot_.guess_retries += rep.guess_retries;
-  if (!ok) {
-    ++ctl_.totals().failed;
-    std::ostringstream os;
-    os << "the Newton solve of a step of dt = " << h << " s did not converge (" << p_.st.last_newton_report().status << ")";
-    failure_ = os.str();
-  }
-  return ok;
-}
-
-bool RodAdaptiveLoop::extrapolated_step(double h, Progress& progress) {
-  p_.left.before_step();
-  solver::StepReport rep;
-  if (!try_step(h, rep, progress)) {
-    retry_smaller(h, ctl_.controller().after_failure(h), failure_, progress);
-    return false;
-  }
-  std::vector<rod::NodeLevel> y = owned_levels(p_.st);
-  const double err = ctl_.extrapolation_error(y, h);
-  const StepDecision d = ctl_.controller().decide(h, err, rep.newton_iterations);
-  if (!d.accept) {
-    p_.st.undo_step();
-    ++ctl_.totals().rejected;
-    std::ostringstream os;
-    os << "the error estimate is " << err << " times the tolerance";
-    retry_smaller(h, d.next_dt, os.str(), progress);
-    return false;
-  }
-  p_.left.after_step(h);
-  ctl_.accept(std::move(y), h);
-  ctl_.totals().record_accepted(h);
-  ctl_.next_dt = d.next_dt;
-  return true;
-}
-
-bool RodAdaptiveLoop::doubled_step(double h, Progress& progress) {
-  const rod::RodState saved = p_.st.ghosted_piece();
-  const Vec3 r_saved = p_.left.position();
-  auto restore = [&] {
-    p_.st.set_state(saved, p_.st.first_ghosted_node());
-    p_.left.set_position(r_saved);
-  };
-  solver::StepReport rep;
-  if (!try_step(h, rep, progress)) {
-    retry_smaller(h, ctl_.controller().after_failure(h), failure_, progress);
-    return false;
-  }
-  const std::vector<rod::NodeLevel> full = owned_levels(p_.st);
-  p_.st.undo_step();
-  std::vector<rod::NodeLevel> mid, half;
-  int newton = rep.newton_iterations;
-  for (int part = 0; part < 2; ++part) {
-    p_.left.before_step();
-    solver::StepReport r;
-    if (!try_step(0.5 * h, r, progress)) {
-      restore();  // the state of the step's start, for the retry or the restart point
-      retry_smaller(h, ctl_.controller().after_failure(h), failure_, progress);
-      return false;
-    }
-    p_.left.after_step(0.5 * h);
-    newton = std::max(newton, r.newton_iterations);
-    (part == 0 ? mid : half) = owned_levels(p_.st);
-  }
-  const double err = ctl_.doubling_error(full, mid, half, h);
-  const StepDecision d = ctl_.controller().decide(h, err, newton);
-  if (!d.accept) {
-    restore();
-    ++ctl_.totals().rejected;
-    std::ostringstream os;
-    os << "the error estimate of the first step (step doubling) is " << err << " times the tolerance";
-    retry_smaller(h, d.next_dt, os.str(), progress);
-    return false;
-  }
-  ctl_.accept(std::move(mid), 0.5 * h);
-  ctl_.accept(std::move(half), 0.5 * h);
-  ctl_.totals().record_accepted(0.5 * h);
-  ctl_.totals().record_accepted(0.5 * h);
-  ctl_.next_dt = d.next_dt;
-  return true;
-}
-
-LoopTotals RodAdaptiveLoop::run(bool show_progress) {
-  Progress progress(show_progress, "t", "s", p_.st.time(), p_.g.t_end, p_.opt.progress_interval);
-  const auto start = std::chrono::steady_clock::now();
-  const long outputs = (p_.g.steps + p_.every - 1) / p_.every;
-  long k = 1;  // the next output time: the first one after the current time
-  // (A restart point at an output time may lie a rounding below it: the landing tolerance.)
-  while (k <= outputs && output_time(k) - p_.st.time() <= 1e-9 * p_.g.dt) ++k;
-  while (k <= outputs) {
-    const double t_out = output_time(k), now = p_.st.time();
-    // Land on the output time, and on a node crossing of a moving load before it; a step
-    // that would leave less than itself is split in two.
-    const double crossing = land_ ? next_node_crossing(loads_, now + 1e-9 * ctl_.next_dt, p_.st.model().ds(),
-                                                       p_.st.model().length)
-                                  : HUGE_VAL;
-    const double target = crossing < t_out - 1e-9 * ctl_.next_dt ? crossing : t_out;
-    const double proposed = ctl_.next_dt, h = StepController::landing_step(proposed, target - now);
-    const bool accepted = ctl_.has_history() ? extrapolated_step(h, progress) : doubled_step(h, progress);
-    if (!accepted) continue;
-    ctl_.next_dt = StepController::after_landing(h, proposed, ctl_.next_dt);
-    tot_.last_step = ctl_.totals().accepted;
-    if (std::abs(t_out - p_.st.time()) <= 1e-9 * h) {
-      p_.out.write(p_.w, p_.st.time(), p_.left.position());
-      if (p_.rp.due()) p_.rp.store(tot_.last_step, p_.left.position());
-      ++k;
-    }
-    progress.update(p_.st.time(), tot_.last_step, ctl_.next_dt, ctl_.totals());
-    if (const int sig = k <= outputs ? interrupt_requested(p_.comm) : 0)
-      p_.interrupt(tot_.last_step, "adaptive step " + std::to_string(tot_.last_step), sig, progress);
-  }
-  progress.done();
-  tot_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  return tot_;
+  return os.str();
 }
 
 /// A restart's source file, restart point and state (opt.restart only).
@@ -611,7 +308,7 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
   const int N = sc.mesh.nodes - 1;
   src.file = output::restart_source(opt.output);
   const std::size_t comps = restart_components(sc);
-  const std::size_t other = sc.time.adaptive.enabled ? rod::kPackedNodeValues : rod::kPackedNodeValues + RodAdaptiveControl::kPerNode;
+  const std::size_t other = sc.time.adaptive.enabled ? rod::kPackedNodeValues : rod::kPackedNodeValues + solver::RodErrorEstimate::kPerNode;
   src.point = read_rod_restart_point(opt.output, src.file, static_cast<std::size_t>(N + 1), comps, other,
                                      sc.time.adaptive.enabled, g.dt, 3);
   state.t = src.point.time;
@@ -622,24 +319,26 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
   return src;
 }
 
-/// The adaptive controller of a run: from the restart point when restarting, else started
-/// at the current (initial) level.
-std::unique_ptr<RodAdaptiveControl> make_adaptive(const scene::Scene& sc, const rod::RodModel& model,
-                                                  const solver::RodStepper& st, const RestartSource& restart,
-                                                  const TimeGrid& g, MPI_Comm comm) {
-  auto ctl = std::make_unique<RodAdaptiveControl>(sc.time.adaptive, g.dt, model.alpha, model.length, comm);
+/// The adaptive steps' error estimate of a run: from the restart point when restarting (the
+/// controller's state into `controller`), else started at the current (initial) level.
+std::unique_ptr<solver::RodErrorEstimate> make_estimate(const scene::Scene& sc, const rod::RodModel& model,
+                                                        const solver::RodStepper& st, const RestartSource& restart,
+                                                        MPI_Comm comm, std::optional<time::ControllerState>& controller) {
+  using solver::RodErrorEstimate;
+  auto est = std::make_unique<RodErrorEstimate>(error_weights(sc.time.adaptive, model.length), model.alpha, comm);
   if (restart.file.empty()) {
-    ctl->start(owned_levels(st));
-    return ctl;
+    est->start(solver::owned_levels(st));
+    return est;
   }
   const auto& x = restart.point.extra;
   const std::size_t comps = restart_components(sc), first = static_cast<std::size_t>(st.first_owned_node());
-  std::vector<double> per_node(RodAdaptiveControl::kPerNode * static_cast<std::size_t>(st.num_owned_nodes()));
+  std::vector<double> per_node(RodErrorEstimate::kPerNode * static_cast<std::size_t>(st.num_owned_nodes()));
   for (std::size_t k = 0; k < static_cast<std::size_t>(st.num_owned_nodes()); ++k)
-    for (std::size_t i = 0; i < RodAdaptiveControl::kPerNode; ++i)
-      per_node[RodAdaptiveControl::kPerNode * k + i] = restart.point.state[comps * (first + k) + rod::kPackedNodeValues + i];
-  ctl->restore(owned_levels(st), per_node, std::vector<double>(x.begin() + std::min<std::size_t>(5, x.size()), x.end()));
-  return ctl;
+    for (std::size_t i = 0; i < RodErrorEstimate::kPerNode; ++i)
+      per_node[RodErrorEstimate::kPerNode * k + i] = restart.point.state[comps * (first + k) + rod::kPackedNodeValues + i];
+  controller = est->restore(solver::owned_levels(st), per_node,
+                            std::vector<double>(x.begin() + std::min<std::size_t>(5, x.size()), x.end()));
+  return est;
 }
 
 // What the stepper would refuse about its linear solver, found before anything is allocated.
@@ -730,12 +429,30 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   outputs.declare(writer);
 
   const Vec3 r0 = opt.restart ? Vec3(extra[0], extra[1], extra[2]) : Vec3(Vec3::Zero());
-  LeftEnd left(*stepper, setup.model.left.end_moves(), r0, comm);
-  std::unique_ptr<RodAdaptiveControl> adaptive;
-  if (sc.time.adaptive.enabled) adaptive = make_adaptive(sc, setup.model, *stepper, restart, grid, comm);
-  RodRestartPoints points(*stepper, writer, grid.dt, path.planar, opt.restart_interval, adaptive.get(), comm);
+  solver::LeftEnd left(*stepper, setup.model.left.end_moves(), r0, comm);
+  std::optional<time::ControllerState> controller;
+  std::unique_ptr<solver::RodErrorEstimate> estimate;
+  if (sc.time.adaptive.enabled) estimate = make_estimate(sc, setup.model, *stepper, restart, comm, controller);
+  RodRestartPoints points(*stepper, writer, grid.dt, path.planar, estimate.get(), comm);
+  std::function<double(double)> kinks;  // adaptive steps land on the loads' node crossings
+  if (sc.time.adaptive.land_on_nodes)
+    kinks = [&](double t) { return next_node_crossing(sc.loads, t, setup.model.ds(), setup.model.length); };
+  solver::RodTimeModel model(*stepper, left, estimate.get(), kinks);
+  Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", stepper->time(), grid.t_end,
+                    opt.progress_interval);
+  const LoadRatio load = load_ratio(sc);
+  RunObserver observer({[&] { outputs.write(writer, stepper->time(), left.position()); },
+                        [&](long i) { points.store(i, left.position()); }, [&] { return stepper->time(); },
+                        [&](const std::string& where, const time::StepFailed& e) {
+                          const auto* f = dynamic_cast<const solver::StepFailure*>(&e);
+                          return f ? explain_step_failure(where, *f, setup.model, grid, load) : where + ": " + e.what();
+                        }},
+                       writer, opt, progress, comm);
+  time::TimeIntegrator integrator(time_schedule(sc, grid), model, observer);
+  points.integrator = &integrator;
+  if (controller) integrator.restore(*controller);
   if (rank == 0 && !opt.quiet) print_start(sc, grid, start.description, *stepper, path_text);
-  if (rank == 0 && !adaptive) warn_under_resolved_loads(sc, grid);
+  if (rank == 0 && !estimate) warn_under_resolved_loads(sc, grid);
   long first_step = 1;
   if (opt.restart) {
     output::copy_output_steps(restart.file, writer, restart.point.steps_written, outputs.probe_names(), outputs.field_names(),
@@ -751,26 +468,21 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
     outputs.write(writer, 0.0, left.position());
     points.store(0, left.position());
   }
-  const bool progress = rank == 0 && progress_wanted(opt.quiet, opt.progress);
-  const RodLoopParts parts{*stepper, outputs, writer, points, left, grid, sc.output.every, opt, comm};
-  LoopTotals tot;
-  if (adaptive) {
-    RodAdaptiveLoop loop(parts, *adaptive, sc.loads, sc.time.adaptive.land_on_nodes);
-    tot = loop.run(progress);
-  } else {
-    RodTimeLoop loop(parts, load_ratio(sc));
-    tot = loop.run(first_step, progress);
-  }
-  points.store(tot.last_step, left.position());  // the end (a no-op when the last output step stored it)
-  if (adaptive) write_adaptive_totals(writer, adaptive->totals());
+  const auto wall = std::chrono::steady_clock::now();
+  integrator.run(first_step);
+  progress.done();
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
+  points.store(integrator.last_step(), left.position());  // the end (a no-op when the last output step stored it)
+  if (estimate) write_adaptive_totals(writer, integrator.totals());
   writer.finish();
+  const solver::SolveCounts& tot = model.counts();
   if (rank == 0 && !opt.quiet)
     std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve%s) on the %s path; %zu output steps -> %s; "
                 "time stepping %.3f s (wall, output included)\n",
                 tot.newton, tot.solves, tot.solves ? double(tot.newton) / double(tot.solves) : 0.0,
                 retries_note(tot.guess_retries).c_str(), path.planar ? "planar" : "3D", writer.steps_written(),
-                opt.output.c_str(), tot.seconds);
-  if (rank == 0 && !opt.quiet && adaptive) std::printf("adaptive: %s\n", adaptive->totals().summary().c_str());
+                opt.output.c_str(), seconds);
+  if (rank == 0 && !opt.quiet && estimate) std::printf("adaptive: %s\n", integrator.totals().summary().c_str());
 }
 
 }  // namespace traverse::app

@@ -1,12 +1,14 @@
 #pragma once
-// The step controller's parameters from a scene's time.adaptive (docs/adaptive.md), for the
-// rod and the beam runners.
+// The time integrator's schedule and the rod's error weights from a scene's time and
+// time.adaptive (docs/adaptive.md), for the rod and the beam runners.
 #include <cstdio>
 #include <string>
 
 #include "traverse/core/step_controller.hpp"
 #include "traverse/output/writer.hpp"
+#include "traverse/rod/time_error.hpp"
 #include "traverse/scene/scene.hpp"
+#include "traverse/time/time_integrator.hpp"
 
 namespace traverse::app {
 
@@ -22,6 +24,28 @@ inline StepControlParameters step_control_parameters(const scene::AdaptiveSpec& 
   p.newton_target = a.newton_target;
   p.order = order;
   return p;
+}
+
+/// The steps of a run on `grid`: every output.every steps, adaptive with time.adaptive.
+/// `order`: the scheme's (2 for the rod and Newmark, 4 for RK4); `split_at_kinks`: fixed steps
+/// end at the loads' kinks too (the beam's).
+inline time::Schedule time_schedule(const scene::Scene& sc, const TimeGrid& grid, int order = 2,
+                                    bool split_at_kinks = false) {
+  time::Schedule s{grid, sc.output.every, sc.time.adaptive.enabled,
+                   step_control_parameters(sc.time.adaptive, grid.dt, order), split_at_kinks};
+  if (sc.model == scene::Model::Rod) s.dt_min_hint += ", or scheme.rho_inf < 1";
+  return s;
+}
+
+/// The rod's error weights (rod/time_error.hpp): the tolerances and controlled groups of
+/// time.adaptive, the position floor from the rod's length.
+inline rod::ErrorWeights error_weights(const scene::AdaptiveSpec& a, double length) {
+  rod::ErrorWeights w;
+  w.relative = a.tolerance;
+  w.absolute = a.absolute;
+  w.floor = rod::scale_floors(length);
+  w.controlled = a.controlled;
+  return w;
 }
 
 /// The counters of an adaptive run as root attributes of its output (docs/output.md):

@@ -115,6 +115,13 @@ BeamSimulation::BeamSimulation(BeamProblem problem) : problem_(std::move(problem
   V_.setZero(n);
   A_.setZero(n);
   set_adaptive_floors();
+  if (problem_.split_at_load_events) {
+    for (const LoadKinematics& k : kin_) {
+      const std::vector<double> ev = k.events(problem_.t_start, problem_.t_end);
+      events_.insert(events_.end(), ev.begin(), ev.end());
+    }
+    std::sort(events_.begin(), events_.end());
+  }
   reset();
 }
 
@@ -311,9 +318,7 @@ void BeamSimulation::reset() {
   steps_ = 0;
   A_valid_ = false;
   totals_ = StepControlTotals();
-  next_dt_ = p.adaptive ? StepController(p.control).clamp(p.dt) : p.dt;
   peak_Y_ = peak_V_ = 0.0;
-  after_rejection_ = false;
   w.eval_t = std::numeric_limits<double>::quiet_NaN();
   // Status of the first (sub)step decides which loads are on the beam initially.
   double t1 = std::min(p.t_start + p.dt, p.t_end);
@@ -341,47 +346,42 @@ void BeamSimulation::reset() {
   }
 }
 
-void BeamSimulation::run(const BeamObserver& observer) {
-  reset();
+time::Schedule BeamSimulation::schedule() const {
   const BeamProblem& p = problem_;
-  Work& w = *w_;
-  if (observer) observer(snapshot());
-  std::vector<double> events;
-  if (p.split_at_load_events)
-    for (const LoadKinematics& k : kin_) {
-      const std::vector<double> ev = k.events(p.t_start, p.t_end);
-      events.insert(events.end(), ev.begin(), ev.end());
-    }
-  std::sort(events.begin(), events.end());
   // Grid t_k = t_start + k dt, k < N, t_N = t_end: the last step is shortened (a remainder
-  // below 1e-9 dt is merged into the previous step instead of making a sliver step). The
+  // below kGridJoin dt is merged into the previous step instead of making a sliver step). The
   // constructor checked that the count is representable.
-  const TimeGrid grid = make_time_grid(p.t_start, p.t_end, p.dt, kGridJoin).grid;
-  const long N = grid.steps;
-  std::size_t next_event = 0;
-  const double tol = 1e-9 * p.dt;
-  // Adaptive: the steps go from output time to output time (every output_every grid steps).
-  const long stride = p.adaptive ? std::max(1, p.output_every) : 1;
-  for (long k = stride < N ? stride : N; k <= N; k = k == N ? N + 1 : std::min(N, k + stride)) {
-    const double tb = grid.time(k);
-    double ta = t_;
-    while (ta < tb) {
-      while (next_event < events.size() && events[next_event] <= ta + tol) ++next_event;
-      double te = tb;
-      if (next_event < events.size() && events[next_event] < tb - tol) te = events[next_event];
-      if (p.adaptive)
-        adaptive_advance(ta, te);
-      else
-        step(ta, te);
-      ta = te;
-    }
-    t_ = tb;
-    if (observer && (k % p.output_every == 0 || k == N)) observer(snapshot());
-  }
-  (void)w;
+  time::Schedule s;
+  s.grid = make_time_grid(p.t_start, p.t_end, p.dt, kGridJoin).grid;
+  s.every = std::max(1, p.output_every);
+  s.adaptive = p.adaptive;
+  s.control = p.control;
+  s.split_at_kinks = p.split_at_load_events;
+  return s;
 }
 
-void BeamSimulation::step(double ta, double tb) {
+void BeamSimulation::run(const BeamObserver& observer) {
+  reset();
+  if (observer) observer(snapshot());
+  time::CallbackObserver calls([&] {
+    if (observer) observer(snapshot());
+  });
+  time::TimeIntegrator integrator(schedule(), *this, calls);
+  integrator.run();
+  totals_ = integrator.totals();
+}
+
+double BeamSimulation::next_kink(double t) const {
+  const auto next = std::upper_bound(events_.begin(), events_.end(), t);
+  return next == events_.end() ? HUGE_VAL : *next;
+}
+
+void BeamSimulation::step(double h) {
+  advance(t_, t_ + h);
+  t_ += h;
+}
+
+void BeamSimulation::advance(double ta, double tb) {
   prepare_status(ta, tb);
   if (problem_.integrator == Integrator::RK4)
     rk4_step(ta, tb);
@@ -403,48 +403,39 @@ double BeamSimulation::doubling_error(const VecX& Yf, const VecX& Vf) {
   return std::max(eY > 0.0 ? eY / sY : 0.0, eV > 0.0 ? eV / sV : 0.0);
 }
 
-void BeamSimulation::adaptive_advance(double ta, double tb) {
-  StepController ctl(problem_.control);
-  const double tol = 1e-12 * std::max(std::abs(tb), 1.0);
-  while (ta < tb - tol) {
-    const double proposed = next_dt_, h = StepController::landing_step(proposed, tb - ta);
-    const VecX Y0 = Y_, V0 = V_, A0 = A_;
-    const bool A0_valid = A_valid_;
-    const long steps0 = steps_;
-    auto restore = [&] {
-      Y_ = Y0;
-      V_ = V0;
-      A_ = A0;
-      A_valid_ = A0_valid;
-      steps_ = steps0;
-    };
-    step(ta, ta + h);
-    const VecX Yf = Y_, Vf = V_;
-    restore();
-    step(ta, ta + 0.5 * h);
-    step(ta + 0.5 * h, ta + h);
-    const double err = doubling_error(Yf, Vf);
-    ctl.set_after_rejection(after_rejection_);
-    const StepDecision dec = ctl.decide(h, err, 0);
-    after_rejection_ = ctl.after_rejection();
-    if (!dec.accept) {
-      restore();
-      ++totals_.rejected;
-      if (h <= problem_.control.dt_min * (1.0 + 1e-12))
-        throw StepSizeUnderflow("adaptive time stepping (time.adaptive): the error estimate is " + std::to_string(err) +
-                                 " times the tolerance at t = " + std::to_string(ta) +
-                                 " s at the smallest step, time.adaptive.dt_min = " +
-                                 std::to_string(problem_.control.dt_min) + " s");
-      next_dt_ = std::min(dec.next_dt, h);
-      continue;
-    }
-    totals_.record_accepted(0.5 * h);
-    totals_.record_accepted(0.5 * h);
-    peak_Y_ = std::max(peak_Y_, Y_.lpNorm<Eigen::Infinity>());
-    peak_V_ = std::max(peak_V_, V_.lpNorm<Eigen::Infinity>());
-    next_dt_ = StepController::after_landing(h, proposed, dec.next_dt);
-    ta += h;
-  }
+// One step of h against two of h / 2 from the same state; the two half steps are kept.
+time::Attempt BeamSimulation::attempt(double h) {
+  const double ta = t_;
+  h_ = h;
+  Y0_ = Y_;
+  V0_ = V_;
+  A0_ = A_;
+  A0_valid_ = A_valid_;
+  steps0_ = steps_;
+  advance(ta, ta + h);
+  const VecX Yf = Y_, Vf = V_;
+  reject();
+  advance(ta, ta + 0.5 * h);
+  advance(ta + 0.5 * h, ta + h);
+  time::Attempt a;
+  a.converged = true;
+  a.error = doubling_error(Yf, Vf);
+  return a;
+}
+
+void BeamSimulation::reject() {
+  Y_ = Y0_;
+  V_ = V0_;
+  A_ = A0_;
+  A_valid_ = A0_valid_;
+  steps_ = steps0_;
+}
+
+std::vector<double> BeamSimulation::accept() {
+  peak_Y_ = std::max(peak_Y_, Y_.lpNorm<Eigen::Infinity>());
+  peak_V_ = std::max(peak_V_, V_.lpNorm<Eigen::Infinity>());
+  t_ += h_;
+  return {0.5 * h_, 0.5 * h_};
 }
 
 BeamSnapshot BeamSimulation::snapshot() {

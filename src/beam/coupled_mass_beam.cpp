@@ -196,7 +196,7 @@ void CoupledMassBeam::newmark(const State& s0, double h, State& s1) const {
   s1.a = s0.a;
   for (int it = 0;; ++it) {
     if (it == 100)
-      throw std::runtime_error("CoupledMassBeam: the Newmark iteration of the coupled mass did not converge at t = " +
+      throw time::StepFailed("the Newmark iteration of the coupled mass did not converge at t = " +
                                std::to_string(t_) + " s (reduce time.dt)");
     s1.Y = Yp + q * s1.A;
     s1.V = Vp + (0.5 * h) * s1.A;
@@ -363,9 +363,7 @@ void CoupledMassBeam::reset() {
     default: throw std::invalid_argument("CoupledMassBeam: unknown initial state");
   }
   totals_ = StepControlTotals();
-  next_dt_ = p.adaptive ? StepController(p.control).clamp(p.dt) : p.dt;
   peak_Y_ = peak_V_ = peak_dx_ = peak_v_ = 0.0;
-  after_rejection_ = false;
   dir_ = v_ < 0.0 ? -1.0 : 1.0;
   if (mass_.friction > 0.0 && v_ == 0.0) {  // from rest: stuck, or sliding where the forces push it
     State s;
@@ -413,68 +411,48 @@ double CoupledMassBeam::doubling_error(const State& half, const State& full) con
   return err;
 }
 
-// From t_ to t_target in steps chosen by step doubling (the elementary controller of
-// core/step_controller.hpp); a step that would pass t_target is shortened to end on it, one
-// that would leave less than itself before it is split in two. The events are located in an
-// accepted step by the same pair of half steps; returns whether the run ends at one.
-bool CoupledMassBeam::adaptive_advance_to(double t_target) {
+// One step of h checked by step doubling: the full step against the two half steps kept.
+time::Attempt CoupledMassBeam::attempt(double h) {
   Work& w = *w_;
-  const StepControlParameters& c = problem_.control;
-  StepController ctl(c);
-  const double tol = 1e-12 * std::max(std::abs(t_target), 1.0);
-  while (t_ < t_target - tol) {
-    const double t0 = t_, proposed = next_dt_, h = StepController::landing_step(proposed, t_target - t0);
-    current_state(w.s0);
-    auto at_dt_min = [&](const std::string& what) {
-      if (h > c.dt_min * (1.0 + 1e-12)) return;
-      throw StepSizeUnderflow("adaptive time stepping (time.adaptive): " + what + " at t = " + std::to_string(t0) +
-                              " s at the smallest step, time.adaptive.dt_min = " + std::to_string(c.dt_min) + " s");
-    };
-    double err = 0.0;
-    try {
-      step(w.s0, h, w.full);
-      advance(w.s0, h, w.s1);
-      err = doubling_error(w.s1, w.full);
-    } catch (const std::runtime_error& e) {  // the Newmark iteration did not converge
-      ++totals_.failed;
-      at_dt_min(std::string("the step failed (") + e.what() + ")");
-      ctl.set_after_rejection(true);
-      after_rejection_ = true;
-      next_dt_ = ctl.after_failure(h);
-      continue;
-    }
-    ctl.set_after_rejection(after_rejection_);
-    const StepDecision dec = ctl.decide(h, err, 0);
-    after_rejection_ = ctl.after_rejection();
-    if (!dec.accept) {
-      ++totals_.rejected;
-      at_dt_min("the error estimate is " + std::to_string(err) + " times the tolerance");
-      next_dt_ = std::min(dec.next_dt, h);
-      continue;
-    }
-    const bool event = locate_event(w.s0, t0, h, w.s1);  // on an event: t_ at it, the step shortened
-    load_state(w.s1);
-    const double taken = event ? t_ - t0 : h;
-    if (taken > 0.0) {
-      totals_.record_accepted(0.5 * taken);
-      totals_.record_accepted(0.5 * taken);
-      steps_ += 2;
-    }
-    peak_Y_ = std::max(peak_Y_, Y_.lpNorm<Eigen::Infinity>());
-    peak_V_ = std::max(peak_V_, V_.lpNorm<Eigen::Infinity>());
-    peak_dx_ = std::max(peak_dx_, std::abs(x_ - mass_.start));
-    peak_v_ = std::max(peak_v_, std::abs(v_));
-    next_dt_ = StepController::after_landing(h, proposed, dec.next_dt);
-    if (!event) {
-      t_ = t0 + h;
-      continue;
-    }
-    if (end_ != CoupledEnd::Stick || holds(w.s1, dir_)) return true;
+  time::Attempt a;
+  h_ = h;
+  current_state(w.s0);
+  try {
+    step(w.s0, h, w.full);
+    advance(w.s0, h, w.s1);
+  } catch (const time::StepFailed& e) {  // the Newmark iteration did not converge
+    a.why = std::string("the step failed (") + e.what() + ")";
+    return a;
+  }
+  a.converged = true;
+  a.error = doubling_error(w.s1, w.full);
+  return a;
+}
+
+// The accepted attempt becomes the state; an event in it (located by the same pair of half
+// steps) shortens it: the run ends there, or the mass reverses at a stop and the run goes on.
+std::vector<double> CoupledMassBeam::accept() {
+  Work& w = *w_;
+  const double t0 = t_;
+  const bool event = locate_event(w.s0, t0, h_, w.s1);  // on an event: t_ at it, the step shortened
+  load_state(w.s1);
+  const double taken = event ? t_ - t0 : h_;
+  std::vector<double> lengths;
+  if (taken > 0.0) {
+    lengths = {0.5 * taken, 0.5 * taken};
+    steps_ += 2;
+  }
+  peak_Y_ = std::max(peak_Y_, Y_.lpNorm<Eigen::Infinity>());
+  peak_V_ = std::max(peak_V_, V_.lpNorm<Eigen::Infinity>());
+  peak_dx_ = std::max(peak_dx_, std::abs(x_ - mass_.start));
+  peak_v_ = std::max(peak_v_, std::abs(v_));
+  if (!event) {
+    t_ = t0 + h_;
+  } else if (end_ == CoupledEnd::Stick && !holds(w.s1, dir_)) {
     end_ = CoupledEnd::EndTime;  // x' = 0 with the demand above mu |N|: reverses (dir_ flipped by holds)
     refresh_accelerations();
   }
-  t_ = t_target;
-  return false;
+  return lengths;
 }
 
 void CoupledMassBeam::current_state(State& s) const {
@@ -490,10 +468,9 @@ void CoupledMassBeam::current_state(State& s) const {
   s.n = n_;
 }
 
-// One grid step (adaptive: adaptive_advance_to) from t_ to t_target, split where the friction reverses the mass; true at an event
-// that ends the run (the state and t_ there).
+// One grid step from t_ to t_target, split where the friction reverses the mass; true at an
+// event that ends the run (the state and t_ there).
 bool CoupledMassBeam::advance_to(double t_target) {
-  if (problem_.adaptive) return adaptive_advance_to(t_target);
   Work& w = *w_;
   ++steps_;
   for (int part = 0; part < 100; ++part) {
@@ -512,21 +489,27 @@ bool CoupledMassBeam::advance_to(double t_target) {
   return false;
 }
 
+time::Schedule CoupledMassBeam::schedule() const {
+  const BeamProblem& p = problem_;
+  time::Schedule s;
+  s.grid = make_time_grid(p.t_start, p.t_end, p.dt, 1e-9).grid;
+  s.every = std::max(1, p.output_every);
+  s.adaptive = p.adaptive;
+  s.control = p.control;
+  return s;
+}
+
+void CoupledMassBeam::step(double h) { advance_to(t_ + h); }
+
 void CoupledMassBeam::run(const Observer& observer) {
   reset();
-  const BeamProblem& p = problem_;
   if (observer) observer(*this);
-  if (end_ != CoupledEnd::EndTime) return;  // stuck at the start
-  const TimeGrid grid = make_time_grid(p.t_start, p.t_end, p.dt, 1e-9).grid;
-  // Adaptive: the steps go from output time to output time (every output_every grid steps).
-  const long N = grid.steps, stride = p.adaptive ? std::max(1, p.output_every) : 1;
-  for (long k = std::min(stride, N); k <= N; k = k == N ? N + 1 : std::min(N, k + stride)) {
-    if (advance_to(grid.time(k))) {
-      if (observer) observer(*this);
-      return;
-    }
-    if (observer && (k % p.output_every == 0 || k == N)) observer(*this);
-  }
+  time::CallbackObserver calls([&] {
+    if (observer) observer(*this);
+  });
+  time::TimeIntegrator integrator(schedule(), *this, calls);
+  integrator.run();  // stuck at the start: no step
+  totals_ = integrator.totals();
 }
 
 CoupledMassBeam::State CoupledMassBeam::current_derivative() const {

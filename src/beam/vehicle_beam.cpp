@@ -267,7 +267,7 @@ void VehicleBeam::newmark(double ta, double tb) {
   v_ = w.vs + (0.5 * h) * a1;
 }
 
-void VehicleBeam::step(double ta, double tb) {
+void VehicleBeam::advance(double ta, double tb) {
   set_status(ta, tb);
   if (problem_.integrator == Integrator::RK4)
     rk4(ta, tb);
@@ -286,6 +286,7 @@ void VehicleBeam::reset() {
   t_ = p.t_start;
   steps_ = 0;
   end_ = VehicleEnd::EndTime;
+  events_ = events(p.t_start, p.t_end);
   double t1 = std::min(p.t_start + p.dt, p.t_end);
   const std::vector<double> ev = events(p.t_start, t1);
   if (!ev.empty()) t1 = ev.front();
@@ -355,7 +356,7 @@ bool VehicleBeam::locate_lift_off(double ta, double tb, const VecX& q0, const Ve
     v_ = v0;
     steps_ = s0;
     t_ = ta;
-    step(ta, ta + h);
+    advance(ta, ta + h);
     return min_contact();
   };
   fhi = redo(hi);
@@ -382,34 +383,40 @@ bool VehicleBeam::locate_lift_off(double ta, double tb, const VecX& q0, const Ve
   return true;
 }
 
+time::Schedule VehicleBeam::schedule() const {
+  const BeamProblem& p = problem_;
+  time::Schedule s;
+  s.grid = make_time_grid(p.t_start, p.t_end, p.dt, 1e-9).grid;
+  s.every = std::max(1, p.output_every);
+  s.split_at_kinks = true;
+  return s;
+}
+
+double VehicleBeam::next_kink(double t) const {
+  const auto next = std::upper_bound(events_.begin(), events_.end(), t);
+  return next == events_.end() ? HUGE_VAL : *next;
+}
+
+void VehicleBeam::step(double h) {
+  const double ta = t_, te = t_ + h;
+  const VecX q0 = q_, v0 = v_;
+  const double f0 = min_contact();
+  advance(ta, te);
+  if (min_contact() < 0.0 && locate_lift_off(ta, te, q0, v0, f0)) end_ = VehicleEnd::LiftOff;
+}
+
+time::Attempt VehicleBeam::attempt(double) {
+  throw std::logic_error("VehicleBeam: no adaptive time steps (time.adaptive)");
+}
+
 void VehicleBeam::run(const Observer& observer) {
   reset();
-  const BeamProblem& p = problem_;
   if (observer) observer(*this);
-  const TimeGrid grid = make_time_grid(p.t_start, p.t_end, p.dt, 1e-9).grid;
-  const long N = grid.steps;
-  const std::vector<double> ev = events(p.t_start, p.t_end);
-  std::size_t next = 0;
-  const double tol = 1e-9 * p.dt;
-  for (long k = 1; k <= N; ++k) {
-    const double tb = grid.time(k);
-    while (t_ < tb) {
-      const double ta = t_;
-      while (next < ev.size() && ev[next] <= ta + tol) ++next;
-      const double te = next < ev.size() && ev[next] < tb - tol ? ev[next] : tb;
-      const VecX q0 = q_, v0 = v_;
-      const double f0 = min_contact();
-      step(ta, te);
-      if (min_contact() < 0.0 && locate_lift_off(ta, te, q0, v0, f0)) {
-        end_ = VehicleEnd::LiftOff;
-        if (observer) observer(*this);
-        return;
-      }
-      t_ = te;
-    }
-    t_ = tb;
-    if (observer && (k % p.output_every == 0 || k == N)) observer(*this);
-  }
+  time::CallbackObserver calls([&] {
+    if (observer) observer(*this);
+  });
+  time::TimeIntegrator integrator(schedule(), *this, calls);
+  integrator.run();
 }
 
 VecX VehicleBeam::Y() const { return q_.head(n_); }

@@ -21,7 +21,7 @@ std::string message(double t_step, double dt_step, double t_fail, double dt_fail
 
 StepFailure::StepFailure(double t_step, double dt_step, double t_fail, double dt_fail, int depth,
                          NewtonReport report)
-    : std::runtime_error(message(t_step, dt_step, t_fail, dt_fail, depth, report)),
+    : time::StepFailed(message(t_step, dt_step, t_fail, dt_fail, depth, report)),
       t_step_(t_step), dt_step_(dt_step), t_fail_(t_fail), dt_fail_(dt_fail), depth_(depth),
       report_(std::move(report)) {}
 

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "traverse/beam/beam_problem.hpp"
+#include "traverse/time/time_integrator.hpp"
 
 namespace traverse::beam {
 
@@ -48,13 +49,10 @@ using BeamObserver = std::function<void(const BeamSnapshot&)>;
 /// damping of BeamProblem::damping, modal_damping.hpp) with fixed steps.
 /// The mass matrix is inverted by a Woodbury update of the precomputed Mb^{-1}
 /// (resp. (Mb + h^2/4 Kb)^{-1} for Newmark), so a step costs O(n^2) per load.
-/// Adaptive stepping: a step whose error stays above the tolerance at the smallest step.
-class StepSizeUnderflow : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
-
-class BeamSimulation {
+/// The time integrator (time/time_integrator.hpp) takes the steps: fixed ones on the grid of
+/// dt, split where a load enters or leaves the beam (BeamProblem::split_at_load_events), or
+/// adaptive ones checked by step doubling (BeamProblem::adaptive).
+class BeamSimulation : public time::SteppedModel {
  public:
   /// A remainder of the time span below this fraction of dt joins the last step.
   static constexpr double kGridJoin = 1e-9;
@@ -65,8 +63,11 @@ class BeamSimulation {
   BeamSimulation(const BeamSimulation&) = delete;
   BeamSimulation& operator=(const BeamSimulation&) = delete;
 
-  /// Reset to the initial state at t_start and integrate to t_end, calling the observer.
+  /// Reset to the initial state at t_start and integrate to t_end, calling the observer
+  /// (time::RunFailed when an adaptive step fails at dt_min).
   void run(const BeamObserver& observer = {});
+  /// The steps of a run of the problem.
+  time::Schedule schedule() const;
   /// Reset to the initial state at t_start (done by run as well).
   void reset();
 
@@ -74,17 +75,25 @@ class BeamSimulation {
   const ModeSet& modes() const { return *modes_; }
   const GalerkinMatrices& matrices() const { return mats_; }
   const std::vector<LoadKinematics>& kinematics() const { return kin_; }
-  double time() const { return t_; }
+  double time() const override { return t_; }
+  /// The integrator's model: a step of h from the current state (fixed), or an attempt of h
+  /// checked by step doubling (adaptive), then accept() or reject().
+  void step(double h) override;
+  time::Attempt attempt(double h) override;
+  std::vector<double> accept() override;
+  void reject() override;
+  /// The first time after t where a load enters or leaves the beam (+inf: none).
+  double next_kink(double t) const override;
   const VecX& Y() const { return Y_; }
   const VecX& Ydot() const { return V_; }
   /// Number of (sub)steps taken by the last run (adaptive: the accepted ones).
   long steps_taken() const { return steps_; }
-  /// Adaptive runs: accepted and rejected steps, the range of dt.
+  /// Adaptive runs through run(): accepted and rejected steps, the range of dt.
   const StepControlTotals& adaptive_totals() const { return totals_; }
-  /// Adaptive runs: the step the controller proposes next [s].
-  double proposed_dt() const { return next_dt_; }
   /// w(x) [m] of the current state.
   double deflection(double x) const;
+  /// The observer's snapshot of the current state (with Y'' when BeamProblem::accelerations).
+  BeamSnapshot snapshot();
 
  private:
   friend class BeamSnapshot;
@@ -95,17 +104,13 @@ class BeamSimulation {
   void residual(const VecX& Y, const VecX& V, Eigen::Ref<VecX> r) const;
   void solve_low_rank(const MatX& Binv, const VecX& r, VecX& out);
   void acceleration(double t, const VecX& Y, const VecX& V, VecX& A);
-  void step(double ta, double tb);
-  /// Adaptive: from ta to tb in steps chosen by step doubling.
-  void adaptive_advance(double ta, double tb);
+  void advance(double ta, double tb);
   double doubling_error(const VecX& Yf, const VecX& Vf);
   void set_adaptive_floors();
   void rk4_step(double ta, double tb);
   void newmark_step(double ta, double tb);
   const MatX& newmark_inverse(double h);
   void evaluate_modes(double x) const;
-  /// The observer's snapshot of the current state (with Y'' when BeamProblem::accelerations).
-  BeamSnapshot snapshot();
 
   BeamProblem problem_;
   std::shared_ptr<const ModeSet> modes_;
@@ -120,10 +125,14 @@ class BeamSimulation {
   long steps_ = 0;
   VecX Y_, V_, A_;
   bool A_valid_ = false;
-  // Adaptive stepping
+  std::vector<double> events_;  ///< the loads' entries and exits (split_at_load_events), sorted
+  // Adaptive stepping: the attempt in hand (its start and length) and the error scales
   StepControlTotals totals_;
-  double next_dt_ = 0.0, peak_Y_ = 0.0, peak_V_ = 0.0, floor_Y_ = 0.0, floor_V_ = 0.0;
-  bool after_rejection_ = false;
+  VecX Y0_, V0_, A0_;
+  bool A0_valid_ = false;
+  long steps0_ = 0;
+  double h_ = 0.0;
+  double peak_Y_ = 0.0, peak_V_ = 0.0, floor_Y_ = 0.0, floor_V_ = 0.0;
 };
 
 }  // namespace traverse::beam

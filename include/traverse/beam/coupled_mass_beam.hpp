@@ -6,6 +6,7 @@
 #include <string>
 
 #include "traverse/beam/beam_problem.hpp"
+#include "traverse/time/time_integrator.hpp"
 
 namespace traverse::beam {
 
@@ -73,7 +74,7 @@ struct CoupledEnergies {
 /// accelerations come from a 2 x 2 reduced solve). The step in which x' s reaches 0 is shortened
 /// to it; there the mass sticks (the event, the run ends) when the tangential force that holds it
 /// to the beam is at most mu |N|, otherwise it reverses (s flips) and the step goes on.
-class CoupledMassBeam {
+class CoupledMassBeam : public time::SteppedModel {
  public:
   /// Throws std::invalid_argument for a problem it cannot integrate (loads other than the
   /// coupled mass, non-positive sizes, start off the beam). run() throws std::runtime_error
@@ -89,12 +90,22 @@ class CoupledMassBeam {
   /// the first event. The observer sees t_start, every output_every grid steps and the last state.
   void run(const Observer& observer = {});
   void reset();
+  /// The steps of a run of the problem (time/time_integrator.hpp).
+  time::Schedule schedule() const;
+  /// The integrator's model: a grid step of h (fixed; the Newmark iteration's failure throws
+  /// time::StepFailed), or an attempt of h checked by step doubling, then accept() (which
+  /// locates an event in it) or reject(). The run ends at an event (ended()).
+  void step(double h) override;
+  time::Attempt attempt(double h) override;
+  std::vector<double> accept() override;
+  void reject() override {}
+  bool ended() const override { return end_ != CoupledEnd::EndTime; }
 
   const BeamProblem& problem() const { return problem_; }
   const CoupledMass& coupled_mass() const { return mass_; }
   const ModeSet& modes() const { return *modes_; }
   const GalerkinMatrices& matrices() const { return mats_; }
-  double time() const { return t_; }
+  double time() const override { return t_; }
   const VecX& Y() const { return Y_; }
   const VecX& Ydot() const { return V_; }
   double position() const { return x_; }  ///< x [m]
@@ -116,10 +127,8 @@ class CoupledMassBeam {
   CoupledEnergies energies() const;
   /// Steps taken (adaptive: the accepted half steps).
   long steps_taken() const { return steps_; }
-  /// Adaptive runs: accepted, rejected and failed steps, the range of dt.
+  /// Adaptive runs through run(): accepted, rejected and failed steps, the range of dt.
   const StepControlTotals& adaptive_totals() const { return totals_; }
-  /// Adaptive runs: the step the controller proposes next [s].
-  double proposed_dt() const { return next_dt_; }
   CoupledEnd end_reason() const { return end_; }
 
  private:
@@ -135,7 +144,6 @@ class CoupledMassBeam {
   void advance(const State& s0, double h, State& s1) const;
   /// Adaptive: (half - full) / (2^p - 1) over absolute + relative scale, the largest group.
   double doubling_error(const State& half, const State& full) const;
-  bool adaptive_advance_to(double t_target);
   void set_adaptive_floors();
   void current_state(State& s) const;
   const MatX& newmark_inverse(double h) const;
@@ -162,11 +170,11 @@ class CoupledMassBeam {
   double a_ = 0.0;
   double x_ = 0.0, v_ = 0.0, work_drive_ = 0.0, work_loss_ = 0.0, work_friction_ = 0.0, n_ = 0.0;
   double dir_ = 1.0;  ///< sliding direction (friction)
-  // Adaptive stepping: totals, the proposed step, the peaks and floors of the groups' scales.
+  // Adaptive stepping: totals, the attempt, the peaks and floors of the groups' scales.
   StepControlTotals totals_;
-  double next_dt_ = 0.0, peak_Y_ = 0.0, peak_V_ = 0.0, peak_dx_ = 0.0, peak_v_ = 0.0;
+  double h_ = 0.0;  ///< the attempt in hand (its states in the work arrays s0, s1)
+  double peak_Y_ = 0.0, peak_V_ = 0.0, peak_dx_ = 0.0, peak_v_ = 0.0;
   double floor_Y_ = 0.0, floor_V_ = 0.0, floor_x_ = 0.0, floor_v_ = 0.0;
-  bool after_rejection_ = false;
   CoupledEnd end_ = CoupledEnd::EndTime;
 };
 

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "traverse/beam/beam_problem.hpp"
+#include "traverse/time/time_integrator.hpp"
 
 namespace traverse::beam {
 
@@ -54,7 +55,7 @@ enum class VehicleEnd {
 /// step: one solve with M + h/2 C + h^2/4 K) at fixed steps, split where an axle enters or
 /// leaves the beam. Unilateral contact: the step in which a contact force turns tensile is
 /// shortened to the instant it reaches zero (secant on the step length); the run ends there.
-class VehicleBeam {
+class VehicleBeam : public time::SteppedModel {
  public:
   /// Throws std::invalid_argument for what it cannot integrate (no vehicle, an axle without
   /// stiffness, several axles without pitch inertia, non-positive sizes, BeamProblem::loads).
@@ -70,12 +71,22 @@ class VehicleBeam {
   /// output_every grid steps, and the last state.
   void run(const Observer& observer = {});
   void reset();
+  /// The steps of a run of the problem (time/time_integrator.hpp): fixed, split where an axle
+  /// enters or leaves the beam.
+  time::Schedule schedule() const;
+  /// The integrator's model: a step of h, shortened to a lift-off in it (the run ends there).
+  void step(double h) override;
+  time::Attempt attempt(double h) override;  ///< no adaptive steps: throws std::logic_error
+  std::vector<double> accept() override { return {}; }
+  void reject() override {}
+  double next_kink(double t) const override;
+  bool ended() const override { return end_ != VehicleEnd::EndTime; }
 
   const BeamProblem& problem() const { return problem_; }
   const ModeSet& modes() const { return *modes_; }
   const GalerkinMatrices& matrices() const { return mats_; }
   const std::vector<Vehicle>& vehicles() const { return vehicles_; }
-  double time() const { return t_; }
+  double time() const override { return t_; }
   long steps_taken() const { return steps_; }
   VehicleEnd end_reason() const { return end_; }
   /// Modal coordinates Y [m], velocities Y' [m/s], accelerations Y'' [m/s^2] (current state).
@@ -118,7 +129,7 @@ class VehicleBeam {
   void accelerations(double t, const VecX& q, const VecX& v, VecX& a) const;
   void rk4(double ta, double tb);
   void newmark(double ta, double tb);
-  void step(double ta, double tb);
+  void advance(double ta, double tb);
   std::vector<double> events(double t0, double t1) const;
   double min_contact() const;
   /// The step (ta, tb] from (q0, v0), whose smallest unilateral contact force was f0, ended
@@ -139,6 +150,7 @@ class VehicleBeam {
   double t_ = 0.0;
   long steps_ = 0;
   VecX q_, v_, a_;
+  std::vector<double> events_;  ///< where axles enter or leave the beam, t_start .. t_end
   VehicleEnd end_ = VehicleEnd::EndTime;
 };
 

@@ -37,9 +37,9 @@ struct StepReport {
 /// Thrown by RodStepper::step on the planar path when the converged state's out-of-plane
 /// residual (the rows the planar system drops) exceeds the Newton residual tolerance: the
 /// problem was not reflection-symmetric after all. The state is unchanged.
-class PlanarityLost : public std::runtime_error {
+class PlanarityLost : public time::StepFailed {
  public:
-  using std::runtime_error::runtime_error;
+  using time::StepFailed::StepFailed;
 };
 
 /// Counts of preconditioner set-up work (zero without an Ifpack2 preconditioner).

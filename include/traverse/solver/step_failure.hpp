@@ -3,10 +3,11 @@
 #include <stdexcept>
 
 #include "traverse/solver/newton_report.hpp"
+#include "traverse/time/time_integrator.hpp"
 
 namespace traverse::solver {
 
-class StepFailure : public std::runtime_error {
+class StepFailure : public time::StepFailed {
  public:
   /// t_step, dt_step: the step that was asked for [s]; t_fail, dt_fail: the (sub)step whose
   /// Newton solve failed [s]; depth: how many times dt_step had been halved (0 = not
