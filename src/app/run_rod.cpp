@@ -366,6 +366,36 @@ void print_start(const scene::Scene& sc, const TimeGrid& g, const std::string& i
               path_text.c_str());
 }
 
+/// The output file's first steps: a restart's copy of the kept ones (and its restart point),
+/// or the initial state's. The first time step to take.
+long start_outputs(const RunOptions& opt, const RestartSource& restart, RodOutputs& outputs, output::Writer& writer,
+                   RodRestartPoints& points, const solver::RodStepper& st, const solver::LeftEnd& left, MPI_Comm comm) {
+  if (!opt.restart) {
+    outputs.write(writer, 0.0, left.position());
+    points.store(0, left.position());
+    return 1;
+  }
+  output::copy_output_steps(restart.file, writer, restart.point.steps_written, outputs.probe_names(),
+                            outputs.field_names(), static_cast<std::size_t>(st.first_owned_node()),
+                            static_cast<std::size_t>(st.num_owned_nodes()));
+  points.store(restart.point.step, left.position());
+  output::remove_restart_source(opt.output, comm);
+  if (par::rank(comm) == 0 && !opt.quiet)
+    std::printf("restart from %s: time step %ld at t = %.9g s, %zu output steps kept\n", opt.output.c_str(),
+                restart.point.step, restart.point.time, restart.point.steps_written);
+  return restart.point.step + 1;
+}
+
+void print_done(const solver::SolveCounts& tot, bool planar, const output::Writer& writer, const std::string& output,
+                double seconds, const time::TimeIntegrator* adaptive) {
+  std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve%s) on the %s path; %zu output steps -> %s; "
+              "time stepping %.3f s (wall, output included)\n",
+              tot.newton, tot.solves, tot.solves ? double(tot.newton) / double(tot.solves) : 0.0,
+              retries_note(tot.guess_retries).c_str(), planar ? "planar" : "3D", writer.steps_written(),
+              output.c_str(), seconds);
+  if (adaptive) std::printf("adaptive: %s\n", adaptive->totals().summary().c_str());
+}
+
 }  // namespace
 
 void check_rod(const scene::Scene& sc) {
@@ -453,21 +483,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   if (controller) integrator.restore(*controller);
   if (rank == 0 && !opt.quiet) print_start(sc, grid, start.description, *stepper, path_text);
   if (rank == 0 && !estimate) warn_under_resolved_loads(sc, grid);
-  long first_step = 1;
-  if (opt.restart) {
-    output::copy_output_steps(restart.file, writer, restart.point.steps_written, outputs.probe_names(), outputs.field_names(),
-                      static_cast<std::size_t>(stepper->first_owned_node()),
-                      static_cast<std::size_t>(stepper->num_owned_nodes()));
-    points.store(restart.point.step, left.position());
-    output::remove_restart_source(opt.output, comm);
-    first_step = restart.point.step + 1;
-    if (rank == 0 && !opt.quiet)
-      std::printf("restart from %s: time step %ld at t = %.9g s, %zu output steps kept\n", opt.output.c_str(),
-                  restart.point.step, restart.point.time, restart.point.steps_written);
-  } else {
-    outputs.write(writer, 0.0, left.position());
-    points.store(0, left.position());
-  }
+  const long first_step = start_outputs(opt, restart, outputs, writer, points, *stepper, left, comm);
   const auto wall = std::chrono::steady_clock::now();
   integrator.run(first_step);
   progress.done();
@@ -475,14 +491,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   points.store(integrator.last_step(), left.position());  // the end (a no-op when the last output step stored it)
   if (estimate) write_adaptive_totals(writer, integrator.totals());
   writer.finish();
-  const solver::SolveCounts& tot = model.counts();
-  if (rank == 0 && !opt.quiet)
-    std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve%s) on the %s path; %zu output steps -> %s; "
-                "time stepping %.3f s (wall, output included)\n",
-                tot.newton, tot.solves, tot.solves ? double(tot.newton) / double(tot.solves) : 0.0,
-                retries_note(tot.guess_retries).c_str(), path.planar ? "planar" : "3D", writer.steps_written(),
-                opt.output.c_str(), seconds);
-  if (rank == 0 && !opt.quiet && estimate) std::printf("adaptive: %s\n", integrator.totals().summary().c_str());
+  if (rank == 0 && !opt.quiet) print_done(model.counts(), path.planar, writer, opt.output, seconds, estimate ? &integrator : nullptr);
 }
 
 }  // namespace traverse::app

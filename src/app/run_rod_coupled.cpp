@@ -330,6 +330,44 @@ rod::CoupledRodMass rod_mass(const scene::MovingLoadSpec& load) {
           load.resistance_through == scene::ResistanceThrough::structure};
 }
 
+// The rod's estimate and the mass's (its position only); the larger decides.
+void make_estimates(const scene::Scene& sc, const rod::AlphaParameters& alpha, const rod::RodState& state,
+                    const rod::CoupledMassState& m, std::unique_ptr<solver::RodErrorEstimate>& rc,
+                    std::unique_ptr<solver::RodErrorEstimate>& mc) {
+  rod::ErrorWeights w = error_weights(sc.time.adaptive, sc.rod.length);
+  rc = std::make_unique<solver::RodErrorEstimate>(w, alpha, MPI_COMM_NULL);
+  w.controlled = {true, false, false, false, false};
+  mc = std::make_unique<solver::RodErrorEstimate>(w, alpha, MPI_COMM_NULL);
+  rc->start(solver::rod_levels(state));
+  mc->start(solver::mass_level(m));
+}
+
+void print_start(const scene::Scene& sc, const TimeGrid& grid, const std::string& initial,
+                 const solver::RodStepper& st, const std::string& path_text, const RunOptions& opt,
+                 const output::RestartPoint& point) {
+  std::printf("rod scene '%s': %d nodes, up to %ld steps of dt = %.6g s to t = %.6g s%s; initial state: %s; coupled "
+              "mass '%s' (partitioned iteration); linear solver: %s; path: %s\n",
+              sc.file.c_str(), sc.mesh.nodes, grid.steps, grid.dt, grid.t_end,
+              sc.time.adaptive.enabled ? " (adaptive: the first step and the output spacing)" : "", initial.c_str(),
+              coupled_load(sc)->name.c_str(), st.resolved_linear_solver().c_str(), path_text.c_str());
+  if (opt.restart)
+    std::printf("restart from %s: time step %ld at t = %.9g s, %zu output steps kept\n", opt.output.c_str(),
+                point.step, point.time, point.steps_written);
+}
+
+void print_done(const solver::CoupledRodTimeModel& model, const std::vector<output::RunEvent>& events,
+                std::size_t written, const std::string& output, std::chrono::steady_clock::time_point wall,
+                const time::TimeIntegrator* adaptive) {
+  std::printf("done: %ld steps, %ld coupling iterations, %ld Newton iterations", model.steps, model.coupling,
+              model.newton);
+  if (!events.empty())
+    std::printf("; ended by the event %s at t = %.9g s%s", events[0].reason.c_str(), events[0].time,
+                events[0].reason.rfind("left_rod", 0) == 0 || events[0].reason == "lift_off" ? " (interpolated)" : "");
+  std::printf("; %zu output steps -> %s; time stepping %.3f s (wall, output included)\n", written, output.c_str(),
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count());
+  if (adaptive) std::printf("adaptive: %s\n", adaptive->totals().summary().c_str());
+}
+
 }  // namespace
 
 void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGrid& grid, const RunOptions& opt,
@@ -389,16 +427,8 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
   writer.set_intervals(opt.flush_interval, writer.xdmf_interval());
   outputs.declare(writer);
-  // time.adaptive: the rod's estimate and the mass's (its position only); the larger decides.
-  std::unique_ptr<solver::RodErrorEstimate> rc, mc;
-  if (sc.time.adaptive.enabled) {
-    rod::ErrorWeights w = error_weights(sc.time.adaptive, sc.rod.length);
-    rc = std::make_unique<solver::RodErrorEstimate>(w, stepper.model().alpha, MPI_COMM_NULL);
-    w.controlled = {true, false, false, false, false};
-    mc = std::make_unique<solver::RodErrorEstimate>(w, stepper.model().alpha, MPI_COMM_NULL);
-    rc->start(solver::rod_levels(state));
-    mc->start(solver::mass_level(m));
-  }
+  std::unique_ptr<solver::RodErrorEstimate> rc, mc;  // time.adaptive: the rod's and the mass's
+  if (sc.time.adaptive.enabled) make_estimates(sc, stepper.model().alpha, state, m, rc, mc);
   solver::CoupledRodTimeModel model(stepper, state, m, load.name, load.contact == scene::Contact::unilateral,
                                     rc.get(), mc.get());
   CoupledRecord record(model, state, m, outputs, writer, grid.dt, path.planar, first, count, comm, rc.get(), mc.get());
@@ -418,17 +448,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
     record.write();
     record.store();
   }
-  if (rank == 0 && !opt.quiet) {
-    std::printf("rod scene '%s': %d nodes, up to %ld steps of dt = %.6g s to t = %.6g s%s; initial state: %s; coupled "
-                "mass '%s' (partitioned iteration); linear solver: %s; path: %s\n",
-                sc.file.c_str(), sc.mesh.nodes, grid.steps, grid.dt, grid.t_end,
-                sc.time.adaptive.enabled ? " (adaptive: the first step and the output spacing)" : "",
-                start.description.c_str(), load.name.c_str(), st.resolved_linear_solver().c_str(),
-                path_text.c_str());
-    if (opt.restart)
-      std::printf("restart from %s: time step %ld at t = %.9g s, %zu output steps kept\n", opt.output.c_str(),
-                  point.step, point.time, point.steps_written);
-  }
+  if (rank == 0 && !opt.quiet) print_start(sc, grid, start.description, st, path_text, opt, point);
   const auto wall = std::chrono::steady_clock::now();
   integrator.run(model.steps + 1);
   progress.done();
@@ -439,16 +459,8 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   writer.write_events(events);
   if (rc) write_adaptive_totals(writer, integrator.totals());
   writer.finish();
-  if (rank == 0 && !opt.quiet) {
-    std::printf("done: %ld steps, %ld coupling iterations, %ld Newton iterations", model.steps, model.coupling,
-                model.newton);
-    if (!events.empty())
-      std::printf("; ended by the event %s at t = %.9g s%s", events[0].reason.c_str(), events[0].time,
-                  events[0].reason.rfind("left_rod", 0) == 0 || events[0].reason == "lift_off" ? " (interpolated)" : "");
-    std::printf("; %zu output steps -> %s; time stepping %.3f s (wall, output included)\n", writer.steps_written(),
-                opt.output.c_str(), std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count());
-    if (rc) std::printf("adaptive: %s\n", integrator.totals().summary().c_str());
-  }
+  if (rank == 0 && !opt.quiet)
+    print_done(model, events, writer.steps_written(), opt.output, wall, rc ? &integrator : nullptr);
 }
 
 }  // namespace traverse::app
