@@ -39,6 +39,7 @@ struct RunOptions {
 /// collective over `comm` and allocate nothing of the structure's size.
 struct CheckedRun {
   TimeGrid grid;
+  int output_every = 1;  ///< output.every resolved (a beam's auto from its fastest mode)
   std::string summary;
 };
 CheckedRun check_beam_run(const scene::Scene& scene, const RunLimits& limits, MPI_Comm comm);
