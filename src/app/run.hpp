@@ -24,6 +24,7 @@ struct RunOptions {
   std::string output;  ///< resolved output path
   bool overwrite = false;
   bool quiet = false;
+  bool verbose = false;  ///< -v: the plan (run_scene) and the solver's details beside the summary
   bool progress = false;
   std::string invocation;
   double restart_interval = 60.0;  ///< wall seconds between restart points (0: every output step)
