@@ -408,35 +408,43 @@ def deep_figures(out, speeds, static=None):
     plt.close(fig)
 
     if slow:
-        fig = plt.figure(figsize=(6.5 * len(slow), 9))
+        # A column per speed: the 3-D shapes large (two thirds of the height, the box in the
+        # data's proportions, few ticks), the plan view below with the one legend.
+        from matplotlib.ticker import MaxNLocator
+
+        fig = plt.figure(figsize=(7.5 * len(slow), 11))
+        grid = fig.add_gridspec(2, len(slow), height_ratios=[2, 1])
         for i, v in enumerate(slow):
             r = runs[v]
             sig = traverse_io.first_load_sigma(r)
             d = lateral(r)
             targets = [0.40, d["sigma_max"], 0.65]
-            ax = fig.add_subplot(2, len(slow), i + 1, projection="3d")
-            bx = fig.add_subplot(2, len(slow), len(slow) + i + 1)
+            ax = fig.add_subplot(grid[0, i], projection="3d")
+            bx = fig.add_subplot(grid[1, i])
             for target in targets:
                 k = nearest(sig, target)
                 xyz = r.field("r", k)
                 lab = f"sigma = {sig[k]:.3f} m"
                 ax.plot(xyz[:, 0], xyz[:, 2], xyz[:, 1], label=lab)
                 ax.plot([xyz[nearest(r.s, sig[k]), 0]], [xyz[nearest(r.s, sig[k]), 2]],
-                        [xyz[nearest(r.s, sig[k]), 1]], "kv", ms=5)
+                        [xyz[nearest(r.s, sig[k]), 1]], "kv", ms=6)
                 bx.plot(xyz[:, 2], xyz[:, 0], label=lab)
             ax.set_xlim(-0.25, 0.25)
             ax.set_ylim(0, 0.53)
             ax.set_zlim(0, 0.45)
-            ax.set_xlabel("x [m]")
+            ax.set_box_aspect((0.5, 0.53, 0.45))
+            ax.view_init(elev=20, azim=-60)
+            for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+                axis.set_major_locator(MaxNLocator(4))
+            ax.set_xlabel("lateral x [m]")
             ax.set_ylabel("z [m]")
             ax.set_zlabel("y [m]")
             ax.set_title(f"deep arch, v = {v} m/s (triangle: load)")
-            ax.legend(fontsize=7)
             bx.set_xlabel("z [m]")
             bx.set_ylabel("lateral x [m]")
             bx.set_title("plan view")
             bx.grid(True, alpha=0.3)
-            bx.legend(fontsize=7)
+            bx.legend(fontsize=8)
         fig.tight_layout()
         fig.savefig(os.path.join(out, "deep_arch_shapes.png"), dpi=120)
         plt.close(fig)

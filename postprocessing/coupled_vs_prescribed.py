@@ -73,7 +73,7 @@ def main(argv=None):
         ax[0, 0].annotate(reason, (e_time, e_pos), fontsize=8, ha="right")
     for a in ax.flat:
         a.legend(fontsize=8)
-    fig.suptitle(args.title or traverse_io.scene_title(c) or os.path.basename(args.coupled))
+    fig.suptitle(args.title or traverse_io.wrapped(traverse_io.run_title(c), 110))
     fig.tight_layout()
     out = args.output or os.path.splitext(args.coupled)[0] + "_vs_prescribed.png"
     fig.savefig(out, dpi=110)

@@ -83,7 +83,7 @@ def main(argv=None):
         ax[0, 0].annotate(f"{reason} at {e_pos:.4g} m", (e_time, e_pos), fontsize=8, ha="right")
     for a in ax[1]:
         a.set_xlabel("t [s]")
-    fig.suptitle(f"{traverse_io.scene_title(run) or os.path.basename(args.run)}: coupled mass '{name}'")
+    fig.suptitle(traverse_io.wrapped(f"{traverse_io.run_title(run)}: coupled mass '{name}'", 110))
     fig.tight_layout()
     out = args.output or os.path.splitext(args.run)[0] + "_coupled.png"
     fig.savefig(out, dpi=110)

@@ -57,14 +57,16 @@ def main(argv=None):
     ax[0].set_ylabel("speed along the cable [m/s]")
     ax[0].legend(fontsize=8)
     picks = np.unique(np.linspace(0, len(t) - 1, 6).astype(int))
+    # The cable starts straight along z: y is its vertical displacement, exaggerated when small.
+    scale = traverse_io.exaggeration(r[picks, :, 1], float(s_nodes[-1] - s_nodes[0]))
     for k in picks:
-        line, = ax[1].plot(r[k, :, 2], r[k, :, 1], label=f"t = {t[k]:.2f} s")
-        ax[1].plot(pos[k, 2], pos[k, 1], "o", color=line.get_color())
+        line, = ax[1].plot(r[k, :, 2], scale * r[k, :, 1], label=f"t = {t[k]:.2f} s")
+        ax[1].plot(pos[k, 2], scale * pos[k, 1], "o", color=line.get_color())
     ax[1].set_aspect("equal")
     ax[1].set_xlabel("z [m]")
-    ax[1].set_ylabel("y [m]")
-    ax[1].legend(fontsize=8)
-    ax[1].set_title("cable shapes, robot marked")
+    ax[1].set_ylabel("y [m]" if scale == 1.0 else f"y, exaggerated x {scale:g} [m]")
+    ax[1].legend(fontsize=7, loc="upper center", ncol=3, bbox_to_anchor=(0.5, 0.28), bbox_transform=fig.transFigure)  # below the flat panel
+    ax[1].set_title("cable shapes, robot marked" + ("" if scale == 1.0 else f" (y x {scale:g})"))
     ax[2].plot(t, pos[:, 1], label="robot height")
     ax[2].plot(t, run.probes["midspan"][:, 1], label="midspan height")
     ax[2].set_xlabel("t [s]")
@@ -73,7 +75,7 @@ def main(argv=None):
     for e_time, _, reason in events(args.run):
         ax[2].axvline(e_time, color="k", ls=":", lw=0.8)
         ax[2].annotate(reason, (e_time, ax[2].get_ylim()[0]), fontsize=8, ha="right", va="bottom")
-    fig.suptitle(f"{traverse_io.scene_title(run) or os.path.basename(args.run)}")
+    fig.suptitle(traverse_io.wrapped(traverse_io.run_title(run), 140))
     fig.tight_layout()
     out = args.output or os.path.splitext(args.run)[0] + "_robot.png"
     fig.savefig(out, dpi=110)

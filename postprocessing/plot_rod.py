@@ -1,7 +1,10 @@
 #!/usr/bin/env python3
 """Figure of one rod run: the vertical position of a probe (default: midspan) against the
 load position sigma, and the shapes y(z) of the centreline at a few sigma (needs the field r),
-each with the load marked where it is on that shape.
+each with the load marked where it is on that shape. A shape whose largest vertical
+displacement from the straight rod is below a tenth of its length is drawn with that
+displacement exaggerated (traverse_io.exaggeration), and the axis says by how much. The title
+gives the values the run used (its stored scene, after any --set).
 
 Usage: plot_rod.py RUN.h5 [-o FIGURE.png] [--probe midspan]
 Exits with status 2 and a message when RUN.h5 is not a complete rod run or has no such probe.
@@ -56,18 +59,23 @@ def main(argv=None):
     ax.legend()
     if has_r:
         ax2 = axes[0, 1]
-        for i, (s, r) in enumerate(shapes_at(run, np.linspace(0.0, float(run.s[-1]), 5))):
-            line, = ax2.plot(r[:, 2], r[:, 1], label=f"sigma = {s:.2f} m")
+        shapes = shapes_at(run, np.linspace(0.0, float(run.s[-1]), 5))
+        # The rod starts straight along z: y is its vertical displacement.
+        k = traverse_io.exaggeration(np.array([r[:, 1] for _, r in shapes]), float(run.s[-1] - run.s[0]))
+        for i, (s, r) in enumerate(shapes):
+            line, = ax2.plot(r[:, 2], k * r[:, 1], label=f"sigma = {s:.2f} m")
             p = point_at(run.s, r, s)
             if p is not None:  # the load on this shape
-                ax2.plot(p[2], p[1], "v", color=line.get_color(), markersize=8,
+                ax2.plot(p[2], k * p[1], "v", color=line.get_color(), markersize=8,
                          label="load position" if i == 0 else None)
         ax2.set_xlabel("z [m]")
-        ax2.set_ylabel("y [m]")
+        ax2.set_ylabel("y [m]" if k == 1.0 else f"y, exaggerated x {k:g} [m]")
+        if k != 1.0:
+            ax2.set_title(f"shapes, vertical displacement exaggerated {k:g} times", fontsize=10)
         ax2.set_aspect("equal", adjustable="datalim")
         ax2.grid(True, alpha=0.3)
         ax2.legend(fontsize=8)
-    fig.suptitle(traverse_io.scene_title(run) or os.path.basename(a.run))
+    fig.suptitle(traverse_io.wrapped(traverse_io.run_title(run), 120))
     fig.tight_layout()
     out = a.output or os.path.splitext(a.run)[0] + ".png"
     fig.savefig(out, dpi=130)

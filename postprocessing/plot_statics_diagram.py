@@ -20,6 +20,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import traverse_io  # noqa: E402
 
 
 def parameter_name(f):
@@ -92,9 +93,7 @@ def main(argv=None):
     ax.set_ylabel(f"{'|' + a.probe + '|' if a.abs else a.probe} [{units_q}]")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)
-    for line in text(f.attrs.get("scene", "")).splitlines():
-        if line.startswith("title:"):
-            ax.set_title(line.split(":", 1)[1].strip().strip("'\""))
+    ax.set_title(traverse_io.wrapped(traverse_io.run_title(f), 90), fontsize=10)  # the values the run used
     fig.tight_layout()
     out = a.output or os.path.splitext(a.run)[0] + ".png"
     fig.savefig(out, dpi=130)

@@ -219,11 +219,113 @@ def require_probe(out, name, script):
 
 
 def scene_title(out):
-    """The `title:` of the validated scene stored in the file ("" when there is none)."""
+    """The `title:` of the validated scene stored in the file ("" when there is none). It is
+    the scene author's text: after --set it may no longer describe the run (run_title does)."""
     for line in str(out.attrs.get("scene", "")).splitlines():
         if line.startswith("title:"):
             return line.split(":", 1)[1].strip().strip("'\"")
     return ""
+
+
+def _scalar(text):
+    text = text.strip()
+    if len(text) >= 2 and text[0] == text[-1] and text[0] in "'\"":
+        return text[1:-1]
+    if text.startswith("[") and text.endswith("]"):
+        return [_scalar(t) for t in text[1:-1].split(",") if t.strip()]
+    if text == "{}":
+        return {}
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
+def scene_values(out):
+    """The validated scene stored in the file (root attribute `scene`: every key the run used,
+    after --set, defaults filled in) as nested dicts; numbers as floats, flow lists as lists.
+    It is block YAML written by traverse, read here without a YAML module."""
+    root = {}
+    stack = [(-1, root)]
+    for line in str(_text(out.attrs.get("scene", ""))).splitlines():
+        if not line.strip() or line.lstrip().startswith("#") or ":" not in line:
+            continue
+        indent = len(line) - len(line.lstrip())
+        key, _, rest = line.strip().partition(":")
+        while stack[-1][0] >= indent:
+            stack.pop()
+        parent = stack[-1][1]
+        if rest.strip():
+            parent[key.strip().strip("'\"")] = _scalar(rest)
+        else:
+            parent[key.strip().strip("'\"")] = child = {}
+            stack.append((indent, child))
+    return root
+
+
+def _g(v):
+    return f"{v:g}" if isinstance(v, float) else str(v)
+
+
+def load_text(name, load):
+    """A moving load as the run used it, e.g. "'F': moving_force 2 N at 3.63 m/s"."""
+    what = [str(load.get("type", "load")).replace("_", " ")]
+    if "force" in load:
+        what.append(f"{_g(load['force'])} N")
+    elif "axle_load" in load:
+        what.append(f"{_g(load['axle_load'])} N per axle")
+    if "mass_fraction" in load:
+        what.append(f"p = {_g(load['mass_fraction'])} (mass fraction)")
+    elif "mass" in load:
+        what.append(f"{_g(load['mass'])} kg")
+    text = f"'{name}': " + " ".join(what)
+    if isinstance(load.get("speed"), float):
+        start = " starting" if load.get("type") == "coupled_mass" else ""  # it moves by itself
+        text += f"{start} at {load['speed']:.3g} m/s"
+    if isinstance(load.get("acceleration"), float) and load["acceleration"] != 0.0:
+        text += f", {load['acceleration']:.3g} m/s^2"
+    return text
+
+
+def run_title(out):
+    """A title from the values the run used (its stored scene), not the scene's `title:`:
+    the model, its length and supports or ends, and each load, e.g. "beam 2 m, clamped-free,
+    3 modes; 'mass': moving_mass p = 0.2 (mass fraction) at 50 m/s"."""
+    sc = scene_values(out)
+    model = str(sc.get("model", _text(out.attrs.get("model", ""))))
+    body = sc.get(model, {}) if isinstance(sc.get(model), dict) else {}
+    parts = [f"{model} {_g(body['length'])} m" if "length" in body else model]
+    if model == "beam":
+        parts[0] += f", {body.get('supports', '')}, {_g(body.get('modes', ''))} modes".replace(".0 modes", " modes")
+    elif isinstance(sc.get("ends"), dict):
+        ends = sc["ends"]
+        parts[0] += ", ends " + "-".join(str(ends.get(e, {}).get("type", "?")) for e in ("left", "right"))
+    loads = sc.get("loads", {}) if isinstance(sc.get("loads"), dict) else {}
+    parts += [load_text(n, l) for n, l in loads.items() if isinstance(l, dict)]
+    cont = sc.get("continuation")
+    if isinstance(cont, dict) and "parameter" in cont:
+        parts.append(f"{cont['parameter']} from {_g(cont.get('start', '?'))} to {_g(cont.get('stop', '?'))}")
+    return "; ".join(parts)
+
+
+def wrapped(text, width=90):
+    """`text` broken into lines of at most `width` characters (for titles)."""
+    import textwrap
+
+    return "\n".join(textwrap.wrap(text, width)) or text
+
+
+def exaggeration(displacement, length):
+    """The factor that draws a deformed shape visibly: 1 when the largest displacement from
+    the undeformed structure is at least a tenth of its length; else the largest 1-2-5 number
+    that brings it to at most a fifth of the length. Shapes drawn with equal axes otherwise
+    show a sag of a millimetre on a metre as a straight line."""
+    d = float(np.nanmax(np.abs(displacement))) if np.size(displacement) else 0.0
+    if not np.isfinite(d) or d == 0.0 or d >= length / 10.0:
+        return 1.0
+    want = 0.2 * length / d
+    decade = 10.0 ** np.floor(np.log10(want))
+    return max(f * decade for f in (1.0, 2.0, 5.0) if f * decade <= want)
 
 
 def first_load_sigma(out):

@@ -9,7 +9,7 @@ std::string usage_text() {
   return R"(traverse: slender elastic structures under moving loads
 
 Usage:
-  traverse run SCENE.yaml [-o OUT.h5] [--set KEY.PATH=VALUE ...] [--overwrite] [-q] [--progress]
+  traverse run SCENE.yaml [-o OUT.h5] [--set KEY.PATH=VALUE ...] [--overwrite] [-q | -v] [--progress]
                [--restart-interval S] [--max-memory SIZE] [--max-steps N]
   traverse run --restart OUT.h5 [SCENE.yaml] [--set KEY.PATH=VALUE ...] [-q] [--progress]
   traverse check SCENE.yaml [--set KEY.PATH=VALUE ...] [--types] [--max-memory SIZE] [--max-steps N]
@@ -45,6 +45,8 @@ Options:
                       component), e.g. --summary midspan.y:min
   --overwrite         replace an existing output file (sweep: the index and case files)
   -q, --quiet         no progress, no summary
+  -v, --verbose       run: also print the plan before the run (time steps, memory and
+                      output size estimates, the output stride and why: what check prints)
   --progress          report progress on stderr even when it is not a terminal
   --restart FILE      continue the run whose output is FILE (killed, interrupted or failed)
                       from its last restart point, appending to FILE; the scene is the one
@@ -193,6 +195,8 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       cl.overwrite = true;
     } else if (run && (a == "-q" || a == "--quiet")) {
       cl.quiet = true;
+    } else if (run && !sweep && (a == "-v" || a == "--verbose")) {
+      cl.verbose = true;
     } else if (run && !sweep && a == "--progress") {
       cl.progress = true;
     } else if (!run && a == "--types") {

@@ -27,6 +27,7 @@ struct CommandLine {
   std::vector<std::string> overrides;  ///< --set KEY.PATH=VALUE, in order
   bool overwrite = false;
   bool quiet = false;
+  bool verbose = false;                ///< -v: run also prints its plan (time steps, memory, output size)
   bool progress = false;               ///< --progress: report progress even when not a terminal
   bool types = false;                  ///< check --types: also document every registered type
   std::vector<VaryOption> vary;        ///< sweep --vary KEY=v1,v2,..., in order

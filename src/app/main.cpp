@@ -85,6 +85,7 @@ int execute(const app::CommandLine& cl, int rank, MPI_Comm comm) {
       opt.restart_interval = cl.restart_interval >= 0.0 ? cl.restart_interval : sc.output.restart_interval;
       opt.overwrite = cl.overwrite;
       opt.quiet = cl.quiet;
+      opt.verbose = cl.verbose && !cl.quiet;
       opt.progress = cl.progress;
       opt.invocation = cl.invocation;
       opt.limits = cl.limits;

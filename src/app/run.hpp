@@ -24,6 +24,7 @@ struct RunOptions {
   std::string output;  ///< resolved output path
   bool overwrite = false;
   bool quiet = false;
+  bool verbose = false;  ///< -v: the plan (run_scene) and the solver's details beside the summary
   bool progress = false;
   std::string invocation;
   double restart_interval = 60.0;  ///< wall seconds between restart points (0: every output step)
@@ -39,6 +40,7 @@ struct RunOptions {
 /// collective over `comm` and allocate nothing of the structure's size.
 struct CheckedRun {
   TimeGrid grid;
+  int output_every = 1;  ///< output.every resolved (a beam's auto from its fastest mode)
   std::string summary;
 };
 CheckedRun check_beam_run(const scene::Scene& scene, const RunLimits& limits, MPI_Comm comm);

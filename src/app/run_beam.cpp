@@ -55,10 +55,12 @@ void add_axle_train(const scene::MovingLoadSpec& l, std::vector<beam::MovingLoad
   }
 }
 
-/// Stage 1: the beam problem of a scene on the time grid of its checked run plan
-/// (run_limits.hpp: dt auto is a twentieth of the highest mode's period, at most the time a
-/// load needs to cross one mesh cell; end auto is when the last load leaves).
-beam::BeamProblem beam_problem(const scene::Scene& sc, const TimeGrid& grid) {
+/// Stage 1: the beam problem of a scene on the time grid and output stride of its checked run
+/// plan (run_limits.hpp: dt auto is a twentieth of the highest mode's period, at most the time
+/// a load needs to cross one mesh cell; end auto is when the last load leaves; output.every
+/// auto keeps kBeamOutputsPerPeriod outputs per period of the highest mode).
+beam::BeamProblem beam_problem(const scene::Scene& sc, const CheckedRun& checked) {
+  const TimeGrid& grid = checked.grid;
   const auto& b = sc.beam;
   beam::BeamProblem p;
   p.length = b.length;
@@ -85,7 +87,7 @@ beam::BeamProblem beam_problem(const scene::Scene& sc, const TimeGrid& grid) {
   p.t_end = grid.t_end;
   p.dt = grid.dt;
   p.integrator = b.integrator == scene::BeamIntegrator::newmark ? beam::Integrator::Newmark : beam::Integrator::RK4;
-  p.output_every = sc.output.every;
+  p.output_every = checked.output_every;
   p.adaptive = sc.time.adaptive.enabled;
   if (p.adaptive) p.control = step_control_parameters(sc.time.adaptive, grid.dt, p.integrator == beam::Integrator::RK4 ? 4 : 2);
   return p;
@@ -222,8 +224,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   const int rank = par::rank(comm);
   // The limits (steps, memory, load ratio: run_limits.hpp) before anything of the beam's size
   // is allocated; the time grid (dt, end) comes from the same plan.
-  const TimeGrid grid = check_beam_run(sc, opt.limits, comm).grid;
-  const beam::BeamProblem p = beam_problem(sc, grid);
+  const beam::BeamProblem p = beam_problem(sc, check_beam_run(sc, opt.limits, comm));
   if (coupled_load(sc)) {
     run_beam_coupled(sc, p, opt, comm);
     return;

@@ -21,13 +21,18 @@ bool expect_planar(const scene::Scene& sc, const rod::RodModel& model) {
   return reference_state_planarity(sc, model).planar;
 }
 
-std::string summary(const TimePlan* time, const MemoryPlan& memory, const MemoryLimit& limit) {
+std::string summary(const scene::Scene& sc, const TimePlan* time, const MemoryPlan& memory,
+                    const MemoryLimit& limit) {
   std::string s;
   if (time)
     s = std::to_string(time->grid.steps) + " time steps of dt = " + scene::format_number(time->grid.dt) + " s to t = " +
         scene::format_number(time->grid.t_end) + " s; ";
-  return s + "memory estimate " + format_bytes(memory.bytes) + " per rank (limit " +
-         (limit.bytes > 0.0 ? format_bytes(limit.bytes) + ": " + limit.source : std::string("none known")) + ")";
+  s += "memory estimate " + format_bytes(memory.bytes) + " per rank (limit " +
+       (limit.bytes > 0.0 ? format_bytes(limit.bytes) + ": " + limit.source : std::string("none known")) + ")";
+  if (time)
+    s += "; " + scene::format_number(time->output_steps()) + " output steps (" + time->every_text + "), output " +
+         output_size(sc, *time).text();
+  return s;
 }
 
 }  // namespace
@@ -44,7 +49,8 @@ CheckedRun check_beam_run(const scene::Scene& sc, const RunLimits& limits, MPI_C
   TimePlan time = beam_time_plan(sc);
   check_time_plan(sc, time, limits.max_steps);
   out.grid = time.grid;
-  out.summary = summary(&time, memory, limit);
+  out.output_every = time.every;
+  out.summary = summary(sc, &time, memory, limit);
   return out;
 }
 
@@ -58,14 +64,14 @@ CheckedRun check_rod_run(const scene::Scene& sc, const rod::RodModel& model, con
   check_memory(sc, memory, limit);
   check_counters(sc, path);
   if (sc.continuation.enabled) {
-    out.summary = summary(nullptr, memory, limit);
+    out.summary = summary(sc, nullptr, memory, limit);
     return out;
   }
   check_load_speeds(sc);
   TimePlan time = rod_time_plan(sc);
   check_time_plan(sc, time, limits.max_steps);
   out.grid = time.grid;
-  out.summary = summary(&time, memory, limit);
+  out.summary = summary(sc, &time, memory, limit);
   return out;
 }
 

@@ -170,7 +170,8 @@ std::string format_bytes(double b) {
     ++u;
   }
   char buf[48];
-  std::snprintf(buf, sizeof buf, u == 0 ? "%.0f %s" : "%.3g %s", b, units[u]);
+  // Three significant digits; 1000 to 1023 of a unit in full (not 1.02e+03).
+  std::snprintf(buf, sizeof buf, u == 0 || std::abs(b) >= 999.5 ? "%.0f %s" : "%.3g %s", b, units[u]);
   return buf;
 }
 
@@ -232,6 +233,9 @@ TimePlan rod_time_plan(const scene::Scene& sc) {
   }
   p.t_end = sc.time.end_auto ? auto_end(sc, p) : fixed_end(sc, p);
   p.steps = grid_step_count(p.t_end, p.dt, 1e-6);
+  p.every = sc.output.every;
+  p.every_text = sc.output.every_auto ? "output.every: auto = 1 (every time step)"
+                                      : "output.every = " + std::to_string(p.every);
   return p;
 }
 
@@ -246,9 +250,38 @@ beam::Support beam_support(scene::Supports s) {
   }
 }
 
+namespace {
+
+/// The period of the fastest motion of a beam run: its highest mode, or an axle on a stiffer
+/// suspension; `what` says which, `keys` its keys.
+double fastest_period(const scene::Scene& sc, std::string& what, std::vector<std::string>& keys) {
+  const auto& b = sc.beam;
+  const double EI = b.youngs_modulus * b.section.I1, rhoA = b.density * b.section.area;
+  const beam::UniformModes modes(beam_support(b.supports), b.modes, b.length, EI, rhoA);
+  const double omega_max = modes.circular_frequencies().maxCoeff();
+  double period = 2.0 * constants::pi / omega_max;
+  what = "mode " + std::to_string(b.modes) + " (beam.modes; " + fmt(omega_max) + " rad/s)";
+  keys = {"beam.modes", "beam.youngs_modulus", "beam.density", "beam.section"};
+  for (const auto& l : sc.loads)  // a suspension faster than the highest mode
+    for (std::size_t a = 0; a < l.axle_stiffness.size(); ++a) {
+      const double m = l.wheel_masses[a] > 0.0 ? std::min(l.wheel_masses[a], l.mass) : l.mass;
+      const double omega = std::sqrt(l.axle_stiffness[a] / m), T = 2.0 * constants::pi / omega;
+      if (!(T < period)) continue;
+      period = T;
+      what = "axle " + std::to_string(a + 1) + " of '" + l.name + "' on its suspension (" + fmt(omega) + " rad/s)";
+      keys = {"loads." + l.name + ".stiffness", "loads." + l.name + ".mass"};
+    }
+  return period;
+}
+
+}  // namespace
+
 TimePlan beam_time_plan(const scene::Scene& sc) {
   TimePlan p;
   const auto& b = sc.beam;
+  std::string fastest;
+  std::vector<std::string> fastest_keys;
+  const double period = fastest_period(sc, fastest, fastest_keys);
   double v_max = 0.0;
   const scene::MovingLoadSpec* fast = nullptr;
   for (const auto& l : sc.loads) {
@@ -258,24 +291,10 @@ TimePlan beam_time_plan(const scene::Scene& sc) {
     v_max = std::max(v_max, v);
   }
   if (sc.time.dt_auto) {
-    const double EI = b.youngs_modulus * b.section.I1, rhoA = b.density * b.section.area;
-    const beam::UniformModes modes(beam_support(b.supports), b.modes, b.length, EI, rhoA);
-    const double omega_max = modes.circular_frequencies().maxCoeff();
-    p.dt = 2.0 * constants::pi / omega_max / 20.0;
-    p.dt_text = "time.dt: auto = a twentieth of the period of mode " + std::to_string(b.modes) + " (beam.modes; " +
-                fmt(omega_max) + " rad/s) = " + fmt(p.dt) + " s";
-    p.dt_keys = {"beam.modes", "beam.youngs_modulus", "beam.density", "beam.section"};
+    p.dt = period / 20.0;
+    p.dt_text = "time.dt: auto = a twentieth of the period of " + fastest + " = " + fmt(p.dt) + " s";
+    p.dt_keys = fastest_keys;
     p.dt_from_modes = true;
-    for (const auto& l : sc.loads)  // a suspension faster than the highest mode sets the step
-      for (std::size_t a = 0; a < l.axle_stiffness.size(); ++a) {
-        const double m = l.wheel_masses[a] > 0.0 ? std::min(l.wheel_masses[a], l.mass) : l.mass;
-        const double omega = std::sqrt(l.axle_stiffness[a] / m), dt = 2.0 * constants::pi / omega / 20.0;
-        if (!(dt < p.dt)) continue;
-        p.dt = dt;
-        p.dt_text = "time.dt: auto = a twentieth of the period of axle " + std::to_string(a + 1) + " of '" + l.name +
-                    "' on its suspension (" + fmt(omega) + " rad/s) = " + fmt(p.dt) + " s";
-        p.dt_keys = {"loads." + l.name + ".stiffness", "loads." + l.name + ".mass"};
-      }
     if (v_max > 0.0 && !(p.dt <= sc.mesh.ds / v_max)) {
       p.dt = sc.mesh.ds / v_max;
       const std::string k = "loads." + fast->name;
@@ -291,7 +310,53 @@ TimePlan beam_time_plan(const scene::Scene& sc) {
   }
   p.t_end = sc.time.end_auto ? auto_end(sc, p) : fixed_end(sc, p);
   p.steps = grid_step_count(p.t_end, p.dt, beam::BeamSimulation::kGridJoin);
+  if (sc.output.every_auto) {
+    // The largest stride that keeps kBeamOutputsPerPeriod outputs per fastest period (a
+    // relative 1e-9 forgives the rounding of dt = period / 20).
+    const double stride = std::floor(period / kBeamOutputsPerPeriod / p.dt * (1.0 + 1e-9));
+    p.every = std::isfinite(stride) ? static_cast<int>(std::clamp(stride, 1.0, 1e9)) : 1;
+    p.every_text = "output.every: auto = " + std::to_string(p.every) + " (" + fmt(kBeamOutputsPerPeriod) +
+                   " outputs per period of " + fastest + ")";
+  } else {
+    p.every = sc.output.every;
+    p.every_text = "output.every = " + std::to_string(p.every);
+  }
   return p;
+}
+
+std::string OutputSize::text() const {
+  return "about " + format_bytes(h5) + " (+ " + format_bytes(xmf) + " .xmf sidecar)";
+}
+
+OutputSize output_size(const scene::Scene& sc, const TimePlan& plan) {
+  const bool beam = sc.model == scene::Model::Beam;
+  const double steps = plan.output_steps(), nodes = sc.mesh.nodes;
+  // Values per node and output step: the fields stored, and the sidecar's copies of its
+  // arrays (/xdmf: the geometry and each field but the beam's deflection).
+  double stored = beam ? 4.0 : 0.0, copied = beam ? 3.0 : 0.0, arrays = beam ? 1.0 : 0.0;
+  for (const auto f : sc.output.fields) {
+    const double n = f == scene::Field::R ? 9.0 : (f == scene::Field::deflection || f == scene::Field::slope ||
+                                                   f == scene::Field::bending_moment) ? 1.0 : 3.0;
+    if (f == scene::Field::deflection) continue;  // the beam always writes it
+    stored += n;
+    copied += n;
+    arrays += f == scene::Field::R ? 3.0 : 1.0;  // the rod's R: three director arrays
+  }
+  // Probe series, each at least a chunk of 8192 values (a point's three components share
+  // one): time, sigma, the probes, per load its position (and the beam's deflection under it).
+  const double scalars = 2.0 + static_cast<double>(sc.loads.size()) * (beam ? 2.0 : 1.0);
+  double series = scalars * 8.0 * std::max(steps, 8192.0);
+  for (const auto& pr : sc.output.probes)
+    series += pr.type == scene::ProbeType::point ? 24.0 * std::max(steps, 8192.0 / 3.0) : 8.0 * std::max(steps, 8192.0);
+  OutputSize o;
+  // Each sidecar array of each step is a dataset of its own: about 400 bytes of HDF5
+  // metadata; a rod's restart points keep two states of about 70 values per node; the mesh
+  // (s, positions, segments) about 6 values per node.
+  o.h5 = steps * (8.0 * nodes * (stored + copied) + 400.0 * arrays) + series +
+         (beam ? 0.0 : 2.0 * 8.0 * 70.0 * nodes) + 8.0 * 6.0 * nodes;
+  // The sidecar's text per step: the grids, their time and points, and one line per array.
+  o.xmf = steps * ((sc.loads.empty() ? 600.0 : 1270.0) + 380.0 * arrays);
+  return o;
 }
 
 void check_time_plan(const scene::Scene& sc, TimePlan& p, long max_steps) {

@@ -42,7 +42,16 @@ struct TimePlan {
   std::vector<std::string> dt_keys, end_keys;  ///< the keys that decide each, most specific first
   bool entry_dominated = false;  ///< time.end auto and mostly a load's entry_time
   bool dt_from_modes = false;    ///< beam time.dt auto from the highest mode (not capped by a load)
+  int every = 1;                 ///< output.every, resolved (beam auto: beam_time_plan)
+  std::string every_text;        ///< "output.every = 10" or "output.every: auto = ..."
+  /// The output steps written: the first state, every `every` steps, the last state.
+  double output_steps() const { return std::floor(steps / every) + 1.0 + (std::fmod(steps, every) > 0.0 ? 1.0 : 0.0); }
 };
+
+/// Outputs per period of the fastest motion a beam run keeps (its highest mode, or a faster
+/// suspension) when output.every is auto: twice the Nyquist rate, so that every mode kept is
+/// in the output without aliasing and its peaks within cos(pi / 4) of their value.
+constexpr double kBeamOutputsPerPeriod = 4.0;
 
 /// The rod's grid: time.dt (auto resolved by the scene: ds / v), time.end or the time the last
 /// load leaves; a remainder below 1e-6 dt joins the last step.
@@ -50,6 +59,15 @@ TimePlan rod_time_plan(const scene::Scene& sc);
 /// The beam's grid: time.dt or auto (a twentieth of the period of the highest mode, at most
 /// the time a load needs to cross a cell), time.end or when the last load leaves.
 TimePlan beam_time_plan(const scene::Scene& sc);
+
+/// The estimated size of a run's output: the HDF5 file and its XDMF sidecar [bytes].
+struct OutputSize {
+  double h5 = 0.0, xmf = 0.0;
+  std::string text() const;  ///< "about 2.7 MiB (+ 0.64 MiB .xmf sidecar)"
+};
+/// From the time plan's output steps, the fields (per node and step: the values and the
+/// sidecar's copies of its arrays) and the probes; within about 25 % of the files written.
+OutputSize output_size(const scene::Scene& sc, const TimePlan& plan);
 
 /// Throws SceneError unless dt and the end time are positive and finite and the step count
 /// is at most max_steps and kMaxGridSteps; fills plan.grid.

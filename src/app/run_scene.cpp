@@ -56,6 +56,10 @@ void run_scene(const scene::Scene& sc, const RunOptions& options, MPI_Comm comm)
   opt.flush_interval = sc.output.flush_interval;
   if (!sc.continuation.enabled && par::rank(comm) == 0)
     for (const std::string& w : idle_load_warnings(sc)) std::fprintf(stderr, "traverse: warning: %s\n", w.c_str());
+  if (opt.verbose) {  // the plan: what `traverse check` prints (the checks are collective)
+    const std::string plan = check_run(sc, opt.limits, comm);
+    if (par::rank(comm) == 0) std::printf("plan: %s\n", plan.c_str());
+  }
   SetUpStops stops(comm);
   try {
     run_model(sc, opt, comm);

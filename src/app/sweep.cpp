@@ -95,8 +95,9 @@ scene::Scene case_scene(const CommandLine& cl, const SweepCase& c) {
 double case_cost(const scene::Scene& sc) {
   if (sc.model == scene::Model::Rod && sc.continuation.enabled) return 1.0;
   const bool beam = sc.model == scene::Model::Beam;
-  const double steps = (beam ? beam_time_plan(sc) : rod_time_plan(sc)).steps;
-  const double per_step = beam ? sc.beam.modes + double(sc.mesh.nodes) / std::max(1, sc.output.every) : sc.mesh.nodes;
+  const TimePlan plan = beam ? beam_time_plan(sc) : rod_time_plan(sc);
+  const double steps = plan.steps;
+  const double per_step = beam ? sc.beam.modes + double(sc.mesh.nodes) / std::max(1, plan.every) : sc.mesh.nodes;
   const double cost = steps * per_step;
   return std::isfinite(cost) && cost > 0.0 ? cost : 0.0;
 }

@@ -223,7 +223,7 @@ SidecarResult write_sidecar(const std::string& h5_path, const std::string& xmf_p
     s = read_rows(s_ds.get(), 0, n, h5_path + ":/mesh/s");
   }
   detail::XdmfModel m;
-  m.h5_name = fs::path(h5_path).filename().string();
+  m.h5_name = detail::sidecar_h5_name(h5_path);
   m.nodes = n;
   {
     Handle t = open_dataset(f, "/time", h5_path);

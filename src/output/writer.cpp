@@ -392,7 +392,7 @@ void Writer::Impl::flush_pending() {
 
 void Writer::Impl::write_xdmf_text() {
   detail::XdmfModel m;
-  m.h5_name = fs::path(path).filename().string();
+  m.h5_name = detail::sidecar_h5_name(path);
   m.nodes = nodes.global_count;
   m.times.assign(times.begin(), times.begin() + static_cast<std::ptrdiff_t>(flushed));
   m.arrays = plan.views;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <set>
@@ -56,6 +57,10 @@ void hdf_item(std::string& o, const std::string& dims, const char* type, int pre
 }
 
 }  // namespace
+
+std::string sidecar_h5_name(const std::string& h5_path) {
+  return std::filesystem::absolute(h5_path).lexically_normal().string();
+}
 
 XdmfPlan plan_views(const std::vector<XdmfFieldInfo>& fields) {
   XdmfPlan plan;

@@ -44,8 +44,14 @@ struct XdmfPlan {
 /// false have no array.
 XdmfPlan plan_views(const std::vector<XdmfFieldInfo>& fields);
 
+/// The HDF5 file as the sidecar names it: its absolute path. ParaView's Xdmf3 reader joins a
+/// relative name to the folder of the .xmf as given to it, and a sidecar opened without a folder
+/// ("run.xmf") then reads "run.xmfrun.h5"; an absolute name is read the same from anywhere
+/// (and from a sidecar that `traverse xdmf -o` writes into another folder).
+std::string sidecar_h5_name(const std::string& h5_path);
+
 struct XdmfModel {
-  std::string h5_name;        ///< HDF5 file name as seen from the .xmf's folder
+  std::string h5_name;        ///< the HDF5 file as the sidecar names it (sidecar_h5_name)
   std::size_t nodes = 0;      ///< global node count
   std::vector<double> times;  ///< one entry per step [s]
   std::vector<XdmfView> arrays;

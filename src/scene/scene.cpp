@@ -578,7 +578,13 @@ Param build_schema() {
   Param out = section("output", "What is written, and where");
   out.add(text("file", "HDF5 output file; auto: the scene file's name with .h5, in the working directory "
                        "(the command line's -o wins)").def("auto"));
-  out.add(integer("every", "Write every this many time steps (the first and last states are always written)").at_least(1).def(1.0));
+  out.add(integer("every", "Write every this many time steps (the first and last states are always written); auto: "
+                          "beam: 4 outputs per period of the fastest motion kept (the highest mode, or a faster "
+                          "suspension), rod: every time step (with time.dt auto, one per mesh cell the fastest load "
+                          "crosses)")
+              .at_least(1)
+              .allow_auto()
+              .def("auto"));
   out.add(real("restart_interval", "Rod runs: wall time between restart points (docs/reliability.md); one is also "
                                    "stored at the start, at the end, on a signal and on a failure; 0: after every "
                                    "output step (the command line's --restart-interval wins)", "s")
@@ -1093,7 +1099,8 @@ void read_time(const ParameterList& t, Scene& sc) {
 void read_output(const ParameterList& o, const std::string& file_name, OutputSpec& out) {
   out.file = o.get<std::string>("file");
   if (out.file == "auto") out.file = std::filesystem::path(file_name).stem().string() + ".h5";
-  out.every = o.get<int>("every");
+  out.every_auto = o.isType<std::string>("every");
+  out.every = out.every_auto ? 1 : o.get<int>("every");
   out.restart_interval = o.get<double>("restart_interval");
   out.flush_interval = o.get<double>("flush_interval");
   out.progress_interval = o.get<double>("progress_interval");

@@ -94,6 +94,37 @@ TEST(Cli, CheckPrintsTheCompleteDocumentedScene) {
   EXPECT_NE(r.out.find("moving_force: A point force without inertia"), std::string::npos) << r.out;
 }
 
+TEST(Cli, VerboseRunPrintsItsPlanFirst) {
+  // -v: the run's plan (check's line: steps, memory, output steps and size) before the run's
+  // own lines; without it, or with -q, no plan.
+  const fs::path d = scratch("verbose");
+  const std::string out = (d / "run.h5").string();
+  const std::string base = "run " + kScene.string() + " -o " + out + " --overwrite --set beam.modes=2 --set time.dt=1e-4";
+  const auto check = run("check " + kScene.string() + " --set beam.modes=2 --set time.dt=1e-4");
+  ASSERT_EQ(check.code, 0) << check.out;
+  const auto from = check.out.find("(") + 1, to = check.out.find(")). The complete scene");
+  ASSERT_NE(to, std::string::npos) << check.out;
+  const std::string plan = check.out.substr(from, to + 1 - from);
+  auto r = run(base + " -v");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const auto at = r.out.find("plan: ");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_LT(at, r.out.find("beam scene")) << r.out;
+  // The same figures as check's but the memory limit (MemAvailable changes between the two):
+  // the steps before the first ';', the output steps and size after the last.
+  const std::string line = r.out.substr(at + 6, r.out.find('\n', at) - at - 6);
+  const auto steps = [](const std::string& s) { return s.substr(0, s.find(';')); };
+  const auto output = [](const std::string& s) { return s.substr(s.rfind("; ", s.find(" output steps"))); };
+  EXPECT_EQ(steps(line), steps(plan)) << line << "\n" << plan;
+  ASSERT_NE(line.find(" output steps"), std::string::npos) << line;
+  EXPECT_EQ(output(line), output(plan)) << line << "\n" << plan;
+  for (const char* quiet : {"", " -v -q"}) {
+    r = run(base + quiet);
+    ASSERT_EQ(r.code, 0) << r.out;
+    EXPECT_EQ(r.out.find("plan: "), std::string::npos) << quiet << ": " << r.out;
+  }
+}
+
 TEST(Cli, RunWritesOutputAndRefusesToOverwrite) {
   const fs::path d = scratch("overwrite");
   const std::string out = (d / "run.h5").string();

@@ -2,7 +2,9 @@
 // the executable: extreme time steps, end times, entry times, speeds and accelerations either
 // run exactly the steps they report or are refused with exit 2, each case as the documented
 // limits say (expected_exit: from the case's numbers, not from the program); never exit 3;
-// the memory estimate against the measured peak; the option parsers.
+// the memory estimate against the measured peak; a beam's default output rate (4 per period
+// of its highest mode) and the output size `check` prints against the files written; the
+// option parsers.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -10,6 +12,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <regex>
 #include <string>
 #include <vector>
@@ -244,4 +247,98 @@ TEST(Limits, SizesAndKeys) {
   for (const char* bad : {"", "G", "-1G", "4X", "lots", "1e999", "nan", "0"}) EXPECT_LT(parse_bytes(bad), 0.0) << bad;
   EXPECT_EQ(traverse::app::format_bytes(3.5 * 1024 * 1024 * 1024), "3.5 GiB");
   EXPECT_EQ(traverse::app::format_bytes(512), "512 bytes");
+  EXPECT_EQ(traverse::app::format_bytes(1020.0 * 1024), "1020 KiB");
+}
+
+namespace {
+
+// A size as `check` prints it (format_bytes) in bytes.
+double bytes_of(const std::string& number, const std::string& unit) {
+  const std::vector<std::string> units = {"bytes", "KiB", "MiB", "GiB", "TiB"};
+  for (size_t u = 0; u < units.size(); ++u)
+    if (unit == units[u]) return std::stod(number) * std::pow(1024.0, static_cast<double>(u));
+  ADD_FAILURE() << "unknown unit " << unit;
+  return 0.0;
+}
+
+}  // namespace
+
+TEST(Limits, BeamOutputEveryAutoKeepsFourOutputsPerPeriodOfTheHighestMode) {
+  // A simply supported beam (closed-form frequencies omega_n = (n pi / L)^2 sqrt(E I / rho A))
+  // with output.every left at its default: the outputs are the largest whole number of steps
+  // apart that keeps at least 4 per period of the highest mode, and `check` says so.
+  const fs::path d = scratch("limits-every");
+  const double L = 10.0, E = 2.0e11, rho = 7850.0, b = 0.2, h = 0.3;
+  for (const int modes : {3, 7}) {
+    const fs::path scene = d / ("ss" + std::to_string(modes) + ".yaml");
+    std::ofstream(scene) << "model: beam\nbeam:\n  length: 10.0\n  youngs_modulus: 2.0e11\n  density: 7850\n"
+                            "  section: {type: rectangle, width: 0.2, height: 0.3}\n"
+                            "  supports: simply-supported\n  modes: "
+                         << modes
+                         << "\nloads:\n  F: {type: moving_force, force: 1000, speed: 10}\n"
+                            "output:\n  probes:\n    mid: {type: deflection, at: 5.0}\n";
+    const double omega = std::pow(modes * M_PI / L, 2) * std::sqrt(E * b * h * h * h / 12.0 / (rho * b * h));
+    const double period = 2.0 * M_PI / omega;
+    const auto check = traverse::testing::run_command(std::string(TRAVERSE_EXE) + " check " + scene.string());
+    ASSERT_EQ(check.code, 0) << check.out;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(check.out, m, std::regex(R"(dt = ([0-9.e+-]+) s to t)"))) << check.out;
+    const double dt = std::stod(m[1].str());
+    const long stride = static_cast<long>(std::floor(period / 4.0 / dt * (1.0 + 1e-9)));
+    ASSERT_GE(stride, 2) << "the case should thin the output: " << check.out;
+    EXPECT_NE(check.out.find("output.every: auto = " + std::to_string(stride) + " (4 outputs per period of mode " +
+                             std::to_string(modes)),
+              std::string::npos)
+        << check.out;
+    const long announced = first_number(check.out, R"(([0-9]+) output steps)");
+    const std::string out = (d / ("ss" + std::to_string(modes) + ".h5")).string();
+    const auto run = traverse::testing::run_command(std::string(TRAVERSE_EXE) + " run " + scene.string() + " -o " +
+                                                    out + " --overwrite -q");
+    ASSERT_EQ(run.code, 0) << run.out;
+    const traverse::output::Reader f(out);
+    const std::vector<double> t = f.time();
+    ASSERT_GE(t.size(), 3u);
+    EXPECT_EQ(static_cast<long>(f.steps_written()), announced) << check.out;
+    for (size_t k = 1; k + 1 < t.size(); ++k) {
+      EXPECT_NEAR(t[k] - t[k - 1], stride * dt, 1e-9 * stride * dt) << "output " << k;
+      EXPECT_LE(t[k] - t[k - 1], period / 4.0 * (1.0 + 1e-9)) << "output " << k;
+    }
+  }
+}
+
+TEST(Limits, CheckEstimatesTheOutputFileSize) {
+  // The sizes `check` prints beside the memory against the files the run writes: within 25 %
+  // for beams and rods, with and without fields.
+  const fs::path d = scratch("limits-output-size");
+  const std::string cable = (fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "default.yaml").string();
+  const std::vector<std::pair<std::string, std::string>> runs = {
+      {kBeam.string(), ""},
+      {kBeam.string(), "--set output.every=auto --set output.fields=[deflection,slope,bending_moment]"},
+      {cable, ""},
+      {cable, "--set output.fields=[r,R,kappa,n]"},
+      {kRod.string(), "--set output.fields=[] --set mesh.ds=0.005"},
+  };
+  for (const auto& [scene, args] : runs) {
+    const std::string label = scene + " " + args;
+    const auto check = traverse::testing::run_command(std::string(TRAVERSE_EXE) + " check " + scene + " " + args);
+    ASSERT_EQ(check.code, 0) << check.out;
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(check.out, m,
+                                  std::regex(R"(output about ([0-9.]+) (bytes|KiB|MiB|GiB) \(\+ ([0-9.]+) )"
+                                             R"((bytes|KiB|MiB|GiB) \.xmf sidecar\))")))
+        << check.out;
+    const double h5 = bytes_of(m[1].str(), m[2].str()), xmf = bytes_of(m[3].str(), m[4].str());
+    const fs::path out = d / "size.h5";
+    const auto run = traverse::testing::run_command(std::string(TRAVERSE_EXE) + " run " + scene + " " + args +
+                                                    " -o " + out.string() + " --overwrite -q");
+    ASSERT_EQ(run.code, 0) << run.out;
+    const double h5_real = static_cast<double>(fs::file_size(out));
+    const double xmf_real = static_cast<double>(fs::file_size(d / "size.xmf"));
+    std::cout << "  " << label << ": .h5 estimate " << h5 << ", written " << h5_real << "; .xmf estimate " << xmf
+              << ", written " << xmf_real << "\n";
+    EXPECT_GE(h5, 0.8 * h5_real) << label;
+    EXPECT_LE(h5, 1.25 * h5_real) << label;
+    EXPECT_GE(xmf, 0.8 * xmf_real) << label;
+    EXPECT_LE(xmf, 1.25 * xmf_real) << label;
+  }
 }

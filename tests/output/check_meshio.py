@@ -1,5 +1,6 @@
 """Reads the XDMF sidecars of a rod and a beam run with meshio's XDMF time-series reader
-(Debian's python3-meshio) and checks that every value equals the HDF5 datasets (h5py).
+(Debian's python3-meshio) and checks that every value equals the HDF5 datasets (h5py), and
+that meshio.read() refuses the time series as docs/output.md says.
 Usage: check_meshio.py ROD.xmf BEAM.xmf      (exit status 1 on any failure)
 """
 import os
@@ -82,5 +83,17 @@ with h5py.File(os.path.splitext(sys.argv[2])[0] + ".h5", "r") as f, meshio.xdmf.
     check(np.array_equal(pd["position"][:, 0], f["mesh/s"][()]), "beam: x = s (the beam along x)")
     check(np.array_equal(pd["position"][:, 1], f["fields/deflection"][k][:, 0]), "beam: y = the deflection w")
     check(np.abs(pd["position"][:, 1]).max() > 0.0, "beam: deflected (w not all zero)")
+# docs/output.md says meshio.read() does not read the time series (it reads single meshes and
+# ends the process); should a meshio read it, the docs' advice to use TimeSeriesReader is
+# stale and this fails.
+try:
+    meshio.read(sys.argv[1])
+    read_it = True
+except SystemExit:
+    read_it = False
+except Exception as e:  # another refusal than the documented one
+    read_it = None
+    print(f"meshio.read: {type(e).__name__}: {e}")
+check(read_it is False, f"meshio.read() on the sidecar ends with SystemExit, as docs/output.md says ({read_it})")
 print(f"meshio {meshio.__version__}: {passed} passed, {failed} failed")
 sys.exit(0 if failed == 0 else 1)

@@ -1,5 +1,5 @@
-# `traverse xdmf`: rewrites the sidecar of a run's file identically (deleted first), to
-# another name with -o, and refuses what is not a traverse time-series output (exit 2).
+# `traverse xdmf`: rewrites the sidecar of a run's file identically (deleted first; but for the
+# file's absolute path, as the copy here is another file), to another name with -o, and refuses what is not a traverse time-series output (exit 2).
 # Variables: EXE, RUNS (the client-runs folder), OUT (a folder, recreated).
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
@@ -22,6 +22,12 @@ check("rc;EQUAL;0" "traverse xdmf rod.h5 exits with ${rc}: ${err}")
 string(FIND "${out}" "rod.xmf" at)
 check("NOT;at;EQUAL;-1" "it names the sidecar written: ${out}")
 file(READ ${OUT}/rod_by_run.xmf by_run)
+# The run's sidecar names its file by absolute path: the copy here is the same but for that.
+get_filename_component(_run_h5 ${RUNS}/rod.h5 ABSOLUTE)
+get_filename_component(_here_h5 ${OUT}/rod.h5 ABSOLUTE)
+string(FIND "${by_run}" ">${_run_h5}:/" at)
+check("NOT;at;EQUAL;-1" "the run's sidecar names its file by absolute path, ${_run_h5}")
+string(REPLACE ">${_run_h5}:/" ">${_here_h5}:/" by_run "${by_run}")
 if(EXISTS ${OUT}/rod.xmf)
   file(READ ${OUT}/rod.xmf rewritten)
 else()
@@ -30,6 +36,11 @@ endif()
 check("by_run;STREQUAL;rewritten" "the rewritten sidecar equals the run's own")
 execute_process(COMMAND ${EXE} xdmf ${OUT}/rod.h5 -o ${OUT}/other.xmf RESULT_VARIABLE rc)
 check("rc;EQUAL;0;AND;EXISTS;${OUT}/other.xmf" "traverse xdmf -o other.xmf (${rc})")
+if(EXISTS ${OUT}/other.xmf)
+  file(READ ${OUT}/other.xmf other)
+  string(FIND "${other}" ">${_here_h5}:/" at)
+  check("NOT;at;EQUAL;-1" "other.xmf names the file it was written for, ${_here_h5}")
+endif()
 file(WRITE ${OUT}/not_hdf5.h5 "plain text\n")
 foreach(bad ${OUT}/not_hdf5.h5 ${OUT}/absent.h5)
   execute_process(COMMAND ${EXE} xdmf ${bad} RESULT_VARIABLE rc ERROR_VARIABLE err)

@@ -1,7 +1,10 @@
 """Runs check_paraview.py in Debian's ParaView (pvbatch) on a display of its own: starts
 Xvfb on a free display number (drawn at random), runs pvbatch there, stops that Xvfb. The expected values
 (times, nodes, a step's points and arrays, the load's position) come from the HDF5 files
-(h5py) and are handed to pvbatch as JSON.
+(h5py) and are handed to pvbatch as JSON. Each sidecar is opened twice: by its absolute path,
+and by its name without a folder from a pvbatch started in its folder (ParaView's Xdmf3 reader
+joins a relative HDF5 name to the folder of the .xmf as given, and without a folder reads
+"run.xmfrun.h5").
 Usage: run_paraview.py PVBATCH ROD.xmf BEAM.xmf OUT_DIR      (exit status 1 on any failure)
 """
 import json
@@ -119,10 +122,24 @@ def main():
     require_pvbatch(pvbatch)
     os.makedirs(out, exist_ok=True)
     spec = os.path.join(out, "expected.json")
+    runs = [expected(rod), expected(beam)]
     with open(spec, "w") as fh:
-        json.dump({"runs": [expected(rod), expected(beam)], "out": os.path.abspath(out)}, fh)
+        json.dump({"runs": runs, "out": os.path.abspath(out)}, fh)
     here = os.path.dirname(os.path.abspath(__file__))
-    sys.exit(run_pvbatch(pvbatch, [os.path.join(here, "check_paraview.py"), spec]).returncode)
+    codes = [run_pvbatch(pvbatch, [os.path.join(here, "check_paraview.py"), os.path.abspath(spec)]).returncode]
+    for run in runs:
+        folder, name = os.path.split(run["xmf"])
+        bare = os.path.abspath(os.path.join(out, "bare_" + os.path.splitext(name)[0]))
+        os.makedirs(bare, exist_ok=True)
+        bare_spec = os.path.join(bare, "expected.json")
+        with open(bare_spec, "w") as fh:
+            json.dump({"runs": [dict(run, xmf=name)], "out": bare, "render": False}, fh)
+        print(f"{name} opened without a folder, pvbatch in {folder}:")
+        code = run_pvbatch(pvbatch, [os.path.join(here, "check_paraview.py"), bare_spec], cwd=folder).returncode
+        if code != 0:
+            print(f"FAILED: {name} opened without a folder (pvbatch exit status {code})")
+        codes.append(code)
+    sys.exit(0 if all(c == 0 for c in codes) else 1)
 
 
 if __name__ == "__main__":

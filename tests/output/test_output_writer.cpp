@@ -260,8 +260,9 @@ TEST(OutputWriter, XdmfSidecarIsWellFormed) {
   for (const auto& p : rb.problems) ADD_FAILURE() << p;
   EXPECT_EQ(rb.grids, 3u);
   const std::string beam_xmf = test::slurp(dir + "/beam.xmf");
+  const std::string beam_h5 = std::filesystem::absolute(dir + "/beam.h5").lexically_normal().string();
   EXPECT_NE(beam_xmf.find("<Geometry GeometryType=\"XYZ\"><DataItem Dimensions=\"7 3\" DataType=\"Float\" "
-                          "Precision=\"8\" Format=\"HDF\">beam.h5:/xdmf/position/2</DataItem></Geometry>"),
+                          "Precision=\"8\" Format=\"HDF\">" + beam_h5 + ":/xdmf/position/2</DataItem></Geometry>"),
             std::string::npos);
   // The load at sigma = 0.2 m sits between nodes 1 (s = 0.125) and 2 (s = 0.25) of the
   // deflected beam: x = 0.2, w interpolated linearly.

@@ -6,6 +6,7 @@
 #include <hdf5.h>
 
 #include <fstream>
+#include <filesystem>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -93,6 +94,11 @@ inline XdmfReport check_xdmf(const std::string& xmf_path, const std::string& h5_
     const std::string ref = (*it)[2];
     const std::size_t colon = ref.find(':');
     const std::string dset = colon == std::string::npos ? ref : ref.substr(colon + 1);
+    // The file by its absolute path: readers that join a relative name to the folder of the
+    // .xmf as they were given it (ParaView, for a sidecar named without a folder) find it too.
+    const std::string named = colon == std::string::npos ? std::string() : ref.substr(0, colon);
+    const std::string wanted = std::filesystem::absolute(h5_path).lexically_normal().string();
+    if (named != wanted) rep.problems.push_back("the item " + ref + " does not name " + wanted);
     if (dset.rfind("/xdmf/", 0) == 0) ++rep.views;
     hid_t d = H5Dopen2(file, dset.c_str(), H5P_DEFAULT);
     if (d < 0) {

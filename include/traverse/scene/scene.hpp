@@ -260,7 +260,8 @@ struct OutputProbeSpec {
 
 struct OutputSpec {
   std::string file;  ///< HDF5 output path
-  int every = 1;     ///< write every this many steps (plus the first and the last state)
+  int every = 1;     ///< write every this many steps (plus the first and the last state); 1 when every_auto
+  bool every_auto = true;  ///< output.every: auto (the beam's runner resolves it: run_limits.hpp beam_output_every)
   double restart_interval = 60.0;  ///< wall seconds between rod restart points (0: every output step)
   double flush_interval = 1.0;     ///< wall seconds between flushes of the output file (0: every output step)
   double progress_interval = 1.0;  ///< wall seconds between progress reports (0: every time step)
