@@ -351,19 +351,22 @@ void check_linear_solver(const scene::Scene& sc, const RodSetup& setup, MPI_Comm
   }
 }
 
+/// One line: the scene, its size and steps; with -v the initial state, the linear solver and
+/// the path.
 void print_start(const scene::Scene& sc, const TimeGrid& g, const std::string& initial,
-                 const solver::RodStepper& st, const std::string& path_text) {
+                 const solver::RodStepper& st, const std::string& path_text, bool verbose) {
   char steps[160];
   if (sc.time.adaptive.enabled)
     std::snprintf(steps, sizeof steps, "adaptive steps (tolerance %.3g, first dt = %.6g s, outputs every %.6g s)",
                   sc.time.adaptive.tolerance, g.dt, g.dt * sc.output.every);
   else
     std::snprintf(steps, sizeof steps, "%ld steps of dt = %.6g s", g.steps, g.dt);
-  std::printf("rod scene '%s': %d nodes, %s to t = %.6g s; initial state: %s; linear solver: %s%s; "
-              "path: %s\n",
-              sc.file.c_str(), sc.mesh.nodes, steps, g.t_end, initial.c_str(), st.resolved_linear_solver().c_str(),
-              st.linear_solver_rerouted() ? " (rerouted: Amesos2 gives wrong answers on 2+ ranks here)" : "",
-              path_text.c_str());
+  std::printf("rod scene '%s': %d nodes, %s to t = %.6g s\n", sc.file.c_str(), sc.mesh.nodes, steps, g.t_end);
+  if (verbose)
+    std::printf("  initial state: %s; linear solver: %s%s; path: %s\n", initial.c_str(),
+                st.resolved_linear_solver().c_str(),
+                st.linear_solver_rerouted() ? " (rerouted: Amesos2 gives wrong answers on 2+ ranks here)" : "",
+                path_text.c_str());
 }
 
 /// The output file's first steps: a restart's copy of the kept ones (and its restart point),
@@ -386,13 +389,16 @@ long start_outputs(const RunOptions& opt, const RestartSource& restart, RodOutpu
   return restart.point.step + 1;
 }
 
+/// One line: the output steps, where they went and the time; with -v the Newton iterations
+/// and the path.
 void print_done(const solver::SolveCounts& tot, bool planar, const output::Writer& writer, const std::string& output,
-                double seconds, const time::TimeIntegrator* adaptive) {
-  std::printf("done: %ld Newton iterations in %ld solves (%.2f per solve%s) on the %s path; %zu output steps -> %s; "
-              "time stepping %.3f s (wall, output included)\n",
-              tot.newton, tot.solves, tot.solves ? double(tot.newton) / double(tot.solves) : 0.0,
-              retries_note(tot.guess_retries).c_str(), planar ? "planar" : "3D", writer.steps_written(),
+                double seconds, const time::TimeIntegrator* adaptive, bool verbose) {
+  std::printf("done: %zu output steps -> %s; time stepping %.3f s (wall, output included)\n", writer.steps_written(),
               output.c_str(), seconds);
+  if (verbose)
+    std::printf("  %ld Newton iterations in %ld solves (%.2f per solve%s) on the %s path\n", tot.newton, tot.solves,
+                tot.solves ? double(tot.newton) / double(tot.solves) : 0.0, retries_note(tot.guess_retries).c_str(),
+                planar ? "planar" : "3D");
   if (adaptive) std::printf("adaptive: %s\n", adaptive->totals().summary().c_str());
 }
 
@@ -481,7 +487,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   time::TimeIntegrator integrator(time_schedule(sc, grid), model, observer);
   points.integrator = &integrator;
   if (controller) integrator.restore(*controller);
-  if (rank == 0 && !opt.quiet) print_start(sc, grid, start.description, *stepper, path_text);
+  if (rank == 0 && !opt.quiet) print_start(sc, grid, start.description, *stepper, path_text, opt.verbose);
   if (rank == 0 && !estimate) warn_under_resolved_loads(sc, grid);
   const long first_step = start_outputs(opt, restart, outputs, writer, points, *stepper, left, comm);
   const auto wall = std::chrono::steady_clock::now();
@@ -491,7 +497,8 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   points.store(integrator.last_step(), left.position());  // the end (a no-op when the last output step stored it)
   if (estimate) write_adaptive_totals(writer, integrator.totals());
   writer.finish();
-  if (rank == 0 && !opt.quiet) print_done(model.counts(), path.planar, writer, opt.output, seconds, estimate ? &integrator : nullptr);
+  if (rank == 0 && !opt.quiet) print_done(model.counts(), path.planar, writer, opt.output, seconds, estimate ? &integrator : nullptr,
+                                         opt.verbose);
 }
 
 }  // namespace traverse::app

@@ -345,11 +345,12 @@ void make_estimates(const scene::Scene& sc, const rod::AlphaParameters& alpha, c
 void print_start(const scene::Scene& sc, const TimeGrid& grid, const std::string& initial,
                  const solver::RodStepper& st, const std::string& path_text, const RunOptions& opt,
                  const output::RestartPoint& point) {
-  std::printf("rod scene '%s': %d nodes, up to %ld steps of dt = %.6g s to t = %.6g s%s; initial state: %s; coupled "
-              "mass '%s' (partitioned iteration); linear solver: %s; path: %s\n",
-              sc.file.c_str(), sc.mesh.nodes, grid.steps, grid.dt, grid.t_end,
-              sc.time.adaptive.enabled ? " (adaptive: the first step and the output spacing)" : "", initial.c_str(),
-              coupled_load(sc)->name.c_str(), st.resolved_linear_solver().c_str(), path_text.c_str());
+  std::printf("rod scene '%s': %d nodes, coupled mass '%s', up to %ld steps of dt = %.6g s to t = %.6g s%s\n",
+              sc.file.c_str(), sc.mesh.nodes, coupled_load(sc)->name.c_str(), grid.steps, grid.dt, grid.t_end,
+              sc.time.adaptive.enabled ? " (adaptive: the first step and the output spacing)" : "");
+  if (opt.verbose)
+    std::printf("  initial state: %s; partitioned iteration of rod and mass; linear solver: %s; path: %s\n",
+                initial.c_str(), st.resolved_linear_solver().c_str(), path_text.c_str());
   if (opt.restart)
     std::printf("restart from %s: time step %ld at t = %.9g s, %zu output steps kept\n", opt.output.c_str(),
                 point.step, point.time, point.steps_written);
@@ -357,9 +358,9 @@ void print_start(const scene::Scene& sc, const TimeGrid& grid, const std::string
 
 void print_done(const solver::CoupledRodTimeModel& model, const std::vector<output::RunEvent>& events,
                 std::size_t written, const std::string& output, std::chrono::steady_clock::time_point wall,
-                const time::TimeIntegrator* adaptive) {
-  std::printf("done: %ld steps, %ld coupling iterations, %ld Newton iterations", model.steps, model.coupling,
-              model.newton);
+                const time::TimeIntegrator* adaptive, bool verbose) {
+  std::printf("done: %ld steps", model.steps);
+  if (verbose) std::printf(", %ld coupling iterations, %ld Newton iterations", model.coupling, model.newton);
   if (!events.empty())
     std::printf("; ended by the event %s at t = %.9g s%s", events[0].reason.c_str(), events[0].time,
                 events[0].reason.rfind("left_rod", 0) == 0 || events[0].reason == "lift_off" ? " (interpolated)" : "");
@@ -460,7 +461,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   if (rc) write_adaptive_totals(writer, integrator.totals());
   writer.finish();
   if (rank == 0 && !opt.quiet)
-    print_done(model, events, writer.steps_written(), opt.output, wall, rc ? &integrator : nullptr);
+    print_done(model, events, writer.steps_written(), opt.output, wall, rc ? &integrator : nullptr, opt.verbose);
 }
 
 }  // namespace traverse::app

@@ -47,7 +47,7 @@ CASES = {
 
 def run(exe, scene, ds, sets, ranks, out, quantities):
     cmd = [exe, "run", os.path.join(ROOT, scene), "-o", out, "--overwrite", "--set", f"mesh.ds={ds}",
-           "--set", "output.every=1", "--set", "output.fields=[]", "--restart-interval", "1e9"]
+           "--set", "output.every=1", "--set", "output.fields=[]", "--restart-interval", "1e9", "-v"]
     for s in sets:
         cmd += ["--set", s]
     if ranks > 1:
@@ -55,14 +55,15 @@ def run(exe, scene, ds, sets, ranks, out, quantities):
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode != 0:
         raise RuntimeError(f"{' '.join(cmd)}: exit {p.returncode}\n{p.stderr}")
-    m = re.search(r"(\d+) Newton iterations in (\d+) solves.*time stepping ([0-9.eE+-]+) s", p.stdout)
-    if not m:
+    n = re.search(r"(\d+) Newton iterations in (\d+) solves", p.stdout)  # -v
+    s = re.search(r"time stepping ([0-9.eE+-]+) s", p.stdout)
+    if not n or not s:
         raise RuntimeError(f"no timing line in the output of {' '.join(cmd)}:\n{p.stdout}")
     with h5py.File(out, "r") as f:
         t = np.array(f["time"])
         q = [np.array(f["probes"][probe])[:, comp] for probe, comp, _ in quantities]
         path = f.attrs.get("rod_path", "")
-    return dict(t=t, q=q, newton=int(m.group(1)), steps=int(m.group(2)), seconds=float(m.group(3)),
+    return dict(t=t, q=q, newton=int(n.group(1)), steps=int(n.group(2)), seconds=float(s.group(1)),
                 path=path.decode() if isinstance(path, bytes) else str(path))
 
 
