@@ -11,6 +11,7 @@ import json
 import os
 import random
 import shutil
+import socket
 import subprocess
 import sys
 import time
@@ -46,6 +47,24 @@ def expected(xmf):
                 "sigma": sigma, "load_arrays": at_load}
 
 
+def accepts_connections(number, seconds=20.0):
+    """Whether the X server of display `number` accepts a connection on its socket (its
+    abstract one, else the file /tmp/.X11-unix/XN) within `seconds`: on a loaded machine a
+    server that has reported its number may not answer pvbatch at once."""
+    deadline = time.time() + seconds
+    while time.time() < deadline:
+        for address in ("\0/tmp/.X11-unix/X" + number, "/tmp/.X11-unix/X" + number):
+            with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as sock:
+                sock.settimeout(2.0)
+                try:
+                    sock.connect(address)
+                    return True
+                except OSError:
+                    pass
+        time.sleep(0.2)
+    return False
+
+
 class XvfbDisplay:
     """A display of our own: Xvfb on a display number drawn at random from 100-999 among those
     without a lock file (not the lowest free one, which is the number a server that just
@@ -72,7 +91,7 @@ class XvfbDisplay:
                     if not chunk:
                         break
                     number += chunk
-            if number.strip().isdigit():
+            if number.strip().isdigit() and accepts_connections(number.decode().strip()):
                 self.env = dict(os.environ, DISPLAY=":" + number.decode().strip())
                 return self
             self.__exit__()
@@ -91,21 +110,23 @@ def run_pvbatch(pvbatch, args, cwd=None, capture=False):
     ("bad X server connection": about 1 run in 5 here when each server took the lowest free
     number, right after an earlier server on that number stopped, and three times in a row in
     one full test run): then it is run again, on a new server on another number (XvfbDisplay
-    draws one at random), after a second's pause, up to 3 times. A retry that was needed is
+    draws one at random), after a pause. A retry that was needed is
     recorded in the file TRAVERSE_TEST_NOTES names (set by ctest): scripts/setup.sh test prints
-    it after the tests, where CI shows it."""
-    for attempt in range(3):
+    it after the tests, where CI shows it. On a loaded machine the failures come in runs: up to
+    5 attempts, the pause growing."""
+    attempts = 5
+    for attempt in range(attempts):
         with XvfbDisplay() as x:
             run = subprocess.run([pvbatch] + args, cwd=cwd, env=x.env, capture_output=True, text=True)
         if "bad X server connection" not in run.stderr:
             break
         note = f"pvbatch {' '.join(os.path.basename(a) for a in args)}: could not connect to Xvfb " \
-               f"({x.env['DISPLAY']}), attempt {attempt + 1} of 3"
+               f"({x.env['DISPLAY']}), attempt {attempt + 1} of {attempts}"
         print("note: " + note)
         if os.environ.get("TRAVERSE_TEST_NOTES"):
             with open(os.environ["TRAVERSE_TEST_NOTES"], "a") as fh:
                 fh.write(note + "\n")
-        time.sleep(1.0)
+        time.sleep(1.0 + 2.0 * attempt)
     if not capture:
         sys.stdout.write(run.stdout)
         sys.stderr.write("\n".join(line for line in run.stderr.splitlines() if "0x" not in line))
