@@ -1185,10 +1185,14 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   return parse_scene(ss.str(), path, overrides);
 }
 
-const Teuchos::ParameterList& Scene::solver_parameters() const { return tree.params->sublist("solver"); }
+const Teuchos::ParameterList& Scene::solver_parameters() const {
+  if (!tree.params) throw std::logic_error("Scene::solver_parameters: the scene was not validated (parse_scene)");
+  return tree.params->sublist("solver");
+}
 
 bool Scene::has(const std::string& key_path) const {
   const ParameterList* list = tree.params.get();
+  if (!list) return false;
   std::string::size_type from = 0, dot = 0;
   while ((dot = key_path.find('.', from)) != std::string::npos) {
     const std::string part = key_path.substr(from, dot - from);

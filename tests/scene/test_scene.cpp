@@ -248,6 +248,9 @@ TEST(Scene, SolverSectionKeepsTheFilesValuesTypesAndOrder) {
   EXPECT_FALSE(s.has("loads.G.force"));  // no load G
   EXPECT_FALSE(s.has("mesh.ds"));
   EXPECT_FALSE(s.has("loads.F.force.x"));  // a value, not a section
+  const Scene unvalidated;
+  EXPECT_FALSE(unvalidated.has("mesh"));
+  EXPECT_THROW((void)unvalidated.solver_parameters(), std::logic_error);
 }
 
 /// Issue #14: the end conditions come from their one declaration (traverse/core/end_types.hpp):
