@@ -14,6 +14,10 @@ find_package(Trilinos REQUIRED COMPONENTS
 add_library(traverse_trilinos INTERFACE)
 target_include_directories(traverse_trilinos SYSTEM INTERFACE ${Trilinos_INCLUDE_DIRS} ${Trilinos_TPL_INCLUDE_DIRS})
 target_link_libraries(traverse_trilinos INTERFACE ${Trilinos_LIBRARIES} ${Trilinos_TPL_LIBRARIES} MPI::MPI_CXX)
+# Teuchos' parameter lists alone (the scene's tree), without the solver packages.
+add_library(traverse_teuchos INTERFACE)
+target_include_directories(traverse_teuchos SYSTEM INTERFACE ${Trilinos_INCLUDE_DIRS})
+target_link_libraries(traverse_teuchos INTERFACE ${TeuchosParameterList_LIBRARIES})
 
 # METIS 5 ships neither a CMake nor a pkg-config file.
 find_path(METIS_INCLUDE_DIR metis.h REQUIRED)

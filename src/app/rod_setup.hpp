@@ -2,7 +2,7 @@
 // Scene -> rod structures shared by the dynamic and the static runners.
 #include <mpi.h>
 
-#include "traverse/core/param_list.hpp"
+#include <Teuchos_ParameterList.hpp>
 
 #include <functional>
 #include <memory>
@@ -45,7 +45,7 @@ rod::RodState arch_dynamic_start(
 /// conditions that is not well posed).
 struct RodSetup {
   rod::RodModel model;
-  ParamList solver;
+  Teuchos::ParameterList solver;
 };
 RodSetup build_rod_model(const scene::Scene& sc);
 

@@ -40,7 +40,7 @@ std::string count(double v) {
 std::string ranks_text(int ranks) { return std::to_string(ranks) + (ranks == 1 ? " rank" : " ranks"); }
 
 // Whether the scene sets the mesh by mesh.ds (else by mesh.nodes, or the default 101 nodes).
-bool mesh_by_ds(const scene::Scene& sc) { return sc.tree.params.sublist("mesh").isParameter("ds"); }
+bool mesh_by_ds(const scene::Scene& sc) { return sc.has("mesh.ds"); }
 
 // The mesh key the scene gives.
 std::string mesh_key(const scene::Scene& sc) { return mesh_by_ds(sc) ? "mesh.ds" : "mesh.nodes"; }
@@ -155,9 +155,8 @@ std::string kb(double bytes) { return fmt(bytes / 1000.0) + " kB"; }
 }  // namespace
 
 std::string load_magnitude_key(const scene::Scene& sc, const scene::MovingLoadSpec& l) {
-  const auto& p = sc.tree.params.sublist("loads").sublist(l.name);
   for (const char* k : {"force", "force_vector", "mass", "mass_fraction"})
-    if (p.isParameter(k)) return "loads." + l.name + "." + k;
+    if (sc.has("loads." + l.name + "." + k)) return "loads." + l.name + "." + k;
   return "loads." + l.name;
 }
 
@@ -692,11 +691,10 @@ std::vector<std::string> idle_load_warnings(const scene::Scene& sc) {
       out.push_back(sc.file + ": " + k + ".entry_time: load '" + l.name + "' can do nothing: it enters at t = " +
                     fmt(l.entry_time) + " s, at or after time.end = " + fmt(sc.time.end) + " s");
     if (!(l.force.norm() == 0.0) || l.drive != 0.0) continue;
-    const auto& p = sc.tree.params.sublist("loads").sublist(l.name);
-    const bool weight = !p.isParameter("force") && !p.isParameter("force_vector");
+    const bool weight = !sc.has(k + ".force") && !sc.has(k + ".force_vector");
     std::string why;
     if (weight && sc.gravity == 0.0)
-      why = "its force is the weight M g of " + (p.isParameter("mass") ? k + ".mass" : k + ".mass_fraction") +
+      why = "its force is the weight M g of " + (sc.has(k + ".mass") ? k + ".mass" : k + ".mass_fraction") +
             ", and gravity = 0";
     else
       why = "its force is zero (" + load_magnitude_key(sc, l) + ")";

@@ -49,7 +49,7 @@ void check_coupled_rod(const scene::Scene& sc, const rod::RodModel& model) {
                          scene::format_number(a.gs) + ", " + scene::format_number(a.at) + ", " +
                          scene::format_number(a.bt) + ", " + scene::format_number(a.gt) + ")");
   if (sc.mesh.nodes > kMaxCoupledNodes)
-    scene::fail_at(sc, sc.tree.params.sublist("mesh").isParameter("ds") ? "mesh.ds" : "mesh.nodes",
+    scene::fail_at(sc, sc.has("mesh.ds") ? "mesh.ds" : "mesh.nodes",
                    "at most " + std::to_string(kMaxCoupledNodes) + " nodes with a coupled_mass on the rod (its run "
                    "keeps the whole rod on every rank)", std::to_string(sc.mesh.nodes) + " nodes");
 }

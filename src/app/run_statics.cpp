@@ -64,8 +64,8 @@ namespace {
 // The solver parameters, validated here for the error message and handed on as given, so
 // that the statics' own default for 2+ ranks (GMRES + ILUT, see StaticContext) applies when
 // the scene names no preconditioner (validation would fill in the dynamic default, Schwarz).
-ParamList statics_solver_parameters(const scene::Scene& sc) {
-  const ParamList solver_params = sc.solver_parameters();
+Teuchos::ParameterList statics_solver_parameters(const scene::Scene& sc) {
+  const Teuchos::ParameterList solver_params = sc.solver_parameters();
   try {
     (void)solver::validated_solver_parameters(solver_params);
   } catch (const std::invalid_argument& e) {
@@ -76,7 +76,7 @@ ParamList statics_solver_parameters(const scene::Scene& sc) {
 
 // The starting state of the continuation, from the scene's initial state; an arch start
 // replaces the problem's ends and position by the formed arch's (the scene's load on top).
-std::vector<rod::StaticNode> statics_start(const scene::Scene& sc, const ParamList& solver_params,
+std::vector<rod::StaticNode> statics_start(const scene::Scene& sc, const Teuchos::ParameterList& solver_params,
                                            const Teuchos::RCP<const Teuchos::Comm<int>>& tcomm, bool report,
                                            rod::StaticProblem& problem) {
   switch (sc.initial_state.type) {
@@ -110,7 +110,7 @@ std::vector<rod::StaticNode> statics_start(const scene::Scene& sc, const ParamLi
 }
 
 solver::ContinuationOptions continuation_options(const scene::ContinuationSpec& cs, StaticParameter par, double start,
-                                                 const ParamList& solver_params) {
+                                                 const Teuchos::ParameterList& solver_params) {
   solver::ContinuationOptions options;
   options.parameter = par;
   options.method = cs.method == scene::ContinuationMethod::natural ? "Natural" : "Arc Length";
@@ -164,7 +164,7 @@ void run_statics(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   auto tcomm = Teuchos::rcp(new Teuchos::MpiComm<int>(comm));
   const auto& cs = sc.continuation;
 
-  const ParamList solver_params = statics_solver_parameters(sc);
+  const Teuchos::ParameterList solver_params = statics_solver_parameters(sc);
   rod::StaticProblem problem = static_problem(sc);
   const StaticParameter par = static_parameter(cs.parameter);
   const std::vector<rod::StaticNode> state = statics_start(sc, solver_params, tcomm, rank == 0 && !opt.quiet, problem);

@@ -15,7 +15,6 @@
 #include "traverse/solver/distributed_stepper.hpp"
 #include "traverse/solver/runtime.hpp"
 #include "traverse/solver/static_start.hpp"
-#include "traverse/solver/teuchos_params.hpp"
 
 namespace traverse::app {
 
@@ -38,18 +37,18 @@ TpetraScope::~TpetraScope() = default;
 
 void finish_solver_runtime() { solver::finish_runtime(); }
 
-std::unique_ptr<solver::RodStepper> distributed_stepper(const rod::RodModel& model, const ParamList& solver,
+std::unique_ptr<solver::RodStepper> distributed_stepper(const rod::RodModel& model, const Teuchos::ParameterList& solver,
                                                         MPI_Comm comm) {
   return std::make_unique<solver::DistributedStepper>(model, teuchos_comm(comm), solver);
 }
 
-solver::StaticStart distributed_static_start(const rod::StaticModel& m, const ParamList& solver,
+solver::StaticStart distributed_static_start(const rod::StaticModel& m, const Teuchos::ParameterList& solver,
                                              MPI_Comm comm) {
   return solver::solve_static_start(m, teuchos_comm(comm), solver);
 }
 
 solver::ArchFormation form_arch(const scene::Scene& sc, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                                const ParamList& solver_params) {
+                                const Teuchos::ParameterList& solver_params) {
   solver::ArchOptions o;
   o.length = sc.rod.length;
   o.num_cells = sc.mesh.nodes - 1;
@@ -80,15 +79,17 @@ struct FormedArch {
   solver::ArchFormation arch;
 };
 
-std::string arch_key(const scene::Scene& sc, const ParamList& solver, MPI_Comm comm) {
+std::string arch_key(const scene::Scene& sc, const Teuchos::ParameterList& solver, MPI_Comm comm) {
   std::ostringstream os;
-  os << arch_scene_key(sc) << ' ' << par::size(comm) << '\n' << solver::to_teuchos(solver);
+  os << arch_scene_key(sc) << ' ' << par::size(comm) << '\n';
+  // Values only: the flags (used, default) change as the list is read.
+  solver.print(os, Teuchos::ParameterList::PrintOptions().showFlags(false));
   return os.str();
 }
 
 }  // namespace
 
-rod::RodState arch_start(const scene::Scene& sc, const ParamList& solver, MPI_Comm comm,
+rod::RodState arch_start(const scene::Scene& sc, const Teuchos::ParameterList& solver, MPI_Comm comm,
                          std::string& description) {
   const auto tcomm = teuchos_comm(comm);
   static std::optional<FormedArch> last;

@@ -3,7 +3,7 @@
 // Trilinos type: app's other translation units compile without the Trilinos headers.
 #include <mpi.h>
 
-#include "traverse/core/param_list.hpp"
+#include <Teuchos_ParameterList.hpp>
 
 #include <memory>
 #include <string>
@@ -30,17 +30,17 @@ class TpetraScope {
 };
 
 /// solver::DistributedStepper over `comm` (collective); throws std::invalid_argument as it does.
-std::unique_ptr<solver::RodStepper> distributed_stepper(const rod::RodModel& model, const ParamList& solver,
+std::unique_ptr<solver::RodStepper> distributed_stepper(const rod::RodModel& model, const Teuchos::ParameterList& solver,
                                                         MPI_Comm comm);
 
 /// solver::solve_static_start over `comm` (collective).
-solver::StaticStart distributed_static_start(const rod::StaticModel& m, const ParamList& solver,
+solver::StaticStart distributed_static_start(const rod::StaticModel& m, const Teuchos::ParameterList& solver,
                                              MPI_Comm comm);
 
 /// initial_state: arch: the scene's rod formed into the arch (solver::form_arch, collective), as
 /// the dynamic state at rest on every rank; `description` says what was done. Throws
 /// std::runtime_error saying which stage failed.
-rod::RodState arch_start(const scene::Scene& sc, const ParamList& solver, MPI_Comm comm,
+rod::RodState arch_start(const scene::Scene& sc, const Teuchos::ParameterList& solver, MPI_Comm comm,
                          std::string& description);
 
 }  // namespace traverse::app

@@ -1,5 +1,7 @@
 #include "traverse/scene/scene.hpp"
 
+#include <Teuchos_ParameterList.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -50,8 +52,15 @@ const std::vector<std::string>& enum_names<EndType>() {  // the words of end_typ
 
 namespace {
 
-using traverse::ParamList;
-using ParameterList = ParamList;
+using Teuchos::ParameterList;
+
+// A list key of the validated scene (validation stores lists as Teuchos::Array).
+std::vector<double> numbers(const ParameterList& p, const std::string& key) {
+  return p.get<Teuchos::Array<double>>(key).toVector();
+}
+std::vector<std::string> words(const ParameterList& p, const std::string& key) {
+  return p.get<Teuchos::Array<std::string>>(key).toVector();
+}
 
 const char* kBeam = "beam";
 const char* kRod = "rod";
@@ -125,7 +134,7 @@ Check exactly_one(std::vector<std::string> keys) {
 Check per_axle(const std::string& key, const std::string& axes_key) {
   return [key, axes_key](const ParameterList& s, const CheckContext& ctx) {
     if (!s.isParameter(key)) return;
-    const std::size_t n = s.get<std::vector<double>>(axes_key).size(), k = s.get<std::vector<double>>(key).size();
+    const std::size_t n = numbers(s, axes_key).size(), k = numbers(s, key).size();
     if (k != 1 && k != n)
       ctx.fail(key, "one value (for every axle) or one per axle (" + std::to_string(n) + " in " + axes_key + ")",
                std::to_string(k) + " values");
@@ -168,7 +177,7 @@ void add_vehicle_types(TypeRegistry& r) {
                {moves("vehicle"), per_axle("stiffness", "axle_offsets"), per_axle("damping", "axle_offsets"),
                 per_axle("wheel_masses", "axle_offsets"),
                 [](const ParameterList& s, const CheckContext& ctx) {
-                  auto e = s.get<std::vector<double>>("axle_offsets");
+                  auto e = numbers(s, "axle_offsets");
                   if (e.size() < 2) ctx.fail("axle_offsets", "at least 2 axles (one: use type sprung_mass)",
                                              std::to_string(e.size()));
                   std::sort(e.begin(), e.end());
@@ -207,7 +216,7 @@ void add_vehicle_types(TypeRegistry& r) {
                   if (!lists) return;
                   if (!s.isParameter("offsets") || !s.isParameter("loads"))
                     ctx.fail(s.isParameter("offsets") ? "loads" : "offsets", "both offsets and loads", "one of them");
-                  const auto e = s.get<std::vector<double>>("offsets");
+                  const auto e = numbers(s, "offsets");
                   if (e.empty() || e[0] != 0.0) ctx.fail("offsets", "a list starting at 0 (the head)", "another first value");
                   for (std::size_t i = 1; i < e.size(); ++i)
                     if (!(e[i] > e[i - 1])) ctx.fail("offsets", "increasing offsets", "offsets[" + std::to_string(i) + "] = " + format_number(e[i]));
@@ -285,7 +294,7 @@ Param end_parameter(const EndParameter& p) {
 
 Check nonzero(const std::string& key) {
   return [key](const ParameterList& s, const CheckContext& ctx) {
-    const auto a = s.get<std::vector<double>>(key);
+    const auto a = numbers(s, key);
     if (std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]) == 0.0) ctx.fail(key, "a non-zero axis", "[0, 0, 0]");
   };
 }
@@ -293,7 +302,7 @@ Check nonzero(const std::string& key) {
 Check perpendicular(const EndPerpendicular& q) {
   return [key = std::string(q.key), other = std::string(q.other), expected = std::string(q.expected)](
              const ParameterList& s, const CheckContext& ctx) {
-    const auto a = s.get<std::vector<double>>(other), e = s.get<std::vector<double>>(key);
+    const auto a = numbers(s, other), e = numbers(s, key);
     const double dot = a[0] * e[0] + a[1] * e[1] + a[2] * e[2];
     const double na = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
     const double ne = std::sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
@@ -442,7 +451,7 @@ Param build_schema() {
   beam.add(damping_section());
   beam.check([](const ParameterList& s, const CheckContext& ctx) {
     if (!s.isSublist("damping") || !s.sublist("damping").isParameter("ratios")) return;
-    const std::size_t k = s.sublist("damping").get<std::vector<double>>("ratios").size();
+    const std::size_t k = numbers(s.sublist("damping"), "ratios").size();
     if (static_cast<int>(k) != s.get<int>("modes"))
       ctx.fail("damping.ratios", "one ratio per mode (beam.modes = " + std::to_string(s.get<int>("modes")) + ")",
                std::to_string(k) + " ratios");
@@ -610,8 +619,8 @@ Param build_schema() {
     const double length = s.sublist(model).get<double>("length");
     const auto& probes = s.sublist("output").sublist("probes");
     for (const auto& entry : probes) {
-      const auto& pr = entry.list();
-      const std::string key = "output.probes." + entry.name();
+      const auto& pr = probes.sublist(entry.first);
+      const std::string key = "output.probes." + entry.first;
       const std::string type = pr.get<std::string>("type");
       if ((type != "point") != (model == kBeam))
         ctx.fail(key + ".type", std::string("a probe type of model ") + model + " (" +
@@ -620,7 +629,7 @@ Param build_schema() {
         ctx.fail(key + ".at", "a position on the structure, in [0, " + format_number(length) + "]",
                  format_number(pr.get<double>("at")));
     }
-    const auto fields = s.sublist("output").get<std::vector<std::string>>("fields");
+    const auto fields = words(s.sublist("output"), "fields");
     const auto& allowed = model == kBeam ? kBeamFields : kRodFields;
     for (std::size_t i = 0; i < fields.size(); ++i)
       if (std::find(allowed.begin(), allowed.end(), fields[i]) == allowed.end())
@@ -632,13 +641,13 @@ Param build_schema() {
       }
     const auto& loads = s.sublist("loads");
     for (const auto& entry : loads) {
-      const auto& l = entry.list();
-      const std::string key = "loads." + entry.name();
+      const auto& l = loads.sublist(entry.first);
+      const std::string key = "loads." + entry.first;
       if (l.isParameter("start") && l.get<double>("start") > length)
         ctx.fail(key + ".start", "a position on the structure, in [0, " + format_number(length) + "]",
                  format_number(l.get<double>("start")));
       if (model == kBeam && l.isParameter("force_vector")) {
-        const auto f = l.get<std::vector<double>>("force_vector");
+        const auto f = numbers(l, "force_vector");
         if (f[0] != 0.0 || f[2] != 0.0)
           ctx.fail(key + ".force_vector", "a vertical force [0, Fy, 0] for a beam (it bends in the (j, k) plane)",
                    "[" + format_number(f[0]) + ", " + format_number(f[1]) + ", " + format_number(f[2]) + "]");
@@ -665,7 +674,7 @@ Param build_schema() {
 }
 
 Vec3 vec3_of(const ParameterList& p, const std::string& key) {
-  const auto a = p.get<std::vector<double>>(key);
+  const auto a = numbers(p, key);
   return Vec3(a[0], a[1], a[2]);
 }
 
@@ -737,7 +746,7 @@ MovingLoadSpec build_coupled_mass(const std::string& name, const ParameterList& 
 
 // A list of one value (every axle) or one per axle, as n values.
 std::vector<double> per_axle_values(const ParameterList& l, const std::string& key, std::size_t n) {
-  std::vector<double> v = l.get<std::vector<double>>(key);
+  std::vector<double> v = numbers(l, key);
   if (v.size() == 1) v.assign(n, v[0]);
   return v;
 }
@@ -753,7 +762,7 @@ void read_vehicle(const ParameterList& l, MovingLoadSpec& m, double g) {
   } else if (m.type == LoadType::vehicle) {
     m.mass = l.get<double>("mass");
     m.pitch_inertia = l.get<double>("pitch_inertia");
-    m.axle_offsets = l.get<std::vector<double>>("axle_offsets");
+    m.axle_offsets = numbers(l, "axle_offsets");
     const std::size_t n = m.axle_offsets.size();
     m.axle_stiffness = per_axle_values(l, "stiffness", n);
     m.axle_damping = per_axle_values(l, "damping", n);
@@ -766,7 +775,7 @@ void read_vehicle(const ParameterList& l, MovingLoadSpec& m, double g) {
       for (const double e : {b * D, b * D + d}) m.train_offsets.push_back(e);
     m.train_loads.assign(m.train_offsets.size(), gen.get<double>("axle_load"));
   } else {
-    m.train_offsets = l.get<std::vector<double>>("offsets");
+    m.train_offsets = numbers(l, "offsets");
     m.train_loads = per_axle_values(l, "loads", m.train_offsets.size());
   }
   if (m.suspended()) {
@@ -887,7 +896,7 @@ void read_beam(const ParameterList& b, BeamSpec& beam) {
   if (d.isParameter("ratio") || d.isParameter("ratios")) {
     beam.damping = BeamSpec::Damping::ratios;
     beam.damping_ratios = d.isParameter("ratio") ? std::vector<double>{d.get<double>("ratio")}
-                                                 : d.get<std::vector<double>>("ratios");
+                                                 : numbers(d, "ratios");
   } else {
     beam.damping = BeamSpec::Damping::rayleigh;
     beam.rayleigh_mass = d.isParameter("mass") ? d.get<double>("mass") : 0.0;
@@ -978,7 +987,9 @@ void read_continuation(const ParameterList& c, std::size_t num_loads, Scene& sc)
   cs.eigenvalues = c.get<int>("eigenvalues");
   cs.switch_branches = c.get<bool>("switch_branches");
   cs.branch_amplitude = c.get<double>("branch_amplitude");
-  for (const auto& entry : c.sublist("probes")) cs.probes.push_back(read_continuation_probe(entry.name(), entry.list(), sc));
+  const auto& probes = c.sublist("probes");
+  for (const auto& entry : probes)
+    cs.probes.push_back(read_continuation_probe(entry.first, probes.sublist(entry.first), sc));
   if ((cs.parameter == ContinuationParameter::load_position || cs.parameter == ContinuationParameter::load_magnitude) &&
       num_loads != 1)
     fail_at(sc, "continuation.parameter", "exactly one load in the scene to continue in " + name_of(cs.parameter),
@@ -1046,7 +1057,7 @@ void read_adaptive(const ParameterList& t, Scene& sc) {
   s.enabled = true;
   s.tolerance = a.get<double>("tolerance");
   static const char* const kGroups[5] = {"position", "orientation", "u", "omega", "kappa"};
-  const auto on = a.get<std::vector<std::string>>("on");
+  const auto on = words(a, "on");
   for (int g = 0; g < 5; ++g) {
     s.controlled[g] = std::find(on.begin(), on.end(), kGroups[g]) != on.end();
     s.absolute[g] = a.get<double>(std::string("absolute_") + kGroups[g]);
@@ -1106,9 +1117,9 @@ void read_output(const ParameterList& o, const std::string& file_name, OutputSpe
   out.progress_interval = o.get<double>("progress_interval");
   const auto& probes = o.sublist("probes");
   for (const auto& entry : probes) {
-    const auto& pr = entry.list();
+    const auto& pr = probes.sublist(entry.first);
     OutputProbeSpec ps;
-    ps.name = entry.name();
+    ps.name = entry.first;
     ps.type = enum_of<ProbeType>(pr.get<std::string>("type"));
     ps.at = pr.get<double>("at");
     if (ps.type == ProbeType::point) {
@@ -1117,7 +1128,7 @@ void read_output(const ParameterList& o, const std::string& file_name, OutputSpe
     }
     out.probes.push_back(ps);
   }
-  for (const auto& f : o.get<std::vector<std::string>>("fields")) out.fields.push_back(enum_of<Field>(f));
+  for (const auto& f : words(o, "fields")) out.fields.push_back(enum_of<Field>(f));
 }
 
 }  // namespace
@@ -1126,7 +1137,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
   Scene sc;
   sc.file = file_name;
   sc.tree = validate_yaml(yaml_text, file_name, overrides, scene_schema());
-  const ParameterList& p = sc.tree.params;
+  const ParameterList& p = *sc.tree.params;
   const std::string model = p.get<std::string>("model");
   sc.title = p.get<std::string>("title");
   sc.gravity = p.get<double>("gravity");
@@ -1148,7 +1159,7 @@ Scene parse_scene(const std::string& yaml_text, const std::string& file_name, co
 
   const auto& loads = p.sublist("loads");
   for (const auto& entry : loads)
-    sc.loads.push_back(build_load(entry.name(), entry.list(), structure_mass, sc.length(), sc.gravity));
+    sc.loads.push_back(build_load(entry.first, loads.sublist(entry.first), structure_mass, sc.length(), sc.gravity));
   check_coupled_masses(sc);
   if (sc.model == Model::Rod && sc.initial_state.loaded) {
     if (sc.continuation.enabled)
@@ -1179,6 +1190,24 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
   std::ostringstream ss;
   ss << in.rdbuf();
   return parse_scene(ss.str(), path, overrides);
+}
+
+const Teuchos::ParameterList& Scene::solver_parameters() const {
+  if (!tree.params) throw std::logic_error("Scene::solver_parameters: the scene was not validated (parse_scene)");
+  return tree.params->sublist("solver");
+}
+
+bool Scene::has(const std::string& key_path) const {
+  const ParameterList* list = tree.params.get();
+  if (!list) return false;
+  std::string::size_type from = 0, dot = 0;
+  while ((dot = key_path.find('.', from)) != std::string::npos) {
+    const std::string part = key_path.substr(from, dot - from);
+    if (!list->isSublist(part)) return false;
+    list = &list->sublist(part);
+    from = dot + 1;
+  }
+  return list->isParameter(key_path.substr(from));
 }
 
 std::string describe_scene(const Scene& scene, bool with_comments) {

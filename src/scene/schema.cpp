@@ -1,5 +1,6 @@
 #include "traverse/scene/schema.hpp"
 
+#include <Teuchos_ParameterList.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -7,10 +8,10 @@
 #include <iomanip>
 #include <set>
 #include <sstream>
-#include <type_traits>
-#include <variant>
 
 namespace traverse::scene {
+
+using Teuchos::ParameterList;
 
 // ---------------------------------------------------------------------------------------
 // Param builders
@@ -215,7 +216,7 @@ class Validator {
 
   // Validates the keys of a map node against `params` into `out`.
   void map_keys(const YAML::Node& node, const std::vector<Param>& params, const std::string& path,
-                ParamList& out, const std::vector<std::string>& extra_allowed = {}) {
+                ParameterList& out, const std::vector<std::string>& extra_allowed = {}) {
     if (node.IsDefined() && !node.IsNull() && !node.IsMap()) fail(path, "a map of keys", shown(node));
     std::set<std::string> seen;
     std::vector<std::string> known = extra_allowed;
@@ -264,7 +265,7 @@ class Validator {
     if (low || high) fail(path, p.expected_text(), found);
   }
 
-  void value(const YAML::Node& n, const Param& p, const std::string& path, ParamList& out) {
+  void value(const YAML::Node& n, const Param& p, const std::string& path, ParameterList& out) {
     const bool present = n.IsDefined() && !n.IsNull();
     const bool container = p.kind == ValueKind::Section || p.kind == ValueKind::Collection ||
                            p.kind == ValueKind::PassThrough;
@@ -296,8 +297,8 @@ class Validator {
         break;
       case ValueKind::Choice: out.set(p.name, choice_value(n, p, path)); break;
       case ValueKind::Vector3:
-      case ValueKind::RealList: out.set(p.name, real_list(n, p, path)); break;
-      case ValueKind::StringList: out.set(p.name, word_list(n, p, path)); break;
+      case ValueKind::RealList: out.set(p.name, Teuchos::Array<double>(real_list(n, p, path))); break;
+      case ValueKind::StringList: out.set(p.name, Teuchos::Array<std::string>(word_list(n, p, path))); break;
       case ValueKind::Section: {
         auto& sub = out.sublist(p.name);
         map_keys(n, p.children, path, sub);
@@ -385,7 +386,7 @@ class Validator {
     return a;
   }
 
-  void collection(const YAML::Node& n, const Param& p, const std::string& path, ParamList& sub) {
+  void collection(const YAML::Node& n, const Param& p, const std::string& path, ParameterList& sub) {
     if (!n.IsMap()) fail(path, p.expected_text() + " (name: {type: ..., ...})", shown(n));
     std::set<std::string> seen;
     for (const auto& kv : n) {
@@ -399,7 +400,7 @@ class Validator {
     }
   }
 
-  void typed_entry(const YAML::Node& n, const TypeRegistry& reg, const std::string& path, ParamList& out) {
+  void typed_entry(const YAML::Node& n, const TypeRegistry& reg, const std::string& path, ParameterList& out) {
     const std::string a = std::string("aeiou").find(reg.category()[0]) == std::string::npos ? "a " : "an ";
     if (!n.IsMap()) fail(path, "a map with a 'type' key naming " + a + reg.category() + " type", shown(n));
     const YAML::Node t = n["type"];
@@ -418,7 +419,7 @@ class Validator {
   }
 
   // Solver parameter lists: keep natural YAML types (int, double, bool, string).
-  void generic(const YAML::Node& n, const std::string& path, ParamList& out) {
+  void generic(const YAML::Node& n, const std::string& path, ParameterList& out) {
     for (const auto& kv : n) {
       const std::string key = kv.first.Scalar();
       const std::string kpath = join_path(path, key);
@@ -503,12 +504,12 @@ std::vector<std::string> key_names(const std::vector<Param>& keys, bool with_typ
   return names;
 }
 
-const ParamList* sublist_of(const ParamList* list, const std::string& name) {
+const ParameterList* sublist_of(const ParameterList* list, const std::string& name) {
   return list && list->isSublist(name) ? &list->sublist(name) : nullptr;
 }
 
 // The keys of a typed entry `list` (its `type` chosen in the scene), or nullptr.
-const TypeInfo* type_of(const ParamList* list, const TypeRegistry& reg) {
+const TypeInfo* type_of(const ParameterList* list, const TypeRegistry& reg) {
   if (!list || !list->isType<std::string>("type")) return nullptr;
   return reg.find(list->get<std::string>("type"));
 }
@@ -524,7 +525,7 @@ std::string key_problem(const ValidatedTree& tree, const Param& root, const std:
   for (const auto& p : parts)
     if (p.empty()) return "expected KEY.PATH with non-empty parts, found '" + key + "'";
   const std::vector<Param>* keys = &root.children;
-  const ParamList* list = &tree.params;
+  const ParameterList* list = tree.params.get();
   bool typed = false;  // the level is a typed entry: its `type` key is declared too
   std::string path;
   for (std::size_t i = 0; i < parts.size(); ++i) {
@@ -550,7 +551,7 @@ std::string key_problem(const ValidatedTree& tree, const Param& root, const std:
           const std::string& name = parts[++i];
           std::vector<std::string> names;
           if (list)
-            for (const auto& e : list->entries()) names.push_back(e.name());
+            for (const auto& e : *list) names.push_back(e.first);
           if (!sublist_of(list, name))
             return "expected one of the names of '" + path + "' in the scene {" + list_words(names) + "}, found '" +
                    name + "'" + suggestion(name, names);
@@ -588,6 +589,7 @@ ValidatedTree validate_yaml(const std::string& yaml_text, const std::string& fil
   if (!doc.IsMap())
     throw SceneError(file_name + ": (top level): expected a map of keys, found " + shown(doc));
   ValidatedTree tree;
+  auto params = std::make_shared<ParameterList>("scene");
   for (const auto& o : overrides) {
     try {
       tree.marks[apply_override(doc, o)] = {-1, -1};
@@ -596,9 +598,10 @@ ValidatedTree validate_yaml(const std::string& yaml_text, const std::string& fil
     }
   }
   Validator v(file_name, tree.marks);
-  v.map_keys(doc, root.children, "", tree.params);
+  v.map_keys(doc, root.children, "", *params);
   CheckContext ctx(file_name, "", &tree.marks);
-  for (const auto& c : root.checks) c(tree.params, ctx);
+  for (const auto& c : root.checks) c(*params, ctx);
+  tree.params = std::move(params);
   return tree;
 }
 
@@ -607,32 +610,34 @@ ValidatedTree validate_yaml(const std::string& yaml_text, const std::string& fil
 // ---------------------------------------------------------------------------------------
 namespace {
 
-std::string scalar_text(const ParamList::Entry& e) {
+// A value as the validated scene shows it: the types validation stores (int, double, bool,
+// string and the arrays of double and string).
+std::string scalar_text(const Teuchos::ParameterEntry& e) {
   std::ostringstream os;
-  std::visit(
-      [&](const auto& v) {
-        using T = std::decay_t<decltype(v)>;
-        if constexpr (std::is_same_v<T, double>) {
-          os << std::setprecision(15) << v;
-        } else if constexpr (std::is_same_v<T, int>) {
-          os << v;
-        } else if constexpr (std::is_same_v<T, bool>) {
-          os << (v ? "true" : "false");
-        } else if constexpr (std::is_same_v<T, std::string>) {
-          YAML::Emitter em;
-          em << v;
-          os << em.c_str();
-        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
-          os << "[";
-          for (std::size_t i = 0; i < v.size(); ++i) os << (i ? ", " : "") << std::setprecision(15) << v[i];
-          os << "]";
-        } else {
-          os << "[";
-          for (std::size_t i = 0; i < v.size(); ++i) os << (i ? ", " : "") << v[i];
-          os << "]";
-        }
-      },
-      e.value());
+  os << std::setprecision(15);
+  if (e.isType<double>()) {
+    os << e.getValue<double>(nullptr);
+  } else if (e.isType<int>()) {
+    os << e.getValue<int>(nullptr);
+  } else if (e.isType<bool>()) {
+    os << (e.getValue<bool>(nullptr) ? "true" : "false");
+  } else if (e.isType<std::string>()) {
+    YAML::Emitter em;
+    em << e.getValue<std::string>(nullptr);
+    os << em.c_str();
+  } else if (e.isType<Teuchos::Array<double>>()) {
+    const auto& v = e.getValue<Teuchos::Array<double>>(nullptr);
+    os << "[";
+    for (Teuchos::Array<double>::size_type i = 0; i < v.size(); ++i) os << (i ? ", " : "") << v[i];
+    os << "]";
+  } else if (e.isType<Teuchos::Array<std::string>>()) {
+    const auto& v = e.getValue<Teuchos::Array<std::string>>(nullptr);
+    os << "[";
+    for (Teuchos::Array<std::string>::size_type i = 0; i < v.size(); ++i) os << (i ? ", " : "") << v[i];
+    os << "]";
+  } else {
+    throw std::logic_error("describe: a value of type " + e.getAny(false).typeName() + " in the scene");
+  }
   return os.str();
 }
 
@@ -662,7 +667,7 @@ class Describer {
     os << s << "\n";
   }
 
-  void keys(const ParamList& list, const std::vector<Param>& params, int depth) {
+  void keys(const ParameterList& list, const std::vector<Param>& params, int depth) {
     for (const auto& p : params) {
       if (!p.condition.first.empty() && !(list.isType<std::string>(p.condition.first) &&
                                           list.get<std::string>(p.condition.first) == p.condition.second))
@@ -674,7 +679,7 @@ class Describer {
         continue;
       }
       if (!container) {
-        line(depth, p.name + ": " + scalar_text(list.entry(p.name)), comment(p));
+        line(depth, p.name + ": " + scalar_text(*list.getEntryPtr(p.name)), comment(p));
         continue;
       }
       const auto& sub = list.sublist(p.name);
@@ -689,9 +694,9 @@ class Describer {
           break;
         case ValueKind::Collection:
           line(depth, p.name + (sub.numParams() == 0 ? ": {}" : ":"), p.doc + types_note(*p.registry));
-          for (const auto& e : sub.entries()) {
-            line(depth + 1, e.name() + ":", "");
-            typed(e.list(), *p.registry, depth + 2);
+          for (const auto& e : sub) {
+            line(depth + 1, e.first + ":", "");
+            typed(sub.sublist(e.first), *p.registry, depth + 2);
           }
           break;
         case ValueKind::PassThrough:
@@ -711,23 +716,23 @@ class Describer {
     return s + ")";
   }
 
-  void typed(const ParamList& list, const TypeRegistry& r, int depth) {
+  void typed(const ParameterList& list, const TypeRegistry& r, int depth) {
     const std::string type = list.get<std::string>("type");
     const TypeInfo* info = r.find(type);
     line(depth, "type: " + type, info ? info->doc : "");
     if (info) keys(list, info->params, depth);
   }
 
-  void generic(const ParamList& list, int depth) {
-    for (const auto& e : list.entries()) {
-      const auto& name = e.name();
-      if (e.is_list()) {
+  void generic(const ParameterList& list, int depth) {
+    for (const auto& e : list) {
+      const auto& name = e.first;
+      if (e.second.isList()) {
         line(depth, name + ":", "");
         generic(list.sublist(name), depth + 1);
       } else {
         YAML::Emitter em;
         em << name;
-        line(depth, std::string(em.c_str()) + ": " + scalar_text(e), "");
+        line(depth, std::string(em.c_str()) + ": " + scalar_text(e.second), "");
       }
     }
   }
@@ -740,7 +745,7 @@ class Describer {
 
 std::string describe(const ValidatedTree& tree, const Param& root, bool with_comments) {
   Describer d(with_comments);
-  d.keys(tree.params, root.children, 0);
+  d.keys(*tree.params, root.children, 0);
   return d.os.str();
 }
 

@@ -16,12 +16,12 @@ namespace traverse::solver {
 namespace {
 /// The KLU2 shortcut exactly (no pass-through keys), on the ranks it was asked for.
 bool is_plain_klu2(const LinearSolverChoice& choice) {
-  const ParamList& s = choice.stratimikos;
+  const Teuchos::ParameterList& s = choice.stratimikos;
   if (choice.rerouted || !s.isType<std::string>("Linear Solver Type") ||
       s.get<std::string>("Linear Solver Type") != "Amesos2" || !s.isSublist("Linear Solver Types") ||
       !s.sublist("Linear Solver Types").isSublist("Amesos2"))
     return false;
-  const ParamList& a = s.sublist("Linear Solver Types").sublist("Amesos2");
+  const Teuchos::ParameterList& a = s.sublist("Linear Solver Types").sublist("Amesos2");
   if (!a.isType<std::string>("Solver Type") || a.get<std::string>("Solver Type") != "KLU2") return false;
   return a.numParams() == 1;  // "Solver Type" alone
 }
@@ -41,7 +41,7 @@ struct DistributedStepper::Impl {
   /// Mesh, model evaluator and linear solver for p unknowns per node (the model's, or the
   /// planar reduction's).
   void build(const std::shared_ptr<const rod::RodModel>& model, const std::shared_ptr<const rod::PlanarReduction>& planar,
-             const ParamList& params, const LinearSolverChoice& choice) {
+             const Teuchos::ParameterList& params, const LinearSolverChoice& choice) {
     const rod::RodModel& rm = *model;
     const int p = planar ? planar->unknowns_per_node() : rm.unknowns_per_node();
     newton.reset();
@@ -70,7 +70,7 @@ struct DistributedStepper::Impl {
   }
 
   /// The Newton solver of the time steps (after build() and set_old_level).
-  void build_newton(const ParamList& np) { newton = std::make_unique<NewtonSolver>(me, np); }
+  void build_newton(const Teuchos::ParameterList& np) { newton = std::make_unique<NewtonSolver>(me, np); }
 
   NewtonReport solve_once(std::vector<VecX>& xg, std::optional<rod::InitialGuess> guess) {
     if (guess) me->initial_guess(*x, *guess);
@@ -82,7 +82,7 @@ struct DistributedStepper::Impl {
 
 DistributedStepper::DistributedStepper(rod::RodModel rod_model,
                                        const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                                       const ParamList& params)
+                                       const Teuchos::ParameterList& params)
     : RodStepper(std::move(rod_model), params, comm.is_null() ? 1 : comm->getSize(), comm.is_null() ? 0 : comm->getRank()),
       impl_(std::make_unique<Impl>()) {
   if (comm.is_null()) throw std::invalid_argument("DistributedStepper: null communicator");

@@ -18,7 +18,6 @@
 #include "block_tridiagonal_preconditioner.hpp"
 #include "reusable_ifpack2_factory.hpp"
 #include "traverse/solver/rod_step_model.hpp"
-#include "traverse/solver/teuchos_params.hpp"
 
 namespace traverse::solver {
 
@@ -264,7 +263,7 @@ LinearSolverObjects build_linear_solver(const LinearSolverChoice& choice) {
   builder.setPreconditioningStrategyFactory(
       Teuchos::abstractFactoryStd<Thyra::PreconditionerFactoryBase<double>, ReusableIfpack2Factory>(),
       "Ifpack2");
-  builder.setParameterList(Teuchos::rcp(new Teuchos::ParameterList(to_teuchos(choice.stratimikos))));
+  builder.setParameterList(Teuchos::rcp(new Teuchos::ParameterList(choice.stratimikos)));
   Teuchos::RCP<Thyra::LinearOpWithSolveFactoryBase<double>> lows = builder.createLinearSolveStrategy("");
   LinearSolverObjects out;
   if (lows->acceptsPreconditionerFactory()) {

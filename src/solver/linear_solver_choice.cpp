@@ -10,25 +10,29 @@ namespace traverse::solver {
 
 namespace {
 
-std::string get_or(const ParamList& pl, const std::string& key, const std::string& fallback) {
-  return pl.isType<std::string>(key) ? pl.get<std::string>(key) : fallback;
+using Teuchos::ParameterList;
+
+// The string `key` of `pl`, or `fallback` when there is none (not stored, unlike
+// ParameterList::get with a default).
+std::string get_or(const ParameterList& pl, const std::string& key, const std::string& fallback) {
+  const std::string* v = pl.getPtr<std::string>(key);
+  return v ? *v : fallback;
 }
 
 constexpr int kBlockTridiagonalRestart = 40;
 
 const char* const kSchwarzText = "Ifpack2 SCHWARZ (overlap 1, Amesos2 KLU2 subdomains)";
 
-ParamList amesos2_list() {
-  ParamList s("Stratimikos");
+ParameterList amesos2_list() {
+  ParameterList s("Stratimikos");
   s.set("Linear Solver Type", "Amesos2");
   s.sublist("Linear Solver Types").sublist("Amesos2").set("Solver Type", "KLU2");
   s.set("Preconditioner Type", "None");
   return s;
 }
 
-ParamList gmres_list(const ParamList& p, const std::string& prec,
-                                  std::string& text) {
-  ParamList s("Stratimikos");
+ParameterList gmres_list(const ParameterList& p, const std::string& prec, std::string& text) {
+  ParameterList s("Stratimikos");
   s.set("Linear Solver Type", "Belos");
   auto& belos = s.sublist("Linear Solver Types").sublist("Belos");
   belos.set("Solver Type", "Pseudo Block GMRES");
@@ -79,7 +83,7 @@ ParamList gmres_list(const ParamList& p, const std::string& prec,
   return s;
 }
 
-std::string describe_pass_through(const ParamList& s) {
+std::string describe_pass_through(const ParameterList& s) {
   const std::string lst = get_or(s, "Linear Solver Type", "Amesos");
   std::string text = "Stratimikos " + lst;
   if (s.isSublist("Linear Solver Types") && s.sublist("Linear Solver Types").isSublist(lst)) {
@@ -97,11 +101,11 @@ std::string describe_pass_through(const ParamList& s) {
 
 }  // namespace
 
-LinearSolverChoice LinearSolverChoice::resolve(const ParamList& given, int ranks, Use use) {
-  const ParamList p = validated_solver_parameters(given);
+LinearSolverChoice LinearSolverChoice::resolve(const ParameterList& given, int ranks, Use use) {
+  const ParameterList p = validated_solver_parameters(given);
   LinearSolverChoice c;
   bool solver_is_auto = false;
-  const ParamList& pass = p.sublist("Stratimikos");
+  const ParameterList& pass = p.sublist("Stratimikos");
   if (pass.numParams() > 0) {
     c.stratimikos = pass;
     c.requested = describe_pass_through(pass);
@@ -122,8 +126,8 @@ LinearSolverChoice LinearSolverChoice::resolve(const ParamList& given, int ranks
   c.linear_tolerance = p.get<double>("Linear Tolerance");
   c.block_tridiagonal = pass.numParams() == 0 && c.stratimikos.isSublist("Preconditioner Types") &&
                         c.stratimikos.sublist("Preconditioner Types").isSublist("Ifpack2") &&
-                        c.stratimikos.sublist("Preconditioner Types").sublist("Ifpack2").get<std::string>(
-                            "Prec Type", "") == "BLOCK_TRIDIAGONAL";
+                        get_or(c.stratimikos.sublist("Preconditioner Types").sublist("Ifpack2"), "Prec Type", "") ==
+                            "BLOCK_TRIDIAGONAL";
   if ((ranks == 1 || solver_is_auto) && c.block_tridiagonal) {
     c.block_tridiagonal_direct = true;
     c.resolved = ranks == 1 ? "block-tridiagonal LU (direct, residual-checked)"
@@ -143,9 +147,8 @@ LinearSolverChoice LinearSolverChoice::resolve(const ParamList& given, int ranks
       throw std::invalid_argument("rod solver parameters: linear solver '" + c.requested +
                                   "' refused: " + why +
                                   "; use 'Linear Solver: GMRES' or 'On Broken Direct Solver: reroute'");
-    ParamList q = p;
     std::string text;
-    c.stratimikos = gmres_list(q, "SCHWARZ", text);
+    c.stratimikos = gmres_list(p, "SCHWARZ", text);
     c.resolved = text + " [rerouted from " + c.requested + ": " + why + "]";
     c.rerouted = true;
     c.direct = false;

@@ -1,6 +1,5 @@
 #include "traverse/solver/newton_solver.hpp"
 
-#include "traverse/solver/teuchos_params.hpp"
 #include "thyra_tpetra.hpp"
 
 #include <NOX_Observer.hpp>
@@ -50,7 +49,7 @@ class HistoryObserver : public NOX::Observer {
 };
 
 template <class T>
-T get_or(const ParamList& pl, const std::string& key, const T& fallback) {
+T get_or(const Teuchos::ParameterList& pl, const std::string& key, const T& fallback) {
   return pl.isType<T>(key) ? pl.get<T>(key) : fallback;
 }
 
@@ -74,11 +73,11 @@ struct NewtonSolver::Impl {
   Teuchos::RCP<NOX::Solver::Generic> solver;
 };
 
-NewtonSolver::NewtonSolver(Teuchos::RCP<RodStepModel> model, const ParamList& params)
+NewtonSolver::NewtonSolver(Teuchos::RCP<RodStepModel> model, const Teuchos::ParameterList& params)
     : impl_(std::make_unique<Impl>()) {
   Impl& m = *impl_;
   m.model = model;
-  m.nox = Teuchos::rcp(new Teuchos::ParameterList(params.isSublist("NOX") ? to_teuchos(params.sublist("NOX"))
+  m.nox = Teuchos::rcp(new Teuchos::ParameterList(params.isSublist("NOX") ? params.sublist("NOX")
                                                                            : Teuchos::ParameterList("NOX")));
   m.nox->setName("NOX");
   Teuchos::ParameterList& nox = *m.nox;

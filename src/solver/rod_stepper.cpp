@@ -10,7 +10,7 @@
 
 namespace traverse::solver {
 
-RodStepper::RodStepper(rod::RodModel model, const ParamList& params, int ranks, int rank) {
+RodStepper::RodStepper(rod::RodModel model, const Teuchos::ParameterList& params, int ranks, int rank) {
   const rod::EndConditionCheck check = rod::validate_end_conditions(model.left, model.right);
   if (!check.ok) throw std::invalid_argument("rod stepper: " + check.message);
   model_ = std::make_shared<const rod::RodModel>(std::move(model));
@@ -79,8 +79,8 @@ std::string RodStepper::path_description() const {
   return "3D (" + std::to_string(p) + " unknowns per node)";
 }
 
-ParamList RodStepper::newton_params() const {
-  ParamList p = params_;
+Teuchos::ParameterList RodStepper::newton_params() const {
+  Teuchos::ParameterList p = params_;
   if (planar_) {
     const double c = std::sqrt(double(planar_->full_unknowns_per_node()) / planar_->unknowns_per_node());
     p.set("Update Relative Tolerance", c * params_.get<double>("Update Relative Tolerance"));

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <iterator>
 #include <stdexcept>
+#include <type_traits>
 #include <variant>
 
 namespace traverse::solver {
@@ -69,6 +70,29 @@ std::string words_text(const std::vector<std::string>& words) {
   return "{" + t + "}";
 }
 
+// The type of a value or sublist as the messages name it.
+std::string type_name(const Teuchos::ParameterEntry& e) {
+  if (e.isList()) return "sublist";
+  if (e.isType<bool>()) return "bool";
+  if (e.isType<int>()) return "int";
+  if (e.isType<double>()) return "double";
+  if (e.isType<std::string>()) return "string";
+  if (e.isType<Teuchos::Array<double>>()) return "list of numbers";
+  if (e.isType<Teuchos::Array<std::string>>()) return "list of words";
+  return e.getAny(false).typeName();
+}
+
+// The type of a key's default (SolverKey::default_value) by the same names.
+const char* type_name(std::size_t index) {
+  static const char* const names[] = {"bool", "int", "double", "string"};
+  return names[index];
+}
+
+// "a " or "an " before `noun`.
+std::string with_article(const std::string& noun) {
+  return (!noun.empty() && std::string("aeiou").find(noun[0]) != std::string::npos ? "an " : "a ") + noun;
+}
+
 std::string known_keys() {
   std::vector<std::string> names;
   for (const auto& k : solver_keys()) names.push_back(k.name);
@@ -78,28 +102,32 @@ std::string known_keys() {
 
 }  // namespace
 
-ParamList validated_solver_parameters(const ParamList& given) {
-  ParamList p = given;
-  for (const auto& e : given.entries()) {
-    const auto pass = std::find(std::begin(kPassThrough), std::end(kPassThrough), e.name()) != std::end(kPassThrough);
+Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList& given) {
+  Teuchos::ParameterList p = given;
+  for (const auto& kv : given) {
+    const std::string& name = kv.first;
+    const Teuchos::ParameterEntry& e = kv.second;
+    const auto pass = std::find(std::begin(kPassThrough), std::end(kPassThrough), name) != std::end(kPassThrough);
     if (pass) {
-      if (!e.is_list()) refuse("'" + e.name() + "' must be a sublist (handed to Trilinos), found " + with_article(type_name_of(e)));
+      if (!e.isList()) refuse("'" + name + "' must be a sublist (handed to Trilinos), found " + with_article(type_name(e)));
       continue;
     }
     const auto& keys = solver_keys();
-    const auto k = std::find_if(keys.begin(), keys.end(), [&](const SolverKey& s) { return s.name == e.name(); });
-    if (k == keys.end()) refuse("unknown key '" + e.name() + "', expected one of " + known_keys());
-    const std::size_t want = k->default_value.index();
-    if (e.is_list() || e.value().index() != want) {
-      const bool widen = !e.is_list() && std::holds_alternative<double>(k->default_value) && std::holds_alternative<int>(e.value());
+    const auto k = std::find_if(keys.begin(), keys.end(), [&](const SolverKey& s) { return s.name == name; });
+    if (k == keys.end()) refuse("unknown key '" + name + "', expected one of " + known_keys());
+    const bool same_type = std::visit(
+        [&](const auto& d) { return !e.isList() && e.isType<std::decay_t<decltype(d)>>(); }, k->default_value);
+    if (!same_type) {
+      const bool widen = std::holds_alternative<double>(k->default_value) && !e.isList() && e.isType<int>();
       if (!widen)
-        refuse("'" + e.name() + "' must be " + with_article(ParamList::value_type_name(want)) + ", found " + with_article(type_name_of(e)));
-      p.set(e.name(), static_cast<double>(std::get<int>(e.value())));
+        refuse("'" + name + "' must be " + with_article(type_name(k->default_value.index())) + ", found " +
+               with_article(type_name(e)));
+      p.set(name, static_cast<double>(e.getValue<int>(nullptr)));
     }
     if (!k->words.empty()) {
-      const std::string& w = p.get<std::string>(e.name());
+      const std::string& w = p.get<std::string>(name);
       if (std::find(k->words.begin(), k->words.end(), w) == k->words.end())
-        refuse("'" + e.name() + "' must be one of " + words_text(k->words) + ", found '" + w + "'");
+        refuse("'" + name + "' must be one of " + words_text(k->words) + ", found '" + w + "'");
     }
   }
   for (const auto& k : solver_keys())
@@ -128,7 +156,7 @@ ParamList validated_solver_parameters(const ParamList& given) {
   return p;
 }
 
-rod::InitialGuess initial_guess_of(const ParamList& validated) {
+rod::InitialGuess initial_guess_of(const Teuchos::ParameterList& validated) {
   const std::string& g = validated.get<std::string>("Initial Guess");
   if (g == "Secant") return rod::InitialGuess::secant;
   return g == "Old Level" ? rod::InitialGuess::old_level : rod::InitialGuess::blend;

@@ -22,7 +22,7 @@ class StaticLinearSolver {
  public:
   /// `solver`: keys of solver_parameters.hpp. On 2+ ranks without an explicit
   /// "Preconditioner", GMRES + ILUT (see the .cpp file for why).
-  StaticLinearSolver(const ParamList& solver, const Comm& comm);
+  StaticLinearSolver(const Teuchos::ParameterList& solver, const Comm& comm);
   /// The block-tridiagonal LU as a direct solver (exact across ranks, residual-checked, no
   /// Krylov basis), factorised again only when jacobian_version() has changed.
   StaticLinearSolver(std::function<long()> jacobian_version, const Comm& comm);
@@ -55,7 +55,7 @@ struct StaticContext {
 
   /// Frames of `state` become the model's references (state should be rebased).
   StaticContext(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state, const Comm& comm,
-                const ParamList& solver);
+                const Teuchos::ParameterList& solver);
 };
 
 /// Newton on F(x, p) = 0 with, when iparam >= 0, the parameter p[iparam] free and the extra

@@ -65,12 +65,12 @@ double max_position_difference(const std::vector<rod::StaticNode>& a, const std:
 }
 
 // ---------------------------------------------------------------------------------------------
-StaticLinearSolver::StaticLinearSolver(const ParamList& solver, const Comm& comm) : comm_(comm) {
+StaticLinearSolver::StaticLinearSolver(const Teuchos::ParameterList& solver, const Comm& comm) : comm_(comm) {
   // On 2+ ranks the default GMRES + Schwarz/KLU2 fails for statics: a rank's overlapped block
   // is a sub-rod whose cut end acts as a free end, a mechanism when the other end is pinned or
   // free (singular subdomain matrix; the dynamic step has inertia there). The default here is
   // GMRES + ILUT with its diagonal shift; an explicit "Preconditioner" is respected.
-  ParamList given = solver;
+  Teuchos::ParameterList given = solver;
   if (comm->getSize() > 1 && !given.isParameter("Preconditioner") && !given.isSublist("Stratimikos"))
     given.set("Preconditioner", std::string("ILUT"));
   choice_ = LinearSolverChoice::resolve(validated_solver_parameters(given), comm->getSize());
@@ -83,7 +83,7 @@ StaticLinearSolver::StaticLinearSolver(const ParamList& solver, const Comm& comm
 }
 
 StaticLinearSolver::StaticLinearSolver(std::function<long()> jacobian_version, const Comm& comm) : comm_(comm) {
-  choice_ = LinearSolverChoice::resolve(validated_solver_parameters(ParamList()), comm->getSize(),
+  choice_ = LinearSolverChoice::resolve(validated_solver_parameters(Teuchos::ParameterList()), comm->getSize(),
                                         LinearSolverChoice::Use::time_step);
   lows_ = make_block_tridiagonal_solve_factory(std::move(jacobian_version), std::make_shared<DirectSolverStats>(),
                                                choice_.linear_tolerance);
@@ -135,7 +135,7 @@ bool StaticLinearSolver::solve(const Vector& b, Vector& y) const {
 }
 
 StaticContext::StaticContext(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state,
-                             const Comm& c, const ParamList& solver)
+                             const Comm& c, const Teuchos::ParameterList& solver)
     : comm(c), linear(solver, c) {
   const int N = problem.base.num_cells;
   if (static_cast<int>(state.size()) != N + 1)
@@ -746,7 +746,7 @@ ContinuationResult continue_(const rod::StaticProblem& problem, const std::vecto
 }
 
 StaticSolveReport static_solve(const rod::StaticProblem& problem, std::vector<rod::StaticNode>& state, const Comm& comm,
-                               const ParamList& solver) {
+                               const Teuchos::ParameterList& solver) {
   StaticContext ctx(problem, rebased(state), comm, solver);
   Vector x(*ctx.model->nominal_x(), Teuchos::Copy);
   Params p = problem.values;
@@ -756,7 +756,7 @@ StaticSolveReport static_solve(const rod::StaticProblem& problem, std::vector<ro
 }
 
 Stability static_stability(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state,
-                           const Comm& comm, const StabilityOptions& options, const ParamList& solver) {
+                           const Comm& comm, const StabilityOptions& options, const Teuchos::ParameterList& solver) {
   StaticContext ctx(problem, rebased(state), comm, solver);
   return compute_stability(ctx, *ctx.model->nominal_x(), problem.values, options);
 }

@@ -23,7 +23,7 @@ using Matrix = StaticRodModel::Matrix;
 class DistributedStaticSystem : public rod::StaticNewtonSystem {
  public:
   /// `solver` null: the block-tridiagonal LU.
-  DistributedStaticSystem(const rod::StaticModel& m, const Comm& comm, const ParamList* solver)
+  DistributedStaticSystem(const rod::StaticModel& m, const Comm& comm, const Teuchos::ParameterList* solver)
       : comm_(comm),
         linear_(solver ? StaticLinearSolver(*solver, comm) : StaticLinearSolver([this] { return version_; }, comm)) {
     mesh_ = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(m.length, m.num_cells + 1), comm, 12));
@@ -135,7 +135,7 @@ std::vector<rod::StaticNode> DistributedStaticSystem::nodes_with_halo(int halo, 
 }  // namespace
 
 StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                               const ParamList& solver, int halo) {
+                               const Teuchos::ParameterList& solver, int halo) {
   // The block LU eliminates from the left end; the pieces of the rod left of each node are
   // then cantilevers (their cut end is free), well posed only when the left end is clamped.
   const bool clamped = m.left.type == rod::EndCondition::Type::clamped;

@@ -2,7 +2,11 @@
 // expected and what was found.
 #include <gtest/gtest.h>
 
+#include <Teuchos_ParameterList.hpp>
+
 #include <cmath>
+#include <string>
+#include <vector>
 
 #include "traverse/scene/scene.hpp"
 
@@ -204,6 +208,49 @@ TEST(Scene, RodSceneWithRollerAndDefaults) {
   EXPECT_EQ(s.loads[0].force, traverse::Vec3(0, -2, 0));
   expect_error({"ends.right.slide_axis=[1, 0, 0]"}, {"ends.right.slide_axis", "perpendicular to the pin axis"}, kRod);
   expect_error({"beam.length=1"}, {"beam: expected no 'beam' here: it applies only with model: beam"}, kRod);
+}
+
+TEST(Scene, SolverSectionKeepsTheFilesValuesTypesAndOrder) {
+  // The solver section goes to the solver module and its NOX and Stratimikos sublists on to
+  // Trilinos as the file gives them: a whole number an int, another number a double,
+  // true/false a bool, anything else a string, sublists nested, in the file's order.
+  const std::string text = std::string(kRod) + R"(solver:
+  Max Newton Iterations: 12
+  Residual Tolerance: 1e-9
+  Verbose: false
+  Line Search: Backtrack
+  NOX:
+    Line Search:
+      Backtrack: {Max Iters: 7, Reduction Factor: 0.5}
+    Printing: {Output Precision: 3}
+)";
+  const Scene s = parse_scene(text, "scene.yaml");
+  const Teuchos::ParameterList& p = s.solver_parameters();
+  EXPECT_EQ(p.get<int>("Max Newton Iterations"), 12);
+  EXPECT_EQ(p.get<double>("Residual Tolerance"), 1e-9);
+  EXPECT_EQ(p.get<bool>("Verbose"), false);
+  EXPECT_EQ(p.get<std::string>("Line Search"), "Backtrack");
+  const auto& backtrack = p.sublist("NOX").sublist("Line Search").sublist("Backtrack");
+  EXPECT_EQ(backtrack.get<int>("Max Iters"), 7);
+  EXPECT_EQ(backtrack.get<double>("Reduction Factor"), 0.5);
+  std::vector<std::string> order;
+  for (const auto& e : p) order.push_back(e.first);
+  EXPECT_EQ(order, (std::vector<std::string>{"Max Newton Iterations", "Residual Tolerance", "Verbose", "Line Search",
+                                             "NOX"}));
+  // `traverse check` shows the section so that it reads back the same.
+  const Scene again = parse_scene(describe_scene(s), "described.yaml");
+  EXPECT_TRUE(Teuchos::haveSameValues(again.solver_parameters(), p));
+
+  EXPECT_TRUE(s.has("solver.NOX.Line Search.Backtrack.Max Iters"));
+  EXPECT_TRUE(s.has("loads.F.force"));
+  EXPECT_TRUE(s.has("loads.F.entry_time"));  // filled in by its default
+  EXPECT_FALSE(s.has("loads.F.mass"));
+  EXPECT_FALSE(s.has("loads.G.force"));  // no load G
+  EXPECT_FALSE(s.has("mesh.ds"));
+  EXPECT_FALSE(s.has("loads.F.force.x"));  // a value, not a section
+  const Scene unvalidated;
+  EXPECT_FALSE(unvalidated.has("mesh"));
+  EXPECT_THROW((void)unvalidated.solver_parameters(), std::logic_error);
 }
 
 /// Issue #14: the end conditions come from their one declaration (traverse/core/end_types.hpp):

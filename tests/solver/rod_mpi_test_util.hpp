@@ -63,8 +63,8 @@ inline double max_yt_difference(const rod::RodState& a, const rod::RodState& b) 
 }
 
 /// Named solver parameter sets.
-inline traverse::ParamList solver_params(const std::string& name) {
-  traverse::ParamList p;
+inline Teuchos::ParameterList solver_params(const std::string& name) {
+  Teuchos::ParameterList p;
   p.set("Verbose", false);
   if (name == "KLU2") {
     p.set("Linear Solver", "KLU2");

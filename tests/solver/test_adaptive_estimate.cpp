@@ -36,7 +36,7 @@ double global_max(double v) {
 }
 
 Measured measure(double h) {
-  traverse::ParamList params = test::solver_params("auto");
+  Teuchos::ParameterList params = test::solver_params("auto");
   params.set("Residual Tolerance", 1e-11);
   rod::RodModel model = test::cantilever(20, false);
   model.loads.gravity = Vec3::Zero();

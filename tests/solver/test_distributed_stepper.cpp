@@ -110,7 +110,7 @@ TEST(DistributedStepper, Klu2IsReroutedOnSeveralRanksOrRefused) {
     EXPECT_EQ(ds.requested_linear_solver(), "Amesos2 KLU2 (direct)");
     EXPECT_NE(ds.resolved_linear_solver().find("Belos GMRES + Ifpack2 SCHWARZ"), std::string::npos);
     EXPECT_NE(ds.resolved_linear_solver().find("rerouted from Amesos2 KLU2"), std::string::npos);
-    traverse::ParamList refuse = test::solver_params("KLU2");
+    Teuchos::ParameterList refuse = test::solver_params("KLU2");
     refuse.set("On Broken Direct Solver", "refuse");
     try {
       DistributedStepper bad(model, test::comm(), refuse);
@@ -158,7 +158,7 @@ TEST(DistributedStepper, NewtonConvergesQuadratically) {
 
 TEST(DistributedStepper, SubdividesAFailingStepAndThrowsWithoutRetries) {
   const rod::RodModel model = test::cantilever(16);
-  traverse::ParamList p = test::solver_params(test::ranks() == 1 ? "KLU2" : "GMRES+SCHWARZ");
+  Teuchos::ParameterList p = test::solver_params(test::ranks() == 1 ? "KLU2" : "GMRES+SCHWARZ");
   p.set("Max Newton Iterations", 3);
   p.set("Max Subdivision Depth", 6);
   DistributedStepper ds(model, test::comm(), p);

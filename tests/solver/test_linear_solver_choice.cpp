@@ -1,23 +1,26 @@
 // Solver parameters and the resolution of the linear solver for a rank count (no MPI needed).
 #include <gtest/gtest.h>
 
+#include <Teuchos_ParameterList.hpp>
+
 #include <cstdio>
+#include <string>
+#include <vector>
 
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 #include "traverse/solver/step_failure.hpp"
-#include "traverse/solver/teuchos_params.hpp"
 
 namespace traverse::solver {
 namespace {
 
 TEST(SolverParameters, DefaultsAndErrors) {
-  const traverse::ParamList p = validated_solver_parameters(traverse::ParamList());
+  const Teuchos::ParameterList p = validated_solver_parameters(Teuchos::ParameterList());
   EXPECT_EQ(p.get<std::string>("Linear Solver"), "auto");
   EXPECT_EQ(p.get<int>("Max Subdivision Depth"), 4);
   EXPECT_EQ(p.get<std::string>("Line Search"), "Full Step");
 
-  traverse::ParamList typo;
+  Teuchos::ParameterList typo;
   typo.set("Linear Solvr", "KLU2");
   try {
     validated_solver_parameters(typo);
@@ -26,10 +29,10 @@ TEST(SolverParameters, DefaultsAndErrors) {
     std::printf("misspelt key: %.200s...\n", e.what());
     EXPECT_NE(std::string(e.what()).find("Linear Solvr"), std::string::npos);
   }
-  traverse::ParamList bad_value;
+  Teuchos::ParameterList bad_value;
   bad_value.set("Preconditioner", "Jacobi");
   EXPECT_THROW(validated_solver_parameters(bad_value), std::invalid_argument);
-  traverse::ParamList negative;
+  Teuchos::ParameterList negative;
   negative.set("Max Subdivision Depth", -1);
   try {
     validated_solver_parameters(negative);
@@ -39,14 +42,14 @@ TEST(SolverParameters, DefaultsAndErrors) {
     EXPECT_NE(std::string(e.what()).find("Max Subdivision Depth"), std::string::npos);
   }
   // Pass-through sublists are not validated here.
-  traverse::ParamList nox;
+  Teuchos::ParameterList nox;
   nox.sublist("NOX").sublist("Anything").set("goes", 1);
   EXPECT_NO_THROW(validated_solver_parameters(nox));
   // An integer is accepted for a real key (YAML's "Residual Tolerance: 1"), not the reverse.
-  traverse::ParamList whole;
+  Teuchos::ParameterList whole;
   whole.set("Residual Tolerance", 1);
   EXPECT_EQ(validated_solver_parameters(whole).get<double>("Residual Tolerance"), 1.0);
-  traverse::ParamList fractional;
+  Teuchos::ParameterList fractional;
   fractional.set("Max Newton Iterations", 2.5);
   try {
     validated_solver_parameters(fractional);
@@ -55,30 +58,37 @@ TEST(SolverParameters, DefaultsAndErrors) {
     EXPECT_NE(std::string(e.what()).find("'Max Newton Iterations' must be an int, found a double"), std::string::npos)
         << e.what();
   }
-  traverse::ParamList not_a_list;
+  Teuchos::ParameterList not_a_list;
   not_a_list.set("NOX", 1);
   EXPECT_THROW(validated_solver_parameters(not_a_list), std::invalid_argument);
 }
 
-TEST(SolverParameters, TeuchosListsCarryTheSameValues) {
-  // The Trilinos side gets the same names, types and order (teuchos_params.hpp).
-  traverse::ParamList p = validated_solver_parameters(traverse::ParamList());
-  p.sublist("NOX").sublist("Line Search").set("Method", "Backtrack");
-  p.sublist("NOX").set("Scales", std::vector<double>{1.0, 2.5});
-  const Teuchos::ParameterList t = to_teuchos(p);
-  EXPECT_EQ(t.get<std::string>("Linear Solver"), "auto");
-  EXPECT_EQ(t.get<int>("Max Newton Iterations"), 20);
-  EXPECT_EQ(t.get<double>("Residual Tolerance"), 1e-8);
-  EXPECT_EQ(t.get<bool>("Verbose"), true);
-  EXPECT_EQ(t.sublist("NOX").sublist("Line Search").get<std::string>("Method"), "Backtrack");
-  EXPECT_EQ(t.sublist("NOX").get<Teuchos::Array<double>>("Scales")[1], 2.5);
-  EXPECT_EQ(from_teuchos(t), p);
+TEST(SolverParameters, PassThroughSublistsReachTrilinosUnchanged) {
+  // NOX and Stratimikos validate their own sublists: validation must neither add to nor
+  // convert what a scene gives there (the names, the types and the order).
+  Teuchos::ParameterList given;
+  given.set("Residual Tolerance", 1);  // widened to a double
+  auto& nox = given.sublist("NOX");
+  nox.sublist("Line Search").set("Method", "Backtrack");
+  nox.sublist("Line Search").sublist("Backtrack").set("Max Iters", 7);
+  nox.set("Scales", Teuchos::Array<double>{1.0, 2.5});
+  nox.set("Print", true);
+  given.sublist("Stratimikos").set("Linear Solver Type", "Belos");
+  const Teuchos::ParameterList p = validated_solver_parameters(given);
+  EXPECT_TRUE(p.isType<double>("Residual Tolerance"));
+  EXPECT_TRUE(Teuchos::haveSameValues(p.sublist("NOX"), given.sublist("NOX")));
+  EXPECT_TRUE(Teuchos::haveSameValues(p.sublist("Stratimikos"), given.sublist("Stratimikos")));
+  std::vector<std::string> order;
+  for (const auto& e : p.sublist("NOX")) order.push_back(e.first);
+  EXPECT_EQ(order, (std::vector<std::string>{"Line Search", "Scales", "Print"}));
+  // A sublist given empty stays empty (a missing one is added empty).
+  EXPECT_EQ(validated_solver_parameters(Teuchos::ParameterList()).sublist("NOX").numParams(), 0);
 }
 
 TEST(LinearSolverChoice, AutoForTheTimeStepIsGmresWithTheBlockTridiagonalLu) {
   for (int ranks : {1, 2}) {
     const LinearSolverChoice c =
-        LinearSolverChoice::resolve(traverse::ParamList(), ranks, LinearSolverChoice::Use::time_step);
+        LinearSolverChoice::resolve(Teuchos::ParameterList(), ranks, LinearSolverChoice::Use::time_step);
     std::printf("auto, time step, %d rank(s): %s\n", ranks, c.resolved.c_str());
     EXPECT_FALSE(c.rerouted);
     EXPECT_FALSE(c.direct);
@@ -87,19 +97,19 @@ TEST(LinearSolverChoice, AutoForTheTimeStepIsGmresWithTheBlockTridiagonalLu) {
     EXPECT_EQ(ifp.get<std::string>("Prec Type"), "BLOCK_TRIDIAGONAL");
   }
   // An explicit choice is kept for the time step too.
-  traverse::ParamList klu;
+  Teuchos::ParameterList klu;
   klu.set("Linear Solver", "KLU2");
   EXPECT_EQ(LinearSolverChoice::resolve(klu, 1, LinearSolverChoice::Use::time_step).resolved,
             "Amesos2 KLU2 (direct)");
 }
 
 TEST(LinearSolverChoice, AutoForStaticsPicksKlu2OnOneRankAndGmresOnMore) {
-  const LinearSolverChoice one = LinearSolverChoice::resolve(traverse::ParamList(), 1);
+  const LinearSolverChoice one = LinearSolverChoice::resolve(Teuchos::ParameterList(), 1);
   EXPECT_EQ(one.resolved, "Amesos2 KLU2 (direct)");
   EXPECT_TRUE(one.direct);
   EXPECT_FALSE(one.rerouted);
   EXPECT_EQ(one.stratimikos.get<std::string>("Linear Solver Type"), "Amesos2");
-  const LinearSolverChoice two = LinearSolverChoice::resolve(traverse::ParamList(), 2);
+  const LinearSolverChoice two = LinearSolverChoice::resolve(Teuchos::ParameterList(), 2);
   std::printf("auto on 2 ranks: %s\n", two.resolved.c_str());
   EXPECT_FALSE(two.rerouted);
   EXPECT_EQ(two.stratimikos.get<std::string>("Linear Solver Type"), "Belos");
@@ -109,7 +119,7 @@ TEST(LinearSolverChoice, AutoForStaticsPicksKlu2OnOneRankAndGmresOnMore) {
 }
 
 TEST(LinearSolverChoice, Klu2OnSeveralRanksIsReroutedOrRefused) {
-  traverse::ParamList p;
+  Teuchos::ParameterList p;
   p.set("Linear Solver", "KLU2");
   const LinearSolverChoice c = LinearSolverChoice::resolve(p, 2);
   std::printf("KLU2 on 2 ranks: %s\n", c.resolved.c_str());
@@ -124,7 +134,7 @@ TEST(LinearSolverChoice, Klu2OnSeveralRanksIsReroutedOrRefused) {
   EXPECT_NO_THROW(LinearSolverChoice::resolve(p, 1));
 
   // The same rule applies to a full Stratimikos pass-through list.
-  traverse::ParamList q;
+  Teuchos::ParameterList q;
   q.sublist("Stratimikos").set("Linear Solver Type", "Amesos2");
   const LinearSolverChoice s1 = LinearSolverChoice::resolve(q, 1);
   EXPECT_FALSE(s1.rerouted);

@@ -143,7 +143,7 @@ TEST(PlanarStepper, NextUpdateTestSkipsTheRoundOffIteration) {
     for (const bool planar : {false, true}) {
       const rod::PlanarCheck chk = rod::check_planar(pb.model, pb.initial, pb.forces);
       ASSERT_TRUE(chk.planar) << chk.reason;
-      traverse::ParamList last = test::solver_params("auto");
+      Teuchos::ParameterList last = test::solver_params("auto");
       last.set("Update Test", std::string("Last Update"));
       DistributedStepper a(pb.model, test::comm(), test::solver_params("auto")), b(pb.model, test::comm(), last);
       for (DistributedStepper* st : {&a, &b}) {
@@ -192,7 +192,7 @@ TEST(PlanarStepper, NextUpdateTestSkipsTheRoundOffIteration) {
 TEST(PlanarStepper, ExtrapolatedInitialGuessesSaveNewtonIterationsOnTheCable) {
   for (const Problem& pb : {hanging_cable(50), damped_arch(40)}) {
     auto stepper = [&](const char* guess) {
-      traverse::ParamList p = test::solver_params("auto");
+      Teuchos::ParameterList p = test::solver_params("auto");
       p.set("Update Test", std::string("Last Update"));
       if (guess) p.set("Initial Guess", std::string(guess));
       auto st = std::make_unique<DistributedStepper>(pb.model, test::comm(), p);
@@ -235,7 +235,7 @@ TEST(PlanarStepper, AutoGuessFailingRetriesFromTheOldLevel) {
   rod::RodState wild = pb.initial;
   for (rod::RodNode& nd : wild.nodes) nd.yg = Vec12::Constant(1e7);  // a blend far off
   auto stepper = [&](const char* guess) {
-    traverse::ParamList p = test::solver_params("auto");
+    Teuchos::ParameterList p = test::solver_params("auto");
     p.set("Initial Guess", std::string(guess));
     auto st = std::make_unique<DistributedStepper>(pb.model, test::comm(), p);
     st->set_state(wild);

@@ -43,8 +43,8 @@ struct LongRunResult {
 };
 
 // Newton tolerances: the production defaults (docs/solver.md), or tight ones.
-traverse::ParamList solver_params(bool tight) {
-  traverse::ParamList params;
+Teuchos::ParameterList solver_params(bool tight) {
+  Teuchos::ParameterList params;
   params.set("Verbose", false);
   if (tight) {
     params.set("Residual Tolerance", 1e-13);
@@ -61,7 +61,7 @@ long steps_override(long fallback) {
 
 LongRunResult long_run(rod::RodModel model, const rod::RodState& initial, double dt, long steps, int every,
                        bool tight = false) {
-  const traverse::ParamList params = solver_params(tight);
+  const Teuchos::ParameterList params = solver_params(tight);
   solver::DistributedStepper stepper(model, Tpetra::getDefaultComm(), params);
   stepper.set_state(initial);
   LongRunResult r;

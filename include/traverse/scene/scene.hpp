@@ -288,8 +288,13 @@ struct Scene {
   OutputSpec output;
   /// The structure's length [m] (beam or rod).
   double length() const { return model == Model::Beam ? beam.length : rod.length; }
-  /// The `solver` section, passed to the solver module (model rod).
-  const ParamList& solver_parameters() const { return tree.params.sublist("solver"); }
+  /// The `solver` section, passed to the solver module (model rod); std::logic_error for a
+  /// scene not made by parse_scene.
+  const Teuchos::ParameterList& solver_parameters() const;
+  /// Whether the validated scene holds the key `key_path` ("mesh.ds", "loads.truck.mass"):
+  /// given in the file or by --set, or filled in by its default (false for a scene not made
+  /// by parse_scene).
+  bool has(const std::string& key_path) const;
 };
 
 /// The root of the scene schema.

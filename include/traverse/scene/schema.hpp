@@ -1,8 +1,10 @@
 #pragma once
 // Declarative scene schema: every key a scene may hold is declared once, in code, with its
 // meaning, units, range and default. Validation walks a parsed YAML document against the
-// schema at full depth and produces a typed ParamList (core/param_list.hpp); any problem is a
-// SceneError naming the file, the line, the key path, what was expected and what was found.
+// schema at full depth and produces a typed Teuchos::ParameterList (a real number is a double,
+// a whole number an int, a list of numbers a Teuchos::Array<double>, a list of words a
+// Teuchos::Array<std::string>, a section a sublist); any problem is a SceneError naming the
+// file, the line, the key path, what was expected and what was found.
 #include <functional>
 #include <limits>
 #include <map>
@@ -12,7 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "traverse/core/param_list.hpp"
+// Declared only: Teuchos_ParameterList.hpp stays out of the many files that include the scene.
+namespace Teuchos {
+class ParameterList;
+}
 
 namespace traverse::scene {
 
@@ -45,7 +50,7 @@ class CheckContext;
 
 /// A check on a validated section (contradictions, cross-key conditions). It reports a
 /// problem through CheckContext::fail, which throws.
-using Check = std::function<void(const ParamList& section, const CheckContext& ctx)>;
+using Check = std::function<void(const Teuchos::ParameterList& section, const CheckContext& ctx)>;
 
 /// One declared key. Built fluently: real("length", "Beam length", "m").positive().required().
 struct Param {
@@ -141,7 +146,8 @@ class CheckContext {
 
 /// A validated scene: the typed parameter list and where each key came from.
 struct ValidatedTree {
-  ParamList params;
+  /// Set once by validate_yaml and never changed: copies of a tree share it.
+  std::shared_ptr<const Teuchos::ParameterList> params;
   std::map<std::string, std::pair<int, int>> marks;  ///< key path -> (line, column), 1-based; (-1, -1): set by --set
 };
 

@@ -17,7 +17,7 @@ struct ArchOptions {
   int num_cells = 100;
   double end_distance = 0.864545;  ///< dz [m] (shallow arch; deep arch 0.529689)
   double gravity = 9.8;         ///< [m/s^2], along -j
-  ParamList solver;  ///< linear solver keys (solver_parameters.hpp)
+  Teuchos::ParameterList solver;  ///< linear solver keys (solver_parameters.hpp)
   bool verbose = false;
 };
 

@@ -7,7 +7,7 @@
 // Only Teuchos (comm, parameter list) and the rod kernels appear here; Trilinos solver
 // headers stay in the .cpp files.
 #include <Teuchos_Comm.hpp>
-#include "traverse/core/param_list.hpp"
+#include <Teuchos_ParameterList.hpp>
 #include <Teuchos_RCP.hpp>
 #include <memory>
 #include <optional>
@@ -23,7 +23,7 @@ class DistributedStepper : public RodStepper {
   /// `params`: see solver_parameters.hpp (validated here; throws std::invalid_argument).
   /// The state starts as the straight rest state at t = 0; call set_state to change it.
   DistributedStepper(rod::RodModel model, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                     const ParamList& params = ParamList());
+                     const Teuchos::ParameterList& params = Teuchos::ParameterList());
   ~DistributedStepper() override;
 
   rod::RodState gather_state() const override;

@@ -2,9 +2,9 @@
 // Resolution of the configured linear solver into a Stratimikos parameter list for the
 // current rank count, with the platform rule: Amesos2 direct solvers give wrong answers on
 // 2+ ranks here (see docs/solver.md), so they are rerouted (default) or refused.
-#include <string>
+#include <Teuchos_ParameterList.hpp>
 
-#include "traverse/core/param_list.hpp"
+#include <string>
 
 namespace traverse::solver {
 
@@ -20,7 +20,7 @@ struct LinearSolverChoice {
   /// The block-tridiagonal LU solves (block_tridiagonal_direct) or preconditions GMRES.
   bool block_tridiagonal = false;
   double linear_tolerance = 1e-12;  ///< 'Linear Tolerance' (relative residual of each solve)
-  ParamList stratimikos;  ///< the list handed to Stratimikos
+  Teuchos::ParameterList stratimikos{"Stratimikos"};  ///< the list handed to Stratimikos
 
   /// What the solver is for: 'Linear Solver: auto' means GMRES + the block-tridiagonal LU
   /// for the rod time step (its Jacobian is block tridiagonal by node with invertible Schur
@@ -31,7 +31,7 @@ struct LinearSolverChoice {
   /// `params` as accepted by validated_solver_parameters (defaults filled in here too);
   /// `ranks` the communicator size. Throws std::invalid_argument when the request is refused
   /// ("On Broken Direct Solver: refuse") or names an unknown solver/preconditioner.
-  static LinearSolverChoice resolve(const ParamList& params, int ranks,
+  static LinearSolverChoice resolve(const Teuchos::ParameterList& params, int ranks,
                                     Use use = Use::statics);
 };
 

@@ -4,8 +4,6 @@
 // The group, the solver, W, the linear solver and the preconditioner object are built once
 // and reused by every solve (only the initial guess and the model's old level change).
 #include <Teuchos_ParameterList.hpp>
-
-#include "traverse/core/param_list.hpp"
 #include <Teuchos_RCP.hpp>
 #include <Tpetra_Vector.hpp>
 #include <memory>
@@ -20,7 +18,7 @@ class NewtonSolver {
  public:
   /// `params`: validated_solver_parameters keys (Newton, line search, NOX pass-through,
   /// linear tolerance). The model must already have its W factory (and prec factory).
-  NewtonSolver(Teuchos::RCP<RodStepModel> model, const ParamList& params);
+  NewtonSolver(Teuchos::RCP<RodStepModel> model, const Teuchos::ParameterList& params);
   ~NewtonSolver();
   NewtonSolver(const NewtonSolver&) = delete;
   NewtonSolver& operator=(const NewtonSolver&) = delete;

@@ -3,8 +3,8 @@
 // plus one ghost each side), the step with its subdivision, the adaptive loop's try / undo /
 // redo, and the path (planar or 3D). What the steps are solved with (Tpetra, NOX and the
 // linear solver) is DistributedStepper's (distributed_stepper.hpp); this class holds the step
-// logic and names no Trilinos type.
-#include "traverse/core/param_list.hpp"
+// logic and names no Trilinos type but the parameter list.
+#include <Teuchos_ParameterList.hpp>
 
 #include <memory>
 #include <optional>
@@ -131,12 +131,12 @@ class RodStepper {
   const NewtonReport& last_newton_report() const { return last_; }
   virtual ReuseCounters reuse_counters() const = 0;
   /// The validated parameters in use.
-  const ParamList& parameters() const { return params_; }
+  const Teuchos::ParameterList& parameters() const { return params_; }
 
  protected:
   /// Checks the end conditions, validates `params` (std::invalid_argument), resolves the
   /// linear solver for `ranks` ranks (notice on rank 0 when rerouted and "Verbose").
-  RodStepper(rod::RodModel model, const ParamList& params, int ranks, int rank);
+  RodStepper(rod::RodModel model, const Teuchos::ParameterList& params, int ranks, int rank);
   /// The concrete stepper's partition (before the first set_state).
   void set_partition(int first_ghosted, int num_ghosted, int first_owned, int num_owned);
   const std::shared_ptr<const rod::RodModel>& shared_model() const { return model_; }
@@ -146,7 +146,7 @@ class RodStepper {
   /// The Newton parameters. Planar path: the WRMS update test over the in-plane unknowns only
   /// (n / 2) gives a norm sqrt(2) larger for the same updates, so both update tolerances are
   /// scaled by sqrt(p / q) and the planar solve stops at the same iterate as the 3D one.
-  ParamList newton_params() const;
+  Teuchos::ParameterList newton_params() const;
 
   // What the concrete stepper solves the steps with.
   /// Rebuilds the solver objects for the current path and makes the current nodes its old level.
@@ -169,7 +169,7 @@ class RodStepper {
                std::vector<rod::RodNode>* saved = nullptr);
 
   std::shared_ptr<const rod::RodModel> model_;
-  ParamList params_;
+  Teuchos::ParameterList params_;
   LinearSolverChoice choice_;
   std::shared_ptr<const rod::PlanarReduction> planar_;  ///< null on the 3D path
   int g0_ = 0, ng_ = 0, o0_ = 0, no_ = 0;

@@ -56,10 +56,12 @@
 //                                  none when W did not change) or through Stratimikos'
 //                                  Amesos2 adapter (symbolic redone every Newton iteration).
 //                                  Pass-through Stratimikos lists always use Stratimikos.
+#include <Teuchos_ParameterList.hpp>
+
 #include <string>
+#include <variant>
 #include <vector>
 
-#include "traverse/core/param_list.hpp"
 #include "traverse/rod/step_assembly.hpp"
 
 namespace traverse::solver {
@@ -69,7 +71,7 @@ namespace traverse::solver {
 /// handed to the Trilinos packages, which validate them).
 struct SolverKey {
   std::string name;
-  ParamList::Value default_value;
+  std::variant<bool, int, double, std::string> default_value;
   std::vector<std::string> words;  ///< a string key: the accepted values
   std::string doc;
 };
@@ -80,9 +82,9 @@ const std::vector<SolverKey>& solver_keys();
 /// A copy of `given` validated against solver_keys() with every default filled in (an integer
 /// is accepted for a real key). Throws std::invalid_argument naming the offending key on a
 /// wrong name, type or value.
-ParamList validated_solver_parameters(const ParamList& given);
+Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList& given);
 
 /// The key 'Initial Guess' of a validated list (auto: the blend).
-rod::InitialGuess initial_guess_of(const ParamList& validated);
+rod::InitialGuess initial_guess_of(const Teuchos::ParameterList& validated);
 
 }  // namespace traverse::solver

@@ -13,10 +13,11 @@
 //    bracketing points with an Illinois/secant iteration on the crossing eigenvalue;
 //  - branch switching at a pitchfork (perturb along the null vector, solve with the
 //    amplitude fixed and the parameter free, continue from there).
-// Everything here is plain data except the communicator; LOCA, Anasazi, NOX and Stratimikos
-// stay inside src/solver/static_*.cpp. Nodes are always the full rod (gathered on every rank).
+// Everything here is plain data except the communicator and the solver parameters (a
+// Teuchos::ParameterList); LOCA, Anasazi, NOX and Stratimikos stay inside
+// src/solver/static_*.cpp. Nodes are always the full rod (gathered on every rank).
 #include <Teuchos_Comm.hpp>
-#include "traverse/core/param_list.hpp"
+#include <Teuchos_ParameterList.hpp>
 #include <Teuchos_RCP.hpp>
 #include <functional>
 #include <limits>
@@ -108,7 +109,7 @@ struct ContinuationOptions {
   std::function<bool(const ContinuationPoint&)> stop;
   /// Linear solver keys of solver_parameters.hpp ("Linear Solver", ...; KLU2 is rerouted
   /// on 2+ ranks); empty: defaults.
-  ParamList solver;
+  Teuchos::ParameterList solver;
   bool verbose = false;  ///< LOCA stepper output on rank 0
 };
 
@@ -141,12 +142,12 @@ struct StaticSolveReport {
   std::string message;
 };
 StaticSolveReport static_solve(const rod::StaticProblem& problem, std::vector<rod::StaticNode>& state,
-                               const Comm& comm, const ParamList& solver = {});
+                               const Comm& comm, const Teuchos::ParameterList& solver = {});
 
 /// Small-vibration eigenvalues about an equilibrium `state` of `problem`.
 Stability static_stability(const rod::StaticProblem& problem, const std::vector<rod::StaticNode>& state,
                            const Comm& comm, const StabilityOptions& options = {},
-                           const ParamList& solver = {});
+                           const Teuchos::ParameterList& solver = {});
 
 /// Branch switching at a pitchfork found by a run of `options.parameter` on `problem`:
 /// the bifurcation state perturbed by `amplitude` times its null vector (sign included; the

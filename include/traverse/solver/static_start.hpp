@@ -7,7 +7,7 @@
 // exact across ranks) when the left end is clamped; otherwise, or when that fails, the
 // statics solver of solver_parameters.hpp (docs/solver.md, "Static initial state").
 #include <Teuchos_Comm.hpp>
-#include "traverse/core/param_list.hpp"
+#include <Teuchos_ParameterList.hpp>
 #include <Teuchos_RCP.hpp>
 #include <string>
 #include <vector>
@@ -30,7 +30,7 @@ struct StaticStart {
 /// Collective over `comm`. `solver`: the run's solver parameters (the statics defaults of
 /// StaticLinearSolver apply to them when the block LU is not used).
 StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
-                               const ParamList& solver = ParamList(), int halo = 2);
+                               const Teuchos::ParameterList& solver = Teuchos::ParameterList(), int halo = 2);
 
 /// This rank's piece of the dynamic state at rest from a converged start: its nodes and one
 /// ghost each side, as the steppers partition the rod (first_node: the first's index).

@@ -103,8 +103,8 @@ void mem_phase(const char* phase) {
   g_mem_last = m;
 }
 
-traverse::ParamList solver_params(const std::string& full) {
-  traverse::ParamList p;
+Teuchos::ParameterList solver_params(const std::string& full) {
+  Teuchos::ParameterList p;
   p.set("Verbose", false);
   std::string name = full;
   std::string opts;
