@@ -57,12 +57,10 @@ struct DistributedStepper::Impl {
       me->set_W_factory(make_reusing_klu2_factory([model_ptr] { return model_ptr->jacobian_version(); },
                                                   direct_stats));
       reusing_klu2 = true;
-    } else if (choice.block_tridiagonal_direct) {
+    } else {  // through Stratimikos: Belos, Amesos2, or the block-tridiagonal LU (kBlockTridiagonalLu)
       RodStepModel* model_ptr = me.get();
-      me->set_W_factory(make_block_tridiagonal_solve_factory(
-          [model_ptr] { return model_ptr->jacobian_version(); }, direct_stats, choice.linear_tolerance));
-    } else {
-      const LinearSolverObjects ls = build_linear_solver(choice);
+      const LinearSolverObjects ls =
+          build_linear_solver(choice, [model_ptr] { return model_ptr->jacobian_version(); }, direct_stats);
       me->set_W_factory(ls.lows);
       me->set_prec_factory(ls.prec);
     }

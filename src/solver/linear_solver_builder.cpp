@@ -89,7 +89,7 @@ class ReusingKlu2Factory : public Thyra::Amesos2LinearOpWithSolveFactory<double>
   mutable long factored_version_ = -2;
 };
 
-/// The block-tridiagonal LU as a LinearOpWithSolve (see make_block_tridiagonal_solve_factory).
+/// The block-tridiagonal LU as a LinearOpWithSolve (BlockTridiagonalSolveFactory).
 class BlockTridiagonalLows : public Thyra::LinearOpWithSolveBase<double> {
  public:
   void initialize(const Teuchos::RCP<const Thyra::LinearOpBase<double>>& fwd,
@@ -174,11 +174,17 @@ class BlockTridiagonalLows : public Thyra::LinearOpWithSolveBase<double> {
   mutable Teuchos::RCP<MV> r_, dx_;
 };
 
+/// The block-tridiagonal LU (block_tridiagonal_preconditioner.hpp) as a direct Thyra LOWS
+/// factory, without a Krylov method around it: factorised once per new Jacobian version, each
+/// solve followed by a residual check and at most two steps of iterative refinement until
+/// max|b - A x| <= Tolerance max|b| (column-wise); a solve that does not get there reports
+/// SOLVE_STATUS_UNCONVERGED (Newton then fails the step). Stratimikos makes it by the name
+/// kBlockTridiagonalLu (BlockTridiagonalSolveStrategy).
 class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<double> {
  public:
-  BlockTridiagonalSolveFactory(std::function<long()> version, std::shared_ptr<DirectSolverStats> stats,
-                               double tolerance)
-      : version_(std::move(version)), stats_(std::move(stats)), tolerance_(tolerance) {}
+  /// `version`: the Jacobian's (empty: refactor at every initializeOp).
+  void set_jacobian_version(std::function<long()> version) { version_ = std::move(version); }
+  void set_stats(std::shared_ptr<DirectSolverStats> stats) { stats_ = std::move(stats); }
 
   bool isCompatible(const Thyra::LinearOpSourceBase<double>& src) const override {
     return !Teuchos::rcp_dynamic_cast<const Matrix>(Converter::getConstTpetraOperator(src.getOp())).is_null();
@@ -231,7 +237,17 @@ class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<
     TEUCHOS_TEST_FOR_EXCEPTION(true, std::logic_error, "block-tridiagonal LU: takes no preconditioner");
   }
 
-  void setParameterList(const Teuchos::RCP<Teuchos::ParameterList>& pl) override { params_ = pl; }
+  void setParameterList(const Teuchos::RCP<Teuchos::ParameterList>& pl) override {
+    pl->validateParametersAndSetDefaults(*getValidParameters());
+    tolerance_ = pl->get<double>("Tolerance");
+    params_ = pl;
+  }
+  Teuchos::RCP<const Teuchos::ParameterList> getValidParameters() const override {
+    auto valid = Teuchos::rcp(new Teuchos::ParameterList(kBlockTridiagonalLu));
+    valid->set("Tolerance", 1e-12, "relative residual max|b - A x| / max|b| each solve must reach "
+                                   "(after at most two steps of iterative refinement)");
+    return valid;
+  }
   Teuchos::RCP<Teuchos::ParameterList> getNonconstParameterList() override { return params_; }
   Teuchos::RCP<Teuchos::ParameterList> unsetParameterList() override {
     auto old = params_;
@@ -249,8 +265,8 @@ class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<
 
  private:
   std::function<long()> version_;
-  std::shared_ptr<DirectSolverStats> stats_;
-  double tolerance_;
+  std::shared_ptr<DirectSolverStats> stats_ = std::make_shared<DirectSolverStats>();
+  double tolerance_ = 1e-12;
   Teuchos::RCP<Teuchos::ParameterList> params_;
   mutable Teuchos::RCP<BlockTridiagonalPreconditioner> lu_;
   mutable long factored_version_ = -2;
@@ -258,11 +274,15 @@ class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<
 
 }  // namespace
 
-LinearSolverObjects build_linear_solver(const LinearSolverChoice& choice) {
+LinearSolverObjects build_linear_solver(const LinearSolverChoice& choice, std::function<long()> jacobian_version,
+                                        std::shared_ptr<DirectSolverStats> stats) {
   Stratimikos::DefaultLinearSolverBuilder builder;
   builder.setPreconditioningStrategyFactory(
       Teuchos::abstractFactoryStd<Thyra::PreconditionerFactoryBase<double>, ReusableIfpack2Factory>(),
       "Ifpack2");
+  builder.setLinearSolveStrategyFactory(
+      Teuchos::abstractFactoryStd<Thyra::LinearOpWithSolveFactoryBase<double>, BlockTridiagonalSolveFactory>(),
+      kBlockTridiagonalLu);
   builder.setParameterList(Teuchos::rcp(new Teuchos::ParameterList(choice.stratimikos)));
   Teuchos::RCP<Thyra::LinearOpWithSolveFactoryBase<double>> lows = builder.createLinearSolveStrategy("");
   LinearSolverObjects out;
@@ -270,14 +290,12 @@ LinearSolverObjects build_linear_solver(const LinearSolverChoice& choice) {
     out.prec = lows->getPreconditionerFactory();
     if (!out.prec.is_null()) lows->unsetPreconditionerFactory(nullptr, nullptr);
   }
+  if (auto* block = dynamic_cast<BlockTridiagonalSolveFactory*>(lows.get())) {
+    block->set_jacobian_version(std::move(jacobian_version));
+    if (stats) block->set_stats(std::move(stats));
+  }
   out.lows = lows;
   return out;
-}
-
-Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_block_tridiagonal_solve_factory(
-    std::function<long()> jacobian_version, std::shared_ptr<DirectSolverStats> stats, double tolerance) {
-  if (!stats) stats = std::make_shared<DirectSolverStats>();
-  return Teuchos::rcp(new BlockTridiagonalSolveFactory(std::move(jacobian_version), std::move(stats), tolerance));
 }
 
 bool solve_with_last_factors(const Thyra::LinearOpWithSolveFactoryBase<double>& factory, const MV& b, MV& x) {

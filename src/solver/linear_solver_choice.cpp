@@ -130,6 +130,11 @@ LinearSolverChoice LinearSolverChoice::resolve(const ParameterList& given, int r
                             "BLOCK_TRIDIAGONAL";
   if ((ranks == 1 || solver_is_auto) && c.block_tridiagonal) {
     c.block_tridiagonal_direct = true;
+    ParameterList direct("Stratimikos");
+    direct.set("Linear Solver Type", std::string(kBlockTridiagonalLu));
+    direct.sublist("Linear Solver Types").sublist(kBlockTridiagonalLu).set("Tolerance", c.linear_tolerance);
+    direct.set("Preconditioner Type", std::string("None"));
+    c.stratimikos = direct;
     c.resolved = ranks == 1 ? "block-tridiagonal LU (direct, residual-checked)"
                             : "block-tridiagonal LU (direct, exact across " + std::to_string(ranks) +
                                   " ranks through a separator system, residual-checked)";

@@ -85,8 +85,7 @@ StaticLinearSolver::StaticLinearSolver(const Teuchos::ParameterList& solver, con
 StaticLinearSolver::StaticLinearSolver(std::function<long()> jacobian_version, const Comm& comm) : comm_(comm) {
   choice_ = LinearSolverChoice::resolve(validated_solver_parameters(Teuchos::ParameterList()), comm->getSize(),
                                         LinearSolverChoice::Use::time_step);
-  lows_ = make_block_tridiagonal_solve_factory(std::move(jacobian_version), std::make_shared<DirectSolverStats>(),
-                                               choice_.linear_tolerance);
+  lows_ = build_linear_solver(choice_, std::move(jacobian_version)).lows;
 }
 
 bool StaticLinearSolver::everywhere(bool local) const {

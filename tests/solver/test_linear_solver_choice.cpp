@@ -85,17 +85,28 @@ TEST(SolverParameters, PassThroughSublistsReachTrilinosUnchanged) {
   EXPECT_EQ(validated_solver_parameters(Teuchos::ParameterList()).sublist("NOX").numParams(), 0);
 }
 
-TEST(LinearSolverChoice, AutoForTheTimeStepIsGmresWithTheBlockTridiagonalLu) {
+TEST(LinearSolverChoice, AutoForTheTimeStepIsTheBlockTridiagonalLuThroughStratimikos) {
   for (int ranks : {1, 2}) {
-    const LinearSolverChoice c =
-        LinearSolverChoice::resolve(Teuchos::ParameterList(), ranks, LinearSolverChoice::Use::time_step);
+    Teuchos::ParameterList given;
+    given.set("Linear Tolerance", 1e-10);
+    const LinearSolverChoice c = LinearSolverChoice::resolve(given, ranks, LinearSolverChoice::Use::time_step);
     std::printf("auto, time step, %d rank(s): %s\n", ranks, c.resolved.c_str());
     EXPECT_FALSE(c.rerouted);
     EXPECT_FALSE(c.direct);
-    EXPECT_EQ(c.stratimikos.get<std::string>("Linear Solver Type"), "Belos");
-    const auto& ifp = c.stratimikos.sublist("Preconditioner Types").sublist("Ifpack2");
-    EXPECT_EQ(ifp.get<std::string>("Prec Type"), "BLOCK_TRIDIAGONAL");
+    EXPECT_TRUE(c.block_tridiagonal_direct);
+    EXPECT_EQ(c.stratimikos.get<std::string>("Linear Solver Type"), kBlockTridiagonalLu);
+    EXPECT_EQ(c.stratimikos.sublist("Linear Solver Types").sublist(kBlockTridiagonalLu).get<double>("Tolerance"),
+              1e-10);
   }
+  // GMRES preconditioned by the block LU on 2 ranks keeps Belos with the Ifpack2 entry.
+  Teuchos::ParameterList gmres;
+  gmres.set("Linear Solver", "GMRES");
+  gmres.set("Preconditioner", "BLOCK_TRIDIAGONAL");
+  const LinearSolverChoice g = LinearSolverChoice::resolve(gmres, 2, LinearSolverChoice::Use::time_step);
+  EXPECT_FALSE(g.block_tridiagonal_direct);
+  EXPECT_EQ(g.stratimikos.get<std::string>("Linear Solver Type"), "Belos");
+  EXPECT_EQ(g.stratimikos.sublist("Preconditioner Types").sublist("Ifpack2").get<std::string>("Prec Type"),
+            "BLOCK_TRIDIAGONAL");
   // An explicit choice is kept for the time step too.
   Teuchos::ParameterList klu;
   klu.set("Linear Solver", "KLU2");

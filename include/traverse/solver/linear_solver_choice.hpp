@@ -8,12 +8,16 @@
 
 namespace traverse::solver {
 
+/// The name Stratimikos knows the block-tridiagonal LU by ("Linear Solver Type"; its sublist
+/// of "Linear Solver Types" takes "Tolerance", the residual check of each solve).
+inline constexpr char kBlockTridiagonalLu[] = "Block Tridiagonal LU";
+
 struct LinearSolverChoice {
   std::string requested;   ///< what the parameters asked for, e.g. "Amesos2 KLU2"
   std::string resolved;    ///< what will run, e.g. "Belos GMRES + Ifpack2 SCHWARZ (...)"
   bool rerouted = false;   ///< true when the request was replaced by the broken-solver rule
   bool direct = false;     ///< resolved solver is a direct (Amesos2) solver
-  /// The block-tridiagonal LU as the direct solver (make_block_tridiagonal_solve_factory,
+  /// The block-tridiagonal LU as the direct solver (Stratimikos' kBlockTridiagonalLu,
   /// residual-checked, exact across ranks) instead of through Belos: 'auto' for the time
   /// step on any number of ranks, and GMRES + BLOCK_TRIDIAGONAL on one rank.
   bool block_tridiagonal_direct = false;

@@ -42,15 +42,6 @@ struct DirectSolverStats {
 Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_reusing_klu2_factory(
     std::function<long()> jacobian_version, std::shared_ptr<DirectSolverStats> stats);
 
-/// The block-tridiagonal LU (src/solver/block_tridiagonal_preconditioner.hpp) as a direct
-/// Thyra LOWS factory for one rank, without a Krylov method around it: factorised once per
-/// new `jacobian_version()`, each solve followed by a residual check and at most two steps of
-/// iterative refinement until max|b - A x| <= tolerance max|b| (column-wise); a solve that
-/// does not get there reports SOLVE_STATUS_UNCONVERGED (Newton then fails the step).
-/// Defined in linear_solver_builder.cpp; the stats count numeric factorisations and time.
-Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> make_block_tridiagonal_solve_factory(
-    std::function<long()> jacobian_version, std::shared_ptr<DirectSolverStats> stats, double tolerance);
-
 class RodStepModel : public BlockAssemblyModel {
  public:
 
