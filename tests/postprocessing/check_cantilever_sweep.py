@@ -12,7 +12,6 @@ Usage: check_cantilever_sweep.py TRAVERSE SCRIPT OUT_DIR     (exit status 1 on a
 """
 import os
 import re
-import runpy
 import sys
 
 import matplotlib
@@ -22,22 +21,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from check_figure import png_checks  # noqa: E402
+from check_figure import Checks, png_checks, run_figure_script  # noqa: E402
 
 
 def main():
     exe, script, out = sys.argv[1:4]
-    passed, failed = 0, 0
-
-    def check(cond, what):
-        nonlocal passed, failed
-        passed, failed = passed + bool(cond), failed + (not cond)
-        if not cond:
-            print("FAILED: " + what)
-
-    sys.path.insert(0, os.path.dirname(os.path.abspath(script)))
-    module = runpy.run_path(script, run_name="figure_under_test")
-    module["main"](["--traverse", exe, "--out", out, "--keep-open"])
+    check = Checks()
+    run_figure_script(script, ["--traverse", exe, "--out", out, "--keep-open"])
     import traverse_io
 
     sweep = os.path.join(out, "sweep")
@@ -85,8 +75,7 @@ def main():
                       f"{name}: '{label}' in '{title}' is {probe} of that case in mm")
                 curves += 1
         check(curves == 16, f"{name}: 16 curves drawn from the cases ({curves})")
-    print(f"{passed} passed, {failed} failed")
-    sys.exit(0 if failed == 0 else 1)
+    check.finish()
 
 
 if __name__ == "__main__":

@@ -68,22 +68,38 @@ def png_checks(png, check):
     check(hues >= 3, f"{hues} colours besides greys: the curves are drawn in colour")
 
 
+class Checks:
+    """The checks of a test: call with (condition, what); a failed one prints FAILED: what.
+    finish() prints the counts and exits non-zero when one failed."""
+
+    def __init__(self):
+        self.passed, self.failed = 0, 0
+
+    def __call__(self, cond, what):
+        self.passed, self.failed = self.passed + bool(cond), self.failed + (not cond)
+        if not cond:
+            print("FAILED: " + what)
+
+    def finish(self):
+        print(f"{self.passed} passed, {self.failed} failed")
+        sys.exit(0 if self.failed == 0 else 1)
+
+
+def run_figure_script(script, argv):
+    """Runs a figure script's main(argv) in this process (its folder on the import path), so
+    that its matplotlib figures stay open for the checks."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(script)))
+    module = runpy.run_path(script, run_name="figure_under_test")
+    module["main"](argv)
+
+
 def main():
     argv = sys.argv[1:]
     extra = argv[argv.index("--") + 1:] if "--" in argv else []
     argv = argv[:argv.index("--")] if "--" in argv else argv
     script, png, runs = argv[0], argv[1], argv[2:]
-    passed, failed = 0, 0
-
-    def check(cond, what):
-        nonlocal passed, failed
-        passed, failed = passed + bool(cond), failed + (not cond)
-        if not cond:
-            print("FAILED: " + what)
-
-    sys.path.insert(0, os.path.dirname(os.path.abspath(script)))
-    module = runpy.run_path(script, run_name="figure_under_test")
-    module["main"](runs + extra + ["-o", png])
+    check = Checks()
+    run_figure_script(script, runs + extra + ["-o", png])
     png_checks(png, check)
     cols = [c for r in runs for c in probe_columns(r)]
     figures = [plt.figure(n) for n in plt.get_fignums()]
@@ -95,8 +111,7 @@ def main():
             check(len(drawn) >= 1, f"axes {k} ('{ax.get_title() or ax.get_ylabel()}') draws a curve")
         check(any(drawn_from(np.asarray(ln.get_ydata(), float), cols) for ln in lines),
               "a curve shows a probe's values as the run stored them (or in mm)")
-    print(f"{passed} passed, {failed} failed")
-    sys.exit(0 if failed == 0 else 1)
+    check.finish()
 
 
 if __name__ == "__main__":

@@ -15,7 +15,6 @@ Usage: check_titles_and_shapes.py TRAVERSE POSTPROCESSING_DIR DEFAULT_SCENE OUT_
 """
 import os
 import re
-import runpy
 import subprocess
 import sys
 
@@ -26,7 +25,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from check_figure import png_checks  # noqa: E402
+from check_figure import Checks, png_checks, run_figure_script  # noqa: E402
 
 BEAM = """model: beam
 title: a title that the run does not follow, v = 1 m/s
@@ -46,14 +45,7 @@ output:
     mid: {type: deflection, at: 5.0}
 """
 
-passed, failed = 0, 0
-
-
-def check(cond, what):
-    global passed, failed
-    passed, failed = passed + bool(cond), failed + (not cond)
-    if not cond:
-        print("FAILED: " + what)
+check = Checks()
 
 
 def run(exe, scene, out, *args):
@@ -62,8 +54,7 @@ def run(exe, scene, out, *args):
 
 def figure_of(pp, script, argv):
     plt.close("all")
-    module = runpy.run_path(os.path.join(pp, script), run_name="figure_under_test")
-    module["main"](argv)
+    run_figure_script(os.path.join(pp, script), argv)
     return plt.figure(plt.get_fignums()[-1])
 
 
@@ -128,8 +119,7 @@ def main():
                   f"plot_rod {label}: '{ln.get_label()}' is {k:g} x the stored y of its step")
             reach = max(reach, np.abs(drawn).max())
         check(reach >= length / 20.0, f"plot_rod {label}: the drawn shapes reach {reach:.3g} m of {length:g} m")
-    print(f"{passed} passed, {failed} failed")
-    sys.exit(0 if failed == 0 else 1)
+    check.finish()
 
 
 if __name__ == "__main__":
