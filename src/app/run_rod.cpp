@@ -484,7 +484,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
                           return f ? explain_step_failure(where, *f, setup.model, grid, load) : where + ": " + e.what();
                         }},
                        writer, opt, progress, comm);
-  time::TimeIntegrator integrator(time_schedule(sc, grid), model, observer);
+  time::TimeIntegrator integrator(rod_schedule(sc, grid), model, observer);
   points.integrator = &integrator;
   if (controller) integrator.restore(*controller);
   if (rank == 0 && !opt.quiet) print_start(sc, grid, start.description, *stepper, path_text, opt.verbose);

@@ -437,7 +437,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
                     opt.progress_interval);
   RunObserver observer({[&] { record.write(); }, [&](long) { record.store(); }, [&] { return state.t; }, {}}, writer,
                        opt, progress, comm);
-  time::TimeIntegrator integrator(time_schedule(sc, grid), model, observer);
+  time::TimeIntegrator integrator(rod_schedule(sc, grid), model, observer);
   record.integrator = &integrator;
   if (opt.restart) {
     output::copy_output_steps(source, writer, point.steps_written, outputs.probe_names(), outputs.field_names(),

@@ -26,14 +26,10 @@ inline StepControlParameters step_control_parameters(const scene::AdaptiveSpec& 
   return p;
 }
 
-/// The steps of a run on `grid`: every output.every steps, adaptive with time.adaptive.
-/// `order`: the scheme's (2 for the rod and Newmark, 4 for RK4); `split_at_kinks`: fixed steps
-/// end at the loads' kinks too (the beam's).
-inline time::Schedule time_schedule(const scene::Scene& sc, const TimeGrid& grid, int order = 2,
-                                    bool split_at_kinks = false) {
-  time::Schedule s{grid, sc.output.every, sc.time.adaptive.enabled,
-                   step_control_parameters(sc.time.adaptive, grid.dt, order), split_at_kinks};
-  if (sc.model == scene::Model::Rod) s.dt_min_hint += ", or scheme.rho_inf < 1";
+/// The steps of a rod run on `grid`: every output.every steps, adaptive with time.adaptive.
+inline time::Schedule rod_schedule(const scene::Scene& sc, const TimeGrid& grid) {
+  time::Schedule s{grid, sc.output.every, sc.time.adaptive.enabled, step_control_parameters(sc.time.adaptive, grid.dt)};
+  s.dt_min_hint += ", or scheme.rho_inf < 1";
   return s;
 }
 

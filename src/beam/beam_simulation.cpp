@@ -346,35 +346,27 @@ void BeamSimulation::reset() {
   }
 }
 
-time::Schedule BeamSimulation::schedule() const {
-  const BeamProblem& p = problem_;
-  // Grid t_k = t_start + k dt, k < N, t_N = t_end: the last step is shortened (a remainder
-  // below kGridJoin dt is merged into the previous step instead of making a sliver step). The
-  // constructor checked that the count is representable.
+time::Schedule beam_schedule(const BeamProblem& p, bool split_at_kinks) {
   time::Schedule s;
-  s.grid = make_time_grid(p.t_start, p.t_end, p.dt, kGridJoin).grid;
+  s.grid = make_time_grid(p.t_start, p.t_end, p.dt, BeamSimulation::kGridJoin).grid;
   s.every = std::max(1, p.output_every);
   s.adaptive = p.adaptive;
   s.control = p.control;
-  s.split_at_kinks = p.split_at_load_events;
+  s.split_at_kinks = split_at_kinks;
   return s;
 }
+
+time::Schedule BeamSimulation::schedule() const { return beam_schedule(problem_, problem_.split_at_load_events); }
 
 void BeamSimulation::run(const BeamObserver& observer) {
   reset();
   if (observer) observer(snapshot());
-  time::CallbackObserver calls([&] {
+  totals_ = time::run_with_callback(schedule(), *this, [&] {
     if (observer) observer(snapshot());
   });
-  time::TimeIntegrator integrator(schedule(), *this, calls);
-  integrator.run();
-  totals_ = integrator.totals();
 }
 
-double BeamSimulation::next_kink(double t) const {
-  const auto next = std::upper_bound(events_.begin(), events_.end(), t);
-  return next == events_.end() ? HUGE_VAL : *next;
-}
+double BeamSimulation::next_kink(double t) const { return time::next_after(events_, t); }
 
 void BeamSimulation::step(double h) {
   advance(t_, t_ + h);

@@ -489,27 +489,16 @@ bool CoupledMassBeam::advance_to(double t_target) {
   return false;
 }
 
-time::Schedule CoupledMassBeam::schedule() const {
-  const BeamProblem& p = problem_;
-  time::Schedule s;
-  s.grid = make_time_grid(p.t_start, p.t_end, p.dt, 1e-9).grid;
-  s.every = std::max(1, p.output_every);
-  s.adaptive = p.adaptive;
-  s.control = p.control;
-  return s;
-}
+time::Schedule CoupledMassBeam::schedule() const { return beam_schedule(problem_, false); }
 
 void CoupledMassBeam::step(double h) { advance_to(t_ + h); }
 
 void CoupledMassBeam::run(const Observer& observer) {
   reset();
   if (observer) observer(*this);
-  time::CallbackObserver calls([&] {
+  totals_ = time::run_with_callback(schedule(), *this, [&] {  // stuck at the start: no step
     if (observer) observer(*this);
   });
-  time::TimeIntegrator integrator(schedule(), *this, calls);
-  integrator.run();  // stuck at the start: no step
-  totals_ = integrator.totals();
 }
 
 CoupledMassBeam::State CoupledMassBeam::current_derivative() const {

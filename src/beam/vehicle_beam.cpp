@@ -384,18 +384,12 @@ bool VehicleBeam::locate_lift_off(double ta, double tb, const VecX& q0, const Ve
 }
 
 time::Schedule VehicleBeam::schedule() const {
-  const BeamProblem& p = problem_;
-  time::Schedule s;
-  s.grid = make_time_grid(p.t_start, p.t_end, p.dt, 1e-9).grid;
-  s.every = std::max(1, p.output_every);
-  s.split_at_kinks = true;
+  time::Schedule s = beam_schedule(problem_, true);
+  s.adaptive = false;  // fixed steps only
   return s;
 }
 
-double VehicleBeam::next_kink(double t) const {
-  const auto next = std::upper_bound(events_.begin(), events_.end(), t);
-  return next == events_.end() ? HUGE_VAL : *next;
-}
+double VehicleBeam::next_kink(double t) const { return time::next_after(events_, t); }
 
 void VehicleBeam::step(double h) {
   const double ta = t_, te = t_ + h;
@@ -412,11 +406,9 @@ time::Attempt VehicleBeam::attempt(double) {
 void VehicleBeam::run(const Observer& observer) {
   reset();
   if (observer) observer(*this);
-  time::CallbackObserver calls([&] {
+  time::run_with_callback(schedule(), *this, [&] {
     if (observer) observer(*this);
   });
-  time::TimeIntegrator integrator(schedule(), *this, calls);
-  integrator.run();
 }
 
 VecX VehicleBeam::Y() const { return q_.head(n_); }

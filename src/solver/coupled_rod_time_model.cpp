@@ -149,7 +149,8 @@ time::Attempt CoupledRodTimeModel::attempt(double h) {
     a.error = std::max(rc_->doubling_error(full, rod_levels(mid_), rod_levels(state_), h),
                        mc_->doubling_error(full_m, mass_level(m_mid_), mass_level(m_), h));
   } else {
-    a.error = std::max(rc_->extrapolation_error(rod_levels(state_), h), mc_->extrapolation_error(mass_level(m_), h));
+    levels_ = rod_levels(state_);  // kept for accept() unless a stop shortens the step
+    a.error = std::max(rc_->extrapolation_error(levels_, h), mc_->extrapolation_error(mass_level(m_), h));
   }
   a.converged = true;
   // The Newton signal: iterations per rod solve (the step makes one per coupling iteration).
@@ -159,8 +160,9 @@ time::Attempt CoupledRodTimeModel::attempt(double h) {
 
 std::vector<double> CoupledRodTimeModel::accept() {
   if (!doubled_) {
+    const bool shortened = m_.sticks();  // accepted() then redoes the step to the stop
     accepted(old_, m_old_, h_);
-    rc_->accept(rod_levels(state_), h_);
+    rc_->accept(shortened ? rod_levels(state_) : std::move(levels_), h_);
     mc_->accept(mass_level(m_), h_);
     return {h_};
   }

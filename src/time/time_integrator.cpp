@@ -5,6 +5,13 @@
 
 namespace traverse::time {
 
+StepControlTotals run_with_callback(const Schedule& schedule, SteppedModel& model, std::function<void()> output) {
+  CallbackObserver calls(std::move(output));
+  TimeIntegrator integrator(schedule, model, calls);
+  integrator.run();
+  return integrator.totals();
+}
+
 TimeIntegrator::TimeIntegrator(const Schedule& schedule, SteppedModel& model, Observer& observer)
     : s_(schedule), model_(model), obs_(observer), controller_(schedule.control),
       next_dt_(schedule.adaptive ? controller_.clamp(schedule.grid.dt) : schedule.grid.dt) {}
@@ -31,19 +38,20 @@ void TimeIntegrator::run_fixed(long first_step) {
   for (long i = first_step; i <= n && !model_.ended(); ++i) {
     // Step i ends at the grid time i dt (t_end for the last): computed from i, not accumulated,
     // so the model's time stays on the grid (core/time_grid.hpp bounds the rounding of i dt).
-    const std::string where = "time step " + std::to_string(i) + " of " + std::to_string(n);
+    // Where for the messages, made only when one is written.
+    auto where = [&] { return "time step " + std::to_string(i) + " of " + std::to_string(n); };
     const double target = s_.grid.time(i);
     do {
       const double now = model_.time();
       const double kink = s_.split_at_kinks ? model_.next_kink(now + tol) : HUGE_VAL;
       const double h = (kink < target - tol ? kink : target) - now;
       if (!(h > 0.0))
-        throw std::logic_error("time loop: " + where + " has length " + std::to_string(h) + " s (t = " +
+        throw std::logic_error("time loop: " + where() + " has length " + std::to_string(h) + " s (t = " +
                                std::to_string(now) + " s)");
       try {
         model_.step(h);
       } catch (const StepFailed& e) {
-        obs_.failed(where, e.what(), i - 1, &e);
+        obs_.failed(where(), e.what(), i - 1, &e);
       }
     } while (s_.split_at_kinks && model_.time() < target - tol && !model_.ended());
     last_step_ = i;
@@ -52,7 +60,7 @@ void TimeIntegrator::run_fixed(long first_step) {
       if (obs_.store_due()) obs_.store(i);
     }
     obs_.progress(model_.time(), i, 0.0, nullptr);
-    if (const int sig = i < n && !model_.ended() ? obs_.interrupt_requested() : 0) obs_.interrupted(sig, i, where);
+    if (const int sig = i < n && !model_.ended() ? obs_.interrupt_requested() : 0) obs_.interrupted(sig, i, where());
   }
 }
 
@@ -86,12 +94,12 @@ void TimeIntegrator::run_adaptive() {
 }
 
 bool TimeIntegrator::adaptive_step(double h) {
-  const std::string where = "adaptive step " + std::to_string(last_step_ + 1);
+  auto where = [&] { return "adaptive step " + std::to_string(last_step_ + 1); };
   Attempt a;
   try {
     a = model_.attempt(h);
   } catch (const StepFailed& e) {
-    obs_.failed(where, e.what(), last_step_, &e);
+    obs_.failed(where(), e.what(), last_step_, &e);
   }
   if (!a.converged) {
     ++totals_.failed;
@@ -111,7 +119,7 @@ bool TimeIntegrator::adaptive_step(double h) {
   try {
     lengths = model_.accept();
   } catch (const StepFailed& e) {
-    obs_.failed(where, e.what(), last_step_, &e);
+    obs_.failed(where(), e.what(), last_step_, &e);
   }
   for (const double length : lengths) totals_.record_accepted(length);
   next_dt_ = d.next_dt;

@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "traverse/core/step_controller.hpp"
+#include "traverse/time/time_integrator.hpp"
 #include "traverse/beam/galerkin.hpp"
 #include "traverse/beam/modal_damping.hpp"
 #include "traverse/beam/mode_set.hpp"
@@ -73,5 +74,11 @@ struct Section {
   double rhoA;
 };
 Section circular_tube(double E, double rho, double r_outer, double r_inner);
+
+/// The steps of a run of `p` (time/time_integrator.hpp): the grid of dt from t_start to t_end
+/// (a remainder below 1e-9 dt joins the last step instead of making a sliver step), an output
+/// every output_every steps, adaptive with p.adaptive; `split_at_kinks`: fixed steps end where
+/// a load enters or leaves the beam.
+time::Schedule beam_schedule(const BeamProblem& p, bool split_at_kinks);
 
 }  // namespace traverse::beam

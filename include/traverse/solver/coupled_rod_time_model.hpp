@@ -76,6 +76,7 @@ class CoupledRodTimeModel : public time::SteppedModel {
   rod::CoupledStepReport last_;
   /// The attempt in hand: its start, its length, and with step doubling the middle.
   rod::RodState old_, mid_;
+  std::vector<rod::NodeLevel> levels_;  ///< the rod's levels at the end of an extrapolated attempt
   rod::CoupledMassState m_old_, m_mid_;
   /// The start of the solve in hand (old_ or mid_): where a lost planarity returns to.
   const rod::RodState* start_ = &old_;

@@ -6,6 +6,7 @@
 // integrator decides when to step, to write, to store a restart point, to look for an
 // interrupt and to give up; the model takes the steps and the observer does the writing.
 // Trilinos-free and MPI-free: a model on several ranks reduces its own error estimate.
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <stdexcept>
@@ -124,6 +125,17 @@ class CallbackObserver : public Observer {
  private:
   std::function<void()> output_;
 };
+
+/// The first of the sorted times `sorted` after t (+inf: none): a model's next_kink from a
+/// list of its kinks.
+inline double next_after(const std::vector<double>& sorted, double t) {
+  const auto next = std::upper_bound(sorted.begin(), sorted.end(), t);
+  return next == sorted.end() ? HUGE_VAL : *next;
+}
+
+/// Runs `model` from its time to the end with a CallbackObserver (`output` at each output
+/// time); the adaptive counters of the run.
+StepControlTotals run_with_callback(const Schedule& schedule, SteppedModel& model, std::function<void()> output);
 
 class TimeIntegrator {
  public:
