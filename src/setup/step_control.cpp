@@ -1,10 +1,11 @@
-#include "rod_adaptive.hpp"
+// Where the adaptive steps of a rod run land besides the output times (step_control.hpp).
+#include "traverse/setup/step_control.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-namespace traverse::app {
+namespace traverse::setup {
 
 double next_node_crossing(const std::vector<scene::MovingLoadSpec>& loads, double t, double ds, double length) {
   double next = std::numeric_limits<double>::infinity();
@@ -26,4 +27,4 @@ double next_node_crossing(const std::vector<scene::MovingLoadSpec>& loads, doubl
   return next;
 }
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

@@ -3,6 +3,7 @@
 // time.adaptive (docs/adaptive.md), for the rod and the beam runners.
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "traverse/core/step_controller.hpp"
 #include "traverse/output/writer.hpp"
@@ -10,7 +11,7 @@
 #include "traverse/scene/scene.hpp"
 #include "traverse/time/time_integrator.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 /// dt_min defaults to 1e-6 time.dt; `order` is the scheme's (2 for the rod).
 inline StepControlParameters step_control_parameters(const scene::AdaptiveSpec& a, double dt, int order = 2) {
@@ -58,4 +59,9 @@ inline void write_adaptive_totals(output::Writer& w, const StepControlTotals& t)
   w.set_attribute("dt_largest", buf);
 }
 
-}  // namespace traverse::app
+/// The first time after t at which one of the prescribed moving loads (not a coupled mass)
+/// enters the rod or reaches one of its nodes (the multiples of ds in [0, length]): there the
+/// hat weights that share its force between the nodes have a kink in time. +inf if none.
+double next_node_crossing(const std::vector<scene::MovingLoadSpec>& loads, double t, double ds, double length);
+
+}  // namespace traverse::setup

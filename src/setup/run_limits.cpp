@@ -1,6 +1,6 @@
-#include "run_limits.hpp"
+#include "traverse/setup/run_limits.hpp"
 
-#include "rod_setup.hpp"
+#include "traverse/setup/rod_setup.hpp"
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/rod/rod_state.hpp"
 #include "traverse/solver/solver_parameters.hpp"
@@ -17,7 +17,7 @@
 #include "traverse/beam/uniform_modes.hpp"
 #include "traverse/rod/alpha_parameters.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 namespace {
 
@@ -589,9 +589,9 @@ void check_load_ratio(const scene::Scene& sc) {
                      model);
 }
 
-}  // namespace traverse::app
+}  // namespace traverse::setup
 
-namespace traverse::app {
+namespace traverse::setup {
 
 namespace {
 
@@ -682,6 +682,22 @@ std::string BeamDeflectionCheck::message(double t, const Extreme& w, const Extre
          " (docs/beam.md \"Validity\"): use a smaller load or a stiffer beam, or the rod model for large deflections";
 }
 
+std::vector<std::string> under_resolved_load_warnings(const scene::Scene& sc, const TimeGrid& g) {
+  std::vector<std::string> out;
+  const double ds = sc.mesh.ds;
+  for (const auto& l : sc.loads) {
+    const double t_leave = std::min(g.t_end, l.exit_time(sc.rod.length));
+    const double v = std::max(std::abs(l.velocity(l.entry_time)), std::abs(l.velocity(std::max(l.entry_time, t_leave))));
+    if (!(v > 0.0 && g.dt * v > ds * (1.0 + 1e-9))) continue;
+    char cells[32];
+    std::snprintf(cells, sizeof cells, "%.3g", g.dt * v / ds);
+    out.push_back(sc.file + ": time.dt = " + fmt(g.dt) + " s moves load '" + l.name + "' (up to " + fmt(v) + " m/s) " +
+                  cells + " cells per step (mesh.ds = " + fmt(ds) +
+                  " m): its path is under-resolved in time (time.dt: auto gives ds / v)");
+  }
+  return out;
+}
+
 std::vector<std::string> idle_load_warnings(const scene::Scene& sc) {
   std::vector<std::string> out;
   const bool fixed_end = !sc.time.end_auto && !sc.time.end_at_event;
@@ -705,4 +721,4 @@ std::vector<std::string> idle_load_warnings(const scene::Scene& sc) {
   return out;
 }
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

@@ -14,7 +14,7 @@
 #include "traverse/core/time_grid.hpp"
 #include "traverse/scene/scene.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 /// Default of --max-steps: a sanity limit on the number of time steps (10^7: about 6 hours
 /// of the default scene's 101-node rod, far beyond any scene in inputs/).
@@ -181,6 +181,11 @@ class BeamDeflectionCheck {
 /// stays at rest: such a run computes nothing the scene meant.
 std::vector<std::string> idle_load_warnings(const scene::Scene& sc);
 
+/// Warnings for the loads a rod run's time grid under-resolves: a load that crosses more than
+/// one cell per time step is resolved by the space grid but not in time; the run goes on (it
+/// converges as dt falls). One line per load naming its keys.
+std::vector<std::string> under_resolved_load_warnings(const scene::Scene& sc, const TimeGrid& g);
+
 /// Bytes as "512 MiB", "3.2 GiB".
 std::string format_bytes(double bytes);
 /// "4G", "512M", "1.5T", "1000000" -> bytes (K, M, G, T: powers of 1024; a trailing B or iB is
@@ -195,4 +200,4 @@ std::string load_magnitude_key(const scene::Scene& sc, const scene::MovingLoadSp
 /// is located).
 std::string deciding_key(const scene::Scene& sc, const std::vector<std::string>& keys);
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

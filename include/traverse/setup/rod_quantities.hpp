@@ -12,7 +12,7 @@
 #include "traverse/rod/static_kernels.hpp"
 #include "traverse/scene/scene.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 /// The values a quantity is computed from at one node. Static nodes have u = omega = 0.
 struct NodeView {
@@ -55,4 +55,4 @@ RodFieldInfo rod_field_info(scene::Field f);
 /// The quantity a rod field holds at every node (r: position, R: none, the others theirs).
 scene::Quantity field_quantity(scene::Field f);
 
-}  // namespace traverse::app
+}  // namespace traverse::setup
