@@ -792,4 +792,6 @@ ContinuationResult switch_branch(const rod::StaticProblem& problem, const Bifurc
   return continue_(pn, ctx.model->gather(x), o, comm, on_point);
 }
 
+double continuation_bytes_per_node() { return 70000.0; }
+
 }  // namespace traverse::solver

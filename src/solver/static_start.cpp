@@ -164,4 +164,6 @@ rod::RodState dynamic_state_piece(const rod::StaticModel& m, const StaticStart& 
   return piece;
 }
 
+double static_start_bytes_per_node() { return 13000.0; }
+
 }  // namespace traverse::solver

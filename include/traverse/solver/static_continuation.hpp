@@ -161,4 +161,9 @@ ContinuationResult switch_branch(const rod::StaticProblem& problem, const Bifurc
 /// Nodes of `a` minus nodes of `b` in the same frames (a helper for probes and tests).
 double max_position_difference(const std::vector<rod::StaticNode>& a, const std::vector<rod::StaticNode>& b);
 
+/// The peak memory of a continuation (and of the arch formation, which is one) per owned node
+/// [bytes]: LOCA's extended vectors and predictors, the Newton system, Anasazi's basis for up to
+/// 6 eigenvalues (measured as time_step_bytes_per_node is).
+double continuation_bytes_per_node();
+
 }  // namespace traverse::solver

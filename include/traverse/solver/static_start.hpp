@@ -36,4 +36,9 @@ StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<con
 /// ghost each side, as the steppers partition the rod (first_node: the first's index).
 rod::RodState dynamic_state_piece(const rod::StaticModel& m, const StaticStart& start, int& first_node);
 
+/// The peak memory of the static initial state per owned node [bytes]: the 3D static system
+/// (12 unknowns and a frame per node), its Jacobian and the block-tridiagonal LU (measured as
+/// time_step_bytes_per_node is).
+double static_start_bytes_per_node();
+
 }  // namespace traverse::solver
