@@ -12,7 +12,7 @@
 
 #include "traverse/rod/coupled_mass_rod.hpp"
 #include "reference_statics.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 using namespace traverse;
 

@@ -7,7 +7,7 @@
 #include "traverse/core/so3.hpp"
 #include "traverse/rod/static_problem.hpp"
 #include "reference_statics.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 using namespace traverse;
 using namespace traverse::rod;

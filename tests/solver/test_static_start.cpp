@@ -11,7 +11,7 @@
 
 #include "rod_mpi_test_util.hpp"
 #include "reference_statics.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 #include "traverse/solver/static_start.hpp"
 
 namespace traverse::solver {

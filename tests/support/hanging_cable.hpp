@@ -4,7 +4,7 @@
 // moving load starts, and its dynamic model (gravity and ends; loads added by each test).
 #include "traverse/rod/rod_kernels.hpp"
 #include "reference_statics.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 namespace traverse::testing {
 

@@ -7,7 +7,7 @@
 
 #include <vector>
 
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 namespace traverse::rod {
 

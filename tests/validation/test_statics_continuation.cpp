@@ -12,7 +12,7 @@
 #include "statics_test_util.hpp"
 #include "traverse/core/so3.hpp"
 #include "reference_statics.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 #include "traverse/solver/static_continuation.hpp"
 
 using namespace traverse;

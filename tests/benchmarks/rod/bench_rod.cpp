@@ -50,7 +50,7 @@
 #include "block_tridiagonal_lu.hpp"
 #include "traverse/rod/planar.hpp"
 #include "reference_statics.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
 #include "traverse/solver/static_start.hpp"
 
