@@ -38,7 +38,7 @@ inline rod::RodModel hanging_cable_model(const rod::RodProperties& props, int ce
 /// at rest; `converged` says whether the static solve converged.
 inline rod::RodState static_start(const rod::StaticModel& sm, bool& converged) {
   auto nodes = rod::straight_static_state(sm);
-  converged = rod::serial_load_steps(rod::StaticSolver(), sm, nodes).converged;
+  converged = rod::serial_load_steps(sm, nodes).converged;
   return rod::dynamic_state_from_static(sm, nodes);
 }
 
