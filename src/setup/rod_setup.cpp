@@ -12,7 +12,7 @@
 #include "traverse/setup/run_checks.hpp"
 #include "traverse/setup/run_limits.hpp"
 #include "traverse/output/output_error.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 #include "traverse/mesh/mesh.hpp"
 #include "traverse/core/comm.hpp"
 #include "traverse/setup/solver_access.hpp"
@@ -67,7 +67,7 @@ std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, c
   std::string msg = "initial static state: no equilibrium found under the load: " + rep.message;
   if (rep.failed_factor > 0.0)
     msg += "; the last Newton solve, at load factor " + fmt(rep.failed_factor) + ", stopped with max |residual| " +
-           fmt(rep.failed_residual) + " (the test is " + fmt(rod::StaticSolver().ftol * rep.failed_scale) +
+           fmt(rep.failed_residual) + " (the test is " + fmt(rod::StaticTolerances().ftol * rep.failed_scale) +
            "): " + rep.failed_reason;
   msg += "; " + std::to_string(rep.iterations) + " Newton iterations in all. The load: ";
   std::string loads;

@@ -26,7 +26,7 @@
 #include <vector>
 
 #include "reference_stepper.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 using namespace traverse;
 

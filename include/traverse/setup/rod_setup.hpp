@@ -16,7 +16,7 @@
 #include "traverse/rod/rod_model.hpp"
 #include "traverse/rod/static_kernels.hpp"
 #include "traverse/rod/static_problem.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 #include "traverse/rod/rod_state.hpp"
 #include "traverse/scene/scene.hpp"
 #include "traverse/solver/rod_stepper.hpp"
