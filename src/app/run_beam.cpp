@@ -47,7 +47,7 @@ class BeamRecord {
   const OutputReplay& replay_;
   output::Writer& w_;
   MPI_Comm comm_;
-  const setup::BeamDeflectionCheck deflection_check_{sc_};
+  const setup::BeamDeflectionCheck deflection_check_{sc_, sim_.modes()};
   long outputs_ = 0;
   std::vector<double> restart_state_, restart_meta_;
 };
@@ -71,7 +71,7 @@ void BeamRecord::write() {
   out_.evaluate(s);
   replay_.write(out_, w_, s.t, outputs_, comm_);
   // After the write: the file keeps the state that left the model's range.
-  if (const std::string why = deflection_check_.why(s.t, s); !why.empty()) throw NumericsError(why);
+  if (const std::string why = deflection_check_.why(s.t, s.Y); !why.empty()) throw NumericsError(why);
   restart_state_.assign(s.Y.data(), s.Y.data() + s.Y.size());
   restart_state_.insert(restart_state_.end(), s.Ydot.data(), s.Ydot.data() + s.Ydot.size());
   restart_meta_ = {s.t, static_cast<double>(sim_.steps_taken()), static_cast<double>(outputs_)};

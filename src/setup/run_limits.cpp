@@ -638,9 +638,18 @@ void check_beam_static_deflection(const scene::Scene& sc) {
                      stiffness_text(sc) + ", beam.length = " + fmt(L) + " m");
 }
 
-BeamDeflectionCheck::BeamDeflectionCheck(const scene::Scene& sc) : sc_(sc) {
+BeamDeflectionCheck::BeamDeflectionCheck(const scene::Scene& sc, const beam::ModeSet& modes) : sc_(sc) {
   const int n = 8 * std::max(1, sc.beam.modes);
   for (int i = 0; i <= n; ++i) points_.push_back(sc.beam.length * i / n);
+  const Eigen::Index m = modes.size();
+  phi_.resize(static_cast<Eigen::Index>(points_.size()), m);
+  dphi_.resize(phi_.rows(), m);
+  VecX phi(m), dphi(m), ddphi(m);
+  for (Eigen::Index i = 0; i < phi_.rows(); ++i) {
+    modes.evaluate(points_[static_cast<size_t>(i)], phi, dphi, ddphi);
+    phi_.row(i) = phi.transpose();
+    dphi_.row(i) = dphi.transpose();
+  }
   const auto& b = sc.beam;
   const double L = b.length, EI = b.youngs_modulus * b.section.I1;
   double cw = 0.0, cs = 0.0;
@@ -649,6 +658,18 @@ BeamDeflectionCheck::BeamDeflectionCheck(const scene::Scene& sc) : sc_(sc) {
   for (const auto& l : sc.loads) P += l.force.norm();
   static_bound_ = cw * b.density * b.section.area * sc.gravity * std::pow(L, 4) / EI +
                   point_load_coefficient(b.supports) * P * std::pow(L, 3) / EI;
+}
+
+std::string BeamDeflectionCheck::why(double t, const VecX& Y) const {
+  const VecX w = phi_ * Y, slope = dphi_ * Y;
+  // The first largest of each (a NaN counts as largest: it is outside any range).
+  auto extreme = [&](const VecX& v) {
+    Extreme e;
+    for (Eigen::Index i = 0; i < v.size(); ++i)
+      if (!(std::abs(v(i)) <= std::abs(e.value))) e = {v(i), points_[static_cast<size_t>(i)]};
+    return e;
+  };
+  return message(t, extreme(w), extreme(slope));
 }
 
 std::string BeamDeflectionCheck::message(double t, const Extreme& w, const Extreme& slope) const {
