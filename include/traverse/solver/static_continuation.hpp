@@ -47,6 +47,9 @@ struct Stability {
   std::vector<Vec12> critical_mode;  ///< its eigenvector per node (real part), max |r| = 1
   int factorisations = 0;  ///< set-ups of the linear solver for K_s - s M_s in this solve (1)
   int solves = 0;          ///< solves with it (one per Krylov-Schur operator application)
+  /// The linear solver of K_s - s M_s: a direct one (KLU2, else the block-tridiagonal LU), the
+  /// statics' Krylov solver only where the direct one failed.
+  std::string linear_solver;
 };
 
 /// One accepted continuation point.
