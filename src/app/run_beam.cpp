@@ -33,6 +33,10 @@ class BeamRecord {
              const OutputReplay& replay, output::Writer& w, MPI_Comm comm)
       : sc_(sc), p_(p), sim_(sim), out_(out), replay_(replay), w_(w), comm_(comm) {}
   void write();
+  /// The probes at the current state into their extremes (after every time step).
+  void track();
+  /// Writes the probes' extremes over every time step.
+  void write_extremes() { extremes_.write(w_); }
   long outputs() const { return outputs_; }
   /// /restart of a beam run: the modal state (Y then Y') and [t, steps taken, output steps]
   /// of the last output step (a restart re-integrates from t = 0 and needs only the output
@@ -48,6 +52,7 @@ class BeamRecord {
   output::Writer& w_;
   MPI_Comm comm_;
   const setup::BeamDeflectionCheck deflection_check_{sc_, sim_.modes()};
+  setup::ProbeTracker extremes_;
   long outputs_ = 0;
   std::vector<double> restart_state_, restart_meta_;
 };
@@ -69,12 +74,19 @@ void BeamRecord::write() {
     throw NumericsError(os.str());
   }
   out_.evaluate(s);
+  extremes_.take(s.t, out_.probes());
   replay_.write(out_, w_, s.t, outputs_, comm_);
   // After the write: the file keeps the state that left the model's range.
   if (const std::string why = deflection_check_.why(s.t, s.Y); !why.empty()) throw NumericsError(why);
   restart_state_.assign(s.Y.data(), s.Y.data() + s.Y.size());
   restart_state_.insert(restart_state_.end(), s.Ydot.data(), s.Ydot.data() + s.Ydot.size());
   restart_meta_ = {s.t, static_cast<double>(sim_.steps_taken()), static_cast<double>(outputs_)};
+}
+
+void BeamRecord::track() {
+  const beam::BeamSnapshot s = sim_.snapshot();
+  out_.evaluate_probes(s);
+  extremes_.take(s.t, out_.probes());
 }
 
 }  // namespace
@@ -113,14 +125,16 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
       throw;
     }
   };
-  RunObserver observer({write, [&](long) { record.store_restart(); }, [&] { return sim.time(); }, {}}, writer, opt,
-                       progress, comm);
+  RunObserver observer(
+      {write, [&](long) { record.store_restart(); }, [&] { return sim.time(); }, {}, [&] { record.track(); }}, writer,
+      opt, progress, comm);
   time::TimeIntegrator integrator(sim.schedule(), sim, observer);
   const auto wall_start = std::chrono::steady_clock::now();
   write();
   integrator.run();
   progress.done();
   record.store_restart();
+  record.write_extremes();
   if (p.adaptive) setup::write_adaptive_totals(writer, integrator.totals());
   writer.finish();
   replay.finished(static_cast<std::size_t>(record.outputs()), comm);  // a shorter run

@@ -62,6 +62,7 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
     writer.fail(why);
     throw NumericsError(why);
   };
+  setup::ProbeTracker extremes;
   auto write = [&] {
     if (!sim.Y().allFinite() || !sim.Ydot().allFinite() || !std::isfinite(sim.position()) ||
         !std::isfinite(sim.speed())) {
@@ -73,10 +74,15 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
       fail(os.str());
     }
     outputs.evaluate(sim);
+    extremes.take(sim.time(), outputs.probes());
     replay.write(outputs, writer, sim.time(), written, comm);
     if (const std::string why = deflection_check.why(sim.time(), sim.Y()); !why.empty()) fail(why);
   };
-  RunObserver observer({write, [](long) {}, [&] { return sim.time(); }, {}}, writer, opt, progress, comm);
+  auto track = [&] {  // the probes' extremes over every time step
+    outputs.evaluate_probes(sim);
+    extremes.take(sim.time(), outputs.probes());
+  };
+  RunObserver observer({write, [](long) {}, [&] { return sim.time(); }, {}, track}, writer, opt, progress, comm);
   time::TimeIntegrator steps(sim.schedule(), sim, observer);
   const auto wall_start = std::chrono::steady_clock::now();
   write();
@@ -88,6 +94,7 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
   add_time_limit_event(sc, events, sim.time(), sim.position(), opt.quiet || rank != 0);
   writer.write_events(events);
   if (p.adaptive) setup::write_adaptive_totals(writer, steps.totals());
+  extremes.write(writer);
   writer.finish();
   replay.finished(static_cast<std::size_t>(written), comm);
   if (rank == 0 && !opt.quiet) {

@@ -34,6 +34,7 @@ void run_beam_vehicles(const scene::Scene& sc, const beam::BeamProblem& problem,
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", p.t_start, p.t_end);
   long written = 0;
   const std::string integrator = scene::name_of(sc.beam.integrator);
+  setup::ProbeTracker extremes;
   auto write = [&] {
     if (!sim.Y().allFinite() || !sim.Ydot().allFinite() || !std::isfinite(sim.body_displacement(0))) {
       std::ostringstream os;
@@ -45,9 +46,14 @@ void run_beam_vehicles(const scene::Scene& sc, const beam::BeamProblem& problem,
       throw NumericsError(os.str());
     }
     outputs.evaluate(sim);
+    extremes.take(sim.time(), outputs.probes());
     replay.write(outputs, writer, sim.time(), written, comm);
   };
-  RunObserver observer({write, [](long) {}, [&] { return sim.time(); }, {}}, writer, opt, progress, comm);
+  auto track = [&] {  // the probes' extremes over every time step
+    outputs.evaluate_probes(sim);
+    extremes.take(sim.time(), outputs.probes());
+  };
+  RunObserver observer({write, [](long) {}, [&] { return sim.time(); }, {}, track}, writer, opt, progress, comm);
   time::TimeIntegrator steps(sim.schedule(), sim, observer);
   const auto wall_start = std::chrono::steady_clock::now();
   write();
@@ -68,6 +74,7 @@ void run_beam_vehicles(const scene::Scene& sc, const beam::BeamProblem& problem,
     events.push_back({sim.time(), sim.axle_position(who, 0), vehicles[who].name, "lift_off"});
   }
   writer.write_events(events);
+  extremes.write(writer);
   writer.finish();
   replay.finished(static_cast<std::size_t>(written), comm);
   if (rank == 0 && !opt.quiet) {

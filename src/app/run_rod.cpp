@@ -35,12 +35,6 @@ namespace traverse::app {
 
 namespace {
 
-/// Values per node of a rod run's restart point: the node, and with time.adaptive the
-/// controller's two earlier levels.
-std::size_t restart_components(const scene::Scene& sc) {
-  return rod::kPackedNodeValues + (sc.time.adaptive.enabled ? solver::RodErrorEstimate::kPerNode : 0);
-}
-
 /// Restart points of a rod run (docs/reliability.md): the state, the time, the step index
 /// (adaptive: the accepted steps) and extra = (left-end position, dt, path, and with
 /// time.adaptive the controller's scalars).
@@ -96,7 +90,7 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
   RestartSource src;
   const int N = sc.mesh.nodes - 1;
   src.file = output::restart_source(opt.output);
-  const std::size_t comps = restart_components(sc);
+  const std::size_t comps = setup::rod_restart_components(sc);
   const std::size_t other = sc.time.adaptive.enabled ? rod::kPackedNodeValues : rod::kPackedNodeValues + solver::RodErrorEstimate::kPerNode;
   src.point = read_rod_restart_point(opt.output, src.file, static_cast<std::size_t>(N + 1), comps, other,
                                      sc.time.adaptive.enabled, g.dt, 3);
@@ -106,28 +100,6 @@ RestartSource read_restart(const scene::Scene& sc, const RunOptions& opt, const 
   for (int j = 0; j <= N; ++j)
     state.nodes[static_cast<std::size_t>(j)] = rod::unpack_node(&src.point.state[comps * static_cast<std::size_t>(j)]);
   return src;
-}
-
-/// The adaptive steps' error estimate of a run: from the restart point when restarting (the
-/// controller's state into `controller`), else started at the current (initial) level.
-std::unique_ptr<solver::RodErrorEstimate> make_estimate(const scene::Scene& sc, const rod::RodModel& model,
-                                                        const solver::RodStepper& st, const RestartSource& restart,
-                                                        MPI_Comm comm, std::optional<time::ControllerState>& controller) {
-  using solver::RodErrorEstimate;
-  auto est = std::make_unique<RodErrorEstimate>(setup::error_weights(sc.time.adaptive, model.length), model.alpha, comm);
-  if (restart.file.empty()) {
-    est->start(solver::owned_levels(st));
-    return est;
-  }
-  const auto& x = restart.point.extra;
-  const std::size_t comps = restart_components(sc), first = static_cast<std::size_t>(st.first_owned_node());
-  std::vector<double> per_node(RodErrorEstimate::kPerNode * static_cast<std::size_t>(st.num_owned_nodes()));
-  for (std::size_t k = 0; k < static_cast<std::size_t>(st.num_owned_nodes()); ++k)
-    for (std::size_t i = 0; i < RodErrorEstimate::kPerNode; ++i)
-      per_node[RodErrorEstimate::kPerNode * k + i] = restart.point.state[comps * (first + k) + rod::kPackedNodeValues + i];
-  controller = est->restore(solver::owned_levels(st), per_node,
-                            std::vector<double>(x.begin() + std::min<std::size_t>(5, x.size()), x.end()));
-  return est;
 }
 
 // What the stepper would refuse about its linear solver, found before anything is allocated.
@@ -257,7 +229,9 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   solver::LeftEnd left(*stepper, setup.model.left.end_moves(), r0, comm);
   std::optional<time::ControllerState> controller;
   std::unique_ptr<solver::RodErrorEstimate> estimate;
-  if (sc.time.adaptive.enabled) estimate = make_estimate(sc, setup.model, *stepper, restart, comm, controller);
+  if (sc.time.adaptive.enabled)
+    estimate = setup::rod_error_estimate(sc, setup.model, *stepper, restart.file.empty() ? nullptr : &restart.point,
+                                         comm, controller);
   RodRestartPoints points(*stepper, writer, grid.dt, path.planar, estimate.get(), comm);
   std::function<double(double)> kinks;  // adaptive steps land on the loads' node crossings
   if (sc.time.adaptive.land_on_nodes)
@@ -271,7 +245,8 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
                         [&](const std::string& where, const time::StepFailed& e) {
                           const auto* f = dynamic_cast<const solver::StepFailure*>(&e);
                           return f ? setup::explain_step_failure(where, *f, setup.model, grid, load) : where + ": " + e.what();
-                        }},
+                        },
+                        {}},
                        writer, opt, progress, comm);
   time::TimeIntegrator integrator(setup::rod_schedule(sc, grid), model, observer);
   points.integrator = &integrator;

@@ -291,8 +291,8 @@ void run_rod_coupled(const scene::Scene& sc, const setup::RodSetup& setup, const
   CoupledRecord record(model, state, m, outputs, writer, grid.dt, path.planar, first, count, comm, rc.get(), mc.get());
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", state.t, grid.t_end,
                     opt.progress_interval);
-  RunObserver observer({[&] { record.write(); }, [&](long) { record.store(); }, [&] { return state.t; }, {}}, writer,
-                       opt, progress, comm);
+  RunObserver observer({[&] { record.write(); }, [&](long) { record.store(); }, [&] { return state.t; }, {}, {}},
+                       writer, opt, progress, comm);
   time::TimeIntegrator integrator(setup::rod_schedule(sc, grid), model, observer);
   record.integrator = &integrator;
   if (opt.restart) {

@@ -130,10 +130,20 @@ void prepare_directory(const CommandLine& cl, const std::vector<SweepCase>& case
   if (!error.empty()) throw output::OutputError(error);
 }
 
+// The summary of a case's probe: min, max and absmax from its extremes over every time step
+// when the run recorded them (beam runs), else from the output steps.
 double case_summary(const std::string& path, const SummarySpec& s) {
+  using R = SummarySpec::Reduction;
   const output::Reader r(path);
-  const output::Series series = r.probe(s.probe);
   const std::size_t c = static_cast<std::size_t>(std::max(0, s.component));
+  const std::optional<output::ProbeExtremes> e =
+      s.reduction == R::min || s.reduction == R::max || s.reduction == R::absmax ? r.probe_extremes(s.probe)
+                                                                                  : std::nullopt;
+  if (e && c < e->min.size())
+    return s.reduction == R::min ? e->min[c]
+         : s.reduction == R::max ? e->max[c]
+                                 : std::max(std::abs(e->min[c]), std::abs(e->max[c]));
+  const output::Series series = r.probe(s.probe);
   std::vector<double> values;
   for (std::size_t row = 0; row < series.rows; ++row) values.push_back(series.values[row * series.components + c]);
   return reduce(values, s.reduction);

@@ -2,6 +2,7 @@
 #include "traverse/setup/beam_outputs.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace traverse::setup {
@@ -13,6 +14,26 @@ const char* const kEnergyProbes[] = {"energy_beam_kinetic", "energy_beam_elastic
                                       "work_dissipated", "work_friction", "energy_balance"};
 
 }  // namespace
+
+void ProbeTracker::take(double t, const std::vector<std::vector<double>>& probes) {
+  if (e_.empty()) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (const auto& p : probes) e_.push_back({std::vector<double>(p.size(), nan), std::vector<double>(p.size(), nan),
+                                               std::vector<double>(p.size(), nan), std::vector<double>(p.size(), nan)});
+  }
+  for (std::size_t i = 0; i < probes.size(); ++i)
+    for (std::size_t c = 0; c < probes[i].size(); ++c) {
+      const double v = probes[i][c];
+      output::ProbeExtremes& e = e_[i];
+      if (std::isnan(v)) continue;
+      if (!(v >= e.min[c])) e.min[c] = v, e.time_of_min[c] = t;  // the first comparison is with NaN
+      if (!(v <= e.max[c])) e.max[c] = v, e.time_of_max[c] = t;
+    }
+}
+
+void ProbeTracker::write(output::Writer& w) const {
+  for (std::size_t i = 0; i < e_.size(); ++i) w.write_probe_extremes(i, e_[i]);
+}
 
 BeamOutputs::BeamOutputs(const scene::Scene& sc, const beam::BeamProblem& p, const beam::ModeSet& modes, MPI_Comm comm)
     : sc_(sc), fields_(sc, p, modes, comm) {
@@ -48,6 +69,11 @@ void BeamOutputs::declare(output::Writer& w) const {
 }
 
 void BeamOutputs::evaluate(const beam::BeamSnapshot& s) {
+  evaluate_probes(s);
+  fields_.evaluate(s.Y);
+}
+
+void BeamOutputs::evaluate_probes(const beam::BeamSnapshot& s) {
   size_t k = 0;
   for (const auto& pr : sc_.output.probes)
     probes_[k++][0] = pr.type == scene::ProbeType::acceleration ? s.acceleration(pr.at) : s.deflection(pr.at);
@@ -56,7 +82,6 @@ void BeamOutputs::evaluate(const beam::BeamSnapshot& s) {
     probes_[k++][0] = s.load_position(first_[i]);
     probes_[k++][0] = s.load_deflection(first_[i]);
   }
-  fields_.evaluate(s.Y);
 }
 
 void BeamOutputs::write(output::Writer& w, double t) const {
@@ -109,6 +134,11 @@ void CoupledBeamOutputs::declare(output::Writer& w) const {
 }
 
 void CoupledBeamOutputs::evaluate(const beam::CoupledMassBeam& s) {
+  evaluate_probes(s);
+  fields_.evaluate(s.Y());
+}
+
+void CoupledBeamOutputs::evaluate_probes(const beam::CoupledMassBeam& s) {
   probes_.clear();
   for (const auto& pr : sc_.output.probes) probes_.push_back({s.deflection(pr.at)});
   const double x = s.position(), w = s.mass_deflection(), v = s.speed();
@@ -124,7 +154,6 @@ void CoupledBeamOutputs::evaluate(const beam::CoupledMassBeam& s) {
                        e.dissipated, e.friction_work, e.balance()})
     probes_.push_back({value});
   sigma_[0] = x;
-  fields_.evaluate(s.Y());
 }
 
 std::vector<std::string> VehicleOutputs::probe_names() const {
@@ -161,6 +190,11 @@ void VehicleOutputs::declare(output::Writer& w) const {
 }
 
 void VehicleOutputs::evaluate(const beam::VehicleBeam& s) {
+  evaluate_probes(s);
+  fields_.evaluate(s.Y());
+}
+
+void VehicleOutputs::evaluate_probes(const beam::VehicleBeam& s) {
   probes_.clear();
   for (const auto& pr : sc_.output.probes)
     probes_.push_back({pr.type == scene::ProbeType::acceleration ? s.acceleration(pr.at) : s.deflection(pr.at)});
@@ -180,7 +214,6 @@ void VehicleOutputs::evaluate(const beam::VehicleBeam& s) {
     for (std::size_t a = 0; a < l.axle_offsets.size(); ++a) f.push_back(s.contact_force(j, a));
     probes_.push_back(f);
   }
-  fields_.evaluate(s.Y());
 }
 
 }  // namespace traverse::setup

@@ -1,5 +1,8 @@
-// Where the adaptive steps of a rod run land besides the output times (step_control.hpp).
+// Where the adaptive steps of a rod run land besides the output times, and its error estimate
+// (step_control.hpp).
 #include "traverse/setup/step_control.hpp"
+
+#include "traverse/solver/rod_time_model.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -25,6 +28,31 @@ double next_node_crossing(const std::vector<scene::MovingLoadSpec>& loads, doubl
     if (tc > t) next = std::min(next, tc);
   }
   return next;
+}
+
+std::size_t rod_restart_components(const scene::Scene& sc) {
+  return rod::kPackedNodeValues + (sc.time.adaptive.enabled ? solver::RodErrorEstimate::kPerNode : 0);
+}
+
+std::unique_ptr<solver::RodErrorEstimate> rod_error_estimate(const scene::Scene& sc, const rod::RodModel& model,
+                                                             const solver::RodStepper& st,
+                                                             const output::RestartPoint* point, MPI_Comm comm,
+                                                             std::optional<time::ControllerState>& controller) {
+  using solver::RodErrorEstimate;
+  auto est = std::make_unique<RodErrorEstimate>(error_weights(sc.time.adaptive, model.length), model.alpha, comm);
+  if (!point) {
+    est->start(solver::owned_levels(st));
+    return est;
+  }
+  const auto& x = point->extra;
+  const std::size_t comps = rod_restart_components(sc), first = static_cast<std::size_t>(st.first_owned_node());
+  std::vector<double> per_node(RodErrorEstimate::kPerNode * static_cast<std::size_t>(st.num_owned_nodes()));
+  for (std::size_t k = 0; k < static_cast<std::size_t>(st.num_owned_nodes()); ++k)
+    for (std::size_t i = 0; i < RodErrorEstimate::kPerNode; ++i)
+      per_node[RodErrorEstimate::kPerNode * k + i] = point->state[comps * (first + k) + rod::kPackedNodeValues + i];
+  controller = est->restore(solver::owned_levels(st), per_node,
+                            std::vector<double>(x.begin() + std::min<std::size_t>(5, x.size()), x.end()));
+  return est;
 }
 
 }  // namespace traverse::setup

@@ -18,6 +18,19 @@
 
 namespace traverse::setup {
 
+/// The extremes of a run's probes over every time step (output::ProbeExtremes per probe), for
+/// the peaks a summary needs without writing every step.
+class ProbeTracker {
+ public:
+  /// The probes' values at time t, in declaration order.
+  void take(double t, const std::vector<std::vector<double>>& probes);
+  /// Writes each probe's extremes (nothing before the first take).
+  void write(output::Writer& w) const;
+
+ private:
+  std::vector<output::ProbeExtremes> e_;
+};
+
 /// The outputs of a beam run: the probes (deflections, each load's position and the
 /// deflection under it) and the fields (the deflection and the deflected shape (x, w, 0)
 /// always; slope and bending moment on request) on this rank's contiguous range of nodes (the
@@ -31,6 +44,8 @@ class BeamOutputs {
   void declare(output::Writer& w) const;
   /// Evaluates every output at a snapshot (probe values are kept for the replay check).
   void evaluate(const beam::BeamSnapshot& s);
+  /// Evaluates the probes only (probes()).
+  void evaluate_probes(const beam::BeamSnapshot& s);
   const std::vector<std::vector<double>>& probes() const { return probes_; }
   void write(output::Writer& w, double t) const;
 
@@ -52,6 +67,7 @@ class CoupledBeamOutputs {
   std::vector<std::string> probe_names() const;
   std::vector<std::string> field_names() const;
   void evaluate(const beam::CoupledMassBeam& s);
+  void evaluate_probes(const beam::CoupledMassBeam& s);
   const std::vector<std::vector<double>>& probes() const { return probes_; }
   void write(output::Writer& w, double t) const {
     w.write_step(t, sigma_, probes_, fields_.views());
@@ -79,6 +95,7 @@ class VehicleOutputs {
   std::vector<std::string> field_names() const { return fields_.names(); }
   void declare(output::Writer& w) const;
   void evaluate(const beam::VehicleBeam& s);
+  void evaluate_probes(const beam::VehicleBeam& s);
   const std::vector<std::vector<double>>& probes() const { return probes_; }
   void write(output::Writer& w, double t) const { w.write_step(t, sigma_, probes_, fields_.views()); }
 
