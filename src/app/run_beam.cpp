@@ -84,6 +84,7 @@ void BeamRecord::write() {
 }
 
 void BeamRecord::track() {
+  if (extremes_.taken_at(sim_.time())) return;  // an output step: write() took them
   const beam::BeamSnapshot s = sim_.snapshot();
   out_.evaluate_probes(s);
   extremes_.take(s.t, out_.probes());

@@ -78,7 +78,8 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
     replay.write(outputs, writer, sim.time(), written, comm);
     if (const std::string why = deflection_check.why(sim.time(), sim.Y()); !why.empty()) fail(why);
   };
-  auto track = [&] {  // the probes' extremes over every time step
+  auto track = [&] {  // the probes' extremes over every time step (an output step's: taken by write)
+    if (extremes.taken_at(sim.time())) return;
     outputs.evaluate_probes(sim);
     extremes.take(sim.time(), outputs.probes());
   };

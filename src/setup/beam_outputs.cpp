@@ -16,6 +16,7 @@ const char* const kEnergyProbes[] = {"energy_beam_kinetic", "energy_beam_elastic
 }  // namespace
 
 void ProbeTracker::take(double t, const std::vector<std::vector<double>>& probes) {
+  last_t_ = t;
   if (e_.empty()) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     for (const auto& p : probes) e_.push_back({std::vector<double>(p.size(), nan), std::vector<double>(p.size(), nan),

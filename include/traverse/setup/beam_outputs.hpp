@@ -26,9 +26,12 @@ class ProbeTracker {
   void take(double t, const std::vector<std::vector<double>>& probes);
   /// Writes each probe's extremes (nothing before the first take).
   void write(output::Writer& w) const;
+  /// Whether the probes at time t were taken last (an output step's, before the step's hook).
+  bool taken_at(double t) const { return !e_.empty() && t == last_t_; }
 
  private:
   std::vector<output::ProbeExtremes> e_;
+  double last_t_ = 0.0;
 };
 
 /// The outputs of a beam run: the probes (deflections, each load's position and the
