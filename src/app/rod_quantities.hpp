@@ -19,6 +19,9 @@ struct NodeView {
   Mat3 R = Mat3::Identity();  ///< rows d1, d2, d3 in fixed components
   Vec3 r = Vec3::Zero();      ///< centreline [m] (when known)
   Vec3 u = Vec3::Zero(), omega = Vec3::Zero(), kappa = Vec3::Zero(), n = Vec3::Zero();  ///< body components
+  /// The rates the viscosities and the strain read: kappa_t and the strain rate v_t (the
+  /// histories' kappa and n slots; zero at rest and for static nodes).
+  Vec3 kappa_t = Vec3::Zero(), strain_rate = Vec3::Zero();
 };
 NodeView node_view(const rod::RodNode& node, const Vec3& r);
 NodeView node_view(const rod::StaticNode& node);

@@ -169,7 +169,7 @@ void RodOutputs::evaluate_fields(const std::vector<Vec3>& r) {
 // own nodes from there.
 std::vector<Vec3> RodOutputs::owned_centreline(const Vec3& r0) const {
   std::vector<Vec3> t(static_cast<size_t>(count_));
-  for (int k = 0; k < count_; ++k) t[static_cast<size_t>(k)] = rod::tangent(st_.owned_node(k));
+  for (int k = 0; k < count_; ++k) t[static_cast<size_t>(k)] = rod::tangent(st_.owned_node(k), model_.props);
   const rod::CentrelinePiece mine = rod::centreline_piece(t, first_, model_.ds(), first_ == 0 ? r0 : Vec3::Zero());
   const int rank = par::rank(comm_);
   std::vector<rod::CentrelinePiece> all(static_cast<size_t>(par::size(comm_)));

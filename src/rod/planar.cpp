@@ -272,6 +272,10 @@ PlanarCheck check_planar(const RodModel& model, const PlanarStateSummary& summar
                          const RodNode& right_end, double t, const std::vector<Vec3>& point_force_vectors,
                          double tol) {
   PlanarCheck out;
+  if (model.props.compliant() || model.props.damped()) {
+    out.reason = "the planar path has the inextensible rod without viscosity only (rod.model, rod.damping)";
+    return out;
+  }
   std::string reasons;
   for (int axis = 0; axis < 2; ++axis) {
     PlanarSymmetry sym;
@@ -326,6 +330,8 @@ PlanarReduction::PlanarReduction(const RodModel& model, const PlanarSymmetry& sy
   sigma_ = sym_.axis == 0 ? 1.0 : -1.0;
   if (model.loads.f_fixed || model.loads.l_fixed)
     throw std::invalid_argument("PlanarReduction: distributed loads given as functions are not planar");
+  if (model.props.compliant() || model.props.damped())
+    throw std::invalid_argument("PlanarReduction: the in-plane kernel is the inextensible rod's without viscosity");
 }
 
 PlanarReduction::OldNode PlanarReduction::old_node(const RodModel& model, const StepTimes& step, int j,
