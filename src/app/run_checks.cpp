@@ -36,10 +36,11 @@ std::string summary(const scene::Scene& sc, const TimePlan* time, const MemoryPl
 }
 
 // What the extensible and shearable rods (rod.model) and the viscosities (rod.damping) do not
-// have yet, refused where the scene chooses it rather than run as the inextensible rod: the
-// statics and the static starts (their kernels are the inextensible rod's), the moving and the
+// have yet, refused where the scene chooses it rather than run as the inextensible rod:
+// continuation and the arch and file starts (not verified with strain), the moving and the
 // coupled masses (their inertia reads the tangent d3), adaptive steps (the error estimate has
-// no strain), and the bending viscosity with a carried spatial history.
+// no strain), and the bending viscosity with a carried spatial history. The static start (the
+// static kernels' compliance, tests/rod/test_rod_strain.cpp) and rest are allowed.
 void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
   const rod::RodProperties& p = model.props;
   if (!p.compliant() && !p.damped()) return;
@@ -48,8 +49,9 @@ void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
     if (sc.continuation.enabled)
       scene::fail_at(sc, "rod.model", "the inextensible rod for a continuation (statics of " + word + " are not "
                      "implemented)", word);
-    if (sc.initial_state.type != scene::InitialStateType::rest)
-      scene::fail_at(sc, "initial_state.type", "rest for " + word + " (its static, arch and file starts are not "
+    if (sc.initial_state.type != scene::InitialStateType::rest &&
+        sc.initial_state.type != scene::InitialStateType::static_equilibrium)
+      scene::fail_at(sc, "initial_state.type", "static or rest for " + word + " (its arch and file starts are not "
                      "implemented)", scene::name_of(sc.initial_state.type));
     for (const auto& l : sc.loads)
       if (l.inertia)

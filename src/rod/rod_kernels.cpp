@@ -11,12 +11,27 @@ namespace traverse::rod {
 
 using so3::hat;
 
+Vec3 effective_compliance(const RodProperties& p, double c) {
+  return p.C.cwiseQuotient((Vec3::Ones() + c * p.retardation()));
+}
+
+Vec3 strain_rate(const RodProperties& p, const Vec3& n_old, const Vec3& vt_old, const Vec3& n_new, double dt,
+                 const AlphaParameters& alpha) {
+  // In the deviations v - e3 (the strain itself would lose the digits of C n against 1).
+  const double gdt = alpha.gt * dt, hist = (1.0 - alpha.gt) / alpha.gt;
+  const Vec3 tau = p.retardation();
+  const Vec3 d_old = p.C.cwiseProduct(n_old) - tau.cwiseProduct(vt_old);
+  const Vec3 d_new =
+      (p.C.cwiseProduct(n_new) + tau.cwiseProduct(d_old / gdt + hist * vt_old)).cwiseQuotient(Vec3::Ones() + tau / gdt);
+  return (d_new - d_old) / gdt - hist * vt_old;
+}
+
 namespace {
 
 const Vec3 e3 = Vec3::UnitZ();
 
 /// Mm of Mm y_t: the compliance row -v_t of a rod that strains reads the n slot of y_t, which
-/// then holds the strain rate v_t (strain_rate below); for the inextensible rod it is zero.
+/// then holds the strain rate v_t (strain_rate); for the inextensible rod it is zero.
 Mat12 Mm_matrix(const RodProperties& p) {
   Vec12 d;
   d << Vec3::Constant(p.rhoA), p.rhoI, Vec3::Ones(), Vec3::Zero();
@@ -25,11 +40,6 @@ Mat12 Mm_matrix(const RodProperties& p) {
   return M;
 }
 
-/// The effective compliance dv_new/dn_new = C / (1 + tau c) of the new level, c = 1/(gt dt)
-/// the sensitivity of a new-level rate to the new value (tau: the retardation times).
-Vec3 effective_compliance(const RodProperties& p, double c) {
-  return p.C.cwiseQuotient((Vec3::Ones() + c * p.retardation()));
-}
 
 /// Mm as the Jacobian of Mm y_t with respect to y_new, divided by dy_t/dy = c = 1/(gt dt): the
 /// strain rate's slot depends on n_new through the effective compliance.
@@ -37,22 +47,6 @@ Mat12 Mm_jacobian(const RodProperties& p, double c) {
   Mat12 M = Mm_matrix(p);
   if (p.compliant()) M.block<3, 3>(9, var::n) = -Mat3(effective_compliance(p, c).asDiagonal());
   return M;
-}
-
-/// The strain rate v_t of a node at the new level, from its new contact force n_new: the
-/// Kelvin-Voigt law n = C^-1 (v - e3) + B_se v_t with v_t = (v_new - v_old)/(gt dt) -
-/// (1 - gt)/gt v_t,old (the scheme's recursion), solved for v_new componentwise; v_old from the
-/// old node's n and v_t. Without viscosity v_t = C (n_new - n_old)/(gt dt) - (1 - gt)/gt v_t,old.
-Vec3 strain_rate(const RodProperties& p, const RodNode& old_node, const Vec3& n_new, double dt,
-                 const AlphaParameters& alpha) {
-  // In the deviations v - e3 (the strain itself would lose the digits of C n against 1).
-  const double gdt = alpha.gt * dt, hist = (1.0 - alpha.gt) / alpha.gt;
-  const Vec3 tau = p.retardation();
-  const Vec3 vt_old = old_node.yt.segment<3>(var::n);
-  const Vec3 d_old = p.C.cwiseProduct(old_node.y.segment<3>(var::n)) - tau.cwiseProduct(vt_old);
-  const Vec3 d_new =
-      (p.C.cwiseProduct(n_new) + tau.cwiseProduct(d_old / gdt + hist * vt_old)).cwiseQuotient(Vec3::Ones() + tau / gdt);
-  return (d_new - d_old) / gdt - hist * vt_old;
 }
 
 /// The viscous part of the bending moment's derivative, -(B_bt kappa_t)_s, in the angular
@@ -293,7 +287,8 @@ NewLevelNode new_level_node(const RodNode& old_node, const Vec12& y_new, double 
 NewLevelNode new_level_node(const RodModel& model, const RodNode& old_node, const Vec12& y_new, double dt) {
   NewLevelNode n = new_level_node(old_node, y_new, dt, model.alpha);
   if (model.props.compliant())
-    n.yt.segment<3>(var::n) = strain_rate(model.props, old_node, y_new.segment<3>(var::n), dt, model.alpha);
+    n.yt.segment<3>(var::n) = strain_rate(model.props, old_node.y.segment<3>(var::n), old_node.yt.segment<3>(var::n),
+                                          y_new.segment<3>(var::n), dt, model.alpha);
   return n;
 }
 

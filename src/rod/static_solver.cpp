@@ -7,12 +7,20 @@
 
 namespace traverse::rod {
 
-double static_update_node(StaticNode& node, const Vec12& d, double length, double fscale) {
+double static_update_node(StaticNode& node, const Vec12& d, const StaticModel& m, double fscale) {
   node.x += d;
+  const double length = m.length;
+  double dn = d.segment<3>(svar::n).cwiseAbs().maxCoeff() / fscale;
+  if (m.props.compliant()) {
+    dn = 0.0;
+    for (int i = 0; i < 3; ++i) {
+      const double f = std::abs(d(svar::n + i)) / fscale, C = m.props.C(i);
+      dn = std::max(dn, C != 0.0 ? std::min(f, std::abs(C * d(svar::n + i))) : f);
+    }
+  }
   const double s = std::max({d.segment<3>(svar::r).cwiseAbs().maxCoeff() / length,
                              d.segment<3>(svar::theta).cwiseAbs().maxCoeff(),
-                             d.segment<3>(svar::kappa).cwiseAbs().maxCoeff() * length,
-                             d.segment<3>(svar::n).cwiseAbs().maxCoeff() / fscale});
+                             d.segment<3>(svar::kappa).cwiseAbs().maxCoeff() * length, dn});
   if (node.x.segment<3>(svar::theta).norm() > 1.0) node.rebase();  // keep increments small
   return s;
 }
@@ -46,7 +54,7 @@ StaticReport StaticSolver::newton(const StaticModel& m, StaticNewtonSystem& sys)
     if (!sys.assemble(m)) break;
     if (!sys.factorize(rep.message)) break;
     ++rep.iterations;
-    const double step_max = sys.update(m.length, fscale);
+    const double step_max = sys.update(m, fscale);
     if (!std::isfinite(step_max)) break;
     if (step_max <= rtol) {
       rep.residual_norm = sys.residual_max(m);

@@ -47,7 +47,7 @@ class DistributedStaticSystem : public rod::StaticNewtonSystem {
     why = "the linear solver failed on the static Jacobian (" + linear_.choice().resolved + ")";
     return false;
   }
-  double update(double length, double fscale) override {
+  double update(const rod::StaticModel& m, double fscale) override {
     f_->scale(-1.0);
     dx_->putScalar(0.0);
     if (!linear_.solve(*f_, *dx_)) return std::numeric_limits<double>::infinity();
@@ -57,7 +57,7 @@ class DistributedStaticSystem : public rod::StaticNewtonSystem {
     const size_t skip = static_cast<size_t>(mesh_->first_owned_node() - mesh_->first_ghosted_node());
     double step = 0.0;
     for (size_t k = 0; k < nodes.size(); ++k) {
-      const double s = rod::static_update_node(nodes[k], d[k].x, length, fscale);
+      const double s = rod::static_update_node(nodes[k], d[k].x, m, fscale);
       if (k >= skip && k < skip + static_cast<size_t>(mesh_->num_owned_nodes()))
         step = std::isfinite(s) ? std::max(step, s) : std::numeric_limits<double>::infinity();
     }

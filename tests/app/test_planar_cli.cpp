@@ -80,6 +80,30 @@ TEST(PlanarCli, CablePlanarEquals3D) {
   }
 }
 
+// The rods that strain and the viscosities on the planar path (docs/rod.md): the hanging cable
+// made shearable and damped, from its static equilibrium (the static kernels' compliance), planar
+// (auto) against forced 3D, on 1 and 2 ranks: the same output to 1e-10.
+TEST(PlanarCli, ShearableDampedCablePlanarEquals3D) {
+  const std::string strain = " --set rod.model=shearable --set 'rod.damping={axial: 5, shear: 5, bending: 1.0e-5, "
+                             "torsion: 1.0e-5}' --set output.fields=[r,R,u,omega,kappa,n,m,v]";
+  for (int ranks : {1, 2}) {
+    const fs::path d = scratch("planar_shearable_np" + std::to_string(ranks));
+    const std::string a = (d / "auto.h5").string(), b = (d / "off.h5").string();
+    const std::string common = " --set mesh.ds=0.05 -q" + solver(ranks) + strain;
+    const Result ra = run(mpirun(ranks), "run " + kCable + " -o " + a + common);
+    ASSERT_EQ(ra.code, 0) << ra.out;
+    const Result rb = run(mpirun(ranks), "run " + kCable + " -o " + b + common + " --set scheme.planar=off");
+    ASSERT_EQ(rb.code, 0) << rb.out;
+    EXPECT_EQ(Reader(a).attribute("rod_path"), "planar");
+    EXPECT_EQ(Reader(b).attribute("rod_path"), "3D");
+    std::string why;
+    const double diff = traverse::testing::max_file_difference(a, b, why);
+    std::printf("  shearable damped cable, %d rank(s): planar vs 3D output max |difference| %.2e (%s)\n", ranks, diff,
+                why.c_str());
+    EXPECT_LE(diff, 1e-10) << why;
+  }
+}
+
 // The arches: the shallow arch is planar (and equal to its 3D run), the deep arch with its
 // lateral trigger runs in 3D and says why. Two time steps each at ds = 0.05.
 TEST(PlanarCli, ArchPaths) {

@@ -38,12 +38,12 @@ class SerialStaticSystem : public StaticNewtonSystem {
     why = "singular static Jacobian";
     return false;
   }
-  double update(double length, double fscale) override {
+  double update(const StaticModel& m, double fscale) override {
     const VecX dx = lu_.solve(-r_);
     double step_max = 0.0;
     for (size_t j = 0; j < nodes_.size(); ++j)
       step_max = std::max(step_max, static_update_node(nodes_[j], dx.segment<12>(12 * static_cast<Eigen::Index>(j)),
-                                                       length, fscale));
+                                                       m, fscale));
     return step_max;
   }
   double residual_max(const StaticModel& m) override {

@@ -43,6 +43,16 @@ NewLevelNode new_level_node(const RodNode& old_node, const Vec12& y_new, double 
 /// for v at the new level. The inextensible rod's yt is new_level_node's above.
 NewLevelNode new_level_node(const RodModel& model, const RodNode& old_node, const Vec12& y_new, double dt);
 
+/// The strain rate v_t of a node at the new level from its new contact force n_new [N]: the
+/// Kelvin-Voigt law n = C^-1 (v - e3) + B_se v_t with v_t = (v_new - v_old)/(gt dt) -
+/// (1 - gt)/gt v_t,old (the scheme's recursion), solved for v_new componentwise; v_old from the
+/// old level's n_old and v_t,old. Without viscosity v_t = C (n_new - n_old)/(gt dt) - (1 - gt)/gt v_t,old.
+Vec3 strain_rate(const RodProperties& p, const Vec3& n_old, const Vec3& vt_old, const Vec3& n_new, double dt,
+                 const AlphaParameters& alpha);
+/// The effective compliance dv_new/dn_new = C / (1 + tau c) of the new level [1/N], c = 1/(gt dt)
+/// the sensitivity of a new-level rate to the new value (tau: the retardation times).
+Vec3 effective_compliance(const RodProperties& p, double c);
+
 /// Flux F(y, R, s, t) of Mm y_t + Kk y_s + F = 0 at one node and level, including gravity
 /// and the distributed fixed-frame loads (not point loads, which enter cells only), and its
 /// Jacobian with respect to y at fixed R (dF_dy) and with respect to the fixed-frame load

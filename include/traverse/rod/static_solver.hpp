@@ -35,9 +35,10 @@ class StaticNewtonSystem {
   /// Factorises the assembled Jacobian; false (and `why`) when it is singular.
   virtual bool factorize(std::string& why) = 0;
   /// Adds the Newton update dx = -J^-1 r to the state and returns the largest scaled update,
-  /// max over nodes of |dr|/L, |dtheta|, |dkappa| L, |dn|/fscale (infinite when not finite);
-  /// folds theta into the frame of every node where |theta| > 1 (keeps increments small).
-  virtual double update(double length, double fscale) = 0;
+  /// max over nodes of static_update_node's measure (infinite when not finite); folds theta
+  /// into the frame of every node where |theta| > 1 (keeps increments small). `m`: its length
+  /// and compliance.
+  virtual double update(const StaticModel& m, double fscale) = 0;
   /// max |r| at the current state (not finite when it is not).
   virtual double residual_max(const StaticModel& m) = 0;
   virtual void rebase_all() = 0;
@@ -61,8 +62,10 @@ class StaticSolver {
 };
 
 /// One node's share of a Newton update: x += d, then theta folded into the frame when
-/// |theta| > 1; returns max(|dr|/L, |dtheta|, |dkappa| L, |dn|/fscale) of d.
-double static_update_node(StaticNode& node, const Vec12& d, double length, double fscale);
+/// |theta| > 1; returns max(|dr|/L, |dtheta|, |dkappa| L, |dn|') of d with |dn|' = |dn_i| / fscale,
+/// or, in a direction the rod strains in (C_i not zero), the smaller of that and the strain's
+/// update |C_i dn_i|: the positions fix such a force only to within E A times their rounding.
+double static_update_node(StaticNode& node, const Vec12& d, const StaticModel& m, double fscale);
 
 /// The force scale of the convergence test: the largest of E I / L^2 + the rod's weight and
 /// the point and end forces [N].
