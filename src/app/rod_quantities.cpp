@@ -65,6 +65,8 @@ RodFieldInfo rod_field_info(Field f) {
     case Field::m: return {3, "N m", "contact moment K (kappa - kappa0) (+ B_bt kappa_t), body components", d123};
     case Field::v:
       return {3, "1", "strain dr/ds, body components: shears v1, v2 and stretch v3 (e3 when inextensible)", d123};
+    case Field::stretch: return {1, "1", "stretch |dr/ds| of the centreline (1 when inextensible)", {}};
+    case Field::axial_force: return {1, "N", "contact force along the tangent, n . v / |v| (tension > 0)", {}};
     case Field::r: return {3, "m", "centreline, fixed components", {"x", "y", "z"}, true};
     case Field::R:
       return {9, "1", "orientation: rows d1, d2, d3 in fixed components",
@@ -83,6 +85,25 @@ Quantity field_quantity(Field f) {
     case Field::v: return Quantity::v;
     case Field::r: return Quantity::position;
     default: throw std::logic_error("field_quantity: no single quantity for field " + scene::name_of(f));
+  }
+}
+
+void field_values(Field f, const NodeView& node, const rod::RodProperties& props, double* out) {
+  switch (f) {
+    case Field::R:
+      for (int i = 0; i < 3; ++i)
+        for (int c = 0; c < 3; ++c) out[3 * i + c] = node.R(i, c);
+      return;
+    case Field::stretch: out[0] = quantity_value(Quantity::v, node, props, scene::Frame::body).norm(); return;
+    case Field::axial_force: {
+      const Vec3 v = quantity_value(Quantity::v, node, props, scene::Frame::body);
+      out[0] = node.n.dot(v) / v.norm();
+      return;
+    }
+    default: {
+      const Vec3 v = quantity_value(field_quantity(f), node, props, scene::Frame::body);
+      std::copy(v.data(), v.data() + 3, out);
+    }
   }
 }
 

@@ -55,7 +55,12 @@ struct RodFieldInfo {
 };
 RodFieldInfo rod_field_info(scene::Field f);
 
-/// The quantity a rod field holds at every node (r: position, R: none, the others theirs).
+/// The quantity a rod field holds at every node (r: position, R, stretch, axial_force: none, the
+/// others theirs).
 scene::Quantity field_quantity(scene::Field f);
+
+/// A rod field's rod_field_info(f).components values at a node into `out`: R's rows, the
+/// stretch |v|, the axial force n . v / |v|, the others their quantity in body components.
+void field_values(scene::Field f, const NodeView& node, const rod::RodProperties& props, double* out);
 
 }  // namespace traverse::app

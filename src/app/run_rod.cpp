@@ -147,19 +147,11 @@ void RodOutputs::evaluate_fields(const std::vector<Vec3>& r) {
   for (size_t f = 0; f < sc_.output.fields.size(); ++f) {
     const scene::Field field = sc_.output.fields[f];
     auto& out = field_values_[f];
-    const size_t comps = field == scene::Field::R ? 9 : 3;
+    const size_t comps = rod_field_info(field).components;
     out.resize(comps * static_cast<size_t>(count_));
     for (int k = 0; k < count_; ++k) {
-      const auto& nd = st_.owned_node(k);
-      double* o = out.data() + comps * static_cast<size_t>(k);
-      if (field == scene::Field::R) {
-        for (int i = 0; i < 3; ++i)
-          for (int c = 0; c < 3; ++c) o[3 * i + c] = nd.R(i, c);
-      } else {
-        const Vec3 p = field == scene::Field::r ? r[static_cast<size_t>(k)] : Vec3::Zero();
-        const Vec3 v = quantity_value(field_quantity(field), node_view(nd, p), model_.props, scene::Frame::body);
-        std::copy(v.data(), v.data() + 3, o);
-      }
+      const Vec3 p = field == scene::Field::r ? r[static_cast<size_t>(k)] : Vec3::Zero();
+      field_values(field, node_view(st_.owned_node(k), p), model_.props, out.data() + comps * static_cast<size_t>(k));
     }
   }
 }

@@ -158,19 +158,10 @@ void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const s
   fields_.resize(sc_.output.fields.size());
   for (size_t f = 0; f < sc_.output.fields.size(); ++f) {
     const scene::Field field = sc_.output.fields[f];
-    const size_t comps = field == scene::Field::R ? 9 : 3;
+    const size_t comps = rod_field_info(field).components;
     fields_[f].resize(comps * static_cast<size_t>(count_));
-    for (int j = first_; j < first_ + count_; ++j) {
-      const auto& nd = s.nodes[static_cast<size_t>(j)];
-      double* o = fields_[f].data() + comps * static_cast<size_t>(j - first_);
-      if (field == scene::Field::R) {
-        for (int i = 0; i < 3; ++i)
-          for (int k = 0; k < 3; ++k) o[3 * i + k] = nd.R(i, k);
-      } else {
-        const Vec3 v = quantity_value(field_quantity(field), view(j), model_.props, scene::Frame::body);
-        std::copy(v.data(), v.data() + 3, o);
-      }
-    }
+    for (int j = first_; j < first_ + count_; ++j)
+      field_values(field, view(j), model_.props, fields_[f].data() + comps * static_cast<size_t>(j - first_));
   }
   std::vector<output::DoubleView> views(fields_.begin(), fields_.end());
   w.write_step(s.t, {m.sigma}, probes_, views);

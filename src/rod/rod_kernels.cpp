@@ -40,7 +40,6 @@ Mat12 Mm_matrix(const RodProperties& p) {
   return M;
 }
 
-
 /// Mm as the Jacobian of Mm y_t with respect to y_new, divided by dy_t/dy = c = 1/(gt dt): the
 /// strain rate's slot depends on n_new through the effective compliance.
 Mat12 Mm_jacobian(const RodProperties& p, double c) {

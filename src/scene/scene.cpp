@@ -34,7 +34,8 @@ TRAVERSE_ENUM_NAMES(ProbeType, "deflection", "point", "acceleration")
 TRAVERSE_ENUM_NAMES(Quantity, "position", "u", "omega", "kappa", "n", "m", "d1", "d2", "d3", "v")
 TRAVERSE_ENUM_NAMES(Frame, "fixed", "body")
 TRAVERSE_ENUM_NAMES(RodStrain, "inextensible", "extensible", "shearable")
-TRAVERSE_ENUM_NAMES(Field, "u", "omega", "kappa", "n", "m", "r", "R", "deflection", "slope", "bending_moment", "v")
+TRAVERSE_ENUM_NAMES(Field, "u", "omega", "kappa", "n", "m", "r", "R", "deflection", "slope", "bending_moment", "v",
+                    "stretch", "axial_force")
 #undef TRAVERSE_ENUM_NAMES
 
 template <>
@@ -487,7 +488,7 @@ double cowper_shear_coefficient(const SectionSpec& sec, double nu) {
 }
 
 const std::vector<std::string> kBeamFields = {"deflection", "slope", "bending_moment"};
-const std::vector<std::string> kRodFields = {"u", "omega", "kappa", "n", "m", "r", "R", "v"};
+const std::vector<std::string> kRodFields = {"u", "omega", "kappa", "n", "m", "r", "R", "v", "stretch", "axial_force"};
 
 Param build_schema() {
   Param root = section("", "traverse scene");
@@ -675,7 +676,7 @@ Param build_schema() {
   out.add(collection("probes", "Time series of chosen quantities, each under a name of your choice", probe_types()));
   out.add(word_list("fields", "Fields written at every node at each output step (beam: deflection, slope, "
                               "bending_moment; rod: u, omega, kappa, n, m, v (body components), r (centreline), "
-                              "R (rows d1, d2, d3))").def("[]"));
+                              "R (rows d1, d2, d3), stretch |v| and axial_force n . v / |v| (one value per node))").def("[]"));
   root.add(out);
 
   root.check([](const ParameterList& s, const CheckContext& ctx) {

@@ -253,7 +253,7 @@ TEST(Cli, RodRunWritesProbesFieldsAndStatus) {
 // nodes, tests/rod/test_rod_strain.cpp). The tip's position probe integrates the strain field
 // along s by the trapezoidal rule; across the strain front (a jump F / (E A) at a node) that
 // rule errs by at most ds / 2 times the jump, ds / (4 L) of the peak 2 F L / (E A). The field v
-// is the compliance law v3 = 1 + n3 / (E A), v1 = v2 = 0.
+// is the compliance law v3 = 1 + n3 / (E A), v1 = v2 = 0; stretch is v3 and axial_force n3 here.
 TEST(Cli, ExtensibleRodFollowsTheAxialStepResponse) {
   const fs::path d = scratch("extensible");
   const double L = 1.0, E = 2.5e8, rho = 1500.0, r = 0.005, F = 10.0, EA = E * M_PI * r * r;
@@ -272,7 +272,7 @@ time: {dt: %.17g, end: %.17g}
 output:
   probes:
     tip: {type: point, at: %.17g, quantity: position}
-  fields: [v, n]
+  fields: [v, n, stretch, axial_force]
 )", L, E, rho, r, F, dt, 160 * dt, L);
   const fs::path yaml = d / "axial.yaml";
   std::ofstream(yaml) << scene;
@@ -288,9 +288,16 @@ output:
     const double x = std::fmod(std::max(0.0, t[k] - 0.5 * dt), T) / T;
     err = std::max(err, std::abs(tip.values[3 * k + 2] - L - peak * (x < 0.5 ? 2.0 * x : 2.0 - 2.0 * x)));
   }
-  const std::vector<double> v = f.field("v", f.steps_written() - 1), n = f.field("n", f.steps_written() - 1);
-  for (size_t j = 0; j < v.size() / 3; ++j)
+  const std::size_t last = f.steps_written() - 1;
+  const std::vector<double> v = f.field("v", last), n = f.field("n", last);
+  const std::vector<double> stretch = f.field("stretch", last), axial = f.field("axial_force", last);
+  ASSERT_EQ(stretch.size(), v.size() / 3);
+  double fields = 0.0;
+  for (size_t j = 0; j < v.size() / 3; ++j) {
     law = std::max({law, std::abs(v[3 * j]), std::abs(v[3 * j + 1]), std::abs(v[3 * j + 2] - 1.0 - n[3 * j + 2] / EA)});
+    fields = std::max({fields, std::abs(stretch[j] - v[3 * j + 2]), std::abs(axial[j] - n[3 * j + 2]) / F});
+  }
+  EXPECT_LT(fields, 1e-14);
   std::printf("  tip displacement error / peak %.2e (bound ds / (4 L) = %.2e); |v - (e3 + C n)| %.1e\n", err / peak,
               ds / (4.0 * L), law);
   EXPECT_LT(err / peak, ds / (4.0 * L));

@@ -42,7 +42,7 @@ enum class Frame { fixed, body };
 /// rod.model: which strains of the centreline the rod admits (none, stretch, stretch and shear).
 enum class RodStrain { inextensible, extensible, shearable };
 /// Fields written at every node: rod (u .. R) and beam (deflection .. bending_moment).
-enum class Field { u, omega, kappa, n, m, r, R, deflection, slope, bending_moment, v };
+enum class Field { u, omega, kappa, n, m, r, R, deflection, slope, bending_moment, v, stretch, axial_force };
 
 template <class E>
 const std::vector<std::string>& enum_names();
