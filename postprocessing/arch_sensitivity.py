@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Is the undamped shallow arch's motion after the snap converged, or sensitive to any
-perturbation? (docs/adaptive.md, "Undamped slow arch after the snap".)
+perturbation? (docs/adaptive.md, "Work and precision".)
 
 The scene: inputs/arch/shallow_arch_v0.02.yaml at ds = 0.01 (--ds) with rho_inf = 1 (undamped),
 to --end seconds, outputs every 0.0625 s, fixed steps dt = ds / v / k (0.5 s / k at ds = 0.01):

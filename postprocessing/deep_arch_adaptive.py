@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The deep hinged arch with the time error controlled (docs/adaptive.md, issue 18): the
+"""The deep hinged arch with the time error controlled (docs/adaptive.md): the
 lateral midpoint trace x against the load position sigma at v = 0.01 and 0.005 m/s, for
 several meshes (mesh.ds, down to the scenes' own) and tolerances (time.adaptive.tolerance),
 rho_inf = 1 (the scenes'), outputs every 0.125 s (v = 0.01) and 0.25 s (v = 0.005).

@@ -179,7 +179,7 @@ CommandLine parse_command_line(int argc, const char* const* argv) {
       cl.restart_interval = x;
     } else if (a == "--max-memory") {
       const std::string v = value(a);
-      const double bytes = parse_bytes(v);
+      const double bytes = setup::parse_bytes(v);
       if (!(bytes >= 1.0))
         throw UsageError{a + ": expected a size such as 4G, 512M or 1000000 (bytes; K, M, G, T are powers of 1024), found '" +
                          v + "'"};

@@ -3,7 +3,7 @@
 #include <string>
 #include <vector>
 
-#include "run_limits.hpp"
+#include "traverse/setup/run_limits.hpp"
 #include "sweep_spec.hpp"
 
 namespace traverse::app {
@@ -32,7 +32,7 @@ struct CommandLine {
   bool types = false;                  ///< check --types: also document every registered type
   std::vector<VaryOption> vary;        ///< sweep --vary KEY=v1,v2,..., in order
   SummarySpec summary;                 ///< sweep --summary PROBE[.c]:REDUCTION
-  RunLimits limits;                    ///< --max-memory, --max-steps (run and check)
+  setup::RunLimits limits;                    ///< --max-memory, --max-steps (run and check)
   std::string invocation;              ///< the whole command line, for the output file
 };
 

@@ -9,6 +9,7 @@
 #include "mpi_session.hpp"
 #include "restart.hpp"
 #include "run.hpp"
+#include "traverse/setup/solver_access.hpp"
 #include "sweep.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/output/sidecar.hpp"
@@ -47,7 +48,7 @@ int execute(const app::CommandLine& cl, int rank, MPI_Comm comm) {
     case Command::Check: {
       const scene::Scene sc = scene::load_scene(cl.scene, cl.overrides);
       if (sc.model == scene::Model::Rod) app::check_rod(sc);
-      const std::string plan = app::check_run(sc, cl.limits, comm);
+      const std::string plan = setup::check_run(sc, cl.limits, comm);
       if (rank == 0) {
         std::cout << "# " << cl.scene << ": valid (" << plan << "). The complete scene, every default filled in:\n"
                   << scene::describe_scene(sc);
@@ -136,14 +137,14 @@ int main(int argc, char** argv) {
     output::set_file_status(e.output(), e.status(), mpi.comm());
     report("", e.what());
     code = 128 + e.signal();
-  } catch (const app::NumericsError& e) {
+  } catch (const NumericsError& e) {
     report("numerics failed: ", e.what());
     code = app::kNumericsFailed;
   } catch (const std::exception& e) {
     report("error: ", e.what());
     code = app::kOtherError;
   }
-  app::finish_solver_runtime();
+  setup::finish_solver_runtime();
   mpi.finish();
   return code;
 }

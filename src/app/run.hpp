@@ -2,22 +2,16 @@
 // Running a validated scene: one function per model.
 #include <mpi.h>
 
-#include <stdexcept>
 #include <string>
 
 #include "cli.hpp"
-#include "run_limits.hpp"
-#include "traverse/core/time_grid.hpp"
-#include "traverse/rod/rod_model.hpp"
+#include "traverse/core/numerics_error.hpp"
 #include "traverse/scene/scene.hpp"
+#include "traverse/beam/beam_problem.hpp"
+#include "traverse/setup/rod_setup.hpp"
+#include "traverse/setup/run_checks.hpp"
 
 namespace traverse::app {
-
-/// The numerics failed (exit code 3): the message says where and why.
-class NumericsError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 /// Settings of a run taken from the command line.
 struct RunOptions {
@@ -31,24 +25,8 @@ struct RunOptions {
   double progress_interval = 1.0;  ///< wall seconds between progress reports (output.progress_interval)
   double flush_interval = 1.0;     ///< wall seconds between flushes of the output (output.flush_interval)
   bool restart = false;  ///< continue the run of `output` from its last restart point (traverse/output/restart.hpp)
-  RunLimits limits;      ///< --max-memory, --max-steps
+  setup::RunLimits limits;      ///< --max-memory, --max-steps
 };
-
-/// The outcome of a run's up-front checks (run_limits.hpp, docs/reliability.md "Limits"):
-/// the time grid (dynamic runs) and one line saying what was estimated against what limit.
-/// Each check_*_run throws scene::SceneError (exit 2) for a run that does not fit; they are
-/// collective over `comm` and allocate nothing of the structure's size.
-struct CheckedRun {
-  TimeGrid grid;
-  int output_every = 1;  ///< output.every resolved (a beam's auto from its fastest mode)
-  std::string summary;
-};
-CheckedRun check_beam_run(const scene::Scene& scene, const RunLimits& limits, MPI_Comm comm);
-/// A rod run, dynamic or a continuation (then without a time grid); `model` from build_rod_model.
-CheckedRun check_rod_run(const scene::Scene& scene, const rod::RodModel& model, const RunLimits& limits, MPI_Comm comm);
-/// The checks of the scene's kind of run, for `traverse check`: the summary line.
-/// `comm` may be MPI_COMM_NULL (this process alone, MPI not started).
-std::string check_run(const scene::Scene& scene, const RunLimits& limits, MPI_Comm comm);
 
 /// Runs a beam scene; throws scene::SceneError for input that only shows as bad once the
 /// model is built, output::OutputError for output-path problems, NumericsError when the
@@ -65,11 +43,20 @@ void run_statics(const scene::Scene& scene, const RunOptions& options, MPI_Comm 
 /// Runs a rod scene (same contract as run_beam).
 void run_rod(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);
 
+/// Runs a rod scene whose (only) load is a coupled_mass (box scheme; any ranks, the planar or
+/// the 3D path, any linear solver); what it does not support is refused with a SceneError
+/// naming the key; --restart continues from the newest restart point (the mass's state
+/// included). Same contract as run_rod otherwise.
+void run_rod_coupled(const scene::Scene& scene, const setup::RodSetup& setup, const TimeGrid& grid,
+                     const RunOptions& options, MPI_Comm comm);
+
+/// Runs a beam scene whose loads are sprung masses and vehicles on the beam problem `problem`
+/// (its loads are ignored) with beam::VehicleBeam. Same contract as run_beam; a unilateral
+/// contact that would pull ends the run with the event lift_off.
+void run_beam_vehicles(const scene::Scene& scene, const beam::BeamProblem& problem, const RunOptions& options,
+                       MPI_Comm comm);
+
 /// Runs `scene` with the runner of its model (run_beam, run_statics or run_rod).
 void run_scene(const scene::Scene& scene, const RunOptions& options, MPI_Comm comm);
-
-/// Ends what rod runs started for the whole process (Kokkos, started by the first rod run
-/// and kept for the next ones, e.g. the cases of a sweep); call before MPI_Finalize.
-void finish_solver_runtime();
 
 }  // namespace traverse::app

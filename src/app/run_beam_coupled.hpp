@@ -13,9 +13,6 @@
 
 namespace traverse::app {
 
-/// --restart of a run with a coupled mass (beam or rod, both serial and deterministic).
-using CoupledReplay = OutputReplay;
-
 /// The scene's coupled_mass load, or nullptr.
 const scene::MovingLoadSpec* coupled_load(const scene::Scene& scene);
 

@@ -17,6 +17,7 @@ bool RunObserver::store_due() { return restart_due(stored_, opt_.restart_interva
 int RunObserver::interrupt_requested() { return app::interrupt_requested(comm_); }
 
 void RunObserver::progress(double t, long step, double next_dt, const StepControlTotals* totals) {
+  if (hooks_.stepped) hooks_.stepped();
   if (totals)
     progress_.update(t, step, next_dt, *totals);
   else

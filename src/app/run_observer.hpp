@@ -23,6 +23,7 @@ class RunObserver : public time::Observer {
     std::function<double()> time;     ///< the model's time [s]
     /// The message of a model's failure (`where`: e.g. "time step 12 of 100"); empty: where: why.
     std::function<std::string(const std::string& where, const time::StepFailed& e)> explain;
+    std::function<void()> stepped;  ///< after every time step (optional): the probes' extremes
   };
   RunObserver(Hooks hooks, output::Writer& writer, const RunOptions& options, Progress& progress, MPI_Comm comm)
       : hooks_(std::move(hooks)), w_(writer), opt_(options), progress_(progress), comm_(comm) {}

@@ -6,23 +6,20 @@
 // leaves the rod).
 #include <algorithm>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <optional>
-#include <sstream>
 
 #include "interrupt.hpp"
 #include "mpi_session.hpp"
 #include "restart.hpp"
 #include "progress.hpp"
 #include "run_observer.hpp"
-#include "step_control.hpp"
-#include "rod_quantities.hpp"
-#include "rod_setup.hpp"
+#include "traverse/setup/step_control.hpp"
+#include "traverse/setup/rod_outputs.hpp"
+#include "traverse/setup/rod_setup.hpp"
 #include "run.hpp"
 #include "run_beam_coupled.hpp"
-#include "run_rod_coupled.hpp"
 #include "traverse/output/restart.hpp"
 #include "traverse/output/writer.hpp"
 #include "traverse/rod/coupled_mass_rod.hpp"
@@ -34,138 +31,6 @@
 namespace traverse::app {
 
 namespace {
-
-constexpr int kMaxCoupledNodes = 20001;  // the whole state is kept (and gathered each step) on every rank
-
-}  // namespace
-
-void check_coupled_rod(const scene::Scene& sc, const rod::RodModel& model) {
-  const auto& a = model.alpha;
-  for (double w : {a.as, a.bs, a.gs, a.at, a.bt, a.gt})
-    if (w != 0.5)
-      scene::fail_at(sc, "scheme.rho_inf", "rho_inf = rho_inf_space = 1 (all six parameters 1/2) with a coupled_mass "
-                     "(its midpoint rule is the box scheme's; other parameters are not yet supported)",
-                     "parameters (" + scene::format_number(a.as) + ", " + scene::format_number(a.bs) + ", " +
-                         scene::format_number(a.gs) + ", " + scene::format_number(a.at) + ", " +
-                         scene::format_number(a.bt) + ", " + scene::format_number(a.gt) + ")");
-  if (sc.mesh.nodes > kMaxCoupledNodes)
-    scene::fail_at(sc, sc.has("mesh.ds") ? "mesh.ds" : "mesh.nodes",
-                   "at most " + std::to_string(kMaxCoupledNodes) + " nodes with a coupled_mass on the rod (its run "
-                   "keeps the whole rod on every rank)", std::to_string(sc.mesh.nodes) + " nodes");
-}
-
-namespace {
-
-class CoupledRodOutputs {
- public:
-  /// The fields of nodes first .. first + count - 1 are this rank's.
-  CoupledRodOutputs(const scene::Scene& sc, const scene::MovingLoadSpec& load, const rod::RodModel& model, int first,
-                    int count)
-      : sc_(sc), load_(load), model_(model), first_(first), count_(count) {}
-  output::NodeLayout layout() const {
-    output::NodeLayout l;
-    l.global_count = static_cast<size_t>(sc_.mesh.nodes);
-    l.first = static_cast<size_t>(first_);
-    l.count = static_cast<size_t>(count_);
-    for (int j = first_; j < first_ + count_; ++j) l.s.push_back(j * sc_.mesh.ds);
-    return l;
-  }
-  void declare(output::Writer& w) const;
-  std::vector<std::string> probe_names() const;
-  std::vector<std::string> field_names() const;
-  /// Evaluates the outputs at a state and writes them.
-  void write(output::Writer& w, const rod::RodState& s, const std::vector<Vec3>& r, const rod::CoupledMassState& m,
-             const solver::ContactHistory& c);
-
- private:
-  const scene::Scene& sc_;
-  const scene::MovingLoadSpec& load_;
-  const rod::RodModel& model_;
-  int first_, count_;
-  std::vector<std::vector<double>> probes_, fields_;
-};
-
-const char* const kMassProbes[] = {"_position", "_speed", "_fixed_position", "_fixed_velocity", "_normal_force",
-                                    "_tangential_force"};
-const char* const kEnergyProbes[] = {"energy_rod", "energy_rod_gravity", "energy_mass_kinetic", "energy_mass_gravity",
-                                     "work_drive", "work_dissipated", "work_friction", "energy_balance"};
-
-std::vector<std::string> CoupledRodOutputs::probe_names() const {
-  std::vector<std::string> names;
-  for (const auto& pr : sc_.output.probes) names.push_back(pr.name);
-  for (const char* q : kMassProbes) names.push_back(load_.name + q);
-  for (const char* e : kEnergyProbes) names.push_back(e);
-  return names;
-}
-
-std::vector<std::string> CoupledRodOutputs::field_names() const {
-  std::vector<std::string> names;
-  for (const auto f : sc_.output.fields) names.push_back(scene::name_of(f));
-  return names;
-}
-
-void CoupledRodOutputs::declare(output::Writer& w) const {
-  declare_rod_probes(w, sc_.output.probes);
-  const std::vector<std::string> xyz{"x", "y", "z"};
-  const std::string n = load_.name, q = "coupled mass '" + n + "'";
-  w.add_probe({n + "_position", 1, "m", "arclength sigma(t) of " + q, {}});
-  w.add_probe({n + "_speed", 1, "m/s", "speed sigma'(t) of " + q + " along the rod (signed)", {}});
-  w.add_probe({n + "_fixed_position", 3, "m", "fixed-frame position r(sigma) of " + q, xyz});
-  w.add_probe({n + "_fixed_velocity", 3, "m/s", "fixed-frame velocity p' = U + sigma' d3 of " + q, xyz});
-  w.add_probe({n + "_normal_force", 3, "N", "normal contact force of the rod on " + q +
-               ", fixed frame, over the step ending here (NaN at t = 0)", xyz});
-  w.add_probe({n + "_tangential_force", 1, "N", "tangential contact force of the rod on " + q +
-               " (0 without friction; NaN at t = 0)", {}});
-  const std::pair<const char*, const char*> energies[] = {
-      {"energy_rod", "rod kinetic + elastic energy (discrete_energy, cell averages)"},
-      {"energy_rod_gravity", "rod gravity potential, -int rhoA g . r ds"},
-      {"energy_mass_kinetic", "kinetic energy of the coupled mass 1/2 M |p'|^2"},
-      {"energy_mass_gravity", "gravity potential of the coupled mass -M g . r(sigma)"},
-      {"work_drive", "work of the drive since the start"},
-      {"work_dissipated", "work dissipated by the resistance since the start"},
-      {"work_friction", "work dissipated by the Coulomb friction since the start, int mu |C_perp| |sigma'| dt"},
-      {"energy_balance", "mechanical energy - work_drive + work_dissipated + work_friction (constant up to the "
-                         "discretisation)"}};
-  for (const auto& [name, what] : energies) w.add_probe({name, 1, "J", what, {}});
-  for (const auto f : sc_.output.fields) {
-    const RodFieldInfo fi = rod_field_info(f);
-    w.add_field({scene::name_of(f), fi.components, fi.units, fi.description, fi.component_names, fi.geometry});
-  }
-}
-
-void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const std::vector<Vec3>& r,
-                              const rod::CoupledMassState& m, const solver::ContactHistory& c) {
-  probes_.clear();
-  const int N = s.num_cells();
-  auto view = [&](int j) { return node_view(s.nodes[static_cast<size_t>(j)], r[static_cast<size_t>(j)]); };
-  for (const auto& pr : sc_.output.probes) {
-    const Vec3 v = quantity_at(pr.quantity, pr.at, sc_.mesh.ds, N, model_.props, pr.frame, view);
-    probes_.push_back({v.x(), v.y(), v.z()});
-  }
-  const rod::NodeInterpolation at = rod::locate_on_nodes(m.sigma, s.ds, N);
-  const Vec3 rp = (1.0 - at.xi) * r[static_cast<size_t>(at.j)] + at.xi * r[static_cast<size_t>(at.j + 1)];
-  const Vec3 pv = rod::mass_velocity(s, m);
-  probes_.push_back({m.sigma});
-  probes_.push_back({m.speed});
-  probes_.push_back({rp.x(), rp.y(), rp.z()});
-  probes_.push_back({pv.x(), pv.y(), pv.z()});
-  probes_.push_back({c.normal.x(), c.normal.y(), c.normal.z()});
-  probes_.push_back({c.tangential});
-  const auto e = rod::coupled_energies(model_, s, r, m, load_.mass);
-  for (double v : {e.rod, e.rod_gravity, e.mass_kinetic, e.mass_gravity, e.drive_work, e.dissipated, e.friction_work,
-                   e.balance()})
-    probes_.push_back({v});
-  fields_.resize(sc_.output.fields.size());
-  for (size_t f = 0; f < sc_.output.fields.size(); ++f) {
-    const scene::Field field = sc_.output.fields[f];
-    const size_t comps = rod_field_info(field).components;
-    fields_[f].resize(comps * static_cast<size_t>(count_));
-    for (int j = first_; j < first_ + count_; ++j)
-      field_values(field, view(j), model_.props, fields_[f].data() + comps * static_cast<size_t>(j - first_));
-  }
-  std::vector<output::DoubleView> views(fields_.begin(), fields_.end());
-  w.write_step(s.t, {m.sigma}, probes_, views);
-}
 
 /// Restart points of a coupled rod run (docs/reliability.md "Restart"): per node the node
 /// (rod::kPackedNodeValues values), its point of the centreline (3) and with time.adaptive the rod
@@ -190,7 +55,7 @@ class CoupledRecord {
   /// `first`, `count`: this rank's nodes (the restart point's share); `planar`: the path;
   /// `rc`, `mc`: the adaptive estimates of the rod and the mass (or nullptr).
   CoupledRecord(solver::CoupledRodTimeModel& model, const rod::RodState& state, const rod::CoupledMassState& m,
-                CoupledRodOutputs& outputs, output::Writer& w, double dt, bool planar, int first, int count,
+                setup::CoupledRodOutputs& outputs, output::Writer& w, double dt, bool planar, int first, int count,
                 MPI_Comm comm, solver::RodErrorEstimate* rc, solver::RodErrorEstimate* mc)
       : model_(model), state_(state), m_(m), out_(outputs), w_(w), dt_(dt), planar_(planar), first_(first),
         count_(count), rc_(rc), mc_(mc), slots_(comm, coupled_restart_components(rc != nullptr),
@@ -213,7 +78,7 @@ class CoupledRecord {
   solver::CoupledRodTimeModel& model_;
   const rod::RodState& state_;
   const rod::CoupledMassState& m_;
-  CoupledRodOutputs& out_;
+  setup::CoupledRodOutputs& out_;
   output::Writer& w_;
   double dt_;
   bool planar_;
@@ -325,7 +190,7 @@ rod::CoupledRodMass rod_mass(const scene::MovingLoadSpec& load) {
 void make_estimates(const scene::Scene& sc, const rod::AlphaParameters& alpha, const rod::RodState& state,
                     const rod::CoupledMassState& m, std::unique_ptr<solver::RodErrorEstimate>& rc,
                     std::unique_ptr<solver::RodErrorEstimate>& mc) {
-  rod::ErrorWeights w = error_weights(sc.time.adaptive, sc.rod.length);
+  rod::ErrorWeights w = setup::error_weights(sc.time.adaptive, sc.rod.length);
   rc = std::make_unique<solver::RodErrorEstimate>(w, alpha, MPI_COMM_NULL);
   w.controlled = {true, false, false, false, false};
   mc = std::make_unique<solver::RodErrorEstimate>(w, alpha, MPI_COMM_NULL);
@@ -362,14 +227,14 @@ void print_done(const solver::CoupledRodTimeModel& model, const std::vector<outp
 
 }  // namespace
 
-void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGrid& grid, const RunOptions& opt,
+void run_rod_coupled(const scene::Scene& sc, const setup::RodSetup& setup, const TimeGrid& grid, const RunOptions& opt,
                      MPI_Comm comm) {
   const scene::MovingLoadSpec& load = *coupled_load(sc);
   const int rank = comm_rank(comm);
-  check_coupled_rod(sc, setup.model);
-  if (!opt.restart) precheck_planar(sc, setup.model);
+  setup::check_coupled_rod(sc, setup.model);
+  if (!opt.restart) setup::precheck_planar(sc, setup.model);
   // The initial state, or the restart point's (the whole state on every rank).
-  InitialState start;
+  setup::InitialState start;
   output::RestartPoint point;
   std::string source;
   if (opt.restart) {
@@ -384,14 +249,14 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
     for (std::size_t j = 0; j < static_cast<std::size_t>(sc.mesh.nodes); ++j)
       start.state.nodes.push_back(rod::unpack_node(&point.state[point.components * j]));
   } else {
-    start = initial_state(sc, setup, comm);
+    start = setup::initial_state(sc, setup, comm);
   }
   const rod::CoupledRodMass mass = rod_mass(load);
   // The rod's steps on the distributed stepper, made from the model with the mass's loads.
   solver::DistributedCoupledRodSolve* rod_solve = nullptr;
   rod::CoupledRodStepper stepper(setup.model, mass, [&](rod::RodModel with_mass) {
-    RodSetup s{std::move(with_mass), setup.solver};
-    auto made = std::make_unique<solver::DistributedCoupledRodSolve>(make_stepper(sc, s, comm), comm);
+    setup::RodSetup s{std::move(with_mass), setup.solver};
+    auto made = std::make_unique<solver::DistributedCoupledRodSolve>(setup::make_stepper(sc, s, comm), comm);
     rod_solve = made.get();
     return made;
   });
@@ -403,12 +268,12 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   // and the resistance along d3): the path is chosen from the model without them. A restart
   // keeps the path of the run it continues.
   const int stored_path = opt.restart ? (point.extra[extra::planar] != 0.0 ? 1 : 0) : -1;
-  const PathChoice path = choose_path(sc, setup.model, st, stored_path, comm);
+  const setup::PathChoice path = setup::choose_path(sc, setup.model, st, stored_path, comm);
   if (path.planar) st.set_planar(&path.symmetry);
   const std::string path_text = st.path_description() + "; " + path.detail;
   rod::CoupledMassState m{load.start, load.initial_velocity()};
   const int first = st.first_owned_node(), count = st.num_owned_nodes();
-  CoupledRodOutputs outputs(sc, load, stepper.model(), first, count);
+  setup::CoupledRodOutputs outputs(sc, load, stepper.model(), first, count);
   if (opt.restart) {
     output::check_restart_outputs(source, outputs.probe_names(), outputs.field_names());
     source = output::move_aside_for_restart(opt.output, comm);
@@ -426,9 +291,9 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   CoupledRecord record(model, state, m, outputs, writer, grid.dt, path.planar, first, count, comm, rc.get(), mc.get());
   Progress progress(rank == 0 && progress_wanted(opt.quiet, opt.progress), "t", "s", state.t, grid.t_end,
                     opt.progress_interval);
-  RunObserver observer({[&] { record.write(); }, [&](long) { record.store(); }, [&] { return state.t; }, {}}, writer,
-                       opt, progress, comm);
-  time::TimeIntegrator integrator(rod_schedule(sc, grid), model, observer);
+  RunObserver observer({[&] { record.write(); }, [&](long) { record.store(); }, [&] { return state.t; }, {}, {}},
+                       writer, opt, progress, comm);
+  time::TimeIntegrator integrator(setup::rod_schedule(sc, grid), model, observer);
   record.integrator = &integrator;
   if (opt.restart) {
     output::copy_output_steps(source, writer, point.steps_written, outputs.probe_names(), outputs.field_names(),
@@ -449,7 +314,7 @@ void run_rod_coupled(const scene::Scene& sc, const RodSetup& setup, const TimeGr
   add_time_limit_event(sc, events, state.t, m.sigma, opt.quiet || rank != 0);
   record.store();  // the end: a restart of the complete file continues nothing
   writer.write_events(events);
-  if (rc) write_adaptive_totals(writer, integrator.totals());
+  if (rc) setup::write_adaptive_totals(writer, integrator.totals());
   writer.finish();
   if (rank == 0 && !opt.quiet)
     print_done(model, events, writer.steps_written(), opt.output, wall, rc ? &integrator : nullptr, opt.verbose);

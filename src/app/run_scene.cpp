@@ -55,9 +55,9 @@ void run_scene(const scene::Scene& sc, const RunOptions& options, MPI_Comm comm)
   opt.progress_interval = sc.output.progress_interval;
   opt.flush_interval = sc.output.flush_interval;
   if (!sc.continuation.enabled && par::rank(comm) == 0)
-    for (const std::string& w : idle_load_warnings(sc)) std::fprintf(stderr, "traverse: warning: %s\n", w.c_str());
+    for (const std::string& w : setup::idle_load_warnings(sc)) std::fprintf(stderr, "traverse: warning: %s\n", w.c_str());
   if (opt.verbose) {  // the plan: what `traverse check` prints (the checks are collective)
-    const std::string plan = check_run(sc, opt.limits, comm);
+    const std::string plan = setup::check_run(sc, opt.limits, comm);
     if (par::rank(comm) == 0) std::printf("plan: %s\n", plan.c_str());
   }
   SetUpStops stops(comm);

@@ -13,10 +13,10 @@
 #include <sstream>
 
 #include "interrupt.hpp"
-#include "memory_limit.hpp"
+#include "traverse/setup/memory_limit.hpp"
 #include "mpi_session.hpp"
 #include "run.hpp"
-#include "run_limits.hpp"
+#include "traverse/setup/run_limits.hpp"
 #include "traverse/core/comm.hpp"
 #include "traverse/output/output_error.hpp"
 #include "traverse/output/reader.hpp"
@@ -95,7 +95,7 @@ scene::Scene case_scene(const CommandLine& cl, const SweepCase& c) {
 double case_cost(const scene::Scene& sc) {
   if (sc.model == scene::Model::Rod && sc.continuation.enabled) return 1.0;
   const bool beam = sc.model == scene::Model::Beam;
-  const TimePlan plan = beam ? beam_time_plan(sc) : rod_time_plan(sc);
+  const setup::TimePlan plan = beam ? setup::beam_time_plan(sc) : setup::rod_time_plan(sc);
   const double steps = plan.steps;
   const double per_step = beam ? sc.beam.modes + double(sc.mesh.nodes) / std::max(1, plan.every) : sc.mesh.nodes;
   const double cost = steps * per_step;
@@ -130,10 +130,20 @@ void prepare_directory(const CommandLine& cl, const std::vector<SweepCase>& case
   if (!error.empty()) throw output::OutputError(error);
 }
 
+// The summary of a case's probe: min, max and absmax from its extremes over every time step
+// when the run recorded them (beam runs), else from the output steps.
 double case_summary(const std::string& path, const SummarySpec& s) {
+  using R = SummarySpec::Reduction;
   const output::Reader r(path);
-  const output::Series series = r.probe(s.probe);
   const std::size_t c = static_cast<std::size_t>(std::max(0, s.component));
+  const std::optional<output::ProbeExtremes> e =
+      s.reduction == R::min || s.reduction == R::max || s.reduction == R::absmax ? r.probe_extremes(s.probe)
+                                                                                  : std::nullopt;
+  if (e && c < e->min.size())
+    return s.reduction == R::min ? e->min[c]
+         : s.reduction == R::max ? e->max[c]
+                                 : std::max(std::abs(e->min[c]), std::abs(e->max[c]));
+  const output::Series series = r.probe(s.probe);
   std::vector<double> values;
   for (std::size_t row = 0; row < series.rows; ++row) values.push_back(series.values[row * series.components + c]);
   return reduce(values, s.reduction);
@@ -156,7 +166,7 @@ std::vector<std::size_t> by_cost(const std::vector<SweepCase>& cases) {
 // Runs one case on `comm` (MPI_COMM_SELF) with
 // `limits` (sweep_limits); every outcome becomes the record (an interrupted case also sets
 // `interrupted`).
-CaseRecord run_case(const CommandLine& cl, const RunLimits& limits, std::size_t k, const SweepCase& c, MPI_Comm comm,
+CaseRecord run_case(const CommandLine& cl, const setup::RunLimits& limits, std::size_t k, const SweepCase& c, MPI_Comm comm,
                     int& interrupted) {
   CaseRecord r;
   const auto t0 = std::chrono::steady_clock::now();
@@ -263,10 +273,10 @@ void write_index(const CommandLine& cl, const std::vector<std::string>& rows) {
 
 // The limits of every case: the memory limit shared by the sweep's ranks on each host (a case
 // runs on MPI_COMM_SELF, which alone would see the whole host), unless --max-memory says.
-RunLimits sweep_limits(const RunLimits& given, MPI_Comm comm) {
-  RunLimits l = given;
+setup::RunLimits sweep_limits(const setup::RunLimits& given, MPI_Comm comm) {
+  setup::RunLimits l = given;
   if (l.max_memory > 0.0) return l;
-  const MemoryLimit m = memory_limit(given, comm);
+  const setup::MemoryLimit m = setup::memory_limit(given, comm);
   if (m.bytes > 0.0) {
     l.max_memory = m.bytes;
     l.memory_source = m.source + ", for each of the sweep's ranks";
@@ -312,7 +322,7 @@ struct CaseResult {
 };
 
 // Runs the cases `next` hands out (none left: nullopt), each on `case_comm`.
-std::vector<CaseResult> run_cases(const CommandLine& cl, const SweepPlan& plan, const RunLimits& limits,
+std::vector<CaseResult> run_cases(const CommandLine& cl, const SweepPlan& plan, const setup::RunLimits& limits,
                                   const std::function<std::optional<std::size_t>()>& next, MPI_Comm case_comm) {
   std::vector<CaseResult> mine;
   int interrupted = 0;
@@ -425,7 +435,7 @@ int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm) {
   const std::vector<SweepCase>& cases = plan.cases;
   prepare_directory(cl, cases, comm);
   const int size = comm_size(comm), rank = comm_rank(comm);
-  const RunLimits limits = sweep_limits(cl.limits, comm);
+  const setup::RunLimits limits = sweep_limits(cl.limits, comm);
   if (rank == 0 && !cl.quiet)
     std::printf("sweep of %s: %zu cases on %d rank(s) -> %s\n", cl.scene.c_str(), cases.size(), size, cl.output.c_str());
   // One rank: the cases in order. Ranks: from the shared queue. Each case alone, on MPI_COMM_SELF.

@@ -473,4 +473,13 @@ double BeamSnapshot::load_deflection(std::size_t k) const {
   return deflection(x);
 }
 
+BeamMemory beam_memory(int modes, int loads, int field_components) {
+  const double m = modes;
+  BeamMemory b;
+  b.per_quadrature_node = 16.0;
+  b.per_output_node = 8.0 + 11.0 * field_components + 3.0 * (8.0 * m + 32.0);
+  b.fixed = 80.0 * m * m + 48.0 * m * loads;
+  return b;
+}
+
 }  // namespace traverse::beam

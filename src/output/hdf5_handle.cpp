@@ -135,6 +135,26 @@ double read_double_attribute(hid_t obj, const std::string& name) {
   return v;
 }
 
+void write_double_array_attribute(hid_t obj, const std::string& name, const std::vector<double>& values) {
+  if (has_attribute(obj, name)) check(H5Adelete(obj, name.c_str()), "H5Adelete", "attribute " + name);
+  const hsize_t n = values.size();
+  Handle space = space_handle(check_id(H5Screate_simple(1, &n, nullptr), "H5Screate_simple", "attribute " + name));
+  Handle a = attribute_handle(check_id(H5Acreate2(obj, name.c_str(), H5T_IEEE_F64LE, space.get(), H5P_DEFAULT,
+                                                  H5P_DEFAULT),
+                                       "H5Acreate2", "attribute " + name));
+  check(H5Awrite(a.get(), H5T_NATIVE_DOUBLE, values.data()), "H5Awrite", "attribute " + name);
+}
+
+std::vector<double> read_double_array_attribute(hid_t obj, const std::string& name) {
+  Handle a = open_attribute(obj, name);
+  Handle space = space_handle(check_id(H5Aget_space(a.get()), "H5Aget_space", "attribute " + name));
+  const hssize_t n = H5Sget_simple_extent_npoints(space.get());
+  if (n < 0) throw_hdf5("H5Sget_simple_extent_npoints", "attribute " + name);
+  std::vector<double> v(static_cast<std::size_t>(n));
+  check(H5Aread(a.get(), H5T_NATIVE_DOUBLE, v.data()), "H5Aread", "attribute " + name);
+  return v;
+}
+
 std::vector<hsize_t> dataset_dims(hid_t dataset, const std::string& what) {
   Handle space = space_handle(check_id(H5Dget_space(dataset), "H5Dget_space", what));
   const int rank = H5Sget_simple_extent_ndims(space.get());

@@ -77,6 +77,10 @@ void write_int_attribute(hid_t obj, const std::string& name, std::int64_t value)
 std::int64_t read_int_attribute(hid_t obj, const std::string& name);
 void write_double_attribute(hid_t obj, const std::string& name, double value);
 double read_double_attribute(hid_t obj, const std::string& name);
+/// Creates or overwrites a 1-D double attribute of values.size() entries.
+void write_double_array_attribute(hid_t obj, const std::string& name, const std::vector<double>& values);
+/// Reads a double attribute, scalar or 1-D, as its values.
+std::vector<double> read_double_array_attribute(hid_t obj, const std::string& name);
 
 /// Current extent of a dataset.
 std::vector<hsize_t> dataset_dims(hid_t dataset, const std::string& what);

@@ -159,6 +159,19 @@ Series Reader::probe(const std::string& name) const {
   return impl_->read_series("/probes/" + name, steps_written());
 }
 
+std::optional<ProbeExtremes> Reader::probe_extremes(const std::string& name) const {
+  const std::string what = "/probes/" + name;
+  Handle d = impl_->open_dataset(what);
+  for (const char* a : {"min", "max", "time_of_min", "time_of_max"})
+    if (!detail::has_attribute(d.get(), a)) return std::nullopt;
+  ProbeExtremes e;
+  e.min = detail::read_double_array_attribute(d.get(), "min");
+  e.max = detail::read_double_array_attribute(d.get(), "max");
+  e.time_of_min = detail::read_double_array_attribute(d.get(), "time_of_min");
+  e.time_of_max = detail::read_double_array_attribute(d.get(), "time_of_max");
+  return e;
+}
+
 std::vector<std::string> Reader::field_names() const {
   if (!impl_->has_link("/fields")) return {};
   Handle g = detail::group_handle(

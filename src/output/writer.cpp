@@ -1009,6 +1009,21 @@ void Writer::write_events(const std::vector<RunEvent>& events) {
   w.flush_file();
 }
 
+void Writer::write_probe_extremes(std::size_t probe, const ProbeExtremes& e) {
+  Impl& w = *impl_;
+  w.require_open("write_probe_extremes");
+  if (probe >= w.probes.size()) throw OutputError("output: write_probe_extremes of an undeclared probe");
+  const Series1& p = w.probes[probe];
+  const std::string what = "/probes/" + p.name;
+  for (const auto* v : {&e.min, &e.max, &e.time_of_min, &e.time_of_max})
+    if (v->size() != p.components) throw OutputError("output: " + what + ": extremes need one value per component");
+  const hid_t d = p.dataset.get();
+  detail::write_double_array_attribute(d, "min", e.min);
+  detail::write_double_array_attribute(d, "max", e.max);
+  detail::write_double_array_attribute(d, "time_of_min", e.time_of_min);
+  detail::write_double_array_attribute(d, "time_of_max", e.time_of_max);
+}
+
 void Writer::set_attribute(const std::string& name, const std::string& value) {
   Impl& w = *impl_;
   w.require_open("set_attribute");

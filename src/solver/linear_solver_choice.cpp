@@ -161,4 +161,9 @@ LinearSolverChoice LinearSolverChoice::resolve(const ParameterList& given, int r
   return c;
 }
 
+double LinearSolverChoice::memory_factor() const {
+  if (block_tridiagonal) return 1.0;
+  return direct ? 1.07 : 1.4;
+}
+
 }  // namespace traverse::solver

@@ -219,4 +219,10 @@ void RodStepper::undo_step() {
   undo_ready_ = false;
 }
 
+double time_step_bytes_per_node(int unknowns) {
+  if (unknowns <= 6) return 8800.0;
+  if (unknowns <= 12) return 17500.0;
+  return 54000.0;
+}
+
 }  // namespace traverse::solver

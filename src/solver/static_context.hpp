@@ -1,7 +1,7 @@
 #pragma once
 // Private to the solver module: the distributed objects shared by the statics routines
-// (mesh, StaticRodModel, the Stratimikos linear solver with its preconditioner attached),
-// the bordered Newton used for fixed-parameter solves, bifurcation location and branch
+// (mesh, StaticRodModel, the Stratimikos linear solver with its preconditioner attached), the
+// fixed-parameter solve (NOX), the bordered Newton of the bifurcation location and the branch
 // switching, and the eigenvalue analysis (static_stability.cpp).
 #include <Thyra_LinearOpWithSolveFactoryBase.hpp>
 
@@ -58,10 +58,17 @@ struct StaticContext {
                 const Teuchos::ParameterList& solver);
 };
 
-/// Newton on F(x, p) = 0 with, when iparam >= 0, the parameter p[iparam] free and the extra
-/// equation a . (x - x_ref) = c (a, x_ref distributed like x). iparam < 0: fixed parameters.
+/// Newton (NOX, static_newton.hpp) on F(x, p) = 0 at the fixed parameters p from x:
+/// max |f| <= ftol and max |dx| <= xtol. The model's problem keeps its own values.
+StaticSolveReport fixed_parameter_solve(const StaticContext& ctx, StaticRodModel::Vector& x, const Params& p,
+                                        int max_iterations, double ftol, double xtol);
+
+/// Newton on F(x, p) = 0 with the parameter p[iparam] free and the extra equation
+/// a . (x - x_ref) = c (a, x_ref distributed like x), by block elimination: two solves with
+/// the Jacobian per iteration (-F and dF/dp). The chord-plane solves of the bifurcation
+/// location and the branch switch (docs/statics.md says why this is not LOCA's).
 StaticSolveReport bordered_newton(const StaticContext& ctx, StaticRodModel::Vector& x, Params& p, int iparam,
-                                  const StaticRodModel::Vector* a, const StaticRodModel::Vector* x_ref, double c,
+                                  const StaticRodModel::Vector& a, const StaticRodModel::Vector& x_ref, double c,
                                   int max_iterations, double ftol, double xtol);
 
 /// Eigenvalue analysis at (x, p) (static_stability.cpp).

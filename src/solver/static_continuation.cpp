@@ -27,7 +27,7 @@
 #include <stdexcept>
 
 #include "linear_solver_builder.hpp"
-#include "static_context.hpp"
+#include "static_newton.hpp"
 #include "traverse/solver/rod_step_model.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 
@@ -145,20 +145,34 @@ StaticContext::StaticContext(const rod::StaticProblem& problem, const std::vecto
   model->set_W_factory(linear.factory());
 }
 
-StaticSolveReport bordered_newton(const StaticContext& ctx, Vector& x, Params& p, int iparam, const Vector* a,
-                                  const Vector* x_ref, double c, int max_iterations, double ftol, double xtol) {
+StaticSolveReport fixed_parameter_solve(const StaticContext& ctx, Vector& x, const Params& p, int max_iterations,
+                                        double ftol, double xtol) {
+  StaticNewtonTests tests;  // unit scales: max |dx| <= xtol
+  tests.residual = ftol;
+  tests.update = xtol;
+  tests.max_iterations = max_iterations;
+  const rod::StaticProblem given = ctx.model->problem();
+  rod::StaticProblem at = given;
+  at.values = p;
+  ctx.model->set_problem(at);
+  // A matrix of its own: the model's W may hold the Jacobian of a LOCA group (a landing solve
+  // runs inside the stepper).
+  const StaticSolveReport r = nox_static_solve(ctx.model, x, tests, ctx.model->new_matrix());
+  ctx.model->set_problem(given);
+  return r;
+}
+
+StaticSolveReport bordered_newton(const StaticContext& ctx, Vector& x, Params& p, int iparam, const Vector& a,
+                                  const Vector& x_ref, double c, int max_iterations, double ftol, double xtol) {
   StaticSolveReport rep;
   const StaticRodModel& model = *ctx.model;
   auto W = model.new_matrix();
   Vector f(x.getMap()), y1(x.getMap()), y2(x.getMap()), fp(x.getMap()), tmp(x.getMap());
-  const bool border = iparam >= 0 && a != nullptr;
+  const size_t ip = static_cast<size_t>(iparam);
   for (int it = 0; it <= max_iterations; ++it) {
     model.fill_residual(x, p, f);
-    double g = 0.0;
-    if (border) {
-      tmp.update(1.0, x, -1.0, *x_ref, 0.0);
-      g = a->dot(tmp) - c;
-    }
+    tmp.update(1.0, x, -1.0, x_ref, 0.0);
+    const double g = a.dot(tmp) - c;
     rep.residual_norm = max_abs(f);
     if (!std::isfinite(rep.residual_norm)) {
       rep.message = "non-finite residual";
@@ -172,30 +186,25 @@ StaticSolveReport bordered_newton(const StaticContext& ctx, Vector& x, Params& p
       rep.message = "linear solve failed";
       return rep;
     }
-    double dp = 0.0;
-    if (border) {
-      // dF/dp, analytic (StaticRodModel::fill_dfdp).
-      const size_t ip = static_cast<size_t>(iparam);
-      model.fill_dfdp(x, p, static_cast<rod::StaticParameter>(iparam), fp);
-      y2.putScalar(0.0);
-      if (!ctx.linear.solve(fp, y2)) {  // the same W: its set-up is reused
-        rep.message = "linear solve failed";
-        return rep;
-      }
-      // J dx + Fp dp = -F, a . dx = -g  =>  dx = y1 - dp y2.
-      const double den = a->dot(y2);
-      if (!(std::abs(den) > 0.0)) {
-        rep.message = "singular bordered system";
-        return rep;
-      }
-      dp = (a->dot(y1) + g) / den;
-      y1.update(-dp, y2, 1.0);
-      p[ip] += dp;
+    // dF/dp, analytic (StaticRodModel::fill_dfdp), solved with the same W (its set-up reused).
+    model.fill_dfdp(x, p, static_cast<rod::StaticParameter>(iparam), fp);
+    y2.putScalar(0.0);
+    if (!ctx.linear.solve(fp, y2)) {
+      rep.message = "linear solve failed";
+      return rep;
     }
+    // J dx + Fp dp = -F, a . dx = -g  =>  dx = y1 - dp y2.
+    const double den = a.dot(y2);
+    if (!(std::abs(den) > 0.0)) {
+      rep.message = "singular bordered system";
+      return rep;
+    }
+    const double dp = (a.dot(y1) + g) / den;
+    y1.update(-dp, y2, 1.0);
+    p[ip] += dp;
     x.update(1.0, y1, 1.0);
     ++rep.iterations;
-    const double step = max_abs(y1);
-    if (step <= xtol && std::abs(dp) <= xtol * (1.0 + std::abs(border ? p[static_cast<size_t>(iparam)] : 0.0))) {
+    if (max_abs(y1) <= xtol && std::abs(dp) <= xtol * (1.0 + std::abs(p[ip]))) {
       model.fill_residual(x, p, f);
       rep.residual_norm = max_abs(f);
       if (rep.residual_norm <= ftol) {
@@ -304,8 +313,8 @@ struct Run {
     xl.update(1.0 - w, *xs.back(), w, x, 0.0);
     Params pl = p;
     pl[ip()] = bound;
-    const StaticSolveReport r = bordered_newton(ctx, xl, pl, -1, nullptr, nullptr, 0.0, opt.max_newton_iterations + 10,
-                                                opt.residual_tolerance, opt.update_tolerance);
+    const StaticSolveReport r = fixed_parameter_solve(ctx, xl, pl, opt.max_newton_iterations + 10,
+                                                      opt.residual_tolerance, opt.update_tolerance);
     if (r.converged) {
       add(xl, pl);
     } else {
@@ -480,13 +489,13 @@ StaticSolveReport solve_on_chord_plane(const Run& run, size_t i, const Vector& a
   const ContinuationOptions& opt = run.opt;
   const int ip = static_cast<int>(run.ip());
   const Vector& xa = *run.xs[i - 1];
-  StaticSolveReport r = bordered_newton(run.ctx, x, p, ip, &a, &xa, level, opt.max_newton_iterations + 10,
+  StaticSolveReport r = bordered_newton(run.ctx, x, p, ip, a, xa, level, opt.max_newton_iterations + 10,
                                         opt.residual_tolerance, opt.update_tolerance);
   if (r.converged) return r;
   const bool near_a = c < 0.5;
   x.update(1.0, near_a ? xa : *run.xs[i], 0.0);
   p = run.ps[near_a ? i - 1 : i];
-  return bordered_newton(run.ctx, x, p, ip, &a, &xa, level, 2 * opt.max_newton_iterations + 20, opt.residual_tolerance,
+  return bordered_newton(run.ctx, x, p, ip, a, xa, level, 2 * opt.max_newton_iterations + 20, opt.residual_tolerance,
                          opt.update_tolerance);
 }
 
@@ -730,8 +739,8 @@ ContinuationResult continue_(const rod::StaticProblem& problem, const std::vecto
   StaticContext ctx(problem, rebased(start), comm, options.solver);
   Vector x(*ctx.model->nominal_x(), Teuchos::Copy);
   Params p = problem.values;
-  const StaticSolveReport r0 = bordered_newton(ctx, x, p, -1, nullptr, nullptr, 0.0, options.max_newton_iterations + 10,
-                                               options.residual_tolerance, options.update_tolerance);
+  const StaticSolveReport r0 = fixed_parameter_solve(ctx, x, p, options.max_newton_iterations + 10,
+                                                     options.residual_tolerance, options.update_tolerance);
   if (!r0.converged) {
     res.message = "the start state does not converge: " + r0.message;
     return res;
@@ -749,7 +758,7 @@ StaticSolveReport static_solve(const rod::StaticProblem& problem, std::vector<ro
   StaticContext ctx(problem, rebased(state), comm, solver);
   Vector x(*ctx.model->nominal_x(), Teuchos::Copy);
   Params p = problem.values;
-  StaticSolveReport r = bordered_newton(ctx, x, p, -1, nullptr, nullptr, 0.0, 40, 1e-9, 1e-10);
+  StaticSolveReport r = fixed_parameter_solve(ctx, x, p, 40, 1e-9, 1e-10);
   if (r.converged) state = rebased(ctx.model->gather(x));
   return r;
 }
@@ -775,7 +784,7 @@ ContinuationResult switch_branch(const rod::StaticProblem& problem, const Bifurc
   x.update(amplitude, a, 1.0);
   Params p = pb.values;
   const double c = amplitude * a.dot(a);
-  const StaticSolveReport r = bordered_newton(ctx, x, p, static_cast<int>(options.parameter), &a, &xs, c,
+  const StaticSolveReport r = bordered_newton(ctx, x, p, static_cast<int>(options.parameter), a, xs, c,
                                               options.max_newton_iterations + 10, options.residual_tolerance,
                                               options.update_tolerance);
   if (!r.converged) {
@@ -791,5 +800,7 @@ ContinuationResult switch_branch(const rod::StaticProblem& problem, const Bifurc
   o.initial_step = (dp < 0.0 ? -1.0 : 1.0) * std::abs(options.initial_step);
   return continue_(pn, ctx.model->gather(x), o, comm, on_point);
 }
+
+double continuation_bytes_per_node() { return 70000.0; }
 
 }  // namespace traverse::solver

@@ -127,6 +127,12 @@ void StaticRodModel::fill_model(const Vector& x, const rod::StaticModel& m, Vect
   fill(x, m, Kind::residual_jacobian, f, W);
 }
 
+void StaticRodModel::set_fixed_model(const rod::StaticModel& m) {
+  if (m.num_cells != problem_.base.num_cells)
+    throw std::invalid_argument("StaticRodModel::set_fixed_model: the number of cells cannot change");
+  fixed_ = m;
+}
+
 void StaticRodModel::fill_jacobian(const Vector& x, const Params& p, Matrix& W) const {
   fill(x, problem_.model(p), Kind::residual_jacobian, nullptr, &W);
 }
@@ -202,7 +208,7 @@ void StaticRodModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<doubl
   }
   Matrix* W = req.W;
   if (req.want_prec && !W) W = W_.get();
-  if (req.f || W) fill(*req.x, problem_.model(p), Kind::residual_jacobian, req.f.get(), W);
+  if (req.f || W) fill(*req.x, fixed_ ? *fixed_ : problem_.model(p), Kind::residual_jacobian, req.f.get(), W);
   if (req.want_prec) initialize_prec(out);
   // dF/dp by columns, one per parameter (LOCA::Thyra::Group with implement_dfdp asks for it).
   const Teuchos::RCP<Thyra::MultiVectorBase<double>> dfdp = out.get_DfDp(0).getMultiVector();

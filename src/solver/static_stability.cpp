@@ -2,12 +2,25 @@
 // Block Krylov-Schur on T = (K_s - sigma M_s)^-1 M_s (largest |theta| = omega^2 nearest sigma,
 // omega^2 = sigma + 1/theta). M_s is singular (constraint rows): its infinite eigenvalues map
 // to theta = 0 and stay out of the way; the start vector is T applied to a fixed vector.
+//
+// The pencil is not symmetric (the first-order form's rows are balance laws, compatibility and
+// constraints, its unknowns r, rotation, kappa and n: |K_s - K_s^T| is of the size of |K_s|),
+// so the non-Hermitian solver is the right one; its eigenvalues are real for a conservative
+// state but ill-conditioned (eigenvalue condition numbers 1e10 to 1e12 on a straight rod of
+// 80 cells), so T must be applied exactly: a Krylov solve to a relative residual of 1e-12 (the statics'
+// GMRES + ILUT on several ranks) is a slightly different, not even linear, operator, and
+// splits a double eigenvalue into two, or into a complex pair. T is therefore applied with a
+// direct solver: the statics solver when it is one (KLU2 on one rank), else the
+// block-tridiagonal LU, exact across ranks and residual-checked; only when that fails (its
+// pivots eliminate from the left end) does the statics solver's Krylov solve apply T.
 #include <AnasaziBasicEigenproblem.hpp>
 #include <AnasaziBlockKrylovSchurSolMgr.hpp>
 #include <AnasaziTpetraAdapter.hpp>
 #include <Tpetra_Operator.hpp>
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <optional>
 
 #include "static_context.hpp"
 
@@ -23,9 +36,10 @@ using OP = Tpetra::Operator<double>;
 class ShiftInvert : public OP {
  public:
   // A is factorised (or its preconditioner set up) once, here; every apply only solves.
-  ShiftInvert(const StaticContext& ctx, Teuchos::RCP<Matrix> A, Teuchos::RCP<Matrix> M)
-      : ctx_(ctx), A_(std::move(A)), M_(std::move(M)) {
-    failed_ = !ctx_.linear.set_up(ctx_.model->get_x_space(), *A_);
+  ShiftInvert(const StaticContext& ctx, const StaticLinearSolver& linear, Teuchos::RCP<Matrix> A,
+              Teuchos::RCP<Matrix> M)
+      : linear_(linear), A_(std::move(A)), M_(std::move(M)) {
+    failed_ = !linear_.set_up(ctx.model->get_x_space(), *A_);
   }
   Teuchos::RCP<const Tpetra::Map<>> getDomainMap() const override { return M_->getDomainMap(); }
   Teuchos::RCP<const Tpetra::Map<>> getRangeMap() const override { return M_->getRangeMap(); }
@@ -36,7 +50,7 @@ class ShiftInvert : public OP {
     for (size_t k = 0; k < X.getNumVectors(); ++k) {
       M_->apply(*X.getVector(k), b);
       y.putScalar(0.0);
-      if (failed_ || !ctx_.linear.solve(b, y)) {
+      if (failed_ || !linear_.solve(b, y)) {
         failed_ = true;
         y.putScalar(0.0);
       }
@@ -46,7 +60,7 @@ class ShiftInvert : public OP {
   bool failed() const { return failed_; }
 
  private:
-  const StaticContext& ctx_;
+  const StaticLinearSolver& linear_;
   Teuchos::RCP<Matrix> A_, M_;
   mutable bool failed_ = false;
 };
@@ -146,33 +160,49 @@ int sort_eigenvalues(const Anasazi::Eigensolution<double, MV>& sol, double sigma
 
 Stability compute_stability(const StaticContext& ctx, const Vector& x, const Params& p,
                             const StabilityOptions& options) {
-  Stability out;
   const StaticRodModel& model = *ctx.model;
   const double sigma = stability_shift(model.problem(), options);
   auto M = model.new_matrix();
   model.fill_mass(x, *M);
   auto A = shifted_stiffness(model, x, p, sigma, *M);
-  const long set_ups = ctx.linear.set_up_count(), solves = ctx.linear.solve_count();
-  auto op = Teuchos::rcp(new ShiftInvert(ctx, A, M));
-  auto init = Teuchos::rcp(new MV(M->getRowMap(), 1));
-  op->apply(*start_vector(M->getRowMap()), *init);
   const int nev = std::max(1, options.num_eigenvalues);
-  auto problem = Teuchos::rcp(new Anasazi::BasicEigenproblem<double, MV, OP>(op, init));
-  problem->setHermitian(false);
-  problem->setNEV(nev);
-  if (!problem->setProblem()) return out;
-  const Anasazi::ReturnType ret = solve_eigenproblem(problem, nev, options.tolerance);
-  const auto& sol = problem->getSolution();
-  out.converged = ret == Anasazi::Converged && !op->failed() && sol.numVecs >= nev;
-  out.factorisations = static_cast<int>(ctx.linear.set_up_count() - set_ups);
-  out.solves = static_cast<int>(ctx.linear.solve_count() - solves);
-  const int best_col = sort_eigenvalues(sol, sigma, out);
-  if (best_col >= 0) {
-    Vector phi(M->getRowMap());
-    phi.update(1.0, *sol.Evecs->getVector(best_col), 0.0);
-    out.critical_mode = rod::normalised_mode(model.gather(x), model.gather(phi));
+  // One attempt with one linear solver for K_s - sigma M_s; nullopt when a set-up or a solve
+  // failed (every rank alike: the solver's verdicts are global).
+  auto attempt = [&](const StaticLinearSolver& linear) -> std::optional<Stability> {
+    Stability out;
+    out.linear_solver = linear.choice().resolved;
+    const long set_ups = linear.set_up_count(), solves = linear.solve_count();
+    auto op = Teuchos::rcp(new ShiftInvert(ctx, linear, A, M));
+    auto init = Teuchos::rcp(new MV(M->getRowMap(), 1));
+    op->apply(*start_vector(M->getRowMap()), *init);
+    if (op->failed()) return std::nullopt;
+    auto problem = Teuchos::rcp(new Anasazi::BasicEigenproblem<double, MV, OP>(op, init));
+    problem->setHermitian(false);
+    problem->setNEV(nev);
+    if (!problem->setProblem()) return out;
+    const Anasazi::ReturnType ret = solve_eigenproblem(problem, nev, options.tolerance);
+    if (op->failed()) return std::nullopt;
+    const auto& sol = problem->getSolution();
+    out.converged = ret == Anasazi::Converged && sol.numVecs >= nev;
+    out.factorisations = static_cast<int>(linear.set_up_count() - set_ups);
+    out.solves = static_cast<int>(linear.solve_count() - solves);
+    const int best_col = sort_eigenvalues(sol, sigma, out);
+    if (best_col >= 0) {
+      Vector phi(M->getRowMap());
+      phi.update(1.0, *sol.Evecs->getVector(best_col), 0.0);
+      out.critical_mode = rod::normalised_mode(model.gather(x), model.gather(phi));
+    }
+    return out;
+  };
+  const LinearSolverChoice& given = ctx.linear.choice();
+  if (!given.direct && !given.block_tridiagonal_direct) {
+    const StaticLinearSolver lu(std::function<long()>(), ctx.comm);
+    if (std::optional<Stability> s = attempt(lu)) return *s;
   }
-  return out;
+  if (std::optional<Stability> s = attempt(ctx.linear)) return *s;
+  Stability failed;
+  failed.linear_solver = given.resolved;
+  return failed;
 }
 
 }  // namespace traverse::solver

@@ -7,74 +7,61 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 
-#include "static_context.hpp"
+#include "static_newton.hpp"
 
 namespace traverse::solver {
 
 namespace {
 
 using Vector = StaticRodModel::Vector;
-using Matrix = StaticRodModel::Matrix;
 
-/// rod::StaticNewtonSystem on the ranks: x on the mesh's dof map, the frames in the model,
-/// the Jacobian in one CrsMatrix refilled in place.
-class DistributedStaticSystem : public rod::StaticNewtonSystem {
+/// One attempt at the static start with one linear solver: the static model over the ranks
+/// (frames in the model, unknowns in x), solved at each load factor by NOX.
+class LoadSteppedStart {
  public:
   /// `solver` null: the block-tridiagonal LU.
-  DistributedStaticSystem(const rod::StaticModel& m, const Comm& comm, const Teuchos::ParameterList* solver)
+  LoadSteppedStart(const rod::StaticModel& m, const Comm& comm, const Teuchos::ParameterList* solver)
       : comm_(comm),
-        linear_(solver ? StaticLinearSolver(*solver, comm) : StaticLinearSolver([this] { return version_; }, comm)) {
+        linear_(solver ? StaticLinearSolver(*solver, comm) : StaticLinearSolver(std::function<long()>(), comm)) {
     mesh_ = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(m.length, m.num_cells + 1), comm, 12));
-    rod::StaticProblem pb;  // its parameters are not used: fill_model takes the (scaled) model
+    rod::StaticProblem pb;  // its parameters are not used: each solve fixes the (scaled) model
     pb.base = m;
     model_ = Teuchos::rcp(new StaticRodModel(pb, mesh_));
     model_->set_local_state(rod::straight_static_nodes(m, mesh_->first_ghosted_node(), mesh_->num_ghosted_nodes()));
+    model_->set_W_factory(linear_.factory());
     x_ = Teuchos::rcp(new Vector(*model_->nominal_x(), Teuchos::Copy));
-    f_ = Teuchos::rcp(new Vector(x_->getMap()));
-    dx_ = Teuchos::rcp(new Vector(x_->getMap()));
-    W_ = model_->jacobian_matrix();  // the model's own W: filled in place, no second matrix
   }
 
-  bool assemble(const rod::StaticModel& m) override {
-    model_->fill_model(*x_, m, f_.get(), W_.get());
-    ++version_;
-    return std::isfinite(max_all(local_max_abs(*f_)));
-  }
-  bool factorize(std::string& why) override {
-    if (linear_.set_up(model_->get_x_space(), *W_)) return true;
-    why = "the linear solver failed on the static Jacobian (" + linear_.choice().resolved + ")";
-    return false;
-  }
-  double update(const rod::StaticModel& m, double fscale) override {
-    f_->scale(-1.0);
-    dx_->putScalar(0.0);
-    if (!linear_.solve(*f_, *dx_)) return std::numeric_limits<double>::infinity();
-    // Every rank updates its ghosts exactly as their owners do (same numbers, same rule).
-    std::vector<rod::StaticNode> nodes = model_->ghosted_nodes(*x_);
-    const std::vector<rod::StaticNode> d = model_->ghosted_nodes(*dx_);
-    const size_t skip = static_cast<size_t>(mesh_->first_owned_node() - mesh_->first_ghosted_node());
-    double step = 0.0;
-    for (size_t k = 0; k < nodes.size(); ++k) {
-      const double s = rod::static_update_node(nodes[k], d[k].x, m, fscale);
-      if (k >= skip && k < skip + static_cast<size_t>(mesh_->num_owned_nodes()))
-        step = std::isfinite(s) ? std::max(step, s) : std::numeric_limits<double>::infinity();
+  /// NOX at the loads of `scaled` from the current state, with the static start's tests:
+  /// max |f| <= ftol * force scale and the scaled update <= rtol. Converged: the state moves
+  /// there with its frames rebased; failed: the state stays.
+  rod::StaticReport newton(const rod::StaticModel& scaled) {
+    const rod::StaticTolerances tol;
+    const double fscale = rod::static_force_scale(scaled);
+    StaticNewtonTests tests;
+    tests.residual = tol.ftol * fscale;
+    tests.update = tol.rtol;
+    tests.scales = rod::static_update_scales(scaled.length, fscale);
+    tests.compliance = scaled.props.C;
+    tests.max_iterations = tol.max_iterations;
+    model_->set_fixed_model(scaled);
+    Vector x(*x_, Teuchos::Copy);
+    const StaticSolveReport s = nox_static_solve(model_, x, tests);
+    rod::StaticReport r;
+    r.converged = s.converged;
+    r.iterations = s.iterations;
+    r.residual_norm = s.residual_norm;
+    r.load_scale = fscale;
+    r.message = s.message;
+    if (s.converged) {
+      Tpetra::deep_copy(*x_, x);
+      std::vector<rod::StaticNode> nodes = model_->ghosted_nodes(*x_);
+      for (auto& n : nodes) n.rebase();  // every rank rebases its ghosts as their owners do
+      model_->store_ghosted_nodes(nodes, *x_);
     }
-    model_->store_ghosted_nodes(nodes, *x_);
-    return max_all(step);
+    return r;
   }
-  double residual_max(const rod::StaticModel& m) override {
-    model_->fill_model(*x_, m, f_.get(), nullptr);
-    return max_all(local_max_abs(*f_));
-  }
-  void rebase_all() override {
-    std::vector<rod::StaticNode> nodes = model_->ghosted_nodes(*x_);
-    for (auto& n : nodes) n.rebase();
-    model_->store_ghosted_nodes(nodes, *x_);
-  }
-  void start() override { saved_ = model_->ghosted_nodes(*x_); }
-  void restore() override { model_->store_ghosted_nodes(saved_, *x_); }
 
   /// This rank's nodes and up to `halo` more each side (the first returned).
   std::vector<rod::StaticNode> nodes_with_halo(int halo, int& first) const;
@@ -82,28 +69,14 @@ class DistributedStaticSystem : public rod::StaticNewtonSystem {
   const mesh::DistributedMesh& mesh() const { return *mesh_; }
 
  private:
-  static double local_max_abs(const Vector& v) {
-    double m = 0.0;
-    for (double a : v.getData()) m = std::isfinite(a) ? std::max(m, std::abs(a)) : std::numeric_limits<double>::infinity();
-    return m;
-  }
-  double max_all(double v) const {
-    double g = 0.0;
-    Teuchos::reduceAll<int, double>(*comm_, Teuchos::REDUCE_MAX, v, Teuchos::outArg(g));
-    return g;
-  }
-
   Comm comm_;
-  long version_ = 0;  ///< of the assembled Jacobian
   StaticLinearSolver linear_;
   Teuchos::RCP<mesh::DistributedMesh> mesh_;
   Teuchos::RCP<StaticRodModel> model_;
-  Teuchos::RCP<Vector> x_, f_, dx_;
-  Teuchos::RCP<Matrix> W_;
-  std::vector<rod::StaticNode> saved_;
+  Teuchos::RCP<Vector> x_;
 };
 
-std::vector<rod::StaticNode> DistributedStaticSystem::nodes_with_halo(int halo, int& first) const {
+std::vector<rod::StaticNode> LoadSteppedStart::nodes_with_halo(int halo, int& first) const {
   constexpr int per = 21;  // 12 unknowns and the 9 entries of the frame
   const int N = mesh_->mesh().num_nodes() - 1;
   const int f0 = mesh_->first_owned_node(), n0 = mesh_->num_owned_nodes();
@@ -141,9 +114,9 @@ StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<con
   const bool clamped = m.left.type == rod::EndCondition::Type::clamped;
   StaticStart out;
   for (int attempt = clamped ? 0 : 1; attempt < 2; ++attempt) {
-    DistributedStaticSystem sys(m, comm, attempt == 0 ? nullptr : &solver);
+    LoadSteppedStart sys(m, comm, attempt == 0 ? nullptr : &solver);
     out.linear_solver = sys.choice().resolved;
-    out.report = rod::StaticSolver().solve_with_load_steps(m, sys);
+    out.report = rod::solve_with_load_steps(m, [&sys](const rod::StaticModel& s) { return sys.newton(s); });
     if (out.report.converged) {
       out.nodes = sys.nodes_with_halo(halo, out.first_node);
       out.first_owned_node = sys.mesh().first_owned_node();
@@ -163,5 +136,7 @@ rod::RodState dynamic_state_piece(const rod::StaticModel& m, const StaticStart& 
   piece.nodes = rod::dynamic_nodes_from_static(m, start.nodes, start.first_node, first_node, count);
   return piece;
 }
+
+double static_start_bytes_per_node() { return 13000.0; }
 
 }  // namespace traverse::solver

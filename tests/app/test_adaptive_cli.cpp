@@ -13,7 +13,7 @@
 #include <regex>
 
 #include "process.hpp"
-#include "rod_adaptive.hpp"
+#include "traverse/setup/step_control.hpp"
 
 namespace fs = std::filesystem;
 using namespace traverse::testing;
@@ -265,7 +265,7 @@ TEST(AdaptiveCli, CoupledMassRunsEndAtTheConvergedEvent) {
 // The node crossings the steps land on: a load moving right from s = 0, one moving left from
 // s = L entering later, one accelerating, a coupled mass (never), a load past the far end.
 TEST(AdaptiveCli, NextNodeCrossing) {
-  using traverse::app::next_node_crossing;
+  using traverse::setup::next_node_crossing;
   traverse::scene::MovingLoadSpec right;
   right.speed = 2.0;  // ds = 0.1: a node every 0.05 s
   const double ds = 0.1, L = 1.0;

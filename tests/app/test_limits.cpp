@@ -1,4 +1,4 @@
-// The up-front limits of a run (src/app/run_limits.hpp, docs/reliability.md "Limits") through
+// The up-front limits of a run (traverse/setup/run_limits.hpp, docs/reliability.md "Limits") through
 // the executable: extreme time steps, end times, entry times, speeds and accelerations either
 // run exactly the steps they report or are refused with exit 2, each case as the documented
 // limits say (expected_exit: from the case's numbers, not from the program); never exit 3;
@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "process.hpp"
-#include "run_limits.hpp"
+#include "traverse/setup/run_limits.hpp"
 #include "traverse/output/reader.hpp"
 
 using traverse::testing::scratch;
@@ -238,16 +238,16 @@ TEST(Limits, MemoryEstimateBoundsTheMeasuredPeak) {
 }
 
 TEST(Limits, SizesAndKeys) {
-  using traverse::app::parse_bytes;
+  using traverse::setup::parse_bytes;
   EXPECT_EQ(parse_bytes("4G"), 4.0 * 1024 * 1024 * 1024);
   EXPECT_EQ(parse_bytes("512M"), 512.0 * 1024 * 1024);
   EXPECT_EQ(parse_bytes("1.5KiB"), 1536.0);
   EXPECT_EQ(parse_bytes("2TB"), 2.0 * std::pow(1024.0, 4));
   EXPECT_EQ(parse_bytes("1000000"), 1e6);
   for (const char* bad : {"", "G", "-1G", "4X", "lots", "1e999", "nan", "0"}) EXPECT_LT(parse_bytes(bad), 0.0) << bad;
-  EXPECT_EQ(traverse::app::format_bytes(3.5 * 1024 * 1024 * 1024), "3.5 GiB");
-  EXPECT_EQ(traverse::app::format_bytes(512), "512 bytes");
-  EXPECT_EQ(traverse::app::format_bytes(1020.0 * 1024), "1020 KiB");
+  EXPECT_EQ(traverse::setup::format_bytes(3.5 * 1024 * 1024 * 1024), "3.5 GiB");
+  EXPECT_EQ(traverse::setup::format_bytes(512), "512 bytes");
+  EXPECT_EQ(traverse::setup::format_bytes(1020.0 * 1024), "1020 KiB");
 }
 
 namespace {

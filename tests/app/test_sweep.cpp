@@ -313,3 +313,56 @@ TEST(Sweep, CasesOnTpetraMatchOneProcess) {
     EXPECT_EQ(diff, 0.0) << "case " << row - 1 << ": " << why;
   }
 }
+
+TEST(Sweep, BeamSummaryIsThePeakOverEveryTimeStep) {
+  // A beam run records each probe's extremes over every time step (output::ProbeExtremes):
+  // a run that writes every 7th step holds the extremes of the series written at every step,
+  // and a sweep's summary of such a run is that peak, not the peak of the steps it wrote.
+  const fs::path d = scratch("sweep-peaks");
+  const fs::path train = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "beam" / "axle_train.yaml";
+  const std::string common = " --set beam.modes=6 --set time.dt=1e-3 --set mesh.nodes=21 --set loads.train.speed=60 -q";
+  for (const char* every : {"1", "7"}) {
+    const auto r = traverse::testing::run_command(kExe + " run " + train.string() + " -o " +
+                                                  (d / (std::string("every") + every + ".h5")).string() + common +
+                                                  " --set output.every=" + every);
+    ASSERT_EQ(r.code, 0) << r.out;
+  }
+  const traverse::output::Reader all((d / "every1.h5").string()), sparse((d / "every7.h5").string());
+  ASSERT_GT(all.probe_names().size(), 2u);
+  const std::vector<double> times = all.time();
+  double true_peak = 0.0, written_peak = 0.0;
+  for (const auto& name : all.probe_names()) {
+    const auto p = all.probe(name), q = sparse.probe(name);
+    const auto ea = all.probe_extremes(name), es = sparse.probe_extremes(name);
+    ASSERT_TRUE(ea && es) << name;
+    for (std::size_t c = 0; c < p.components; ++c) {
+      double lo = NAN, hi = NAN, t_lo = NAN, t_hi = NAN;
+      for (std::size_t s = 0; s < p.rows; ++s) {
+        const double v = p.values[s * p.components + c];
+        if (std::isnan(v)) continue;
+        if (!(v >= lo)) lo = v, t_lo = times[s];
+        if (!(v <= hi)) hi = v, t_hi = times[s];
+      }
+      EXPECT_EQ(ea->min[c], lo) << name;
+      EXPECT_EQ(ea->max[c], hi) << name;
+      EXPECT_EQ(ea->time_of_min[c], t_lo) << name;
+      EXPECT_EQ(ea->time_of_max[c], t_hi) << name;
+      EXPECT_EQ(es->min[c], lo) << name << " (every 7th step written)";
+      EXPECT_EQ(es->max[c], hi) << name << " (every 7th step written)";
+      EXPECT_EQ(es->time_of_max[c], t_hi) << name << " (every 7th step written)";
+      if (name != "deck") continue;
+      true_peak = std::max(std::abs(lo), std::abs(hi));
+      for (std::size_t s = 0; s < q.rows; ++s) written_peak = std::max(written_peak, std::abs(q.values[s]));
+    }
+  }
+  std::printf("deck: peak over every step %.17g m/s^2, over the steps of the every-7th file %.17g\n", true_peak,
+              written_peak);
+  EXPECT_LE(written_peak, true_peak);
+  const auto sw = traverse::testing::run_command(kExe + " sweep " + train.string() + " -o " + (d / "sweep").string() +
+                                                 common + " --set output.every=7 --vary loads.train.speed=60" +
+                                                 " --summary deck:absmax");
+  ASSERT_EQ(sw.code, 0) << sw.out;
+  const auto rows = read_csv(d / "sweep" / "index.csv");
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(std::stod(rows[1][column(rows[0], "deck:absmax")]), true_peak);
+}

@@ -10,7 +10,7 @@
 //    bytes choose one of four small base scenes (two beams, two rods) and up to six
 //    overrides "key=value" from tables of keys and of extreme values (0, denormals, 1e-300,
 //    1e300, the largest double, the integer limits, ...) or a raw double; the scene is
-//    parsed and put through the checks of a run (app/run_limits.hpp: load ratio, memory,
+//    parsed and put through the checks of a run (setup/run_limits.hpp: load ratio, memory,
 //    counters, time grid). Their invariants are asserted: an accepted grid has a whole
 //    number of steps in [1, limit] whose times increase and end at t_end. With
 //    TRAVERSE_FUZZ_EXE set to a traverse executable, the scene is then also run by it
@@ -40,7 +40,7 @@
 #include <string>
 #include <vector>
 
-#include "run_limits.hpp"
+#include "traverse/setup/run_limits.hpp"
 #include "traverse/scene/scene.hpp"
 
 namespace {
@@ -169,33 +169,33 @@ Extreme decode(const std::uint8_t* data, std::size_t size) {
 struct Plan {
   bool refused = false;    // certainly refused (exit 2)
   bool uncertain = false;  // refused on one path estimate only
-  traverse::app::TimePlan time;
+  traverse::setup::TimePlan time;
   std::string why;
 };
 
 Plan plan_of(const Scene& sc) {
-  namespace app = traverse::app;
+  namespace setup = traverse::setup;
   Plan p;
-  const app::MemoryLimit limit{kFuzzMaxMemory, "fuzzing"};
+  const setup::MemoryLimit limit{kFuzzMaxMemory, "fuzzing"};
   try {
-    app::check_properties(sc);
-    app::check_load_ratio(sc);
+    setup::check_properties(sc);
+    setup::check_load_ratio(sc);
     if (sc.model == traverse::scene::Model::Beam) {
-      app::check_memory(sc, app::beam_memory(sc, 1), limit);
-      app::check_load_speeds(sc);
-      p.time = app::beam_time_plan(sc);
+      setup::check_memory(sc, setup::beam_memory(sc, 1), limit);
+      setup::check_load_speeds(sc);
+      p.time = setup::beam_time_plan(sc);
     } else {
-      const double three_d = app::rod_memory(sc, {false, 1}).bytes, planar = app::rod_memory(sc, {true, 1}).bytes;
+      const double three_d = setup::rod_memory(sc, {false, 1}).bytes, planar = setup::rod_memory(sc, {true, 1}).bytes;
       if (!(planar <= three_d))
         throw std::logic_error("fuzz: the planar estimate " + std::to_string(planar) + " exceeds the 3D one " +
                                std::to_string(three_d));
-      app::check_memory(sc, app::rod_memory(sc, {true, 1}), limit);
+      setup::check_memory(sc, setup::rod_memory(sc, {true, 1}), limit);
       if (three_d > kFuzzMaxMemory) p.uncertain = true;
-      app::check_counters(sc, {false, 1});
-      app::check_load_speeds(sc);
-      p.time = app::rod_time_plan(sc);
+      setup::check_counters(sc, {false, 1});
+      setup::check_load_speeds(sc);
+      p.time = setup::rod_time_plan(sc);
     }
-    app::check_time_plan(sc, p.time, kFuzzMaxSteps);
+    setup::check_time_plan(sc, p.time, kFuzzMaxSteps);
   } catch (const SceneError& e) {
     p.refused = true;
     p.why = e.what();

@@ -11,7 +11,7 @@
 
 #include "traverse/beam/beam_simulation.hpp"
 #include "reference_stepper.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 using namespace traverse;
 

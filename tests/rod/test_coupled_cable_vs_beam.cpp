@@ -20,7 +20,7 @@
 
 #include "traverse/beam/coupled_mass_beam.hpp"
 #include "traverse/rod/coupled_mass_rod.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 using namespace traverse;
 

@@ -12,7 +12,7 @@
 
 #include "traverse/rod/coupled_mass_rod.hpp"
 #include "reference_statics.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 using namespace traverse;
 
@@ -40,7 +40,7 @@ RodSetup cable(int cells, double stiffen, double M, double sigma0) {
   sm.gravity = Vec3(0, -kG, 0);
   sm.point_forces.push_back({Vec3(0, -M * kG, 0), sigma0});
   auto nodes = rod::straight_static_state(sm);
-  EXPECT_TRUE(rod::serial_load_steps(rod::StaticSolver(), sm, nodes).converged);
+  EXPECT_TRUE(rod::serial_load_steps(sm, nodes).converged);
   RodSetup s;
   s.model.props = sm.props;
   s.model.num_cells = cells;
@@ -214,7 +214,7 @@ RodSetup rigid_arc(int cells, double M, double s0) {
     nd.x.segment<3>(rod::svar::kappa) = sm.props.kappa0;
   }
   EXPECT_LT(r_rest.back().y(), -0.3) << "the arc must curve down from the clamp";
-  EXPECT_TRUE(rod::serial_load_steps(rod::StaticSolver(), sm, nodes).converged);
+  EXPECT_TRUE(rod::serial_load_steps(sm, nodes).converged);
   RodSetup s;
   s.model.props = sm.props;
   s.model.num_cells = cells;

@@ -1,5 +1,5 @@
 // Order of the rod's moving mass (inertia included) against the beam module's moving mass in
-// the small-deflection limit (issue 20). Scene: the hanging-cable rod (L = 1 m, r = 5 mm,
+// the small-deflection limit. Scene: the hanging-cable rod (L = 1 m, r = 5 mm,
 // E = 2.5e8 Pa, rho = 1500 kg/m^3), clamped at s = 0, clamped and sliding along k at s = L,
 // gravity 0.0098 m/s^2 (deflections ~7e-5 m: geometric nonlinearity ~1e-8 relative), a mass
 // of half the rod's mass (0.0589 kg) moving at v1 / 2 = 3.634 m/s from s = 0 to s = L,
@@ -23,7 +23,7 @@
 
 #include "traverse/beam/beam_simulation.hpp"
 #include "reference_stepper.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 using namespace traverse;
 
@@ -160,9 +160,8 @@ std::vector<Comparison> ds_series(const Scene& sc, double f, double& beam_min) {
 }  // namespace
 
 TEST(MovingMassOrder, SecondOrderInDsWithTheMassOnTheNodes) {
-  // dt = ds / v (the reference choice): the mass sits on a node at every level. Issue 20
-  // measured 1.48, 0.76, 0.39 % (first order) here before the fix (20-mode beam, rotary
-  // inertia on); docs/rod.md has the before/after table.
+  // dt = ds / v (the reference choice): the mass sits on a node at every level
+  // (docs/validation.md, the moving-mass table).
   const Scene sc;
   double beam_min = 0.0;
   const auto c = ds_series(sc, 1.0, beam_min);

@@ -1,4 +1,4 @@
-// Smoothness of the contact force behind a moving mass (issue 20 follow-up). The box scheme
+// Smoothness of the contact force behind a moving mass. The box scheme
 // has an undamped odd-even (checkerboard) mode. A mass's inertia that enters one cell's rows
 // per step, as the impulse of the box the mass crosses, excites it, and a mass moving one cell
 // per step (dt = ds / v) pumps it coherently: a node-to-node sawtooth in n behind the mass that
@@ -12,8 +12,7 @@
 // over the nodes at least three cells behind the mass and four from the clamp, while the
 // mass is on the first 90 % of the rod, is compared with that of a moving force of the same
 // weight. Measured (docs/rod.md): the one-box impulse 2.95 N (dt = ds / v) and 0.40 N
-// (dt = 0.7 ds / v), the line mass 0.020 and 0.083 N, the form before issue 20 0.024 and
-// 0.023 N, the moving force 0.0002 and 0.0017 N. Between nodes (dt = 0.7 ds / v) the line
+// (dt = 0.7 ds / v), the line mass 0.020 and 0.083 N, the moving force 0.0002 and 0.0017 N. Between nodes (dt = 0.7 ds / v) the line
 // mass still leaves a weak short wave behind it (period ~3.3 cells, from the mass crossing
 // nodes within steps), bounded here at a quarter of its weight.
 #include <gtest/gtest.h>
@@ -26,7 +25,7 @@
 #include <vector>
 
 #include "reference_stepper.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 using namespace traverse;
 

@@ -184,7 +184,7 @@ TEST(RodKernels, StrainRateHistoryIsTheRecursionOfTheStrain) {
   }
 }
 
-/// Issue 20: the moving mass's inertia (momentum form over the cells' space-time boxes, for
+/// The moving mass's inertia (momentum form over the cells' space-time boxes, for
 /// its line mass over [sigma - ds, sigma + ds]) on every kind of path through cell j during
 /// the step: inside the cell, node to node (dt = ds / v), across a node (forwards and
 /// backwards), at rest inside the cell and on its left node, across several cells in one

@@ -1,13 +1,16 @@
-// Static form of the rod: exact Jacobian, and equilibria against closed forms.
+// Static form of the rod: exact Jacobian and parameter derivatives, and equilibria against
+// closed forms, solved as the static initial state of a dynamic run is (load steps of NOX
+// Newton solves over the ranks, solver/static_start.hpp). Runs on 1 and 2 ranks.
 #include <gtest/gtest.h>
+
+#include <Tpetra_Core.hpp>
 
 #include <cmath>
 #include <random>
 
 #include "traverse/core/so3.hpp"
 #include "traverse/rod/static_problem.hpp"
-#include "reference_statics.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/solver/static_start.hpp"
 
 using namespace traverse;
 using namespace traverse::rod;
@@ -24,6 +27,19 @@ StaticModel scene_model(int cells) {
   m.right.position = Vec3(0, 0, 1);
   return m;
 }
+
+// The equilibrium under m's loads from the straight state by the static start over the
+// test's ranks, all nodes on every rank (a halo of the whole rod).
+std::vector<StaticNode> equilibrium(const StaticModel& m) {
+  const solver::StaticStart st = solver::solve_static_start(m, Tpetra::getDefaultComm(), {}, m.num_cells);
+  EXPECT_TRUE(st.report.converged) << st.report.message;
+  if (st.report.converged) {
+    EXPECT_EQ(st.nodes.size(), static_cast<size_t>(m.num_cells + 1));
+  }
+  return st.nodes;
+}
+
+bool root() { return Tpetra::getDefaultComm()->getRank() == 0; }
 
 std::vector<StaticNode> random_nodes(const StaticModel& m, std::mt19937& g) {
   std::uniform_real_distribution<double> d(-1.0, 1.0);
@@ -53,7 +69,7 @@ void check_jacobian(std::vector<StaticNode> nodes,
       worst = std::max(worst, (fd - an).cwiseAbs().maxCoeff() / scale);
     }
   }
-  std::cout << "  " << what << ": max relative Jacobian error " << worst << "\n";
+  if (root()) std::cout << "  " << what << ": max relative Jacobian error " << worst << "\n";
   EXPECT_LT(worst, 1e-7) << what;
 }
 
@@ -91,14 +107,12 @@ TEST(RodStatics, CantileverUnderSelfWeightMatchesBeamTheoryInTheStiffLimit) {
   StaticModel m = scene_model(50);
   m.props.K *= 1e4;
   m.gravity = Vec3(0, -9.8, 0);
-  auto nodes = straight_static_state(m);
-  StaticSolver solver;
-  const auto rep = serial_load_steps(solver, m, nodes);
-  ASSERT_TRUE(rep.converged) << rep.message;
+  const auto nodes = equilibrium(m);
+  ASSERT_FALSE(nodes.empty());
   const double q = m.props.rhoA * 9.8, EI = m.props.K(0);
   const double beam = q / (8 * EI);
   const double tip = -nodes.back().x(svar::r + 1);
-  std::cout << "  tip deflection " << tip << " m, beam theory " << beam << " m, relative difference "
+  if (root()) std::cout << "  tip deflection " << tip << " m, beam theory " << beam << " m, relative difference "
             << (tip - beam) / beam << "\n";
   EXPECT_NEAR(tip, beam, 2e-3 * beam);
   // The clamp carries the weight: n(0) = -(force of the clamp on the rod) = -q L j.
@@ -115,19 +129,17 @@ TEST(RodStatics, LargeDeflectionCantileverTipLoadMatchesTheElastica) {
     StaticModel m = scene_model(cells[c]);
     const double EI = m.props.K(0);
     m.right.end_force = Vec3(0, -EI, 0);
-    auto nodes = straight_static_state(m);
-    StaticSolver solver;
-    const auto rep = serial_load_steps(solver, m, nodes);
-    ASSERT_TRUE(rep.converged) << rep.message;
+    const auto nodes = equilibrium(m);
+    ASSERT_FALSE(nodes.empty());
     const Vec3 tip = nodes.back().x.segment<3>(svar::r);
     errs[c] = -tip.y();
-    std::cout << "  N = " << cells[c] << ": tip (x, y, z) = " << tip.transpose() << "\n";
+    if (root()) std::cout << "  N = " << cells[c] << ": tip (x, y, z) = " << tip.transpose() << "\n";
     EXPECT_NEAR(-tip.y(), 0.30172, 2e-3);
     EXPECT_NEAR(1.0 - tip.z(), 0.05643, 2e-3);
     EXPECT_NEAR(tip.x(), 0.0, 1e-12);
   }
   const double order = std::log2((errs[0] - errs[1]) / (errs[1] - errs[2]));
-  std::cout << "  observed order in ds of the tip deflection: " << order << "\n";
+  if (root()) std::cout << "  observed order in ds of the tip deflection: " << order << "\n";
   EXPECT_NEAR(order, 2.0, 0.1);
 }
 
@@ -142,15 +154,13 @@ TEST(RodStatics, HangingCableSagMatchesTheClampedClampedBeamInTheStiffLimit) {
     m.right.type = EndCondition::Type::sliding;
     m.right.axis = Vec3(0, 0, 1);
     m.gravity = Vec3(0, -9.8, 0);
-    auto nodes = straight_static_state(m);
-    StaticSolver solver;
-    const auto rep = serial_load_steps(solver, m, nodes);
-    ASSERT_TRUE(rep.converged) << rep.message;
+    const auto nodes = equilibrium(m);
+    ASSERT_FALSE(nodes.empty());
     const double q = m.props.rhoA * 9.8, EI = m.props.K(0);
     const double beam = q / (384 * EI);
     const double mid = -nodes[static_cast<size_t>(cells[c] / 2)].x(svar::r + 1);
     err[c] = (mid - beam) / beam;
-    std::cout << "  N = " << cells[c] << ": midspan sag " << mid << " m, beam theory " << beam
+    if (root()) std::cout << "  N = " << cells[c] << ": midspan sag " << mid << " m, beam theory " << beam
               << " m, relative difference " << err[c] << "\n";
     // Sliding end: no axial force.
     const Vec3 nL = nodes.back().frame().transpose() * nodes.back().x.segment<3>(svar::n);
@@ -158,15 +168,15 @@ TEST(RodStatics, HangingCableSagMatchesTheClampedClampedBeamInTheStiffLimit) {
   }
   EXPECT_LT(std::abs(err[2]), 1e-3);
   const double order = std::log2(err[0] / err[1]), order2 = std::log2(err[1] / err[2]);
-  std::cout << "  observed orders in ds: " << order << ", " << order2 << "\n";
+  if (root()) std::cout << "  observed orders in ds: " << order << ", " << order2 << "\n";
   EXPECT_NEAR(order2, 2.0, 0.1);
 }
 
 TEST(RodStatics, StaticStateIsConsistentWithTheDynamicCurvatureFrame) {
   StaticModel m = scene_model(30);
   m.gravity = Vec3(0, -9.8, 0);
-  auto nodes = straight_static_state(m);
-  ASSERT_TRUE(serial_load_steps(StaticSolver(), m, nodes).converged);
+  const auto nodes = equilibrium(m);
+  ASSERT_FALSE(nodes.empty());
   const RodState s = dynamic_state_from_static(m, nodes);
   for (size_t j = 1; j < nodes.size(); ++j) {
     const Vec3 kb = 0.5 * (s.nodes[j - 1].y.segment<3>(var::kappa) + s.nodes[j].y.segment<3>(var::kappa));
@@ -181,8 +191,8 @@ TEST(RodStatics, StaticStateIsConsistentWithTheDynamicCurvatureFrame) {
 TEST(RodStatics, DynamicStatePiecesEqualTheWholeState) {
   StaticModel m = scene_model(12);
   m.gravity = Vec3(0, -9.8, 0);
-  auto nodes = straight_static_state(m);
-  ASSERT_TRUE(serial_load_steps(StaticSolver(), m, nodes).converged);
+  const auto nodes = equilibrium(m);
+  ASSERT_FALSE(nodes.empty());
   const RodState whole = dynamic_state_from_static(m, nodes);
   const int N = m.num_cells;
   for (const auto& [from, count] : std::vector<std::pair<int, int>>{{0, 2}, {0, 5}, {4, 4}, {9, 4}, {11, 2}, {0, 13}}) {
@@ -254,6 +264,6 @@ TEST(RodStatics, ParameterDerivativesMatchDifferences) {
       }
     }
   }
-  std::cout << "  max relative dF/dp error (5 end types x 5 parameters) " << worst << "\n";
+  if (root()) std::cout << "  max relative dF/dp error (5 end types x 5 parameters) " << worst << "\n";
   EXPECT_LT(worst, 1e-8);
 }

@@ -12,7 +12,6 @@
 #include "reference_statics.hpp"
 #include "reference_stepper.hpp"
 #include "rod_test_util.hpp"
-#include "traverse/rod/static_solver.hpp"
 
 namespace traverse::rod {
 namespace {
@@ -344,8 +343,7 @@ std::vector<StaticNode> catenary_state(int N, double bend, Catenary& c, StaticMo
     nodes[j].x(svar::n + 2) = c.EA * (c.l / c.L0 - 1.0);
   }
   m.gravity = Vec3(0.0, -9.8, 0.0);
-  StaticSolver solver;
-  const StaticReport rep = serial_load_steps(solver, m, nodes);
+  const StaticReport rep = serial_load_steps(m, nodes);
   EXPECT_TRUE(rep.converged) << "N = " << N << ": " << rep.message;
   return nodes;
 }

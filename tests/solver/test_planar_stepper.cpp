@@ -11,7 +11,7 @@
 #include "hanging_cable.hpp"
 #include "rod_mpi_test_util.hpp"
 #include "traverse/rod/planar.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 namespace traverse::solver {
 namespace {

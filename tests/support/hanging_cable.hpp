@@ -4,7 +4,7 @@
 // moving load starts, and its dynamic model (gravity and ends; loads added by each test).
 #include "traverse/rod/rod_kernels.hpp"
 #include "reference_statics.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 namespace traverse::testing {
 
@@ -38,7 +38,7 @@ inline rod::RodModel hanging_cable_model(const rod::RodProperties& props, int ce
 /// at rest; `converged` says whether the static solve converged.
 inline rod::RodState static_start(const rod::StaticModel& sm, bool& converged) {
   auto nodes = rod::straight_static_state(sm);
-  converged = rod::serial_load_steps(rod::StaticSolver(), sm, nodes).converged;
+  converged = rod::serial_load_steps(sm, nodes).converged;
   return rod::dynamic_state_from_static(sm, nodes);
 }
 

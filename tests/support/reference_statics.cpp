@@ -2,6 +2,9 @@
 
 #include <Eigen/SparseLU>
 
+#include <cmath>
+#include <limits>
+
 namespace traverse::rod {
 
 namespace {
@@ -24,46 +27,6 @@ void assemble(const StaticModel& m, const std::vector<StaticNode>& nodes, VecX& 
   scatter(static_right_block(m, nodes.back()), r, trip);
 }
 
-/// The whole rod in this process, Eigen's sparse LU.
-class SerialStaticSystem : public StaticNewtonSystem {
- public:
-  explicit SerialStaticSystem(std::vector<StaticNode>& nodes) : nodes_(nodes) {}
-  bool assemble(const StaticModel& m) override {
-    static_residual_and_jacobian(m, nodes_, r_, J_);
-    return r_.allFinite();
-  }
-  bool factorize(std::string& why) override {
-    lu_.compute(J_);
-    if (lu_.info() == Eigen::Success) return true;
-    why = "singular static Jacobian";
-    return false;
-  }
-  double update(const StaticModel& m, double fscale) override {
-    const VecX dx = lu_.solve(-r_);
-    double step_max = 0.0;
-    for (size_t j = 0; j < nodes_.size(); ++j)
-      step_max = std::max(step_max, static_update_node(nodes_[j], dx.segment<12>(12 * static_cast<Eigen::Index>(j)),
-                                                       m, fscale));
-    return step_max;
-  }
-  double residual_max(const StaticModel& m) override {
-    const VecX rn = static_residual(m, nodes_);
-    return rn.size() ? rn.cwiseAbs().maxCoeff() : 0.0;
-  }
-  void rebase_all() override {
-    for (auto& n : nodes_) n.rebase();
-  }
-  void start() override { start_ = nodes_; }
-  void restore() override { nodes_ = start_; }
-
- private:
-  std::vector<StaticNode>& nodes_;
-  std::vector<StaticNode> start_;
-  Eigen::SparseMatrix<double> J_;
-  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu_;
-  VecX r_;
-};
-
 }  // namespace
 
 VecX static_residual(const StaticModel& m, const std::vector<StaticNode>& nodes) {
@@ -81,14 +44,46 @@ void static_residual_and_jacobian(const StaticModel& m, const std::vector<Static
   J.setFromTriplets(trip.begin(), trip.end());
 }
 
-StaticReport serial_newton(const StaticSolver& solver, const StaticModel& m, std::vector<StaticNode>& nodes) {
-  SerialStaticSystem sys(nodes);
-  return solver.newton(m, sys);
+StaticReport serial_newton(const StaticModel& m, std::vector<StaticNode>& nodes, const StaticTolerances& tol) {
+  StaticReport rep;
+  rep.load_scale = static_force_scale(m);
+  const std::array<double, 4> scale = static_update_scales(m.length, rep.load_scale);
+  const std::vector<StaticNode> start = nodes;
+  VecX r;
+  Eigen::SparseMatrix<double> J;
+  Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+  for (int it = 0; it < tol.max_iterations; ++it) {
+    static_residual_and_jacobian(m, nodes, r, J);
+    if (!r.allFinite()) break;
+    lu.compute(J);
+    if (lu.info() != Eigen::Success) {
+      rep.message = "singular static Jacobian";
+      break;
+    }
+    const VecX dx = lu.solve(-r);
+    ++rep.iterations;
+    double step = 0.0;  // max(|dr| / L, |dtheta|, |dkappa| L, |dn|'): rod::scaled_update
+    for (Eigen::Index i = 0; i < dx.size(); ++i) {
+      nodes[static_cast<size_t>(i / 12)].x(i % 12) += dx(i);
+      const double s = scaled_update(static_cast<int>(i % 12), dx(i), scale, m.props.C);
+      step = std::isfinite(s) ? std::max(step, s) : std::numeric_limits<double>::infinity();
+    }
+    if (!std::isfinite(step)) break;
+    if (step > tol.rtol) continue;
+    rep.residual_norm = static_residual(m, nodes).cwiseAbs().maxCoeff();
+    if (rep.residual_norm <= tol.ftol * rep.load_scale) {
+      rep.converged = true;
+      for (auto& n : nodes) n.rebase();
+      return rep;
+    }
+  }
+  if (rep.message.empty()) rep.message = "Newton did not converge in " + std::to_string(rep.iterations) + " iterations";
+  nodes = start;
+  return rep;
 }
 
-StaticReport serial_load_steps(const StaticSolver& solver, const StaticModel& m, std::vector<StaticNode>& nodes) {
-  SerialStaticSystem sys(nodes);
-  return solver.solve_with_load_steps(m, sys);
+StaticReport serial_load_steps(const StaticModel& m, std::vector<StaticNode>& nodes, const StaticTolerances& tol) {
+  return solve_with_load_steps(m, [&](const StaticModel& scaled) { return serial_newton(scaled, nodes, tol); }, tol);
 }
 
 }  // namespace traverse::rod

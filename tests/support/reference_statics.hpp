@@ -1,13 +1,13 @@
 #pragma once
 // The tests' serial reference for the rod's statics: the static form's residual and sparse
-// Jacobian of the whole rod (rod/static_kernels.hpp), and rod::StaticSolver's Newton and load
-// steps on it with Eigen's sparse LU in one process, apart from the Tpetra systems of the
-// solver module that it checks.
+// Jacobian of the whole rod (rod/static_kernels.hpp), and a Newton solve of its own on it with
+// Eigen's sparse LU in one process (the same convergence test and load steps as the static
+// start), apart from the NOX solves over Tpetra of the solver module that it checks.
 #include <Eigen/SparseCore>
 
 #include <vector>
 
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 namespace traverse::rod {
 
@@ -17,10 +17,12 @@ VecX static_residual(const StaticModel& m, const std::vector<StaticNode>& nodes)
 void static_residual_and_jacobian(const StaticModel& m, const std::vector<StaticNode>& nodes, VecX& r,
                                   Eigen::SparseMatrix<double>& J);
 
-/// `solver`'s Newton from `nodes` (updated in place; frames rebased on success, restored on
-/// failure), on the whole rod in this process.
-StaticReport serial_newton(const StaticSolver& solver, const StaticModel& m, std::vector<StaticNode>& nodes);
-/// `solver`'s load steps from `nodes` (equilibrium under no load), on the whole rod.
-StaticReport serial_load_steps(const StaticSolver& solver, const StaticModel& m, std::vector<StaticNode>& nodes);
+/// Newton at the loads of `m` from `nodes` (updated in place; frames rebased on success,
+/// restored on failure), on the whole rod in this process: Eigen's sparse LU, the convergence
+/// test of `tol` (as the static start's, solver/static_start.hpp).
+StaticReport serial_newton(const StaticModel& m, std::vector<StaticNode>& nodes, const StaticTolerances& tol = {});
+/// Load steps (rod::solve_with_load_steps) of serial_newton from `nodes` (equilibrium under no
+/// load), on the whole rod.
+StaticReport serial_load_steps(const StaticModel& m, std::vector<StaticNode>& nodes, const StaticTolerances& tol = {});
 
 }  // namespace traverse::rod

@@ -1,8 +1,8 @@
 // Statics through LOCA on the distributed static model: Euler buckling as a pitchfork (order 2
 // in ds), the buckled pinned-pinned elastica against its closed form, Greenhill's heavy column
 // as a pitchfork in the gravity factor. Runs on 1 and 2 ranks; the distributed answers are
-// compared with the serial sparse-LU solver (rod::StaticSolver) to 1e-8, so both rank counts
-// give the same answers.
+// compared with the serial sparse-LU reference (reference_statics.hpp) to 1e-8, so both rank
+// counts give the same answers.
 #include <gtest/gtest.h>
 
 #include <Tpetra_Core.hpp>
@@ -12,7 +12,7 @@
 #include "statics_test_util.hpp"
 #include "traverse/core/so3.hpp"
 #include "reference_statics.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 #include "traverse/solver/static_continuation.hpp"
 
 using namespace traverse;
@@ -118,8 +118,7 @@ TEST(StaticsContinuation, BuckledElasticaMatchesClosedForm) {
     auto prob = pr;
     prob.value(StaticParameter::end_load) = last.parameter;
     auto serial_state = last.state;
-    rod::StaticSolver ser;
-    const auto rep = rod::serial_newton(ser, prob.model(), serial_state);
+    const auto rep = rod::serial_newton(prob.model(), serial_state);
     ASSERT_TRUE(rep.converged) << rep.message;
     const double diff = solver::max_position_difference(serial_state, last.state);
     if (root()) std::printf("  elastica N=%d: distributed vs serial max |dr| = %.2e m\n", N, diff);

@@ -9,7 +9,7 @@
 #include <cstdio>
 
 #include "statics_test_util.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 #include "traverse/solver/static_continuation.hpp"
 
 using namespace traverse;

@@ -135,4 +135,14 @@ class BeamSimulation : public time::SteppedModel {
   double peak_Y_ = 0.0, peak_V_ = 0.0, floor_Y_ = 0.0, floor_V_ = 0.0;
 };
 
+/// What a beam run holds [bytes], from its data layout: per quadrature node on every rank
+/// (its position and weight), per output node of a rank (its position, each written field
+/// component, the modes and their first two derivatives there: three vectors of `modes`
+/// values), and the modal matrices (mass, stiffness, damping and the integrator's work
+/// matrices, modes^2 each) with each load's modal vectors.
+struct BeamMemory {
+  double per_quadrature_node = 0.0, per_output_node = 0.0, fixed = 0.0;
+};
+BeamMemory beam_memory(int modes, int loads, int field_components);
+
 }  // namespace traverse::beam

@@ -25,6 +25,13 @@ struct RunInfo {
   std::vector<std::pair<std::string, std::string>> attributes = {};
 };
 
+/// A probe's extremes over every time step of a run (not only the output steps), per
+/// component: the smallest and largest value and the first time each was reached [s]. NaN
+/// values (a load's deflection while it is off the structure) do not count.
+struct ProbeExtremes {
+  std::vector<double> min, max, time_of_min, time_of_max;
+};
+
 /// An event that ended (or marked) a run: a coupled mass leaving the structure, lifting off.
 struct RunEvent {
   double time = 0.0;      ///< [s]

@@ -5,6 +5,7 @@
 // `steps_written`, never to the dataset extents.
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,9 @@ class Reader {
   std::vector<std::string> probe_names() const;
   /// `/probes/<name>`, steps_written rows.
   Series probe(const std::string& name) const;
+  /// The probe's extremes over every time step (Writer::write_probe_extremes), when the run
+  /// recorded them (a complete beam run does).
+  std::optional<ProbeExtremes> probe_extremes(const std::string& name) const;
 
   std::vector<std::string> field_names() const;
   /// Metadata of `/fields/<name>` (values empty, rows = number of nodes).

@@ -87,6 +87,11 @@ class Writer {
   /// are written).
   void write_events(const std::vector<RunEvent>& events);
 
+  /// Writes the extremes of the probe of index `probe` (add_probe) over every time step as the
+  /// attributes `min`, `max`, `time_of_min`, `time_of_max` of `/probes/<name>` (a value per
+  /// component). Collective: every rank passes the same values.
+  void write_probe_extremes(std::size_t probe, const ProbeExtremes& extremes);
+
   /// Sets the root string attribute `name` (collective: every rank passes the same value).
   void set_attribute(const std::string& name, const std::string& value);
 

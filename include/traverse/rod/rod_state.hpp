@@ -172,4 +172,9 @@ std::vector<Vec3> advance_centreline_in_time(const std::vector<Vec3>& r_old,
                                              const RodState& old_state,
                                              const RodState& new_state);
 
+/// The rod held whole on every rank, per node [bytes]: the initial state or restart point
+/// (RodNode), the packed nodes of a gather, the centreline (measured as
+/// solver::time_step_bytes_per_node is).
+constexpr double kReplicatedBytesPerNode = 800.0;
+
 }  // namespace traverse::rod

@@ -37,6 +37,12 @@ struct LinearSolverChoice {
   /// ("On Broken Direct Solver: refuse") or names an unknown solver/preconditioner.
   static LinearSolverChoice resolve(const Teuchos::ParameterList& params, int ranks,
                                     Use use = Use::statics);
+
+  /// The memory of the time stepping with this solver relative to the block-tridiagonal LU
+  /// (time_step_bytes_per_node): 1 for it, 1.07 for a direct Amesos2 solver (its own copy of
+  /// the matrix and factors), 1.4 for a Krylov method with another preconditioner (the
+  /// Krylov basis, the preconditioner's matrices); measured as time_step_bytes_per_node is.
+  double memory_factor() const;
 };
 
 }  // namespace traverse::solver

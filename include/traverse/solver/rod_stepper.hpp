@@ -184,4 +184,12 @@ class RodStepper {
   bool undo_ready_ = false;
 };
 
+/// The peak memory of a rod's time stepping per owned node [bytes] with the block-tridiagonal
+/// LU, by unknowns per node (6: the planar path; 12: the 3D path; 24: scheme.rho_inf_space < 1,
+/// the space derivatives unknowns too): the cell blocks, the Jacobian, the LU's factors, NOX's
+/// vectors and the levels kept. Measured as the peak resident memory at 2 x 10^4 nodes less the
+/// program's; what the stepper keeps per node and this figure change together
+/// (docs/reliability.md "Limits", checked by test_limits).
+double time_step_bytes_per_node(int unknowns);
+
 }  // namespace traverse::solver

@@ -47,6 +47,9 @@ struct Stability {
   std::vector<Vec12> critical_mode;  ///< its eigenvector per node (real part), max |r| = 1
   int factorisations = 0;  ///< set-ups of the linear solver for K_s - s M_s in this solve (1)
   int solves = 0;          ///< solves with it (one per Krylov-Schur operator application)
+  /// The linear solver of K_s - s M_s: a direct one (KLU2, else the block-tridiagonal LU), the
+  /// statics' Krylov solver only where the direct one failed.
+  std::string linear_solver;
 };
 
 /// One accepted continuation point.
@@ -160,5 +163,10 @@ ContinuationResult switch_branch(const rod::StaticProblem& problem, const Bifurc
 
 /// Nodes of `a` minus nodes of `b` in the same frames (a helper for probes and tests).
 double max_position_difference(const std::vector<rod::StaticNode>& a, const std::vector<rod::StaticNode>& b);
+
+/// The peak memory of a continuation (and of the arch formation, which is one) per owned node
+/// [bytes]: LOCA's extended vectors and predictors, the Newton system, Anasazi's basis for up to
+/// 6 eigenvalues (measured as time_step_bytes_per_node is).
+double continuation_bytes_per_node();
 
 }  // namespace traverse::solver

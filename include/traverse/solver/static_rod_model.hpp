@@ -12,6 +12,7 @@
 #include <Thyra_StateFuncModelEvaluatorBase.hpp>
 #include <Tpetra_CrsMatrix.hpp>
 #include <Tpetra_Vector.hpp>
+#include <optional>
 #include <vector>
 
 #include "traverse/mesh/distributed_mesh.hpp"
@@ -42,6 +43,11 @@ class StaticRodModel : public BlockAssemblyModel {
   /// f and/or W (either may be null) of the static form of `m` (whose loads may differ from
   /// the problem's) at x.
   void fill_model(const Vector& x, const rod::StaticModel& m, Vector* f, Matrix* W) const;
+  /// The model evaluator's f and W are those of `m` (loads the parameters cannot express: the
+  /// static start's scaled gravity, point and end forces) instead of problem().model(p); the
+  /// parameters and DfDp then do not apply. clear_fixed_model() goes back to the problem.
+  void set_fixed_model(const rod::StaticModel& m);
+  void clear_fixed_model() { fixed_.reset(); }
 
   /// All N + 1 nodes (frames Rbar, unknowns x) from a distributed x, on every rank.
   std::vector<rod::StaticNode> gather(const Vector& x) const;
@@ -75,6 +81,7 @@ class StaticRodModel : public BlockAssemblyModel {
   void fill(const Vector& x, const rod::StaticModel& m, Kind kind, Vector* f, Matrix* W) const;
 
   rod::StaticProblem problem_;
+  std::optional<rod::StaticModel> fixed_;  ///< set_fixed_model
   std::vector<Mat3> Rbar_;  ///< of the ghosted nodes, first_ghosted_node() first
   Teuchos::RCP<const Thyra::VectorSpaceBase<double>> p_space_;
   Teuchos::RCP<const Teuchos::Array<std::string>> p_names_;

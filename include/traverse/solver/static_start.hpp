@@ -1,11 +1,12 @@
 #pragma once
 // The static initial state of a dynamic run, solved over the ranks: the rod's equilibrium
 // under the scene's dead loads at t = 0 (gravity, the point forces where they stand, the end
-// forces), by rod::StaticSolver's load steps and Newton iteration (same tolerances, same
-// rebasing of the frames) on the static model on Tpetra (StaticRodModel), each rank holding
-// only its nodes and their ghosts. The linear solver is the block-tridiagonal LU (direct,
-// exact across ranks) when the left end is clamped; otherwise, or when that fails, the
-// statics solver of solver_parameters.hpp (docs/solver.md, "Static initial state").
+// forces), by load steps (rod::solve_with_load_steps), each one NOX Newton solve on the static
+// model on Tpetra (StaticRodModel; tests of rod::StaticTolerances), the frames rebased after
+// each converged step; each rank holds only its nodes and their ghosts. The linear solver is
+// the block-tridiagonal LU (direct, exact across ranks) when the left end is clamped;
+// otherwise, or when that fails, the statics solver of solver_parameters.hpp (docs/solver.md,
+// "Static initial state").
 #include <Teuchos_Comm.hpp>
 #include <Teuchos_ParameterList.hpp>
 #include <Teuchos_RCP.hpp>
@@ -13,7 +14,7 @@
 #include <vector>
 
 #include "traverse/rod/rod_state.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 namespace traverse::solver {
 
@@ -35,5 +36,10 @@ StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<con
 /// This rank's piece of the dynamic state at rest from a converged start: its nodes and one
 /// ghost each side, as the steppers partition the rod (first_node: the first's index).
 rod::RodState dynamic_state_piece(const rod::StaticModel& m, const StaticStart& start, int& first_node);
+
+/// The peak memory of the static initial state per owned node [bytes]: the 3D static system
+/// (12 unknowns and a frame per node), its Jacobian and the block-tridiagonal LU (measured as
+/// time_step_bytes_per_node is).
+double static_start_bytes_per_node();
 
 }  // namespace traverse::solver

@@ -50,7 +50,7 @@
 #include "block_tridiagonal_lu.hpp"
 #include "traverse/rod/planar.hpp"
 #include "reference_statics.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
 #include "traverse/solver/static_start.hpp"
 
@@ -183,7 +183,7 @@ Scene hanging_cable(int N, double F, bool pieces = false) {
   auto nodes = rod::straight_static_state(sm);
   mem_phase("static: straight state");
   const auto t0 = Clock::now();
-  const auto rep = rod::serial_load_steps(rod::StaticSolver(), sm, nodes);
+  const auto rep = rod::serial_load_steps(sm, nodes);
   s.static_seconds = seconds_since(t0);
   if (!rep.converged) throw std::runtime_error("bench_rod: static initial state failed: " + rep.message);
   mem_phase("static: solved");

@@ -1,5 +1,5 @@
 // What a run asks of the solver module (solver_access.hpp).
-#include "solver_access.hpp"
+#include "traverse/setup/solver_access.hpp"
 
 #include <Teuchos_DefaultMpiComm.hpp>
 #include <Tpetra_Core.hpp>
@@ -8,15 +8,16 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "arch_start.hpp"
-#include "rod_setup.hpp"
-#include "run.hpp"
+#include "traverse/setup/arch_start.hpp"
+#include "traverse/setup/rod_setup.hpp"
+#include "traverse/core/numerics_error.hpp"
+#include "traverse/setup/run_checks.hpp"
 #include "traverse/core/comm.hpp"
 #include "traverse/solver/distributed_stepper.hpp"
 #include "traverse/solver/runtime.hpp"
 #include "traverse/solver/static_start.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 namespace {
 Teuchos::RCP<const Teuchos::Comm<int>> teuchos_comm(MPI_Comm comm) { return Teuchos::rcp(new Teuchos::MpiComm<int>(comm)); }
@@ -118,4 +119,4 @@ rod::RodState arch_start(const scene::Scene& sc, const Teuchos::ParameterList& s
       description);
 }
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

@@ -13,7 +13,7 @@
 #include "traverse/output/writer.hpp"
 #include "traverse/scene/scene.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 /// The beam's structural damping of a scene (beam.damping).
 beam::ModalDamping beam_damping(const scene::BeamSpec& b);
@@ -39,4 +39,4 @@ class BeamFields {
   std::vector<std::vector<double>> values_;
 };
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

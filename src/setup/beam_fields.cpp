@@ -1,10 +1,10 @@
-#include "beam_fields.hpp"
+#include "traverse/setup/beam_fields.hpp"
 
 #include <stdexcept>
 
 #include "traverse/core/comm.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 beam::ModalDamping beam_damping(const scene::BeamSpec& b) {
   beam::ModalDamping d;
@@ -93,4 +93,4 @@ void BeamFields::evaluate(const VecX& Y) {
   }
 }
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

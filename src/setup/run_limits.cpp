@@ -1,9 +1,12 @@
-#include "run_limits.hpp"
+#include "traverse/setup/run_limits.hpp"
 
-#include "rod_setup.hpp"
+#include "traverse/setup/rod_setup.hpp"
 #include "traverse/solver/linear_solver_choice.hpp"
 #include "traverse/rod/rod_state.hpp"
+#include "traverse/solver/rod_stepper.hpp"
 #include "traverse/solver/solver_parameters.hpp"
+#include "traverse/solver/static_continuation.hpp"
+#include "traverse/solver/static_start.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -17,7 +20,7 @@
 #include "traverse/beam/uniform_modes.hpp"
 #include "traverse/rod/alpha_parameters.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 namespace {
 
@@ -104,22 +107,12 @@ std::vector<std::string> joined(std::vector<std::string> a, const std::vector<st
   return a;
 }
 
-// Per-node figures of the memory model (docs/reliability.md "Limits": peak resident memory
-// measured at 2 x 10^4 nodes on 1 and 2 ranks, Release build, Open MPI 4.1).
-constexpr double kProgramBytes = 64.0 * 1024 * 1024;  // MPI, Kokkos, Trilinos, the executable
-constexpr double kRodReplicated = 800.0;    // per node of the whole rod on every rank: states, gathers
-constexpr double kRodStaticStart = 13000.0;  // per owned node: the static initial state (block LU, 12 unknowns)
-constexpr double kRodStatics = 70000.0;     // per owned node: continuation (LOCA, Anasazi), arch formation
+// The program itself: MPI, Kokkos, Trilinos and the executable (peak resident memory of a run
+// on a 2-node rod, Open MPI 4.1); each model's figures per node come from its module.
+constexpr double kProgramBytes = 64.0 * 1024 * 1024;
 
-// Stepper per owned node with the block-tridiagonal LU (auto), by unknowns per node.
-double rod_stepper_bytes(int unknowns) {
-  if (unknowns <= 6) return 8800.0;
-  if (unknowns <= 12) return 17500.0;
-  return 54000.0;
-}
-
-// The linear solver of the time steps and its memory relative to auto (the block-tridiagonal
-// LU): a direct KLU2 on one rank 1.07, a Krylov method with another preconditioner 1.4.
+// The time stepping's memory factor of the scene's linear solver (LinearSolverChoice::
+// memory_factor; a Stratimikos list counts as GMRES) and its name.
 double rod_solver_factor(const scene::Scene& sc, int ranks, std::string& name) {
   solver::LinearSolverChoice c;
   try {
@@ -135,8 +128,7 @@ double rod_solver_factor(const scene::Scene& sc, int ranks, std::string& name) {
     name += " (a Stratimikos list: counted as GMRES)";
     return 1.4;
   }
-  if (c.block_tridiagonal) return 1.0;
-  return c.direct ? 1.07 : 1.4;
+  return c.memory_factor();
 }
 
 int rod_unknowns_3d(const scene::Scene& sc) {
@@ -391,34 +383,36 @@ MemoryPlan rod_memory(const scene::Scene& sc, const RodPathGuess& path) {
   const double N = sc.mesh.nodes, n = owned_nodes(sc, path.ranks);
   const std::string ranks = ranks_text(path.ranks);
   m.keys = {mesh_key(sc)};
-  const double replicated = kRodReplicated * N;
-  std::string tail = " + " + count(N) + " nodes x " + kb(kRodReplicated) + " (states held on every rank) + " +
+  const double replicated = rod::kReplicatedBytesPerNode * N;
+  std::string tail = " + " + count(N) + " nodes x " + kb(rod::kReplicatedBytesPerNode) + " (states held on every rank) + " +
                      format_bytes(kProgramBytes) + " (program)";
   if (sc.continuation.enabled) {
-    m.bytes = kProgramBytes + kRodStatics * n + replicated;
-    m.detail = mesh_text(sc) + " on " + ranks + ": " + count(n) + " nodes x " + kb(kRodStatics) +
+    m.bytes = kProgramBytes + solver::continuation_bytes_per_node() * n + replicated;
+    m.detail = mesh_text(sc) + " on " + ranks + ": " + count(n) + " nodes x " + kb(solver::continuation_bytes_per_node()) +
                " (continuation: Newton, LOCA, eigenvalues)" + tail;
     return m;
   }
   const int u3 = rod_unknowns_3d(sc), u = path.planar ? u3 / 2 : u3;
   std::string solver;
   const double factor = rod_solver_factor(sc, path.ranks, solver);
-  const double stepper = factor * rod_stepper_bytes(u);
+  const double stepper = factor * solver::time_step_bytes_per_node(u);
   const bool static_start = sc.initial_state.type == scene::InitialStateType::static_equilibrium;
   const bool arch = sc.initial_state.type == scene::InitialStateType::arch;
   const double stepping = stepper * n;
   // The static start is solved and freed before the stepper is built: the larger one counts.
-  const double starting = static_start ? kRodStaticStart * n : arch ? kRodStatics * n : 0.0;
+  const double starting = static_start ? solver::static_start_bytes_per_node() * n
+                          : arch       ? solver::continuation_bytes_per_node() * n
+                                       : 0.0;
   m.bytes = kProgramBytes + std::max(stepping, starting) + replicated;
   const std::string stepping_text = count(n) + " nodes x " + kb(stepper) + " (time steps on the " +
                                     (path.planar ? "planar" : "3D") + " path, " + std::to_string(u) +
                                     " unknowns per node, linear solver " + solver + ")";
   std::string text;
   if (starting > stepping && static_start)
-    text = count(n) + " nodes x " + kb(kRodStaticStart) +
+    text = count(n) + " nodes x " + kb(solver::static_start_bytes_per_node()) +
            " (the static initial state: the 3D static system and its block-tridiagonal LU; initial_state.type)";
   else if (starting > stepping)
-    text = count(n) + " nodes x " + kb(kRodStatics) + " (the arch formation; initial_state.type)";
+    text = count(n) + " nodes x " + kb(solver::continuation_bytes_per_node()) + " (the arch formation; initial_state.type)";
   else
     text = stepping_text;
   m.detail = mesh_text(sc) + " on " + ranks + ": " + text + tail;
@@ -428,24 +422,21 @@ MemoryPlan rod_memory(const scene::Scene& sc, const RodPathGuess& path) {
 
 MemoryPlan beam_memory(const scene::Scene& sc, int ranks) {
   MemoryPlan m;
-  const double N = sc.mesh.nodes, n = owned_nodes(sc, ranks), modes = sc.beam.modes;
+  const double N = sc.mesh.nodes, n = owned_nodes(sc, ranks);
   // The deflection and the deflected shape (x, w, 0) are always written; slope and moment on
   // request.
-  double components = 4.0;
-  for (const auto f : sc.output.fields) components += f == scene::Field::deflection ? 0.0 : 1.0;
-  // Per owned node: positions and the fields' values, and the modes with their first two
-  // derivatives evaluated once at the node (three Eigen vectors of beam.modes values).
-  const double per_owned = 8.0 + 11.0 * components + 3.0 * (8.0 * modes + 32.0);
-  const double matrices = 80.0 * modes * modes + 48.0 * modes * static_cast<double>(sc.loads.size());
+  int components = 4;
+  for (const auto f : sc.output.fields) components += f == scene::Field::deflection ? 0 : 1;
+  const beam::BeamMemory b = beam::beam_memory(sc.beam.modes, static_cast<int>(sc.loads.size()), components);
   // The output steps the writer keeps until it flushes them (at most 64 MiB over all ranks,
   // this rank's share) and the step being written.
   const double kept = 64.0 * 1024.0 * 1024.0 * n / N + 8.0 * components * n;
-  m.bytes = kProgramBytes + 16.0 * N + per_owned * n + matrices + kept;
-  m.detail = mesh_text(sc) + " on " + ranks_text(ranks) + ": " + count(N) + " nodes x 16 bytes (quadrature, " +
-             "on every rank) + " + count(n) + " nodes x " + fmt(per_owned) + " bytes (positions, output.fields, " +
-             "the modes at the node) + " + format_bytes(kept) + " (output steps kept until a flush) + " +
-             format_bytes(matrices) + " (beam.modes = " + std::to_string(sc.beam.modes) + ": modal matrices) + " +
-             format_bytes(kProgramBytes) + " (program)";
+  m.bytes = kProgramBytes + b.per_quadrature_node * N + b.per_output_node * n + b.fixed + kept;
+  m.detail = mesh_text(sc) + " on " + ranks_text(ranks) + ": " + count(N) + " nodes x " + fmt(b.per_quadrature_node) +
+             " bytes (quadrature, on every rank) + " + count(n) + " nodes x " + fmt(b.per_output_node) +
+             " bytes (positions, output.fields, the modes at the node) + " + format_bytes(kept) +
+             " (output steps kept until a flush) + " + format_bytes(b.fixed) + " (beam.modes = " +
+             std::to_string(sc.beam.modes) + ": modal matrices) + " + format_bytes(kProgramBytes) + " (program)";
   m.keys = {mesh_key(sc), "beam.modes"};
   return m;
 }
@@ -590,9 +581,9 @@ void check_load_ratio(const scene::Scene& sc) {
                      model);
 }
 
-}  // namespace traverse::app
+}  // namespace traverse::setup
 
-namespace traverse::app {
+namespace traverse::setup {
 
 namespace {
 
@@ -648,9 +639,18 @@ void check_beam_static_deflection(const scene::Scene& sc) {
                      stiffness_text(sc) + ", beam.length = " + fmt(L) + " m");
 }
 
-BeamDeflectionCheck::BeamDeflectionCheck(const scene::Scene& sc) : sc_(sc) {
+BeamDeflectionCheck::BeamDeflectionCheck(const scene::Scene& sc, const beam::ModeSet& modes) : sc_(sc) {
   const int n = 8 * std::max(1, sc.beam.modes);
   for (int i = 0; i <= n; ++i) points_.push_back(sc.beam.length * i / n);
+  const Eigen::Index m = modes.size();
+  phi_.resize(static_cast<Eigen::Index>(points_.size()), m);
+  dphi_.resize(phi_.rows(), m);
+  VecX phi(m), dphi(m), ddphi(m);
+  for (Eigen::Index i = 0; i < phi_.rows(); ++i) {
+    modes.evaluate(points_[static_cast<size_t>(i)], phi, dphi, ddphi);
+    phi_.row(i) = phi.transpose();
+    dphi_.row(i) = dphi.transpose();
+  }
   const auto& b = sc.beam;
   const double L = b.length, EI = b.youngs_modulus * b.section.I1;
   double cw = 0.0, cs = 0.0;
@@ -659,6 +659,18 @@ BeamDeflectionCheck::BeamDeflectionCheck(const scene::Scene& sc) : sc_(sc) {
   for (const auto& l : sc.loads) P += l.force.norm();
   static_bound_ = cw * b.density * b.section.area * sc.gravity * std::pow(L, 4) / EI +
                   point_load_coefficient(b.supports) * P * std::pow(L, 3) / EI;
+}
+
+std::string BeamDeflectionCheck::why(double t, const VecX& Y) const {
+  const VecX w = phi_ * Y, slope = dphi_ * Y;
+  // The first largest of each (a NaN counts as largest: it is outside any range).
+  auto extreme = [&](const VecX& v) {
+    Extreme e;
+    for (Eigen::Index i = 0; i < v.size(); ++i)
+      if (!(std::abs(v(i)) <= std::abs(e.value))) e = {v(i), points_[static_cast<size_t>(i)]};
+    return e;
+  };
+  return message(t, extreme(w), extreme(slope));
 }
 
 std::string BeamDeflectionCheck::message(double t, const Extreme& w, const Extreme& slope) const {
@@ -681,6 +693,22 @@ std::string BeamDeflectionCheck::message(double t, const Extreme& w, const Extre
   return "beam model: the deflection leaves the small-deflection range of the beam at t = " + fmt(t) + " s: " + what +
          ". Decided by the largest load, " + r.what + " = " + fmt(r.W) + " N, against " + stiffness_text(sc_) +
          " (docs/beam.md \"Validity\"): use a smaller load or a stiffer beam, or the rod model for large deflections";
+}
+
+std::vector<std::string> under_resolved_load_warnings(const scene::Scene& sc, const TimeGrid& g) {
+  std::vector<std::string> out;
+  const double ds = sc.mesh.ds;
+  for (const auto& l : sc.loads) {
+    const double t_leave = std::min(g.t_end, l.exit_time(sc.rod.length));
+    const double v = std::max(std::abs(l.velocity(l.entry_time)), std::abs(l.velocity(std::max(l.entry_time, t_leave))));
+    if (!(v > 0.0 && g.dt * v > ds * (1.0 + 1e-9))) continue;
+    char cells[32];
+    std::snprintf(cells, sizeof cells, "%.3g", g.dt * v / ds);
+    out.push_back(sc.file + ": time.dt = " + fmt(g.dt) + " s moves load '" + l.name + "' (up to " + fmt(v) + " m/s) " +
+                  cells + " cells per step (mesh.ds = " + fmt(ds) +
+                  " m): its path is under-resolved in time (time.dt: auto gives ds / v)");
+  }
+  return out;
 }
 
 std::vector<std::string> idle_load_warnings(const scene::Scene& sc) {
@@ -706,4 +734,4 @@ std::vector<std::string> idle_load_warnings(const scene::Scene& sc) {
   return out;
 }
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

@@ -1,16 +1,25 @@
 #pragma once
 // The time integrator's schedule and the rod's error weights from a scene's time and
 // time.adaptive (docs/adaptive.md), for the rod and the beam runners.
+#include <mpi.h>
+
 #include <cstdio>
+#include <memory>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "traverse/core/step_controller.hpp"
+#include "traverse/output/restart.hpp"
 #include "traverse/output/writer.hpp"
+#include "traverse/rod/rod_model.hpp"
 #include "traverse/rod/time_error.hpp"
 #include "traverse/scene/scene.hpp"
+#include "traverse/solver/rod_error_estimate.hpp"
+#include "traverse/solver/rod_stepper.hpp"
 #include "traverse/time/time_integrator.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 /// dt_min defaults to 1e-6 time.dt; `order` is the scheme's (2 for the rod).
 inline StepControlParameters step_control_parameters(const scene::AdaptiveSpec& a, double dt, int order = 2) {
@@ -58,4 +67,21 @@ inline void write_adaptive_totals(output::Writer& w, const StepControlTotals& t)
   w.set_attribute("dt_largest", buf);
 }
 
-}  // namespace traverse::app
+/// The first time after t at which one of the prescribed moving loads (not a coupled mass)
+/// enters the rod or reaches one of its nodes (the multiples of ds in [0, length]): there the
+/// hat weights that share its force between the nodes have a kink in time. +inf if none.
+double next_node_crossing(const std::vector<scene::MovingLoadSpec>& loads, double t, double ds, double length);
+
+/// Values per node of a rod run's restart point: the node, and with time.adaptive the error
+/// estimate's two earlier levels.
+std::size_t rod_restart_components(const scene::Scene& sc);
+
+/// The adaptive steps' error estimate of a rod run: started at the stepper's current level, or
+/// restored from the restart point `point` (not null) with the controller's state into
+/// `controller`. Collective.
+std::unique_ptr<solver::RodErrorEstimate> rod_error_estimate(const scene::Scene& sc, const rod::RodModel& model,
+                                                             const solver::RodStepper& st,
+                                                             const output::RestartPoint* point, MPI_Comm comm,
+                                                             std::optional<time::ControllerState>& controller);
+
+}  // namespace traverse::setup

@@ -10,7 +10,7 @@
 #include "traverse/scene/scene.hpp"
 #include "traverse/solver/arch_formation.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 /// The scene's rod formed into an arch with end-to-end distance initial_state.end_to_end
 /// (solver::form_arch); throws std::runtime_error saying which stage failed.
@@ -19,4 +19,4 @@ solver::ArchFormation form_arch(const scene::Scene& sc, const Teuchos::RCP<const
 /// One line describing a formed arch, for the log.
 std::string arch_summary(const solver::ArchFormation& arch);
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

@@ -1,13 +1,11 @@
-// The up-front checks of a run (run_limits.hpp) for each kind of run, collective over the
-// ranks: every rank computes the same estimate and gets the same limit, so all refuse together.
-#include <mpi.h>
+// The up-front checks of each kind of run (run_checks.hpp).
+#include "traverse/setup/run_checks.hpp"
 
-#include "memory_limit.hpp"
-#include "mpi_session.hpp"
-#include "rod_setup.hpp"
-#include "run.hpp"
+#include "traverse/setup/memory_limit.hpp"
+#include "traverse/setup/rod_setup.hpp"
+#include "traverse/core/comm.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 namespace {
 
@@ -68,7 +66,24 @@ void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
                        scene::format_number(model.alpha.bs) + ", gs = " + scene::format_number(model.alpha.gs) + ")");
 }
 
+constexpr int kMaxCoupledNodes = 20001;  // the whole state is kept (and gathered each step) on every rank
+
 }  // namespace
+
+void check_coupled_rod(const scene::Scene& sc, const rod::RodModel& model) {
+  const auto& a = model.alpha;
+  for (double w : {a.as, a.bs, a.gs, a.at, a.bt, a.gt})
+    if (w != 0.5)
+      scene::fail_at(sc, "scheme.rho_inf", "rho_inf = rho_inf_space = 1 (all six parameters 1/2) with a coupled_mass "
+                     "(its midpoint rule is the box scheme's; other parameters are not yet supported)",
+                     "parameters (" + scene::format_number(a.as) + ", " + scene::format_number(a.bs) + ", " +
+                         scene::format_number(a.gs) + ", " + scene::format_number(a.at) + ", " +
+                         scene::format_number(a.bt) + ", " + scene::format_number(a.gt) + ")");
+  if (sc.mesh.nodes > kMaxCoupledNodes)
+    scene::fail_at(sc, sc.has("mesh.ds") ? "mesh.ds" : "mesh.nodes",
+                   "at most " + std::to_string(kMaxCoupledNodes) + " nodes with a coupled_mass on the rod (its run "
+                   "keeps the whole rod on every rank)", std::to_string(sc.mesh.nodes) + " nodes");
+}
 
 CheckedRun check_beam_run(const scene::Scene& sc, const RunLimits& limits, MPI_Comm comm) {
   CheckedRun out;
@@ -76,7 +91,7 @@ CheckedRun check_beam_run(const scene::Scene& sc, const RunLimits& limits, MPI_C
   check_load_ratio(sc);
   check_beam_static_deflection(sc);
   check_load_speeds(sc);
-  const MemoryPlan memory = beam_memory(sc, comm_size(comm));
+  const MemoryPlan memory = beam_memory(sc, par::size(comm));
   const MemoryLimit limit = memory_limit(limits, comm);
   check_memory(sc, memory, limit);
   TimePlan time = beam_time_plan(sc);
@@ -92,7 +107,7 @@ CheckedRun check_rod_run(const scene::Scene& sc, const rod::RodModel& model, con
   check_properties(sc);
   check_rod_model(sc, model);
   check_load_ratio(sc);
-  const RodPathGuess path{expect_planar(sc, model), comm_size(comm)};
+  const RodPathGuess path{expect_planar(sc, model), par::size(comm)};
   const MemoryPlan memory = rod_memory(sc, path);
   const MemoryLimit limit = memory_limit(limits, comm);
   check_memory(sc, memory, limit);
@@ -117,4 +132,4 @@ std::string check_run(const scene::Scene& sc, const RunLimits& limits, MPI_Comm 
   }
 }
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

@@ -12,7 +12,7 @@
 #include "traverse/rod/static_kernels.hpp"
 #include "traverse/scene/scene.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 /// The values a quantity is computed from at one node. Static nodes have u = omega = 0.
 struct NodeView {
@@ -63,4 +63,4 @@ scene::Quantity field_quantity(scene::Field f);
 /// stretch |v|, the axial force n . v / |v|, the others their quantity in body components.
 void field_values(scene::Field f, const NodeView& node, const rod::RodProperties& props, double* out);
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

@@ -1,4 +1,4 @@
-#include "rod_setup.hpp"
+#include "traverse/setup/rod_setup.hpp"
 
 
 #include <algorithm>
@@ -8,17 +8,17 @@
 #include <sstream>
 #include <utility>
 
-#include "run.hpp"
-#include "run_limits.hpp"
+#include "traverse/core/numerics_error.hpp"
+#include "traverse/setup/run_checks.hpp"
+#include "traverse/setup/run_limits.hpp"
 #include "traverse/output/output_error.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 #include "traverse/mesh/mesh.hpp"
-#include "mpi_session.hpp"
 #include "traverse/core/comm.hpp"
-#include "solver_access.hpp"
+#include "traverse/setup/solver_access.hpp"
 #include "traverse/solver/solver_parameters.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 rod::RodStrain rod_strain(scene::RodStrain s) {
   switch (s) {
@@ -80,7 +80,7 @@ std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, c
   std::string msg = "initial static state: no equilibrium found under the load: " + rep.message;
   if (rep.failed_factor > 0.0)
     msg += "; the last Newton solve, at load factor " + fmt(rep.failed_factor) + ", stopped with max |residual| " +
-           fmt(rep.failed_residual) + " (the test is " + fmt(rod::StaticSolver().ftol * rep.failed_scale) +
+           fmt(rep.failed_residual) + " (the test is " + fmt(rod::StaticTolerances().ftol * rep.failed_scale) +
            "): " + rep.failed_reason;
   msg += "; " + std::to_string(rep.iterations) + " Newton iterations in all. The load: ";
   std::string loads;
@@ -404,7 +404,7 @@ PathChoice choose_path(const scene::Scene& sc, const rod::RodModel& model, const
 }
 
 std::unique_ptr<solver::RodStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm) {
-  const int ranks = comm_size(comm);
+  const int ranks = par::size(comm);
   try {
     return distributed_stepper(setup.model, setup.solver, comm);
   } catch (const std::invalid_argument& e) {
@@ -412,5 +412,38 @@ std::unique_ptr<solver::RodStepper> make_stepper(const scene::Scene& sc, const R
   }
 }
 
-}  // namespace traverse::app
+std::string explain_step_failure(const std::string& where, const solver::StepFailure& e, const rod::RodModel& model,
+                                 const TimeGrid& g, const LoadRatio& load) {
+  std::ostringstream os;
+  os << where << " (t = " << e.time() << " s, dt = " << e.step() << " s) failed after halving it " << e.depth()
+     << " times: " << e.report().status << " (residual ";
+  // A norm is >= 0: NOX reports a non-finite residual as a huge negative number.
+  const double residual = e.report().residual_norm;
+  if (residual >= 0.0 && std::isfinite(residual)) os << residual;
+  else os << "not finite";
+  os << "); ";
+  const double ds = model.ds(), cell_time = ds * ds * std::sqrt(model.props.rhoA / model.props.bending_stiffness());
+  const double h = e.step();
+  // The step is time.dt, or the last one, shortened to end at time.end.
+  const bool last = std::abs(e.time() + h - g.t_end) <= 1e-9 * g.dt && h < g.dt * (1.0 - 1e-6);
+  if (h < 1e-6 * cell_time) {
+    os << (last ? "the last step, to time.end = " + scene::format_number(g.t_end) + " s, is "
+                : "time.dt = " + scene::format_number(g.dt) + " s is ")
+       << cell_time / h << " times shorter than a bending wave needs to cross a cell (mesh.ds^2 sqrt(rho A / (E I)) = "
+       << cell_time << " s), where the rounding of the 1/dt terms keeps the residual above 'Residual Tolerance': try "
+       << (!last ? "a larger time.dt (auto: mesh.ds / the fastest loads.*.speed)"
+           : g.steps == 1 ? "a larger time.end" : "a time.end that is a whole number of time.dt steps")
+       << " or a larger 'Residual Tolerance' in solver";
+  } else {
+    os << "try scheme.rho_inf < 1, a smaller time.dt, or a larger 'Max Subdivision Depth' in solver";
+  }
+  // A load the rod can hardly carry: say so, with the keys (the static start's criterion).
+  if (load.ratio > 1e5)
+    os << "; the load ratio W L^2 / (E I) = " << load.ratio << " is large (W = " << load.W << " N from " << load.what
+       << ", E I = " << load.EI << " N m^2 from rod.youngs_modulus and rod.section): a smaller load or a stiffer rod "
+       << "may be needed";
+  return os.str();
+}
 
+
+}  // namespace traverse::setup

@@ -10,11 +10,12 @@
 #include <vector>
 
 #include "traverse/beam/beam_simulation.hpp"
+#include "traverse/beam/mode_set.hpp"
 #include "traverse/beam/uniform_modes.hpp"
 #include "traverse/core/time_grid.hpp"
 #include "traverse/scene/scene.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 /// Default of --max-steps: a sanity limit on the number of time steps (10^7: about 6 hours
 /// of the default scene's 101-node rod, far beyond any scene in inputs/).
@@ -143,35 +144,27 @@ constexpr double kMaxBeamSlope = 0.2;
 void check_beam_static_deflection(const scene::Scene& sc);
 
 /// The small-deflection check of a running beam: the largest |w| and |w_x| over 8 points per
-/// mode (and the ends) at an output time. `why` gives the message of a state outside the range
+/// mode (and the ends) at an output time, from the modes at those points evaluated once (two
+/// matrix-vector products per check). `why` gives the message of a state outside the range
 /// (the figures, the bound, the keys that decide it), or "" for a state inside. A deflection
 /// above 10 times the largest static deflection the loads can cause (the beam's weight and
 /// every load's force at its worst place, closed forms: twice that is the most a suddenly
 /// applied load gives) is no physics but an unstable integration, and is reported as such.
 class BeamDeflectionCheck {
  public:
-  explicit BeamDeflectionCheck(const scene::Scene& sc);
-  template <class State>
-  std::string why(double t, const State& s) const {
-    Extreme w, slope;
-    for (double x : points_) {
-      w.take(s.deflection(x), x);
-      slope.take(s.slope(x), x);
-    }
-    return message(t, w, slope);
-  }
+  BeamDeflectionCheck(const scene::Scene& sc, const beam::ModeSet& modes);
+  /// At modal coordinates Y (the beam's n modes) at time t.
+  std::string why(double t, const VecX& Y) const;
 
  private:
   struct Extreme {
     double value = 0.0, at = 0.0;
-    void take(double v, double x) {
-      if (!(std::abs(v) <= std::abs(value))) value = v, at = x;
-    }
   };
   std::string message(double t, const Extreme& w, const Extreme& slope) const;
   const scene::Scene& sc_;
   std::vector<double> points_;
-  double static_bound_ = 0.0;  ///< the largest static deflection the loads can cause [m]
+  Eigen::MatrixXd phi_, dphi_;  ///< the modes and their slopes at the points (points x modes)
+  double static_bound_ = 0.0;   ///< the largest static deflection the loads can cause [m]
 };
 
 /// Warnings for the loads that can do nothing (docs/reliability.md "Runs outside what the
@@ -180,6 +173,11 @@ class BeamDeflectionCheck {
 /// time.end; one line per load naming its keys. A structure at rest under no load
 /// stays at rest: such a run computes nothing the scene meant.
 std::vector<std::string> idle_load_warnings(const scene::Scene& sc);
+
+/// Warnings for the loads a rod run's time grid under-resolves: a load that crosses more than
+/// one cell per time step is resolved by the space grid but not in time; the run goes on (it
+/// converges as dt falls). One line per load naming its keys.
+std::vector<std::string> under_resolved_load_warnings(const scene::Scene& sc, const TimeGrid& g);
 
 /// Bytes as "512 MiB", "3.2 GiB".
 std::string format_bytes(double bytes);
@@ -195,4 +193,4 @@ std::string load_magnitude_key(const scene::Scene& sc, const scene::MovingLoadSp
 /// is located).
 std::string deciding_key(const scene::Scene& sc, const std::vector<std::string>& keys);
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

@@ -1,8 +1,8 @@
-#include "rod_quantities.hpp"
+#include "traverse/setup/rod_quantities.hpp"
 
 #include <stdexcept>
 
-namespace traverse::app {
+namespace traverse::setup {
 
 using scene::Field;
 using scene::Quantity;
@@ -118,4 +118,4 @@ void declare_rod_probes(output::Writer& w, const std::vector<scene::OutputProbeS
   }
 }
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

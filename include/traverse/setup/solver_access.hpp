@@ -14,7 +14,7 @@
 #include "traverse/solver/static_start.hpp"
 #include "traverse/solver/rod_stepper.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 /// Kokkos (started once, until finish_solver_runtime) and Tpetra for the lifetime of the object.
 class TpetraScope {
@@ -43,4 +43,8 @@ solver::StaticStart distributed_static_start(const rod::StaticModel& m, const Te
 rod::RodState arch_start(const scene::Scene& sc, const Teuchos::ParameterList& solver, MPI_Comm comm,
                          std::string& description);
 
-}  // namespace traverse::app
+/// Ends what rod runs started for the whole process (Kokkos, started by the first rod run
+/// and kept for the next ones, e.g. the cases of a sweep); call before MPI_Finalize.
+void finish_solver_runtime();
+
+}  // namespace traverse::setup

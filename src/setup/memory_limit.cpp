@@ -1,4 +1,4 @@
-#include "memory_limit.hpp"
+#include "traverse/setup/memory_limit.hpp"
 
 #include <sys/resource.h>
 #include <unistd.h>
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace traverse::app {
+namespace traverse::setup {
 
 namespace {
 
@@ -143,4 +143,4 @@ MemoryLimit memory_limit(const RunLimits& limits, MPI_Comm comm) {
   return {out.value, source};
 }
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

@@ -2,9 +2,9 @@
 // What the machine allows one rank to use, for the memory check of run_limits.hpp.
 #include <mpi.h>
 
-#include "run_limits.hpp"
+#include "traverse/setup/run_limits.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 /// The memory one rank may use: --max-memory when given; else the memory available on this
 /// host (the smallest of /proc/meminfo MemAvailable and the room left under this process's
@@ -15,4 +15,4 @@ namespace traverse::app {
 /// launcher), this process alone.
 MemoryLimit memory_limit(const RunLimits& limits, MPI_Comm comm);
 
-}  // namespace traverse::app
+}  // namespace traverse::setup

@@ -16,12 +16,14 @@
 #include "traverse/rod/rod_model.hpp"
 #include "traverse/rod/static_kernels.hpp"
 #include "traverse/rod/static_problem.hpp"
-#include "traverse/rod/static_solver.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 #include "traverse/rod/rod_state.hpp"
 #include "traverse/scene/scene.hpp"
 #include "traverse/solver/rod_stepper.hpp"
+#include "traverse/solver/step_failure.hpp"
+#include "traverse/setup/run_limits.hpp"
 
-namespace traverse::app {
+namespace traverse::setup {
 
 /// The rod module's word for rod.model.
 rod::RodStrain rod_strain(scene::RodStrain s);
@@ -126,4 +128,10 @@ std::vector<rod::RodNode> gather_nodes(const solver::RodStepper& st, const std::
 /// this many ranks is bad input (linear_solver_refused).
 std::unique_ptr<solver::RodStepper> make_stepper(const scene::Scene& sc, const RodSetup& setup, MPI_Comm comm);
 
-}  // namespace traverse::app
+/// The message of a failed fixed step: where and why, and what to try. A step far shorter
+/// than the time a bending wave needs to cross a cell cannot converge by shortening it: the
+/// residual's 1/dt terms round above the absolute residual tolerance.
+std::string explain_step_failure(const std::string& where, const solver::StepFailure& e, const rod::RodModel& model,
+                                 const TimeGrid& g, const LoadRatio& load);
+
+}  // namespace traverse::setup

@@ -1,0 +1,80 @@
+#pragma once
+// What a rod run writes at an output step: the scene's probes and fields (the quantity table
+// of rod_quantities.hpp), each load's position, and for a coupled mass its probes and the
+// energies.
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+#include "traverse/core/types.hpp"
+#include "traverse/output/writer.hpp"
+#include "traverse/rod/coupled_mass_rod.hpp"
+#include "traverse/rod/rod_model.hpp"
+#include "traverse/rod/rod_state.hpp"
+#include "traverse/scene/scene.hpp"
+#include "traverse/solver/coupled_rod_time_model.hpp"
+#include "traverse/solver/rod_stepper.hpp"
+
+namespace traverse::setup {
+
+/// The outputs of a rod run: the scene's probes and fields plus each load's position,
+/// declared in the output file and evaluated at an output step.
+class RodOutputs {
+ public:
+  RodOutputs(const scene::Scene& sc, const rod::RodModel& model, const solver::RodStepper& st, MPI_Comm comm);
+  /// Names as the output file holds them, in declaration order (a restart's copy).
+  std::vector<std::string> probe_names() const;
+  std::vector<std::string> field_names() const;
+  output::NodeLayout layout() const;
+  void declare(output::Writer& w) const;
+  void write(output::Writer& w, double t, const Vec3& r0);
+
+ private:
+  void evaluate_probes(const std::vector<rod::RodNode>& near, const std::vector<Vec3>& near_r);
+  void evaluate_fields(const std::vector<Vec3>& r);
+  std::vector<Vec3> owned_centreline(const Vec3& r0) const;
+  std::vector<Vec3> near_positions(const std::vector<Vec3>& r) const;
+  const scene::Scene& sc_;
+  const rod::RodModel& model_;
+  const solver::RodStepper& st_;
+  MPI_Comm comm_;
+  int num_cells_, first_, count_;
+  rod::OutputNeeds needs_;
+  std::vector<std::vector<double>> probe_values_, field_values_;
+  std::vector<double> sigma_;
+};
+
+/// The outputs of a rod run with a coupled mass: the scene's probes and fields, the mass's
+/// probes (position, speed, fixed-frame position and velocity, contact forces) and the
+/// energies, from the whole state (kept on every rank); the fields of this rank's nodes.
+class CoupledRodOutputs {
+ public:
+  /// The fields of nodes first .. first + count - 1 are this rank's.
+  CoupledRodOutputs(const scene::Scene& sc, const scene::MovingLoadSpec& load, const rod::RodModel& model, int first,
+                    int count)
+      : sc_(sc), load_(load), model_(model), first_(first), count_(count) {}
+  output::NodeLayout layout() const {
+    output::NodeLayout l;
+    l.global_count = static_cast<size_t>(sc_.mesh.nodes);
+    l.first = static_cast<size_t>(first_);
+    l.count = static_cast<size_t>(count_);
+    for (int j = first_; j < first_ + count_; ++j) l.s.push_back(j * sc_.mesh.ds);
+    return l;
+  }
+  void declare(output::Writer& w) const;
+  std::vector<std::string> probe_names() const;
+  std::vector<std::string> field_names() const;
+  /// Evaluates the outputs at a state and writes them.
+  void write(output::Writer& w, const rod::RodState& s, const std::vector<Vec3>& r, const rod::CoupledMassState& m,
+             const solver::ContactHistory& c);
+
+ private:
+  const scene::Scene& sc_;
+  const scene::MovingLoadSpec& load_;
+  const rod::RodModel& model_;
+  int first_, count_;
+  std::vector<std::vector<double>> probes_, fields_;
+};
+
+}  // namespace traverse::setup

@@ -1,0 +1,223 @@
+// What a rod run writes at an output step (rod_outputs.hpp).
+#include "traverse/setup/rod_outputs.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "traverse/core/comm.hpp"
+#include "traverse/rod/coupled_mass_rod.hpp"
+#include "traverse/setup/rod_quantities.hpp"
+#include "traverse/setup/rod_setup.hpp"
+
+namespace traverse::setup {
+
+namespace {
+
+// The scene's fields at `count` nodes (node_at(k): the view of the k-th), per node the field's
+// rod_field_info components (field_values): a quantity's 3 values in the body frame, the 9
+// entries of R row by row, or the one value of stretch and axial_force.
+template <class NodeAt>
+void evaluate_rod_fields(const std::vector<scene::Field>& fields, int count, const NodeAt& node_at,
+                         const rod::RodProperties& props, std::vector<std::vector<double>>& values) {
+  values.resize(fields.size());
+  for (size_t f = 0; f < fields.size(); ++f) {
+    const size_t comps = rod_field_info(fields[f]).components;
+    values[f].resize(comps * static_cast<size_t>(count));
+    for (int k = 0; k < count; ++k)
+      field_values(fields[f], node_at(k), props, values[f].data() + comps * static_cast<size_t>(k));
+  }
+}
+
+const char* const kMassProbes[] = {"_position", "_speed", "_fixed_position", "_fixed_velocity", "_normal_force",
+                                    "_tangential_force"};
+const char* const kEnergyProbes[] = {"energy_rod", "energy_rod_gravity", "energy_mass_kinetic", "energy_mass_gravity",
+                                     "work_drive", "work_dissipated", "work_friction", "energy_balance"};
+
+}  // namespace
+
+RodOutputs::RodOutputs(const scene::Scene& sc, const rod::RodModel& model, const solver::RodStepper& st,
+                       MPI_Comm comm)
+    : sc_(sc), model_(model), st_(st), comm_(comm), num_cells_(sc.mesh.nodes - 1), first_(st.first_owned_node()),
+      count_(st.num_owned_nodes()) {
+  // What the outputs read at an output step: the nodes around the probes, and the centreline
+  // (each rank its own nodes) only for a position probe or the field r.
+  std::vector<rod::PointOutput> points;
+  for (const auto& pr : sc.output.probes) points.push_back({pr.at, pr.quantity == scene::Quantity::position});
+  bool r_field = false;
+  for (const auto f : sc.output.fields) r_field = r_field || f == scene::Field::r;
+  needs_ = rod::output_needs(num_cells_, sc.mesh.ds, points, r_field);
+  probe_values_.assign(sc.output.probes.size() + sc.loads.size(), std::vector<double>(1));
+  for (size_t i = 0; i < sc.output.probes.size(); ++i) probe_values_[i].assign(3, 0.0);
+  field_values_.resize(sc.output.fields.size());
+  sigma_.assign(std::max<size_t>(1, sc.loads.size()), std::numeric_limits<double>::quiet_NaN());
+}
+
+std::vector<std::string> RodOutputs::probe_names() const {
+  std::vector<std::string> names;
+  for (const auto& pr : sc_.output.probes) names.push_back(pr.name);
+  for (const auto& l : sc_.loads) names.push_back(l.name + "_position");
+  return names;
+}
+
+std::vector<std::string> RodOutputs::field_names() const {
+  std::vector<std::string> names;
+  for (const auto f : sc_.output.fields) names.push_back(scene::name_of(f));
+  return names;
+}
+
+output::NodeLayout RodOutputs::layout() const {
+  output::NodeLayout layout;
+  layout.global_count = static_cast<size_t>(num_cells_ + 1);
+  layout.first = static_cast<size_t>(first_);
+  layout.count = static_cast<size_t>(count_);
+  for (int k = 0; k < count_; ++k) layout.s.push_back((first_ + k) * sc_.mesh.ds);
+  return layout;
+}
+
+void RodOutputs::declare(output::Writer& w) const {
+  declare_rod_probes(w, sc_.output.probes);
+  for (const auto& l : sc_.loads)
+    w.add_probe({l.name + "_position", 1, "m", "arclength sigma(t) of load '" + l.name + "'", {}});
+  for (const auto f : sc_.output.fields) {
+    const RodFieldInfo fi = rod_field_info(f);
+    w.add_field({scene::name_of(f), fi.components, fi.units, fi.description, fi.component_names, fi.geometry});
+  }
+}
+
+void RodOutputs::evaluate_probes(const std::vector<rod::RodNode>& near, const std::vector<Vec3>& near_r) {
+  auto view = [&](int j) {
+    const auto i = static_cast<size_t>(std::lower_bound(needs_.nodes.begin(), needs_.nodes.end(), j) - needs_.nodes.begin());
+    return node_view(near[i], near_r.empty() ? Vec3::Zero() : near_r[i]);
+  };
+  for (size_t i = 0; i < sc_.output.probes.size(); ++i) {
+    const auto& pr = sc_.output.probes[i];
+    const Vec3 v = quantity_at(pr.quantity, pr.at, sc_.mesh.ds, num_cells_, model_.props, pr.frame, view);
+    probe_values_[i].assign(v.data(), v.data() + 3);
+  }
+}
+
+void RodOutputs::evaluate_fields(const std::vector<Vec3>& r) {
+  auto view = [&](int k) {
+    return node_view(st_.owned_node(k), r.empty() ? Vec3::Zero() : r[static_cast<size_t>(k)]);
+  };
+  evaluate_rod_fields(sc_.output.fields, count_, view, model_.props, field_values_);
+}
+
+// The centreline at this rank's nodes from r(0) = r0: each rank sums up its piece, the
+// summaries of all ranks give each its start (rod::centreline_starts), and it integrates its
+// own nodes from there.
+std::vector<Vec3> RodOutputs::owned_centreline(const Vec3& r0) const {
+  std::vector<Vec3> t(static_cast<size_t>(count_));
+  for (int k = 0; k < count_; ++k) t[static_cast<size_t>(k)] = rod::tangent(st_.owned_node(k), model_.props);
+  const rod::CentrelinePiece mine = rod::centreline_piece(t, first_, model_.ds(), first_ == 0 ? r0 : Vec3::Zero());
+  const int rank = par::rank(comm_);
+  std::vector<rod::CentrelinePiece> all(static_cast<size_t>(par::size(comm_)));
+  par::allgather_bytes(&mine, sizeof mine, all.data(), comm_);
+  return rod::centreline_from(t, model_.ds(), rod::centreline_starts(all, model_.ds(), r0)[static_cast<size_t>(rank)]);
+}
+
+// r at the nodes the probes read (needs_.nodes), on every rank, from their owners' `r`.
+std::vector<Vec3> RodOutputs::near_positions(const std::vector<Vec3>& r) const {
+  const std::vector<int>& wanted = needs_.nodes;
+  std::vector<double> local(3 * wanted.size(), 0.0), all(local.size());
+  for (size_t i = 0; i < wanted.size(); ++i)
+    if (wanted[i] >= first_ && wanted[i] < first_ + count_) {
+      const Vec3& p = r[static_cast<size_t>(wanted[i] - first_)];
+      std::copy(p.data(), p.data() + 3, &local[3 * i]);
+    }
+  par::allreduce(local.data(), all.data(), static_cast<int>(local.size()), MPI_DOUBLE, MPI_SUM, comm_);
+  std::vector<Vec3> out(wanted.size());
+  for (size_t i = 0; i < wanted.size(); ++i) out[i] = Vec3(all[3 * i], all[3 * i + 1], all[3 * i + 2]);
+  return out;
+}
+
+void RodOutputs::write(output::Writer& w, double t, const Vec3& r0) {
+  std::vector<Vec3> r, near_r;     // r at the owned nodes and at needs_.nodes (with the centreline)
+  std::vector<rod::RodNode> near;  // needs_.nodes
+  if (needs_.centreline) r = owned_centreline(r0);
+  if (!needs_.nodes.empty()) {
+    near = gather_nodes(st_, needs_.nodes, comm_);
+    if (needs_.centreline) near_r = near_positions(r);
+  }
+  evaluate_probes(near, near_r);
+  for (size_t i = 0; i < sc_.loads.size(); ++i) {
+    sigma_[i] = sc_.loads[i].sigma(t);
+    probe_values_[sc_.output.probes.size() + i][0] = sigma_[i];
+  }
+  evaluate_fields(r);
+  std::vector<output::DoubleView> views(field_values_.begin(), field_values_.end());
+  w.write_step(t, sigma_, probe_values_, views);
+}
+
+std::vector<std::string> CoupledRodOutputs::probe_names() const {
+  std::vector<std::string> names;
+  for (const auto& pr : sc_.output.probes) names.push_back(pr.name);
+  for (const char* q : kMassProbes) names.push_back(load_.name + q);
+  for (const char* e : kEnergyProbes) names.push_back(e);
+  return names;
+}
+
+std::vector<std::string> CoupledRodOutputs::field_names() const {
+  std::vector<std::string> names;
+  for (const auto f : sc_.output.fields) names.push_back(scene::name_of(f));
+  return names;
+}
+
+void CoupledRodOutputs::declare(output::Writer& w) const {
+  declare_rod_probes(w, sc_.output.probes);
+  const std::vector<std::string> xyz{"x", "y", "z"};
+  const std::string n = load_.name, q = "coupled mass '" + n + "'";
+  w.add_probe({n + "_position", 1, "m", "arclength sigma(t) of " + q, {}});
+  w.add_probe({n + "_speed", 1, "m/s", "speed sigma'(t) of " + q + " along the rod (signed)", {}});
+  w.add_probe({n + "_fixed_position", 3, "m", "fixed-frame position r(sigma) of " + q, xyz});
+  w.add_probe({n + "_fixed_velocity", 3, "m/s", "fixed-frame velocity p' = U + sigma' d3 of " + q, xyz});
+  w.add_probe({n + "_normal_force", 3, "N", "normal contact force of the rod on " + q +
+               ", fixed frame, over the step ending here (NaN at t = 0)", xyz});
+  w.add_probe({n + "_tangential_force", 1, "N", "tangential contact force of the rod on " + q +
+               " (0 without friction; NaN at t = 0)", {}});
+  const std::pair<const char*, const char*> energies[] = {
+      {"energy_rod", "rod kinetic + elastic energy (discrete_energy, cell averages)"},
+      {"energy_rod_gravity", "rod gravity potential, -int rhoA g . r ds"},
+      {"energy_mass_kinetic", "kinetic energy of the coupled mass 1/2 M |p'|^2"},
+      {"energy_mass_gravity", "gravity potential of the coupled mass -M g . r(sigma)"},
+      {"work_drive", "work of the drive since the start"},
+      {"work_dissipated", "work dissipated by the resistance since the start"},
+      {"work_friction", "work dissipated by the Coulomb friction since the start, int mu |C_perp| |sigma'| dt"},
+      {"energy_balance", "mechanical energy - work_drive + work_dissipated + work_friction (constant up to the "
+                         "discretisation)"}};
+  for (const auto& [name, what] : energies) w.add_probe({name, 1, "J", what, {}});
+  for (const auto f : sc_.output.fields) {
+    const RodFieldInfo fi = rod_field_info(f);
+    w.add_field({scene::name_of(f), fi.components, fi.units, fi.description, fi.component_names, fi.geometry});
+  }
+}
+
+void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const std::vector<Vec3>& r,
+                              const rod::CoupledMassState& m, const solver::ContactHistory& c) {
+  probes_.clear();
+  const int N = s.num_cells();
+  auto view = [&](int j) { return node_view(s.nodes[static_cast<size_t>(j)], r[static_cast<size_t>(j)]); };
+  for (const auto& pr : sc_.output.probes) {
+    const Vec3 v = quantity_at(pr.quantity, pr.at, sc_.mesh.ds, N, model_.props, pr.frame, view);
+    probes_.push_back({v.x(), v.y(), v.z()});
+  }
+  const rod::NodeInterpolation at = rod::locate_on_nodes(m.sigma, s.ds, N);
+  const Vec3 rp = (1.0 - at.xi) * r[static_cast<size_t>(at.j)] + at.xi * r[static_cast<size_t>(at.j + 1)];
+  const Vec3 pv = rod::mass_velocity(s, m);
+  probes_.push_back({m.sigma});
+  probes_.push_back({m.speed});
+  probes_.push_back({rp.x(), rp.y(), rp.z()});
+  probes_.push_back({pv.x(), pv.y(), pv.z()});
+  probes_.push_back({c.normal.x(), c.normal.y(), c.normal.z()});
+  probes_.push_back({c.tangential});
+  const auto e = rod::coupled_energies(model_, s, r, m, load_.mass);
+  for (double v : {e.rod, e.rod_gravity, e.mass_kinetic, e.mass_gravity, e.drive_work, e.dissipated, e.friction_work,
+                   e.balance()})
+    probes_.push_back({v});
+  auto owned_view = [&](int k) { return view(first_ + k); };
+  evaluate_rod_fields(sc_.output.fields, count_, owned_view, model_.props, fields_);
+  std::vector<output::DoubleView> views(fields_.begin(), fields_.end());
+  w.write_step(s.t, {m.sigma}, probes_, views);
+}
+
+}  // namespace traverse::setup
