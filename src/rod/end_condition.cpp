@@ -32,11 +32,12 @@ using Jacobian6 = Eigen::Matrix<double, 6, 12>;
 // ---------------------------------------------------------------------------------------
 struct EndValues {
   Vec3 u, w, n, m;  // velocity, spin, force, moment (body components)
+  Vec3 dm;          // d m / d kappa (diagonal): K, plus B_bt d kappa_t / d kappa with viscosity
 };
 
 // Rows 3..5 of a pin about the fixed axis `axis`: omega perpendicular to it is zero (2) and
 // there is no moment about it (1).
-void pin_rows(const Vec3& axis, const RodProperties& props, const Vec3& w, const Vec3& m, const Mat3& R,
+void pin_rows(const Vec3& axis, const Vec3& dm, const Vec3& w, const Vec3& m, const Mat3& R,
               const Mat3& G, Vec6& r, Jacobian6& J) {
   Vec3 b1, b2;
   perpendicular_pair(axis, b1, b2);
@@ -46,7 +47,7 @@ void pin_rows(const Vec3& axis, const RodProperties& props, const Vec3& w, const
   J.block<1, 3>(3, var::omega) = p1.transpose() + w.transpose() * hat(p1) * G;
   J.block<1, 3>(4, var::omega) = p2.transpose() + w.transpose() * hat(p2) * G;
   r(5) = m.dot(a);
-  J.block<1, 3>(5, var::kappa) = a.cwiseProduct(props.K).transpose();
+  J.block<1, 3>(5, var::kappa) = a.cwiseProduct(dm).transpose();
   J.block<1, 3>(5, var::omega) = m.transpose() * hat(a) * G;
 }
 
@@ -76,11 +77,11 @@ void clamped_rows(const EndCondition&, const RodProperties&, double, const EndVa
   J.block<3, 3>(3, var::omega) = Mat3::Identity();
 }
 
-void pinned_rows(const EndCondition& c, const RodProperties& props, double, const EndValues& v, const Mat3& R,
+void pinned_rows(const EndCondition& c, const RodProperties&, double, const EndValues& v, const Mat3& R,
                  const Mat3& G, Vec6& r, Jacobian6& J) {
   r.head<3>() = v.u;
   J.block<3, 3>(0, var::u) = Mat3::Identity();
-  pin_rows(c.axis, props, v.w, v.m, R, G, r, J);
+  pin_rows(c.axis, v.dm, v.w, v.m, R, G, r, J);
 }
 
 void sliding_rows(const EndCondition& c, const RodProperties&, double, const EndValues& v, const Mat3& R,
@@ -90,18 +91,18 @@ void sliding_rows(const EndCondition& c, const RodProperties&, double, const End
   J.block<3, 3>(2, var::omega) = Mat3::Identity();
 }
 
-void roller_rows(const EndCondition& c, const RodProperties& props, double, const EndValues& v, const Mat3& R,
+void roller_rows(const EndCondition& c, const RodProperties&, double, const EndValues& v, const Mat3& R,
                  const Mat3& G, Vec6& r, Jacobian6& J) {
   slide_rows(c.slide_axis, c.axial_force, 2, v.u, v.n, R, G, r, J);
-  pin_rows(c.axis, props, v.w, v.m, R, G, r, J);
+  pin_rows(c.axis, v.dm, v.w, v.m, R, G, r, J);
 }
 
-void free_rows(const EndCondition&, const RodProperties& props, double, const EndValues& v, const Mat3&, const Mat3&,
+void free_rows(const EndCondition&, const RodProperties&, double, const EndValues& v, const Mat3&, const Mat3&,
                Vec6& r, Jacobian6& J) {
   r.head<3>() = v.n;
   r.tail<3>() = v.m;
   J.block<3, 3>(0, var::n) = Mat3::Identity();
-  J.block<3, 3>(3, var::kappa) = props.K.asDiagonal();
+  J.block<3, 3>(3, var::kappa) = v.dm.asDiagonal();
 }
 
 void prescribed_rows(const EndCondition& c, const RodProperties&, double t, const EndValues& v, const Mat3& R,
@@ -341,11 +342,15 @@ StaticEnd static_end(const EndSpec& spec, const Vec3& position) {
 }
 
 void end_condition_rows(const EndCondition& c, const RodProperties& props, double t, const Vec12& y, const Mat3& R,
-                        const Mat3& G, Vec6& r, Jacobian6& J) {
+                        const Mat3& G, Vec6& r, Jacobian6& J, const Vec3& kappa_t, double rate) {
   r.setZero();
   J.setZero();
-  const EndValues v{y.segment<3>(var::u), y.segment<3>(var::omega), y.segment<3>(var::n),
-                    props.moment(y.segment<3>(var::kappa))};
+  EndValues v{y.segment<3>(var::u), y.segment<3>(var::omega), y.segment<3>(var::n),
+              props.moment(y.segment<3>(var::kappa)), props.K};
+  if (props.B_bt != Vec3::Zero()) {  // the moment's viscous part B_bt kappa_t
+    v.m += props.B_bt.cwiseProduct(kappa_t);
+    v.dm += rate * props.B_bt;
+  }
   kind_of(c.type, "end_condition_rows: unknown type").rows(c, props, t, v, R, G, r, J);
 }
 

@@ -326,6 +326,8 @@ PlanarReduction::PlanarReduction(const RodModel& model, const PlanarSymmetry& sy
   sigma_ = sym_.axis == 0 ? 1.0 : -1.0;
   if (model.loads.f_fixed || model.loads.l_fixed)
     throw std::invalid_argument("PlanarReduction: distributed loads given as functions are not planar");
+  if (model.props.B_bt(sym_.axis) != 0.0 && carried_)
+    throw std::invalid_argument("PlanarReduction: bending viscosity needs the box scheme in s (rho_inf_space 1)");
 }
 
 PlanarReduction::OldNode PlanarReduction::old_node(const RodModel& model, const StepTimes& step, int j,
@@ -372,6 +374,9 @@ void PlanarReduction::new_levels(const RodModel& model, const StepTimes& step, c
   const Eigen::Vector2d Fu = -(s * k) * Jn + (rhoA * s * w) * Ju - fb;
   const Eigen::Vector2d Fn = (s * k) * Ju + Eigen::Vector2d(s * w, 0.0);
   L.F << Fu(0), Fu(1), s * n(0), 0.0, Fn(0), Fn(1);
+  const bool compliant = model.props.compliant();
+  Eigen::Vector2d v(0.0, 1.0), dv = Eigen::Vector2d::Zero();  // strain (v_b, v_3) and dv / dn (diagonal)
+  if (compliant) strain_levels(model, step, o, n, L, v, dv);
   Eigen::Matrix<double, 6, 6>& D = L.dF;
   D.setZero();
   D(0, 1) = -rhoA * s * w;  // d F_u / d u = rhoA s w J
@@ -388,6 +393,41 @@ void PlanarReduction::new_levels(const RodModel& model, const StepTimes& step, c
   D(4, 2) = s;  // d F_n / d w
   D(4, 3) = s * Ju(0);  // d F_n / d k
   D(5, 3) = s * Ju(1);
+  if (!compliant) return;
+  // The strain v in place of e3: F_omega = s (v_3 n_b - v_b n_3) (- v x n), F_n gains
+  // s w (v_3, -v_b) (- omega x v); v depends on n through dv.
+  L.F(2) = s * (v(1) * n(0) - v(0) * n(1));
+  L.F(4) = s * k * Ju(0) + s * w * v(1);
+  L.F(5) = s * k * Ju(1) - s * w * v(0);
+  D(2, 4) = s * (v(1) - n(1) * dv(0));
+  D(2, 5) = s * (n(0) * dv(1) - v(0));
+  D(4, 2) = s * v(1);
+  D(5, 2) = -s * v(0);
+  D(4, 5) = s * w * dv(1);
+  D(5, 4) = -s * w * dv(0);
+}
+
+void PlanarReduction::strain_levels(const RodModel& model, const StepTimes& step, const OldNode& o,
+                                    const Eigen::Vector2d& n, NewLevels& L, Eigen::Vector2d& v,
+                                    Eigen::Vector2d& dv) const {
+  // The 3D kernel's strain rate and strain (rod_kernels.cpp) with the in-plane components
+  // embedded (the normal's component of n and v_t is zero).
+  const int b = cols_[4] - var::n;
+  auto embed3 = [b](double pb, double p3) {
+    Vec3 e = Vec3::Zero();
+    e(b) = pb;
+    e(2) = p3;
+    return e;
+  };
+  const RodProperties& p = model.props;
+  const Vec3 vt = strain_rate(p, embed3(o.y(4), o.y(5)), embed3(o.yt(4), o.yt(5)), embed3(n(0), n(1)), step.dt,
+                              model.alpha);
+  L.yt(4) = vt(b);
+  L.yt(5) = vt(2);
+  const Vec3 v3 = p.strain(embed3(n(0), n(1)), vt);
+  const Vec3 d3 = effective_compliance(p, 1.0 / (model.alpha.gt * step.dt));
+  v << v3(b), v3(2);
+  dv << d3(b), d3(2);
 }
 
 double PlanarReduction::cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step, int j,
@@ -404,10 +444,33 @@ double PlanarReduction::cell_block_into(LocalBlock& b, const RodModel& model, co
   const CellNode<6> P{op.y, op.yt, op.ys, op.F, M6(xp), M6(carried_ ? xp + 6 : xp), lp.yt, lp.F};
   const CellNode<6> C{oc.y, oc.yt, oc.ys, oc.F, M6(xc), M6(carried_ ? xc + 6 : xc), lc.yt, lc.F};
   cell_scheme_residual<6>(b.residual, model.alpha, carried_, model.ds(), Mm6_, Kk6_, P, C);
-  cell_scheme_jacobian<6>(b.jac[0], b.jac[1], model.alpha, carried_, model.ds(), step.dt, Mm6_, Kk6_, lp.dF, lc.dF);
+  if (!model.props.compliant()) {
+    cell_scheme_jacobian<6>(b.jac[0], b.jac[1], model.alpha, carried_, model.ds(), step.dt, Mm6_, Kk6_, lp.dF, lc.dF);
+  } else {  // the strain rate's slots depend on n through the effective compliance
+    Eigen::Matrix<double, 6, 6> MmJ = Mm6_;
+    const Vec3 ce = effective_compliance(model.props, 1.0 / (model.alpha.gt * step.dt));
+    MmJ(4, 4) = -ce(cols_[4] - var::n);
+    MmJ(5, 5) = -ce(2);
+    cell_scheme_jacobian<6>(b.jac[0], b.jac[1], model.alpha, carried_, model.ds(), step.dt, MmJ, Kk6_, lp.dF, lc.dF);
+  }
+  add_bending_viscosity(b, model, step, op, oc, lp, lc);
   // The dropped momentum row along the normal: A_F of -fb_normal (the same at both levels).
   const double bs = model.alpha.bs;
   return std::abs((1.0 - bs) * oc.fb_normal + bs * op.fb_normal);
+}
+
+void PlanarReduction::add_bending_viscosity(LocalBlock& b, const RodModel& model, const StepTimes& step,
+                                            const OldNode& op, const OldNode& oc, const NewLevels& lp,
+                                            const NewLevels& lc) const {
+  // -(B kappa_t)_s in the spin row (2) about the normal, as the 3D cell (rod_kernels.cpp).
+  const double B = model.props.B_bt(sym_.axis);
+  if (B == 0.0) return;
+  const AlphaParameters& a = model.alpha;
+  const double ds = model.ds();
+  b.residual(2) -= B * ((1.0 - a.bt) * (lc.yt(3) - lp.yt(3)) + a.bt * (oc.yt(3) - op.yt(3))) / ds;
+  const double D = (1.0 - a.bt) / (ds * a.gt * step.dt) * B;
+  b.jac[1](2, 3) -= D;
+  b.jac[0](2, 3) += D;
 }
 
 double PlanarReduction::add_loads(LocalBlock& cell, const LocalBlock& loads) const {

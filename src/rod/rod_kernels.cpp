@@ -11,14 +11,62 @@ namespace traverse::rod {
 
 using so3::hat;
 
+Vec3 effective_compliance(const RodProperties& p, double c) {
+  return p.C.cwiseQuotient((Vec3::Ones() + c * p.retardation()));
+}
+
+Vec3 strain_rate(const RodProperties& p, const Vec3& n_old, const Vec3& vt_old, const Vec3& n_new, double dt,
+                 const AlphaParameters& alpha) {
+  // In the deviations v - e3 (the strain itself would lose the digits of C n against 1).
+  const double gdt = alpha.gt * dt, hist = (1.0 - alpha.gt) / alpha.gt;
+  const Vec3 tau = p.retardation();
+  const Vec3 d_old = p.C.cwiseProduct(n_old) - tau.cwiseProduct(vt_old);
+  const Vec3 d_new =
+      (p.C.cwiseProduct(n_new) + tau.cwiseProduct(d_old / gdt + hist * vt_old)).cwiseQuotient(Vec3::Ones() + tau / gdt);
+  return (d_new - d_old) / gdt - hist * vt_old;
+}
+
 namespace {
 
 const Vec3 e3 = Vec3::UnitZ();
 
+/// Mm of Mm y_t: the compliance row -v_t of a rod that strains reads the n slot of y_t, which
+/// then holds the strain rate v_t (strain_rate); for the inextensible rod it is zero.
 Mat12 Mm_matrix(const RodProperties& p) {
   Vec12 d;
   d << Vec3::Constant(p.rhoA), p.rhoI, Vec3::Ones(), Vec3::Zero();
-  return d.asDiagonal();
+  Mat12 M = d.asDiagonal();
+  if (p.compliant()) M.block<3, 3>(9, var::n) = -Mat3::Identity();
+  return M;
+}
+
+/// Mm as the Jacobian of Mm y_t with respect to y_new, divided by dy_t/dy = c = 1/(gt dt): the
+/// strain rate's slot depends on n_new through the effective compliance.
+Mat12 Mm_jacobian(const RodProperties& p, double c) {
+  Mat12 M = Mm_matrix(p);
+  if (p.compliant()) M.block<3, 3>(9, var::n) = -Mat3(effective_compliance(p, c).asDiagonal());
+  return M;
+}
+
+/// The viscous part of the bending moment's derivative, -(B_bt kappa_t)_s, in the angular
+/// momentum rows of cell (j-1, j) (box scheme in s): the kappa slots of y_t differenced between
+/// the nodes and averaged in time like Kk y_s.
+Vec3 bending_viscosity(const RodModel& model, const RodNode& old_prev, const RodNode& old_this, const NodeLevels& prev,
+                       const NodeLevels& cur) {
+  const AlphaParameters& a = model.alpha;
+  if (model.carries_ys())
+    throw std::invalid_argument("rod kernels: bending and torsion viscosity needs the box scheme in s (rho_inf_space 1)");
+  const Vec3 d_new = cur.nn.yt.segment<3>(var::kappa) - prev.nn.yt.segment<3>(var::kappa);
+  const Vec3 d_old = old_this.yt.segment<3>(var::kappa) - old_prev.yt.segment<3>(var::kappa);
+  return -model.props.B_bt.cwiseProduct((1.0 - a.bt) * d_new + a.bt * d_old) / model.ds();
+}
+
+/// Its Jacobian with respect to the kappa of nodes j-1 (Jp) and j (Jc).
+void add_bending_viscosity_jacobian(MatX& Jp, MatX& Jc, const RodModel& model, double dt) {
+  const AlphaParameters& a = model.alpha;
+  const Mat3 D = ((1.0 - a.bt) / (model.ds() * a.gt * dt)) * Mat3(model.props.B_bt.asDiagonal());
+  Jc.block<3, 3>(3, var::kappa) -= D;
+  Jp.block<3, 3>(3, var::kappa) += D;
 }
 
 Mat12 Kk_matrix(const RodProperties& p) {
@@ -235,11 +283,32 @@ NewLevelNode new_level_node(const RodNode& old_node, const Vec12& y_new, double 
   return n;
 }
 
+NewLevelNode new_level_node(const RodModel& model, const RodNode& old_node, const Vec12& y_new, double dt) {
+  NewLevelNode n = new_level_node(old_node, y_new, dt, model.alpha);
+  if (model.props.compliant())
+    n.yt.segment<3>(var::n) = strain_rate(model.props, old_node.y.segment<3>(var::n), old_node.yt.segment<3>(var::n),
+                                          y_new.segment<3>(var::n), dt, model.alpha);
+  return n;
+}
+
 NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double s, double t, bool jacobian) {
+  return node_flux(model, y, Vec12::Zero(), 0.0, R, s, t, jacobian);
+}
+
+NodeFlux node_flux(const RodModel& model, const Vec12& y, const Vec12& yt, double c, const Mat3& R, double s, double t,
+                   bool jacobian) {
   const RodProperties& p = model.props;
   const Vec3 u = y.segment<3>(var::u), w = y.segment<3>(var::omega);
   const Vec3 k = y.segment<3>(var::kappa), n = y.segment<3>(var::n);
-  const Vec3 m = p.K.cwiseProduct(k - p.kappa0);
+  // The contact moment (with the bending and torsion viscosity when there is one) and its
+  // sensitivity to kappa; the strain v (e3 for the inextensible rod) and its sensitivity to n.
+  Vec3 m = p.K.cwiseProduct(k - p.kappa0), dm_dk = p.K;
+  if (p.B_bt != Vec3::Zero()) {
+    m += p.B_bt.cwiseProduct(yt.segment<3>(var::kappa));
+    dm_dk += c * p.B_bt;
+  }
+  const bool compliant = p.compliant();
+  const Vec3 v = compliant ? p.strain(n, yt.segment<3>(var::n)) : e3;
   NodeFlux out;
   // Fixed-frame loads in body components; a scene without gravity and distributed loads
   // skips them (fb = lb = 0 exactly, no products with R).
@@ -256,9 +325,9 @@ NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double 
   const Vec3 Iw = p.rhoI.cwiseProduct(w);
 
   out.F.segment<3>(0) = -k.cross(n) + p.rhoA * w.cross(u) - fb;
-  out.F.segment<3>(3) = -k.cross(m) - e3.cross(n) + w.cross(Iw) - lb;
+  out.F.segment<3>(3) = -k.cross(m) - v.cross(n) + w.cross(Iw) - lb;
   out.F.segment<3>(6) = -k.cross(w);
-  out.F.segment<3>(9) = k.cross(u) - w.cross(e3);
+  out.F.segment<3>(9) = k.cross(u) - w.cross(v);
   out.has_jacobian = jacobian;
   if (!jacobian) return out;
 
@@ -269,13 +338,18 @@ NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double 
   J.block<3, 3>(0, var::kappa) = hat(n);
   J.block<3, 3>(0, var::n) = -hat(k);
   J.block<3, 3>(3, var::omega) = hat(w) * p.rhoI.asDiagonal() - hat(Iw);
-  J.block<3, 3>(3, var::kappa) = -hat(k) * p.K.asDiagonal() + hat(m);
-  J.block<3, 3>(3, var::n) = -hat(e3);
+  J.block<3, 3>(3, var::kappa) = -hat(k) * dm_dk.asDiagonal() + hat(m);
+  J.block<3, 3>(3, var::n) = -hat(v);
   J.block<3, 3>(6, var::omega) = -hat(k);
   J.block<3, 3>(6, var::kappa) = hat(w);
   J.block<3, 3>(9, var::u) = hat(k);
-  J.block<3, 3>(9, var::omega) = hat(e3);
+  J.block<3, 3>(9, var::omega) = hat(v);
   J.block<3, 3>(9, var::kappa) = -hat(u);
+  if (compliant) {  // v = e3 + C n - tau v_t depends on n (at the new level through v_t too)
+    const Mat3 dv_dn = effective_compliance(p, c).asDiagonal();
+    J.block<3, 3>(3, var::n) += hat(n) * dv_dn;
+    J.block<3, 3>(9, var::n) = -hat(w) * dv_dn;
+  }
 
   out.dF_dRrot.setZero();
   if (out.frame_loads) {
@@ -355,15 +429,15 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
 }
 
 NodeFlux old_level_flux(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node) {
-  return node_flux(model, old_node.y, old_node.R, j * model.ds(), step.t_old, false);
+  return node_flux(model, old_node.y, old_node.yt, 0.0, old_node.R, j * model.ds(), step.t_old, false);
 }
 
 void new_level_quantities(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node,
                           const VecX& new_node, NodeLevels& out) {
   check_unknowns(model, new_node);
   const Vec12 y = new_node.head<12>();
-  out.nn = new_level_node(old_node, y, step.dt, model.alpha);
-  out.F_new = node_flux(model, y, out.nn.R, j * model.ds(), step.t_new());
+  out.nn = new_level_node(model, old_node, y, step.dt);
+  out.F_new = node_flux(model, y, out.nn.yt, 1.0 / (model.alpha.gt * step.dt), out.nn.R, j * model.ds(), step.t_new());
 }
 
 LocalBlock cell_block(const RodModel& model, const StepTimes& step, int j,
@@ -397,6 +471,7 @@ void cell_residual_into(VecX& r, const RodModel& model, const Mat12& Mm, const M
                         const NodeLevels& cur) {
   cell_scheme_residual<12>(r, model.alpha, model.carries_ys(), model.ds(), Mm, Kk,
                            cell_node(model, old_prev, new_prev, prev), cell_node(model, old_this, new_this, cur));
+  if (model.props.B_bt != Vec3::Zero()) r.segment<3>(3) += bending_viscosity(model, old_prev, old_this, prev, cur);
 }
 
 void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step, int j,
@@ -414,7 +489,9 @@ void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step
   MatX& Jp = b.jac[0];
   MatX& Jc = b.jac[1];
   const Mat12 dFp = new_level_flux_jacobian(prev.F_new, prev.nn.G), dFc = new_level_flux_jacobian(cur.F_new, cur.nn.G);
-  cell_scheme_jacobian<12>(Jp, Jc, model.alpha, model.carries_ys(), model.ds(), step.dt, Mm, Kk, dFp, dFc);
+  const Mat12 MmJ = P.compliant() ? Mm_jacobian(P, 1.0 / (model.alpha.gt * step.dt)) : Mm;
+  cell_scheme_jacobian<12>(Jp, Jc, model.alpha, model.carries_ys(), model.ds(), step.dt, MmJ, Kk, dFp, dFc);
+  if (P.B_bt != Vec3::Zero()) add_bending_viscosity_jacobian(Jp, Jc, model, step.dt);
 
   if (loads_touch) {  // else load_block is zero
     const LocalBlock lb = load_block(model, step, j, old_prev, old_this, new_prev, new_this);
@@ -433,10 +510,11 @@ LocalBlock end_block(const RodModel& model, const StepTimes& step, const EndCond
   const AlphaParameters& a = model.alpha;
   LocalBlock b = make_block(row, collocate ? 18 : 6, p, {model.node_col(node)});
   const Vec12 y = new_node.head<12>();
-  const NewLevelNode nn = new_level_node(old_node, y, step.dt, a);
+  const NewLevelNode nn = new_level_node(model, old_node, y, step.dt);
+  const double rate = 1.0 / (a.gt * step.dt);  // d y_t / d y_new
   Vec6 r;
   Eigen::Matrix<double, 6, 12> J;
-  end_condition_rows(c, model.props, step.t_new(), y, nn.R, nn.G, r, J);
+  end_condition_rows(c, model.props, step.t_new(), y, nn.R, nn.G, r, J, nn.yt.segment<3>(var::kappa), rate);
   b.residual.head<6>() = r;
   b.jac[0].block<6, 12>(0, 0) = J;
   if (collocate) {
@@ -444,13 +522,13 @@ LocalBlock end_block(const RodModel& model, const StepTimes& step, const EndCond
     const RodProperties& P = model.props;
     const Mat12 Mm = Mm_matrix(P), Kk = Kk_matrix(P);
     const double s = node * model.ds();
-    const NodeFlux Fo = node_flux(model, old_node.y, old_node.R, s, step.t_old);
-    const NodeFlux Fn = node_flux(model, y, nn.R, s, step.t_new());
+    const NodeFlux Fo = node_flux(model, old_node.y, old_node.yt, 0.0, old_node.R, s, step.t_old, false);
+    const NodeFlux Fn = node_flux(model, y, nn.yt, rate, nn.R, s, step.t_new());
     const Vec12 ys = new_node.tail<12>();
     b.residual.segment<12>(6) = Mm * ((1.0 - a.at) * nn.yt + a.at * old_node.yt) +
                                 Kk * ((1.0 - a.bt) * ys + a.bt * old_node.ys) +
                                 (1.0 - a.bt) * Fn.F + a.bt * Fo.F;
-    b.jac[0].block<12, 12>(6, 0) = (1.0 - a.at) / (a.gt * step.dt) * Mm +
+    b.jac[0].block<12, 12>(6, 0) = (1.0 - a.at) / (a.gt * step.dt) * (P.compliant() ? Mm_jacobian(P, rate) : Mm) +
                                    (1.0 - a.bt) * new_level_flux_jacobian(Fn, nn.G);
     b.jac[0].block<12, 12>(6, 12) = (1.0 - a.bt) * Kk;
   }
@@ -504,7 +582,7 @@ RodNode advance_node(const RodModel& model, const RodNode& old_node, const VecX&
   check_unknowns(model, new_unknowns);
   RodNode n;
   n.y = new_unknowns.head<12>();
-  const NewLevelNode nn = new_level_node(old_node, n.y, dt, model.alpha);
+  const NewLevelNode nn = new_level_node(model, old_node, n.y, dt);
   n.R = nn.R;
   n.yt = nn.yt;
   n.yv = (n.y - old_node.y) / dt;

@@ -1,6 +1,7 @@
 #include "traverse/rod/rod_properties.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace traverse::rod {
 
@@ -20,6 +21,22 @@ RodProperties RodProperties::circular(double radius, double E, double nu, double
   p.kappa0.setZero();
   return p;
 }
+
+RodStrain RodProperties::strain_kind() const {
+  if (!compliant()) return RodStrain::inextensible;
+  return C.x() == 0.0 && C.y() == 0.0 ? RodStrain::extensible : RodStrain::shearable;
+}
+
+Vec3 RodProperties::compliance(RodStrain model, double EA, double kGA) {
+  switch (model) {
+    case RodStrain::inextensible: return Vec3::Zero();
+    case RodStrain::extensible: return Vec3(0.0, 0.0, 1.0 / EA);
+    case RodStrain::shearable: return Vec3(1.0 / kGA, 1.0 / kGA, 1.0 / EA);
+    default: throw std::logic_error("RodProperties::compliance: unknown model");
+  }
+}
+
+double kelvin_voigt_viscosity(double zeta, double w, double S) { return 2.0 * zeta * S / w; }
 
 RodProperties RodProperties::scene_rod() { return circular(0.005, 2.5e8, 0.25, 1500.0); }
 

@@ -73,12 +73,30 @@ double energy_density(const RodProperties& p, const Vec12& y) {
   return 0.5 * p.rhoA * u.squaredNorm() + 0.5 * w.dot(p.rhoI.cwiseProduct(w)) +
          0.5 * dk.dot(p.K.cwiseProduct(dk));
 }
+
+// The strain energy density 1/2 d . C^-1 d of a strain deviation d = v - e3, over the
+// directions the rod strains in.
+double strain_energy_density(const RodProperties& p, const Vec3& d) {
+  double e = 0.0;
+  for (int i = 0; i < 3; ++i)
+    if (p.C(i) != 0.0) e += 0.5 * d(i) * d(i) / p.C(i);
+  return e;
+}
 }  // namespace
+
+Vec3 strain_deviation(const RodNode& node, const RodProperties& props) {
+  return props.C.cwiseProduct(node.y.segment<3>(var::n)) -
+         props.retardation().cwiseProduct(node.yt.segment<3>(var::n));
+}
 
 double discrete_energy(const RodState& state, const RodProperties& props) {
   double e = 0.0;
   for (int j = 1; j <= state.num_cells(); ++j)
     e += energy_density(props, 0.5 * (state.nodes[j - 1].y + state.nodes[j].y));
+  if (props.compliant())
+    for (int j = 1; j <= state.num_cells(); ++j)
+      e += strain_energy_density(
+          props, 0.5 * (strain_deviation(state.nodes[j - 1], props) + strain_deviation(state.nodes[j], props)));
   return e * state.ds;
 }
 
@@ -87,7 +105,29 @@ double nodal_energy(const RodState& state, const RodProperties& props) {
   double e = 0.0;
   for (int j = 0; j <= N; ++j)
     e += ((j == 0 || j == N) ? 0.5 : 1.0) * energy_density(props, state.nodes[j].y);
+  if (props.compliant())
+    for (int j = 0; j <= N; ++j)
+      e += ((j == 0 || j == N) ? 0.5 : 1.0) * strain_energy_density(props, strain_deviation(state.nodes[j], props));
   return e * state.ds;
+}
+
+double discrete_dissipation(const RodState& old_state, const RodState& state, const RodProperties& props) {
+  const double dt = state.t - old_state.t;
+  auto rates = [&](int j, Vec3& vt, Vec3& kt) {  // secant rates of node j over the step
+    vt = (strain_deviation(state.nodes[j], props) - strain_deviation(old_state.nodes[j], props)) / dt;
+    kt = (state.nodes[j].y - old_state.nodes[j].y).segment<3>(var::kappa) / dt;
+  };
+  double d = 0.0;
+  Vec3 vp, kp, vc, kc;
+  rates(0, vp, kp);
+  for (int j = 1; j <= state.num_cells(); ++j) {
+    rates(j, vc, kc);
+    const Vec3 v = 0.5 * (vp + vc), k = 0.5 * (kp + kc);
+    d += v.dot(props.B_se.cwiseProduct(v)) + k.dot(props.B_bt.cwiseProduct(k));  // v = 0 where C = 0
+    vp = vc;
+    kp = kc;
+  }
+  return d * state.ds;
 }
 
 std::vector<Vec3> centreline_in_space(const RodState& state, const Vec3& r0) {

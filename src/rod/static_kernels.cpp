@@ -59,7 +59,10 @@ LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev
     auto& J = b.jac[q];
     const Vec3 k = x.segment<3>(svar::kappa), n = x.segment<3>(svar::n);
     const Vec3 mm = m.props.K.cwiseProduct(k - m.props.kappa0);
-    const Vec3 t = R[q].transpose() * e3;
+    // The strain v = e3 + C n of a rod that strains (at rest: no strain rate), e3 otherwise.
+    const bool compliant = m.props.compliant();
+    const Vec3 v = compliant ? m.props.strain(n, Vec3::Zero()) : e3;
+    const Vec3 t = R[q].transpose() * v;
     // Force balance.
     if (gravity) {
       const Vec3 fb = R[q] * f_fixed;
@@ -71,17 +74,19 @@ LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev
     J.block<3, 3>(0, svar::n) += -sgn[q] / ds * Mat3::Identity() - 0.5 * hat(k);
     J.block<3, 3>(0, svar::kappa) += 0.5 * hat(n);
     // Moment balance.
-    res.segment<3>(3) += -sgn[q] * mm / ds + 0.5 * (-k.cross(mm) - e3.cross(n));
+    res.segment<3>(3) += -sgn[q] * mm / ds + 0.5 * (-k.cross(mm) - v.cross(n));
     J.block<3, 3>(3, svar::kappa) += -sgn[q] / ds * Mat3(m.props.K.asDiagonal()) +
                                       0.5 * (-hat(k) * m.props.K.asDiagonal() + hat(mm));
-    J.block<3, 3>(3, svar::n) += -0.5 * hat(e3);
+    J.block<3, 3>(3, svar::n) += -0.5 * hat(v);
+    if (compliant) J.block<3, 3>(3, svar::n) += 0.5 * hat(n) * m.props.C.asDiagonal();
     // Frame follows the curvature (log part added below).
     res.segment<3>(6) += 0.5 * k;
     J.block<3, 3>(6, svar::kappa) += 0.5 * Mat3::Identity();
     // Centreline.
     res.segment<3>(9) += sgn[q] * x.segment<3>(svar::r) / ds - 0.5 * t;
     J.block<3, 3>(9, svar::r) += sgn[q] / ds * Mat3::Identity();
-    J.block<3, 3>(9, svar::theta) += -0.5 * R[q].transpose() * hat(e3) * D[q];
+    J.block<3, 3>(9, svar::theta) += -0.5 * R[q].transpose() * hat(v) * D[q];
+    if (compliant) J.block<3, 3>(9, svar::n) += -0.5 * R[q].transpose() * m.props.C.asDiagonal();
   }
   const Mat3 Q = R[1] * R[0].transpose();
   const Vec3 phi = so3::log(Q);

@@ -8,6 +8,13 @@ namespace traverse::rod {
 
 std::array<double, 4> static_update_scales(double length, double fscale) { return {length, 1.0, 1.0 / length, fscale}; }
 
+double scaled_update(int index, double d, const std::array<double, 4>& scales, const Vec3& compliance) {
+  const double s = std::abs(d) / scales[static_cast<size_t>(index / 3)];
+  if (index < svar::n) return s;
+  const double C = compliance(index - svar::n);
+  return C != 0.0 ? std::min(s, std::abs(C * d)) : s;
+}
+
 StaticModel scaled_loads(const StaticModel& m, double factor) {
   StaticModel s = m;
   s.gravity *= factor;

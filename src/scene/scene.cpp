@@ -31,9 +31,11 @@ TRAVERSE_ENUM_NAMES(ContinuationParameter, "end_load", "end_position", "gravity_
 TRAVERSE_ENUM_NAMES(ContinuationMethod, "arclength", "natural")
 TRAVERSE_ENUM_NAMES(ContinuationProbeType, "point", "end_compression")
 TRAVERSE_ENUM_NAMES(ProbeType, "deflection", "point", "acceleration")
-TRAVERSE_ENUM_NAMES(Quantity, "position", "u", "omega", "kappa", "n", "m", "d1", "d2", "d3")
+TRAVERSE_ENUM_NAMES(Quantity, "position", "u", "omega", "kappa", "n", "m", "d1", "d2", "d3", "v")
 TRAVERSE_ENUM_NAMES(Frame, "fixed", "body")
-TRAVERSE_ENUM_NAMES(Field, "u", "omega", "kappa", "n", "m", "r", "R", "deflection", "slope", "bending_moment")
+TRAVERSE_ENUM_NAMES(RodStrain, "inextensible", "extensible", "shearable")
+TRAVERSE_ENUM_NAMES(Field, "u", "omega", "kappa", "n", "m", "r", "R", "deflection", "slope", "bending_moment", "v",
+                    "stretch", "axial_force")
 #undef TRAVERSE_ENUM_NAMES
 
 template <>
@@ -336,7 +338,8 @@ std::shared_ptr<TypeRegistry> probe_types() {
           "Rod: a vector quantity at a fixed arclength (linear interpolation between nodes), 3 components",
           {real("at", "Arclength", "m").non_negative().required(),
            choice("quantity", "position r [m], velocity u [m/s], spin omega [rad/s], curvature kappa [1/m], "
-                              "force n [N], moment m [N m], or a director d1, d2, d3",
+                              "force n [N], moment m [N m], a director d1, d2, d3, or the strain v = dr/ds in body components "
+                              "(shears v1, v2, stretch v3; e3 for the inextensible rod) [1]",
                   enum_names<Quantity>()).required(),
            choice("frame", "Components in the fixed frame (i, j, k) or the body frame (d1, d2, d3)",
                   enum_names<Frame>()).def("fixed")},
@@ -424,8 +427,68 @@ Param damping_section() {
   return damping;
 }
 
+// rod.model and what it reads: the stiffnesses of the strains, the shear coefficient, the
+// Kelvin-Voigt viscosities (docs/rod.md, "Extensible and shearable rods", "Material damping").
+void add_rod_strain_keys(Param& rod) {
+  rod.add(choice("model", "inextensible: the centreline does not stretch or shear (dr/ds = d3); extensible: it "
+                          "stretches, v = e3 (1 + n3 / (E A)); shearable: it stretches and shears, v - e3 = C n with "
+                          "C = diag(1/(k G A), 1/(k G A), 1/(E A)) (special Cosserat rod)",
+                 enum_names<RodStrain>()).def("inextensible"));
+  rod.add(real("shear_coefficient", "Shear coefficient k of shearable (default: Cowper's of the section: solid circle "
+                                    "6 (1 + nu) / (7 + 6 nu), tube 6 (1 + nu) (1 + m^2)^2 / ((7 + 6 nu) (1 + m^2)^2 + "
+                                    "(20 + 12 nu) m^2) with m = inner / outer radius, rectangle 10 (1 + nu) / (12 + "
+                                    "11 nu); required for a section given by its properties)", "").positive().at_most(1.0));
+  rod.add(real("axial_stiffness", "Axial stiffness E A of extensible and shearable (default: E times the area)", "N")
+              .positive());
+  rod.add(real("shear_stiffness", "Shear stiffness k G A of shearable (default: k G times the area)", "N").positive());
+  Param damping = section("damping", "Kelvin-Voigt material damping: n gains B_se v_t, m gains B_bt kappa_t. For a "
+                                     "damping ratio zeta at circular frequency w of a mode that strains one kind of "
+                                     "deformation, give B = 2 zeta S / w with S its stiffness (E A, k G A, E I, G J)");
+  damping.only_if_given();
+  damping.add(real("axial", "Viscosity of the stretch v3 (extensible, shearable)", "N s").non_negative().def(0.0));
+  damping.add(real("shear", "Viscosity of the shears v1, v2 (shearable)", "N s").non_negative().def(0.0));
+  damping.add(real("bending", "Viscosity of the bending curvatures kappa1, kappa2", "N m^2 s").non_negative().def(0.0));
+  damping.add(real("torsion", "Viscosity of the twist kappa3", "N m^2 s").non_negative().def(0.0));
+  rod.add(damping);
+  rod.check([](const ParameterList& s, const CheckContext& ctx) {
+    const RodStrain m = enum_of<RodStrain>(s.get<std::string>("model"));
+    const std::string word = name_of(m);
+    if (m == RodStrain::inextensible && s.isParameter("axial_stiffness"))
+      ctx.fail("axial_stiffness", "no axial stiffness for the inextensible rod (rod.model extensible or shearable)",
+               "rod.model " + word);
+    for (const char* k : {"shear_coefficient", "shear_stiffness"})
+      if (m != RodStrain::shearable && s.isParameter(k))
+        ctx.fail(k, std::string("no ") + k + " for a rod that does not shear (rod.model shearable)", "rod.model " + word);
+    const bool properties = s.sublist("section").get<std::string>("type") == "properties";
+    if (m == RodStrain::shearable && properties && !s.isParameter("shear_coefficient") &&
+        !s.isParameter("shear_stiffness"))
+      ctx.fail("shear_coefficient", "a shear coefficient (or shear_stiffness) for a shearable rod whose section is "
+               "given by its properties", "none");
+    if (!s.isSublist("damping")) return;
+    const auto& d = s.sublist("damping");
+    if (m == RodStrain::inextensible && d.get<double>("axial") > 0.0)
+      ctx.fail("damping.axial", "no axial viscosity for the inextensible rod (rod.model extensible or shearable)",
+               "rod.model " + word);
+    if (m != RodStrain::shearable && d.get<double>("shear") > 0.0)
+      ctx.fail("damping.shear", "no shear viscosity for a rod that does not shear (rod.model shearable)",
+               "rod.model " + word);
+  });
+}
+
+// Cowper's shear coefficient of a section for Poisson ratio nu; 0 for a section given by its
+// properties (its k must be given).
+double cowper_shear_coefficient(const SectionSpec& sec, double nu) {
+  if (sec.shape == "solid_circle") return 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu);
+  if (sec.shape == "hollow_circle") {
+    const double q = std::pow(1.0 + sec.radius_ratio * sec.radius_ratio, 2);
+    return 6.0 * (1.0 + nu) * q / ((7.0 + 6.0 * nu) * q + (20.0 + 12.0 * nu) * sec.radius_ratio * sec.radius_ratio);
+  }
+  if (sec.shape == "rectangle") return 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu);
+  return 0.0;
+}
+
 const std::vector<std::string> kBeamFields = {"deflection", "slope", "bending_moment"};
-const std::vector<std::string> kRodFields = {"u", "omega", "kappa", "n", "m", "r", "R"};
+const std::vector<std::string> kRodFields = {"u", "omega", "kappa", "n", "m", "r", "R", "v", "stretch", "axial_force"};
 
 Param build_schema() {
   Param root = section("", "traverse scene");
@@ -458,7 +521,8 @@ Param build_schema() {
   });
   root.add(beam);
 
-  Param rod = section(kRod, "Inextensible, unshearable Cosserat rod, initially straight along k (model: rod)");
+  Param rod = section(kRod, "Cosserat rod, initially straight along k (model: rod): inextensible and unshearable, "
+                            "extensible or shearable (rod.model)");
   rod.when("model", kRod);
   rod.add(real("length", "Rod length L", "m").positive().required());
   rod.add(real("youngs_modulus", "Young's modulus E", "Pa").positive().required());
@@ -468,6 +532,7 @@ Param build_schema() {
   rod.add(typed("section", "Cross-section", section_types()).required());
   rod.add(vector3("intrinsic_curvature", "Intrinsic curvature kappa0 in body components", "1/m").def("[0, 0, 0]"));
   rod.check(exactly_one({"poisson_ratio", "shear_modulus"}));
+  add_rod_strain_keys(rod);
   root.add(rod);
 
   Param ends = section("ends", "End conditions of the rod, 6 scalar conditions each");
@@ -610,8 +675,8 @@ Param build_schema() {
               .def(1.0));
   out.add(collection("probes", "Time series of chosen quantities, each under a name of your choice", probe_types()));
   out.add(word_list("fields", "Fields written at every node at each output step (beam: deflection, slope, "
-                              "bending_moment; rod: u, omega, kappa, n, m (body components), r (centreline), "
-                              "R (rows d1, d2, d3))").def("[]"));
+                              "bending_moment; rod: u, omega, kappa, n, m, v (body components), r (centreline), "
+                              "R (rows d1, d2, d3), stretch |v| and axial_force n . v / |v| (one value per node))").def("[]"));
   root.add(out);
 
   root.check([](const ParameterList& s, const CheckContext& ctx) {
@@ -692,6 +757,7 @@ SectionSpec build_section(const ParameterList& s) {
     out.area = pi * (ro * ro - ri * ri);
     out.I1 = out.I2 = pi * (std::pow(ro, 4) - std::pow(ri, 4)) / 4.0;
     out.J = 2.0 * out.I1;
+    out.radius_ratio = ri / ro;
   } else if (out.shape == "rectangle") {
     const double b = s.get<double>("width"), h = s.get<double>("height");
     out.area = b * h;
@@ -912,6 +978,21 @@ void read_rod(const ParameterList& r, RodSpec& rod) {
   rod.density = r.get<double>("density");
   rod.section = build_section(r.sublist("section"));
   rod.intrinsic_curvature = vec3_of(r, "intrinsic_curvature");
+  rod.strain = enum_of<RodStrain>(r.get<std::string>("model"));
+  const double nu = rod.youngs_modulus / (2.0 * rod.shear_modulus) - 1.0;
+  rod.shear_coefficient = r.isParameter("shear_coefficient") ? r.get<double>("shear_coefficient")
+                                                             : cowper_shear_coefficient(rod.section, nu);
+  rod.axial_stiffness = r.isParameter("axial_stiffness") ? r.get<double>("axial_stiffness")
+                                                         : rod.youngs_modulus * rod.section.area;
+  rod.shear_stiffness = r.isParameter("shear_stiffness")
+                            ? r.get<double>("shear_stiffness")
+                            : rod.shear_coefficient * rod.shear_modulus * rod.section.area;
+  if (!r.isSublist("damping")) return;
+  const auto& d = r.sublist("damping");
+  rod.damping_axial = d.get<double>("axial");
+  rod.damping_shear = d.get<double>("shear");
+  rod.damping_bending = d.get<double>("bending");
+  rod.damping_torsion = d.get<double>("torsion");
 }
 
 // An end as its type declares it (traverse/core/end_types.hpp): each parameter into its

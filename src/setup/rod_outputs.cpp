@@ -13,26 +13,18 @@ namespace traverse::setup {
 
 namespace {
 
-// The scene's fields at `count` nodes (node_at(k): the view of the k-th), per node the
-// quantity's 3 values in the body frame, or the 9 entries of R row by row.
+// The scene's fields at `count` nodes (node_at(k): the view of the k-th), per node the field's
+// rod_field_info components (field_values): a quantity's 3 values in the body frame, the 9
+// entries of R row by row, or the one value of stretch and axial_force.
 template <class NodeAt>
 void evaluate_rod_fields(const std::vector<scene::Field>& fields, int count, const NodeAt& node_at,
                          const rod::RodProperties& props, std::vector<std::vector<double>>& values) {
   values.resize(fields.size());
   for (size_t f = 0; f < fields.size(); ++f) {
-    const size_t comps = fields[f] == scene::Field::R ? 9 : 3;
+    const size_t comps = rod_field_info(fields[f]).components;
     values[f].resize(comps * static_cast<size_t>(count));
-    for (int k = 0; k < count; ++k) {
-      const NodeView v = node_at(k);
-      double* o = values[f].data() + comps * static_cast<size_t>(k);
-      if (fields[f] == scene::Field::R) {
-        for (int i = 0; i < 3; ++i)
-          for (int c = 0; c < 3; ++c) o[3 * i + c] = v.R(i, c);
-      } else {
-        const Vec3 q = quantity_value(field_quantity(fields[f]), v, props, scene::Frame::body);
-        std::copy(q.data(), q.data() + 3, o);
-      }
-    }
+    for (int k = 0; k < count; ++k)
+      field_values(fields[f], node_at(k), props, values[f].data() + comps * static_cast<size_t>(k));
   }
 }
 
@@ -116,7 +108,7 @@ void RodOutputs::evaluate_fields(const std::vector<Vec3>& r) {
 // own nodes from there.
 std::vector<Vec3> RodOutputs::owned_centreline(const Vec3& r0) const {
   std::vector<Vec3> t(static_cast<size_t>(count_));
-  for (int k = 0; k < count_; ++k) t[static_cast<size_t>(k)] = rod::tangent(st_.owned_node(k));
+  for (int k = 0; k < count_; ++k) t[static_cast<size_t>(k)] = rod::tangent(st_.owned_node(k), model_.props);
   const rod::CentrelinePiece mine = rod::centreline_piece(t, first_, model_.ds(), first_ == 0 ? r0 : Vec3::Zero());
   const int rank = par::rank(comm_);
   std::vector<rod::CentrelinePiece> all(static_cast<size_t>(par::size(comm_)));

@@ -15,6 +15,8 @@ NodeView node_view(const rod::RodNode& node, const Vec3& r) {
   v.omega = node.y.segment<3>(rod::var::omega);
   v.kappa = node.y.segment<3>(rod::var::kappa);
   v.n = node.y.segment<3>(rod::var::n);
+  v.kappa_t = node.yt.segment<3>(rod::var::kappa);
+  v.strain_rate = node.yt.segment<3>(rod::var::n);
   return v;
 }
 
@@ -28,7 +30,7 @@ NodeView node_view(const rod::StaticNode& node) {
 }
 
 const std::string& quantity_unit(Quantity q) {
-  static const std::vector<std::string> units{"m", "m/s", "rad/s", "1/m", "N", "N m", "1", "1", "1"};
+  static const std::vector<std::string> units{"m", "m/s", "rad/s", "1/m", "N", "N m", "1", "1", "1", "1"};
   return units.at(static_cast<std::size_t>(q));
 }
 
@@ -43,7 +45,11 @@ Vec3 quantity_value(Quantity q, const NodeView& node, const rod::RodProperties& 
     case Quantity::omega: v = node.omega; break;
     case Quantity::kappa: v = node.kappa; break;
     case Quantity::n: v = node.n; break;
-    case Quantity::m: v = props.moment(node.kappa); break;
+    case Quantity::m:
+      v = props.moment(node.kappa);
+      if (props.B_bt != Vec3::Zero()) v += props.B_bt.cwiseProduct(node.kappa_t);  // the viscous part
+      break;
+    case Quantity::v: v = props.compliant() ? props.strain(node.n, node.strain_rate) : Vec3(Vec3::UnitZ()); break;
     default: throw std::logic_error("quantity_value: unknown quantity");
   }
   return frame == scene::Frame::fixed ? Vec3(node.R.transpose() * v) : v;
@@ -56,7 +62,11 @@ RodFieldInfo rod_field_info(Field f) {
     case Field::omega: return {3, "rad/s", "spin, body components", d123};
     case Field::kappa: return {3, "1/m", "curvature and twist, body components", d123};
     case Field::n: return {3, "N", "contact force, body components", d123};
-    case Field::m: return {3, "N m", "contact moment K (kappa - kappa0), body components", d123};
+    case Field::m: return {3, "N m", "contact moment K (kappa - kappa0) (+ B_bt kappa_t), body components", d123};
+    case Field::v:
+      return {3, "1", "strain dr/ds, body components: shears v1, v2 and stretch v3 (e3 when inextensible)", d123};
+    case Field::stretch: return {1, "1", "stretch |dr/ds| of the centreline (1 when inextensible)", {}};
+    case Field::axial_force: return {1, "N", "contact force along the tangent, n . v / |v| (tension > 0)", {}};
     case Field::r: return {3, "m", "centreline, fixed components", {"x", "y", "z"}, true};
     case Field::R:
       return {9, "1", "orientation: rows d1, d2, d3 in fixed components",
@@ -72,8 +82,28 @@ Quantity field_quantity(Field f) {
     case Field::kappa: return Quantity::kappa;
     case Field::n: return Quantity::n;
     case Field::m: return Quantity::m;
+    case Field::v: return Quantity::v;
     case Field::r: return Quantity::position;
     default: throw std::logic_error("field_quantity: no single quantity for field " + scene::name_of(f));
+  }
+}
+
+void field_values(Field f, const NodeView& node, const rod::RodProperties& props, double* out) {
+  switch (f) {
+    case Field::R:
+      for (int i = 0; i < 3; ++i)
+        for (int c = 0; c < 3; ++c) out[3 * i + c] = node.R(i, c);
+      return;
+    case Field::stretch: out[0] = quantity_value(Quantity::v, node, props, scene::Frame::body).norm(); return;
+    case Field::axial_force: {
+      const Vec3 v = quantity_value(Quantity::v, node, props, scene::Frame::body);
+      out[0] = node.n.dot(v) / v.norm();
+      return;
+    }
+    default: {
+      const Vec3 v = quantity_value(field_quantity(f), node, props, scene::Frame::body);
+      std::copy(v.data(), v.data() + 3, out);
+    }
   }
 }
 

@@ -20,6 +20,15 @@
 
 namespace traverse::setup {
 
+rod::RodStrain rod_strain(scene::RodStrain s) {
+  switch (s) {
+    case scene::RodStrain::inextensible: return rod::RodStrain::inextensible;
+    case scene::RodStrain::extensible: return rod::RodStrain::extensible;
+    case scene::RodStrain::shearable: return rod::RodStrain::shearable;
+    default: throw std::logic_error("rod_strain: unknown rod.model");
+  }
+}
+
 rod::RodProperties rod_properties(const scene::RodSpec& r) {
   rod::RodProperties p;
   const auto& s = r.section;
@@ -27,6 +36,10 @@ rod::RodProperties rod_properties(const scene::RodSpec& r) {
   p.rhoI = r.density * Vec3(s.I1, s.I2, s.J);
   p.K = Vec3(r.youngs_modulus * s.I1, r.youngs_modulus * s.I2, r.shear_modulus * s.J);
   p.kappa0 = r.intrinsic_curvature;
+  // rod.model and rod.damping: the compliance of the strains and the Kelvin-Voigt viscosities.
+  p.C = rod::RodProperties::compliance(rod_strain(r.strain), r.axial_stiffness, r.shear_stiffness);
+  p.B_se = Vec3(r.damping_shear, r.damping_shear, r.damping_axial);
+  p.B_bt = Vec3(r.damping_bending, r.damping_bending, r.damping_torsion);
   return p;
 }
 

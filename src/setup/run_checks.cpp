@@ -33,6 +33,39 @@ std::string summary(const scene::Scene& sc, const TimePlan* time, const MemoryPl
   return s;
 }
 
+// What the extensible and shearable rods (rod.model) and the viscosities (rod.damping) do not
+// have yet, refused where the scene chooses it rather than run as the inextensible rod:
+// continuation and the arch and file starts (not verified with strain), the moving and the
+// coupled masses (their inertia reads the tangent d3), adaptive steps (the error estimate has
+// no strain), and the bending viscosity with a carried spatial history. The static start (the
+// static kernels' compliance, tests/rod/test_rod_strain.cpp) and rest are allowed.
+void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
+  const rod::RodProperties& p = model.props;
+  if (!p.compliant() && !p.damped()) return;
+  const std::string word = "rod.model " + scene::name_of(sc.rod.strain);
+  if (p.compliant()) {
+    if (sc.continuation.enabled)
+      scene::fail_at(sc, "rod.model", "the inextensible rod for a continuation (statics of " + word + " are not "
+                     "implemented)", word);
+    if (sc.initial_state.type != scene::InitialStateType::rest &&
+        sc.initial_state.type != scene::InitialStateType::static_equilibrium)
+      scene::fail_at(sc, "initial_state.type", "static or rest for " + word + " (its arch and file starts are not "
+                     "implemented)", scene::name_of(sc.initial_state.type));
+    for (const auto& l : sc.loads)
+      if (l.inertia)
+        scene::fail_at(sc, "loads." + l.name, "moving forces only with " + word + " (the inertia of a moving or "
+                       "coupled mass on a rod that strains is not implemented)", scene::name_of(l.type));
+    if (sc.time.adaptive.enabled)
+      scene::fail_at(sc, "time.adaptive", "fixed steps with " + word + " (the error estimate of adaptive steps "
+                     "has no strain yet)", "time.adaptive");
+  }
+  if (p.B_bt != Vec3::Zero() && model.carries_ys())
+    scene::fail_at(sc, sc.rod.damping_bending > 0.0 ? "rod.damping.bending" : "rod.damping.torsion",
+                   "the box scheme in s (scheme.rho_inf_space 1) with a bending or torsion viscosity",
+                   "a carried spatial history (as = " + scene::format_number(model.alpha.as) + ", bs = " +
+                       scene::format_number(model.alpha.bs) + ", gs = " + scene::format_number(model.alpha.gs) + ")");
+}
+
 constexpr int kMaxCoupledNodes = 20001;  // the whole state is kept (and gathered each step) on every rank
 
 }  // namespace
@@ -72,6 +105,7 @@ CheckedRun check_beam_run(const scene::Scene& sc, const RunLimits& limits, MPI_C
 CheckedRun check_rod_run(const scene::Scene& sc, const rod::RodModel& model, const RunLimits& limits, MPI_Comm comm) {
   CheckedRun out;
   check_properties(sc);
+  check_rod_model(sc, model);
   check_load_ratio(sc);
   const RodPathGuess path{expect_planar(sc, model), par::size(comm)};
   const MemoryPlan memory = rod_memory(sc, path);

@@ -327,7 +327,8 @@ OutputSize output_size(const scene::Scene& sc, const TimePlan& plan) {
   double stored = beam ? 4.0 : 0.0, copied = beam ? 3.0 : 0.0, arrays = beam ? 1.0 : 0.0;
   for (const auto f : sc.output.fields) {
     const double n = f == scene::Field::R ? 9.0 : (f == scene::Field::deflection || f == scene::Field::slope ||
-                                                   f == scene::Field::bending_moment) ? 1.0 : 3.0;
+                                                   f == scene::Field::bending_moment || f == scene::Field::stretch ||
+                                                   f == scene::Field::axial_force) ? 1.0 : 3.0;
     if (f == scene::Field::deflection) continue;  // the beam always writes it
     stored += n;
     copied += n;

@@ -33,12 +33,15 @@ const Vector& tpetra(const NOX::Abstract::Vector& v) {
   return *Extract::getConstTpetraVector(dynamic_cast<const NOX::Thyra::Vector&>(v).getThyraRCPVector());
 }
 
-/// The scaled update of the last Newton iteration, max_i |x_k - x_{k-1}|_i / scale(i), against a
-/// tolerance; unconverged before the first iteration. The kind of unknown i is (i mod 12) / 3:
-/// each node's 12 unknowns are r, theta, kappa, n, and every rank owns whole nodes.
+/// The scaled update of the last Newton iteration, max_i of rod::scaled_update of the change
+/// x_k - x_{k-1} in unknown i (|change| / scale(kind of i), the force in a direction the rod
+/// strains in also measured by its strain), against a tolerance; unconverged before the first
+/// iteration. Unknown i is unknown i mod 12 of its node (r, theta, kappa, n): every rank owns
+/// whole nodes.
 class ScaledUpdateTest : public NOX::StatusTest::Generic {
  public:
-  ScaledUpdateTest(double tolerance, const std::array<double, 4>& scales) : tolerance_(tolerance), scales_(scales) {}
+  ScaledUpdateTest(double tolerance, const std::array<double, 4>& scales, const Vec3& compliance)
+      : tolerance_(tolerance), scales_(scales), compliance_(compliance) {}
 
   NOX::StatusTest::StatusType checkStatus(const NOX::Solver::Generic& problem,
                                           NOX::StatusTest::CheckType type) override {
@@ -50,7 +53,7 @@ class ScaledUpdateTest : public NOX::StatusTest::Generic {
     const auto x0 = tpetra(problem.getPreviousSolutionGroup().getX()).getData();
     double local = 0.0;
     for (Teuchos::ArrayRCP<const double>::size_type i = 0; i < x.size() && std::isfinite(local); ++i) {
-      const double s = std::abs(x[i] - x0[i]) / scales_[static_cast<size_t>(i % 12 / 3)];
+      const double s = rod::scaled_update(static_cast<int>(i % 12), x[i] - x0[i], scales_, compliance_);
       local = std::isfinite(s) ? std::max(local, s) : std::numeric_limits<double>::infinity();
     }
     const auto comm = tpetra(problem.getSolutionGroup().getX()).getMap()->getComm();
@@ -69,6 +72,7 @@ class ScaledUpdateTest : public NOX::StatusTest::Generic {
  private:
   double tolerance_;
   std::array<double, 4> scales_;
+  Vec3 compliance_;
   double value_ = std::numeric_limits<double>::infinity();
   NOX::StatusTest::StatusType status_ = NOX::StatusTest::Unevaluated;
 };
@@ -106,7 +110,7 @@ StaticSolveReport nox_static_solve(const Teuchos::RCP<StaticRodModel>& model, Ve
                                    const Teuchos::RCP<StaticRodModel::Matrix>& W) {
   auto normf = Teuchos::rcp(new NOX::StatusTest::NormF(t.residual, NOX::Abstract::Vector::MaxNorm,
                                                        NOX::StatusTest::NormF::Unscaled));
-  auto update = Teuchos::rcp(new ScaledUpdateTest(t.update, t.scales));
+  auto update = Teuchos::rcp(new ScaledUpdateTest(t.update, t.scales, t.compliance));
   auto finite = Teuchos::rcp(new NOX::StatusTest::FiniteValue);
   auto maxit = Teuchos::rcp(new NOX::StatusTest::MaxIters(t.max_iterations));
   auto tests = Teuchos::rcp(new NOX::StatusTest::Combo(NOX::StatusTest::Combo::OR));

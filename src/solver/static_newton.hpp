@@ -4,13 +4,15 @@
 // and the status tests
 //   OR(FiniteValue, AND(max|f| <= residual, scaled update <= update), MaxIters)
 // where the scaled update is max_i |x_k - x_{k-1}|_i / scale(kind of unknown i), the kinds
-// r, theta, kappa, n of rod/static_kernels.hpp. It serves the static initial state's load
-// steps (scales rod::static_update_scales, residual ftol * force scale) and the statics'
-// fixed-parameter solves (unit scales). The frames stay fixed during a solve: the caller
-// rebases them after it converges. Private to the solver module.
+// r, theta, kappa, n of rod/static_kernels.hpp (rod::scaled_update: for a force in a direction
+// the rod strains in, the smaller of that and the strain's update). It serves the static
+// initial state's load steps (scales rod::static_update_scales, residual ftol * force scale)
+// and the statics' fixed-parameter solves (unit scales). The frames stay fixed during a
+// solve: the caller rebases them after it converges. Private to the solver module.
 #include <array>
 
 #include "static_context.hpp"
+#include "traverse/rod/static_load_steps.hpp"
 
 namespace traverse::solver {
 
@@ -18,6 +20,8 @@ struct StaticNewtonTests {
   double residual = 1e-9;  ///< max |f| <= residual [N] ...
   double update = 1e-10;   ///< ... and the scaled update <= update, after at least one iteration
   std::array<double, 4> scales{1.0, 1.0, 1.0, 1.0};  ///< of r, theta, kappa, n
+  /// The rod's compliance C (rod::scaled_update): zero, the force updates measured by the scale only.
+  Vec3 compliance = Vec3::Zero();
   int max_iterations = 40;
 };
 

@@ -43,6 +43,7 @@ class LoadSteppedStart {
     tests.residual = tol.ftol * fscale;
     tests.update = tol.rtol;
     tests.scales = rod::static_update_scales(scaled.length, fscale);
+    tests.compliance = scaled.props.C;
     tests.max_iterations = tol.max_iterations;
     model_->set_fixed_model(scaled);
     Vector x(*x_, Teuchos::Copy);

@@ -144,6 +144,17 @@ TEST(InterruptRestart, RodSecantGuessSigintThenRestartBitForBit) {
                    Stop::sigint_process, 0.0);
 }
 
+// A shearable rod with Kelvin-Voigt viscosity (docs/rod.md): the strain rate's history (the n
+// slot of yt) and kappa_t are part of the restart point, so the restarted run is the
+// uninterrupted one bit for bit, on the 3D and the planar path.
+TEST(InterruptRestart, ShearableDampedRodSigintThenRestartBitForBit) {
+  const std::string strain = " --set rod.model=shearable --set 'rod.damping={axial: 5, shear: 5, bending: 1.0e-5, "
+                             "torsion: 1.0e-5}' --set output.fields=[r,R,u,omega,kappa,n,m,v]";
+  stop_and_restart("rod-shearable-3d-sigint", 1, kCable, kRodArgs + strain + " --set scheme.planar=off", 3, 40,
+                   Stop::sigint_process, 0.0);
+  stop_and_restart("rod-shearable-planar-sigint", 1, kCable, kRodArgs + strain, 3, 40, Stop::sigint_process, 0.0);
+}
+
 TEST(InterruptRestart, RodSigintThenRestart) {
   stop_and_restart("rod-sigint", 1, kCable, kRodArgs, 3, 40, Stop::sigint_process);
 }

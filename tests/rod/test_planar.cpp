@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string>
+#include <utility>
 
 #include "rod_test_util.hpp"
 #include "traverse/rod/planar.hpp"
@@ -123,6 +125,24 @@ Parity parity_of(const LocalBlock& b, const std::vector<bool>& even_rows, const 
   return p;
 }
 
+// The rod models the planar path takes (docs/rod.md): the inextensible rod, the rods that
+// strain and the viscosities (compliances and retardation times large enough to show; the
+// bending viscosity with the box scheme in s only).
+std::vector<std::pair<std::string, RodProperties>> strain_variants(const RodProperties& base, bool box) {
+  std::vector<std::pair<std::string, RodProperties>> v{{"", base}};
+  RodProperties ext = base, shear = base;
+  ext.C = RodProperties::compliance(RodStrain::extensible, 200.0, 0.0);
+  shear.C = RodProperties::compliance(RodStrain::shearable, 200.0, 50.0);
+  shear.B_se = Vec3(0.3, 0.2, 0.5);
+  v.push_back({" extensible", ext});
+  v.push_back({" shearable B_se", shear});
+  if (box) {
+    shear.B_bt = Vec3(1e-3, 2e-3, 3e-3);
+    v.push_back({" shearable B_se B_bt", shear});
+  }
+  return v;
+}
+
 // The physics behind the planar path: at a state symmetric about the plane, the cell rows'
 // out-of-plane residuals vanish and the Jacobian has no entry coupling in-plane and
 // out-of-plane unknowns (the cell rows split with the same indices as the unknowns).
@@ -133,24 +153,28 @@ TEST(Planar, CellKernelDecouplesAtSymmetricStates) {
     for (int axis = 0; axis < 2; ++axis) {
       const Vec3 n = rng.vec3(1.0).normalized();
       const int j = 4;
-      const RodModel m = planar_model(pc.alpha, n, axis, j, st, rng);
-      const int p = m.unknowns_per_node();
-      const std::vector<bool> even = even_entries(axis, p);
-      double odd = 0.0, cross = 0.0;
-      for (int trial = 0; trial < 5; ++trial) {
-        const RodNode o0 = symmetric_node(n, axis, rng);
-        RodNode o1 = symmetric_node(n, axis, rng);
-        o1.R = o0.R;  // neighbouring nodes: the same plane
-        const VecX x0 = symmetric_unknowns(m, o0, axis, rng), x1 = symmetric_unknowns(m, o1, axis, rng);
-        ASSERT_TRUE(loads_touch_cell(m, st, j));
-        const Parity P = parity_of(cell_block(m, st, j, o0, o1, x0, x1), even, even);
-        odd = std::max(odd, P.odd_residual / P.residual);
-        cross = std::max(cross, P.cross / P.jac);
+      const RodModel base = planar_model(pc.alpha, n, axis, j, st, rng);
+      for (const auto& [variant, props] : strain_variants(base.props, pc.alpha.box_in_space())) {
+        RodModel m = base;
+        m.props = props;
+        const int p = m.unknowns_per_node();
+        const std::vector<bool> even = even_entries(axis, p);
+        double odd = 0.0, cross = 0.0;
+        for (int trial = 0; trial < 5; ++trial) {
+          const RodNode o0 = symmetric_node(n, axis, rng);
+          RodNode o1 = symmetric_node(n, axis, rng);
+          o1.R = o0.R;  // neighbouring nodes: the same plane
+          const VecX x0 = symmetric_unknowns(m, o0, axis, rng), x1 = symmetric_unknowns(m, o1, axis, rng);
+          ASSERT_TRUE(loads_touch_cell(m, st, j));
+          const Parity P = parity_of(cell_block(m, st, j, o0, o1, x0, x1), even, even);
+          odd = std::max(odd, P.odd_residual / P.residual);
+          cross = std::max(cross, P.cross / P.jac);
       }
-      std::printf("  %-32s normal d%d: out-of-plane residual / max %.2e, coupling entries / max %.2e\n", pc.name,
-                  axis + 1, odd, cross);
-      EXPECT_LT(odd, 1e-13) << pc.name;
-      EXPECT_LT(cross, 1e-13) << pc.name;
+      std::printf("  %-32s%s normal d%d: out-of-plane residual / max %.2e, coupling entries / max %.2e\n", pc.name,
+                  variant.c_str(), axis + 1, odd, cross);
+      EXPECT_LT(odd, 1e-13) << pc.name << variant;
+      EXPECT_LT(cross, 1e-13) << pc.name << variant;
+      }
     }
   }
   // The check can fail: a force with an out-of-plane component gives out-of-plane residuals.
@@ -176,41 +200,45 @@ TEST(Planar, InPlaneCellKernelEqualsRestrictedFullKernel) {
   for (const auto& pc : param_cases()) {
     for (int axis = 0; axis < 2; ++axis) {
       const Vec3 n = rng.vec3(1.0).normalized();
-      const RodModel m = planar_model(pc.alpha, n, axis, 4, st, rng);
-      PlanarSymmetry sym;  // the end rows do not matter for a cell
-      sym.normal = n;
-      sym.axis = axis;
-      sym.left_rows = {{1, 2, 3}};
-      sym.right_rows = {{1, 2, 3}};
-      if (axis == 1) sym.left_rows = sym.right_rows = {{0, 2, 4}};
-      const PlanarReduction red(m, sym);
-      double dr = 0.0, dj = 0.0, dd = 0.0;
-      for (int j : {4, 7}) {  // with (4) and without (7) the loads
-        const RodNode o0 = symmetric_node(n, axis, rng);
-        RodNode o1 = symmetric_node(n, axis, rng);
-        o1.R = o0.R;
-        const VecX x0 = symmetric_unknowns(m, o0, axis, rng), x1 = symmetric_unknowns(m, o1, axis, rng);
-        LocalBlock full = cell_block(m, st, j, o0, o1, x0, x1), expected, got;
-        const double drop_expected = red.restrict_block(full, expected);
-        const PlanarReduction::OldNode p0 = red.old_node(m, st, j - 1, o0), p1 = red.old_node(m, st, j, o1);
-        const VecX q0 = red.restrict_unknowns(x0), q1 = red.restrict_unknowns(x1);
-        PlanarReduction::NewLevels l0, l1;
-        red.new_levels(m, st, p0, q0.data(), l0);
-        red.new_levels(m, st, p1, q1.data(), l1);
-        double drop_got = red.cell_block_into(got, m, st, j, p0, p1, q0.data(), q1.data(), l0, l1);
-        if (loads_touch_cell(m, st, j))
-          drop_got = std::max(drop_got, red.add_loads(got, load_block(m, st, j, o0, o1, x0, x1)));
-        ASSERT_EQ(got.row, expected.row);
-        ASSERT_EQ(got.cols, expected.cols);
-        dr = std::max(dr, test::relative_difference(got.residual, expected.residual));
-        for (size_t k = 0; k < 2; ++k) dj = std::max(dj, test::relative_difference(got.jac[k], expected.jac[k]));
-        dd = std::max(dd, std::abs(drop_got - drop_expected));
+      const RodModel base = planar_model(pc.alpha, n, axis, 4, st, rng);
+      for (const auto& [variant, props] : strain_variants(base.props, pc.alpha.box_in_space())) {
+        RodModel m = base;
+        m.props = props;
+        PlanarSymmetry sym;  // the end rows do not matter for a cell
+        sym.normal = n;
+        sym.axis = axis;
+        sym.left_rows = {{1, 2, 3}};
+        sym.right_rows = {{1, 2, 3}};
+        if (axis == 1) sym.left_rows = sym.right_rows = {{0, 2, 4}};
+        const PlanarReduction red(m, sym);
+        double dr = 0.0, dj = 0.0, dd = 0.0;
+        for (int j : {4, 7}) {  // with (4) and without (7) the loads
+          const RodNode o0 = symmetric_node(n, axis, rng);
+          RodNode o1 = symmetric_node(n, axis, rng);
+          o1.R = o0.R;
+          const VecX x0 = symmetric_unknowns(m, o0, axis, rng), x1 = symmetric_unknowns(m, o1, axis, rng);
+          LocalBlock full = cell_block(m, st, j, o0, o1, x0, x1), expected, got;
+          const double drop_expected = red.restrict_block(full, expected);
+          const PlanarReduction::OldNode p0 = red.old_node(m, st, j - 1, o0), p1 = red.old_node(m, st, j, o1);
+          const VecX q0 = red.restrict_unknowns(x0), q1 = red.restrict_unknowns(x1);
+          PlanarReduction::NewLevels l0, l1;
+          red.new_levels(m, st, p0, q0.data(), l0);
+          red.new_levels(m, st, p1, q1.data(), l1);
+          double drop_got = red.cell_block_into(got, m, st, j, p0, p1, q0.data(), q1.data(), l0, l1);
+          if (loads_touch_cell(m, st, j))
+            drop_got = std::max(drop_got, red.add_loads(got, load_block(m, st, j, o0, o1, x0, x1)));
+          ASSERT_EQ(got.row, expected.row);
+          ASSERT_EQ(got.cols, expected.cols);
+          dr = std::max(dr, test::relative_difference(got.residual, expected.residual));
+          for (size_t k = 0; k < 2; ++k) dj = std::max(dj, test::relative_difference(got.jac[k], expected.jac[k]));
+          dd = std::max(dd, std::abs(drop_got - drop_expected));
       }
-      std::printf("  %-32s normal d%d: residual %.2e, Jacobian %.2e (relative), dropped residual %.2e\n", pc.name,
-                  axis + 1, dr, dj, dd);
-      EXPECT_LT(dr, 1e-14) << pc.name;
-      EXPECT_LT(dj, 1e-14) << pc.name;
-      EXPECT_LT(dd, 1e-12) << pc.name;
+      std::printf("  %-32s%s normal d%d: residual %.2e, Jacobian %.2e (relative), dropped residual %.2e\n", pc.name,
+                  variant.c_str(), axis + 1, dr, dj, dd);
+      EXPECT_LT(dr, 1e-14) << pc.name << variant;
+      EXPECT_LT(dj, 1e-14) << pc.name << variant;
+      EXPECT_LT(dd, 1e-12) << pc.name << variant;
+      }
     }
   }
 }

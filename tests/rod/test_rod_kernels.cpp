@@ -79,6 +79,111 @@ TEST(RodKernels, CellAndLoadJacobiansMatchCentralDifferences) {
   }
 }
 
+/// The rods that strain and the viscosities (docs/rod.md, "Extensible and shearable rods"):
+/// the compliance law in the compatibility rows (- v_t - omega x v), v x n in the couple rows,
+/// the strain rate's history in the n slot of yt, the Kelvin-Voigt terms in n and m (the
+/// moment's s-derivative in the cells, its value in the free and pinned ends). Compliances and
+/// retardation times are chosen large enough (tau / (gt dt) of order one) that every term
+/// shows in the Jacobian; the cells carry every kind of load.
+struct StrainCase {
+  const char* name;
+  RodStrain strain;
+  bool damped;
+};
+
+RodModel strain_model(const RodModel& base, const StrainCase& c) {
+  RodModel m = base;
+  m.props.C = RodProperties::compliance(c.strain, 200.0, 50.0);
+  if (c.damped) {
+    m.props.B_se = Vec3(0.3, 0.2, 0.5);
+    m.props.B_bt = Vec3(1e-3, 2e-3, 3e-3);
+  }
+  return m;
+}
+
+const std::vector<StrainCase> kStrainCases = {{"extensible", RodStrain::extensible, false},
+                                              {"shearable", RodStrain::shearable, false},
+                                              {"extensible damped", RodStrain::extensible, true},
+                                              {"shearable damped", RodStrain::shearable, true},
+                                              {"inextensible damped", RodStrain::inextensible, true}};
+
+TEST(RodKernels, StrainAndViscosityJacobiansMatchCentralDifferences) {
+  test::Rng rng;
+  const StepTimes st{0.37, 0.01};
+  for (const auto& pc : param_cases()) {
+    for (const StrainCase& sc : kStrainCases) {
+      if (sc.damped && !pc.alpha.box_in_space()) continue;  // bending viscosity: box scheme only
+      for (int j : {1, 5}) {
+        const RodModel m = strain_model(loaded_model(pc.alpha, j, st), sc);
+        EXPECT_EQ(m.props.compliant(), sc.strain != RodStrain::inextensible);
+        EXPECT_EQ(m.props.strain_kind(), sc.strain);
+        const RodNode o0 = rng.node(), o1 = rng.node();
+        const VecX x0 = rng.unknowns(m, o0), x1 = rng.unknowns(m, o1);
+        const LocalBlock b = cell_block(m, st, j, o0, o1, x0, x1);
+        for (int q = 0; q < 2; ++q) {
+          auto fc = [&](const VecX& x) {
+            return cell_block(m, st, j, o0, o1, q == 0 ? x : x0, q == 1 ? x : x1).residual;
+          };
+          const double ec = relative_difference(b.jac[q], central_jacobian(fc, q == 0 ? x0 : x1));
+          std::printf("[%s] %s cell %d node %d: rel err %.2e\n", pc.name, sc.name, j, j - 1 + q, ec);
+          EXPECT_LT(ec, 1e-7) << pc.name << " " << sc.name;
+        }
+      }
+      for (const EndCondition& e : {EndCondition::make_free(), EndCondition::make_pinned(Vec3(1.0, 0.2, -0.1))}) {
+        RodModel m = strain_model(loaded_model(pc.alpha, 1, st), sc);
+        m.left = m.right = e;
+        const RodNode o = rng.node();
+        const VecX x = rng.unknowns(m, o);
+        const double el = relative_difference(
+            left_block(m, st, o, x).jac[0],
+            central_jacobian([&](const VecX& z) { return left_block(m, st, o, z).residual; }, x));
+        const double er = relative_difference(
+            right_block(m, st, o, x).jac[0],
+            central_jacobian([&](const VecX& z) { return right_block(m, st, o, z).residual; }, x));
+        std::printf("[%s] %s %s ends: left rel err %.2e, right %.2e\n", pc.name, sc.name,
+                    e.type == EndType::free ? "free" : "pinned", el, er);
+        EXPECT_LT(el, 1e-7);
+        EXPECT_LT(er, 1e-7);
+      }
+    }
+  }
+}
+
+/// The n slot of a strained node's yt is the strain rate: with the level's v from n and v_t
+/// (RodProperties::strain), the new level's v_t is the scheme's recursion of v, and n equals
+/// C^-1 (v - e3) + B_se v_t in the directions that strain (the Kelvin-Voigt law, solved).
+TEST(RodKernels, StrainRateHistoryIsTheRecursionOfTheStrain) {
+  test::Rng rng;
+  const double dt = 0.01;
+  for (const auto& pc : param_cases()) {
+    for (const StrainCase& sc : kStrainCases) {
+      if (sc.strain == RodStrain::inextensible) continue;
+      const RodModel m = strain_model(test::scene_model(4, pc.alpha), sc);
+      const RodProperties& p = m.props;
+      RodNode old = rng.node();
+      if (sc.strain == RodStrain::extensible) old.yt.segment<2>(var::n).setZero();  // no lateral strain rate
+      const Vec12 y = rng.unknowns(m, old).head<12>();
+      const NewLevelNode nn = new_level_node(m, old, y, dt);
+      const Vec3 vt = nn.yt.segment<3>(var::n), vt_old = old.yt.segment<3>(var::n);
+      const Vec3 v = p.strain(y.segment<3>(var::n), vt), v_old = p.strain(old.y.segment<3>(var::n), vt_old);
+      const double g = pc.alpha.gt;
+      const Vec3 recursion = (v - v_old) / (g * dt) - (1.0 - g) / g * vt_old;
+      double law = 0.0;
+      for (int i = 0; i < 3; ++i)
+        if (p.C(i) != 0.0)
+          law = std::max(law, std::abs((v(i) - (i == 2 ? 1.0 : 0.0)) / p.C(i) + p.B_se(i) * vt(i) - y(var::n + i)));
+      const double er = (vt - recursion).cwiseAbs().maxCoeff();
+      std::printf("[%s] %s: |v_t - recursion| %.2e, |Kelvin-Voigt law| %.2e N, lateral v %.1e\n", pc.name, sc.name,
+                  er, law, v.head<2>().cwiseAbs().maxCoeff());
+      EXPECT_LT(er, 1e-9 * (1.0 + vt.cwiseAbs().maxCoeff()));
+      EXPECT_LT(law, 1e-10 * (1.0 + y.segment<3>(var::n).norm()));
+      if (sc.strain == RodStrain::extensible) {
+        EXPECT_TRUE(v.head<2>().isZero(0.0));
+      }
+    }
+  }
+}
+
 /// The moving mass's inertia (momentum form over the cells' space-time boxes, for
 /// its line mass over [sigma - ds, sigma + ds]) on every kind of path through cell j during
 /// the step: inside the cell, node to node (dt = ds / v), across a node (forwards and

@@ -78,22 +78,26 @@ void check_jacobian(std::vector<StaticNode> nodes,
 TEST(RodStatics, JacobianMatchesCentralDifferences) {
   std::mt19937 g(7);
   using T = EndCondition::Type;
-  for (T lt : {T::clamped, T::pinned, T::sliding, T::free}) {
-    StaticModel m = scene_model(4);
-    m.gravity = Vec3(0, -9.8, 0);
-    m.point_forces.push_back({Vec3(0.3, -2.0, 0.1), 0.3});
-    m.left.type = lt;
-    m.left.axis = Vec3(1, 0.2, 0).normalized();
-    m.left.frame = so3::exp(Vec3(0.1, 0.2, -0.3));
-    m.left.axial_force = 1.5;
-    m.left.end_force = Vec3(0.2, 0.1, -0.4);
-    m.right.type = lt == T::free ? T::sliding : T::free;
-    m.right.axis = Vec3(0, 0, 1);
-    m.right.end_force = Vec3(1, 2, 3);
-    auto nodes = random_nodes(m, g);
-    check_jacobian(nodes, [&](const std::vector<StaticNode>& n) { return static_cell_block(m, 2, n[1], n[2]); }, "cell");
-    check_jacobian(nodes, [&](const std::vector<StaticNode>& n) { return static_left_block(m, n[0]); }, "left end");
-    check_jacobian(nodes, [&](const std::vector<StaticNode>& n) { return static_right_block(m, n[4]); }, "right end");
+  // The inextensible rod and the rods that strain (compliances large enough that C n shows).
+  for (RodStrain strain : {RodStrain::inextensible, RodStrain::extensible, RodStrain::shearable}) {
+    for (T lt : {T::clamped, T::pinned, T::sliding, T::free}) {
+      StaticModel m = scene_model(4);
+      m.props.C = RodProperties::compliance(strain, 5.0, 2.0);
+      m.gravity = Vec3(0, -9.8, 0);
+      m.point_forces.push_back({Vec3(0.3, -2.0, 0.1), 0.3});
+      m.left.type = lt;
+      m.left.axis = Vec3(1, 0.2, 0).normalized();
+      m.left.frame = so3::exp(Vec3(0.1, 0.2, -0.3));
+      m.left.axial_force = 1.5;
+      m.left.end_force = Vec3(0.2, 0.1, -0.4);
+      m.right.type = lt == T::free ? T::sliding : T::free;
+      m.right.axis = Vec3(0, 0, 1);
+      m.right.end_force = Vec3(1, 2, 3);
+      auto nodes = random_nodes(m, g);
+      check_jacobian(nodes, [&](const std::vector<StaticNode>& n) { return static_cell_block(m, 2, n[1], n[2]); }, "cell");
+      check_jacobian(nodes, [&](const std::vector<StaticNode>& n) { return static_left_block(m, n[0]); }, "left end");
+      check_jacobian(nodes, [&](const std::vector<StaticNode>& n) { return static_right_block(m, n[4]); }, "right end");
+    }
   }
 }
 

@@ -5,6 +5,7 @@
 #include <Teuchos_ParameterList.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -298,4 +299,47 @@ TEST(Scene, InitialStatesAndContinuation) {
   expect_error({"continuation={parameter: load_position, stop: 1, step: 0.1, probes: {p: {type: point, at: 0.5, "
                 "quantity: position, component: '2'}}}"},
                {"continuation.probes.p.component", "x, y or z for quantity position"}, kRod);
+}
+
+// rod.model and its keys: the default is the inextensible rod; the shear coefficient defaults to
+// Cowper's for the section; a key the chosen model does not read is refused, located.
+TEST(Scene, RodModelStiffnessesShearCoefficientAndDamping) {
+  const Scene s = parse_scene(kRod, "scene.yaml");
+  EXPECT_EQ(s.rod.strain, RodStrain::inextensible);
+  EXPECT_EQ(s.rod.damping_bending, 0.0);
+  const double nu = 0.25, A = M_PI * 0.005 * 0.005, G = 1.0e8;
+  const Scene sh = parse_scene(kRod, "scene.yaml", {"rod.model=shearable", "rod.damping={axial: 2, shear: 3, bending: 4}"});
+  EXPECT_EQ(sh.rod.strain, RodStrain::shearable);
+  EXPECT_NEAR(sh.rod.shear_coefficient, 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu), 1e-12);
+  EXPECT_NEAR(sh.rod.axial_stiffness, 2.5e8 * A, 1e-9);
+  EXPECT_NEAR(sh.rod.shear_stiffness, sh.rod.shear_coefficient * G * A, 1e-9);
+  EXPECT_EQ(sh.rod.damping_axial, 2.0);
+  EXPECT_EQ(sh.rod.damping_shear, 3.0);
+  EXPECT_EQ(sh.rod.damping_bending, 4.0);
+  EXPECT_EQ(sh.rod.damping_torsion, 0.0);
+  const Scene rect = parse_scene(kRod, "scene.yaml",
+                                 {"rod.model=shearable", "rod.section={type: rectangle, width: 0.01, height: 0.02}"});
+  EXPECT_NEAR(rect.rod.shear_coefficient, 10.0 * (1.0 + nu) / (12.0 + 11.0 * nu), 1e-12);
+  const Scene tube = parse_scene(kRod, "scene.yaml", {"rod.model=shearable",
+                                 "rod.section={type: hollow_circle, outer_radius: 0.01, inner_radius: 0.005}"});
+  const double m2 = 0.25, q = (1.0 + m2) * (1.0 + m2);
+  EXPECT_NEAR(tube.rod.shear_coefficient, 6.0 * (1.0 + nu) * q / ((7.0 + 6.0 * nu) * q + (20.0 + 12.0 * nu) * m2), 1e-12);
+  const Scene given = parse_scene(kRod, "scene.yaml", {"rod.model=shearable", "rod.shear_coefficient=0.5",
+                                  "rod.axial_stiffness=1e4", "rod.shear_stiffness=2e3"});
+  EXPECT_EQ(given.rod.shear_coefficient, 0.5);
+  EXPECT_EQ(given.rod.axial_stiffness, 1e4);
+  EXPECT_EQ(given.rod.shear_stiffness, 2e3);
+  std::printf("Cowper k: circle %.6f, rectangle %.6f, tube (m = 1/2) %.6f\n", sh.rod.shear_coefficient,
+              rect.rod.shear_coefficient, tube.rod.shear_coefficient);
+
+  expect_error({"rod.model=stretchy"}, {"rod.model", "inextensible", "shearable"}, kRod);
+  expect_error({"rod.axial_stiffness=1e4"}, {"rod.axial_stiffness", "no axial stiffness for the inextensible rod"}, kRod);
+  expect_error({"rod.model=extensible", "rod.shear_coefficient=0.8"}, {"rod.shear_coefficient", "rod.model extensible"},
+               kRod);
+  expect_error({"rod.model=shearable", "rod.section={type: properties, area: 1e-4, second_moment: 1e-9}"},
+               {"rod.shear_coefficient", "given by its properties", "none"}, kRod);
+  expect_error({"rod.damping={axial: 1}"}, {"rod.damping.axial", "no axial viscosity"}, kRod);
+  expect_error({"rod.model=extensible", "rod.damping={shear: 1}"}, {"rod.damping.shear", "no shear viscosity"}, kRod);
+  expect_error({"rod.damping={bending: -1}"}, {"rod.damping.bending"}, kRod);
+  EXPECT_NO_THROW(parse_scene(kRod, "scene.yaml", {"rod.damping={bending: 1e-3, torsion: 1e-3}"}));
 }

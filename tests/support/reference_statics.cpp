@@ -62,10 +62,10 @@ StaticReport serial_newton(const StaticModel& m, std::vector<StaticNode>& nodes,
     }
     const VecX dx = lu.solve(-r);
     ++rep.iterations;
-    double step = 0.0;  // max(|dr| / L, |dtheta|, |dkappa| L, |dn| / fscale)
+    double step = 0.0;  // max(|dr| / L, |dtheta|, |dkappa| L, |dn|'): rod::scaled_update
     for (Eigen::Index i = 0; i < dx.size(); ++i) {
       nodes[static_cast<size_t>(i / 12)].x(i % 12) += dx(i);
-      const double s = std::abs(dx(i)) / scale[static_cast<size_t>(i % 12 / 3)];
+      const double s = scaled_update(static_cast<int>(i % 12), dx(i), scale, m.props.C);
       step = std::isfinite(s) ? std::max(step, s) : std::numeric_limits<double>::infinity();
     }
     if (!std::isfinite(step)) break;

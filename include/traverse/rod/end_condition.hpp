@@ -60,10 +60,12 @@ void perpendicular_pair(const Vec3& a, Vec3& b1, Vec3& b2);
 
 /// The 6 rows of a condition at a node at time t [s] and their Jacobian with respect to the
 /// node's y (12) at the new level, R the new-level orientation and G its sensitivity
-/// (d(R v)/d omega_new = hat(R v) G, see NewLevelNode).
+/// (d(R v)/d omega_new = hat(R v) G, see NewLevelNode). With a bending and torsion viscosity
+/// the moment is m = K (kappa - kappa0) + B_bt kappa_t: kappa_t the node's rate at the new level
+/// and `rate` = d kappa_t / d kappa (1/(gt dt)); without one they are not read.
 void end_condition_rows(const EndCondition& c, const RodProperties& props, double t,
                         const Vec12& y, const Mat3& R, const Mat3& G, Vec6& r,
-                        Eigen::Matrix<double, 6, 12>& J);
+                        Eigen::Matrix<double, 6, 12>& J, const Vec3& kappa_t = Vec3::Zero(), double rate = 0.0);
 
 /// Result of validate_end_conditions.
 struct EndConditionCheck {

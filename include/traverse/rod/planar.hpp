@@ -159,6 +159,13 @@ class PlanarReduction {
   std::vector<int> left_drop_, cell_drop_, right_drop_;  ///< the others
   Eigen::Matrix<double, 6, 6> Mm6_, Kk6_;  ///< the in-plane rows and columns of the model's Mm and Kk
   double sigma_ = 1.0;  ///< e_a x v = sigma J v for in-plane polar v, J (v_b, v_3) = (-v_3, v_b)
+  /// A rod that strains: the strain rate's slots of L.yt (the n slots), the strain v = (v_b, v_3)
+  /// and dv/dn (diagonal) at the new level of a node whose in-plane force is n.
+  void strain_levels(const RodModel& model, const StepTimes& step, const OldNode& o, const Eigen::Vector2d& n,
+                     NewLevels& L, Eigen::Vector2d& v, Eigen::Vector2d& dv) const;
+  /// The bending viscosity's -(B kappa_t)_s about the normal in a cell's spin row (box scheme).
+  void add_bending_viscosity(LocalBlock& b, const RodModel& model, const StepTimes& step, const OldNode& op,
+                             const OldNode& oc, const NewLevels& lp, const NewLevels& lc) const;
 };
 
 /// The same symmetry for a static problem (static_kernels.hpp) started from the straight state

@@ -37,6 +37,21 @@ struct NewLevelNode {
 };
 NewLevelNode new_level_node(const RodNode& old_node, const Vec12& y_new, double dt,
                             const AlphaParameters& alpha);
+/// The same for the model's rod: for a rod that strains (RodProperties::compliant) the n slot of
+/// yt holds the strain rate v_t instead of n's (docs/rod.md, "Extensible and shearable rods"):
+/// the Kelvin-Voigt law n = C^-1 (v - e3) + B_se v_t with v_t from the same recursion, solved
+/// for v at the new level. The inextensible rod's yt is new_level_node's above.
+NewLevelNode new_level_node(const RodModel& model, const RodNode& old_node, const Vec12& y_new, double dt);
+
+/// The strain rate v_t of a node at the new level from its new contact force n_new [N]: the
+/// Kelvin-Voigt law n = C^-1 (v - e3) + B_se v_t with v_t = (v_new - v_old)/(gt dt) -
+/// (1 - gt)/gt v_t,old (the scheme's recursion), solved for v_new componentwise; v_old from the
+/// old level's n_old and v_t,old. Without viscosity v_t = C (n_new - n_old)/(gt dt) - (1 - gt)/gt v_t,old.
+Vec3 strain_rate(const RodProperties& p, const Vec3& n_old, const Vec3& vt_old, const Vec3& n_new, double dt,
+                 const AlphaParameters& alpha);
+/// The effective compliance dv_new/dn_new = C / (1 + tau c) of the new level [1/N], c = 1/(gt dt)
+/// the sensitivity of a new-level rate to the new value (tau: the retardation times).
+Vec3 effective_compliance(const RodProperties& p, double c);
 
 /// Flux F(y, R, s, t) of Mm y_t + Kk y_s + F = 0 at one node and level, including gravity
 /// and the distributed fixed-frame loads (not point loads, which enter cells only), and its
@@ -52,7 +67,15 @@ struct NodeFlux {
   bool frame_loads = true;  ///< whether the load terms R f, R l (and dF_dRrot) were formed
   bool has_jacobian = true;  ///< false: only F was formed (dF_dy, dF_dRrot not set)
 };
+/// The flux also reads the node's time-derivative history yt at its level (the strain rate v_t
+/// in the n slot of a rod that strains, kappa_t for the bending viscosity) and c = d yt / d y,
+/// 1/(gt dt) at the new level (what dF_dy includes of yt's dependence on y). The strain is
+/// v = e3 + C n - tau v_t (RodProperties::strain) in the couple rows (- v x n) and the
+/// compatibility rows (- omega x v); m = K (kappa - kappa0) + B_bt kappa_t.
 /// `jacobian` false: only F (the old level's flux, which no Jacobian needs).
+NodeFlux node_flux(const RodModel& model, const Vec12& y, const Vec12& yt, double c, const Mat3& R, double s,
+                   double t, bool jacobian = true);
+/// node_flux with yt = 0: a rod without viscosity, or one at rest.
 NodeFlux node_flux(const RodModel& model, const Vec12& y, const Mat3& R, double s, double t, bool jacobian = true);
 
 /// Mm y and Kk y of the first-order form (docs/rod.md).

@@ -70,6 +70,20 @@ double discrete_energy(const RodState& state, const RodProperties& props);
 
 /// Same energy, trapezoidal rule over the nodes (for output; not exactly conserved).
 double nodal_energy(const RodState& state, const RodProperties& props);
+/// Both energies include, for a rod that strains, the strain energy 1/2 d . C^-1 d of the
+/// strain deviation d = v - e3 (strain_deviation; cell averages in discrete_energy) over the
+/// directions it strains in.
+
+/// The strain deviation v - e3 = C n - tau v_t of a node (v_t: the n slot of yt), zero for the
+/// inextensible rod.
+Vec3 strain_deviation(const RodNode& node, const RodProperties& props);
+
+/// The Kelvin-Voigt dissipation rate over the step from old_state to state [W]: sum over cells
+/// of ds (vb . B_se vb + kb . B_bt kb), vb and kb the cell averages of the secant rates
+/// (d_new - d_old) / dt of the strain deviation and of kappa. With discrete_energy, the
+/// centred box scheme's balance for the linearised rod: E(state) - E(old_state) = -dt times it
+/// (plus the work of the loads and the ends).
+double discrete_dissipation(const RodState& old_state, const RodState& state, const RodProperties& props);
 
 /// Centreline at the nodes from r(0) = r0 by the trapezoidal rule on dr/ds = R^T e3
 /// (second order). Fixed components [m].
@@ -77,6 +91,13 @@ std::vector<Vec3> centreline_in_space(const RodState& state, const Vec3& r0 = Ve
 
 /// The tangent dr/ds = R^T e3 of a node (its director d3, fixed components).
 inline Vec3 tangent(const RodNode& node) { return node.R.row(2).transpose(); }
+/// The tangent dr/ds = R^T v of a node of the rod `props` describes, v its strain
+/// (RodProperties::strain of the node's n and of the strain rate in the n slot of yt): d3 for the
+/// inextensible rod, stretched and sheared for one that strains (fixed components).
+inline Vec3 tangent(const RodNode& node, const RodProperties& props) {
+  if (!props.compliant()) return tangent(node);
+  return node.R.transpose() * props.strain(node.y.segment<3>(var::n), node.yt.segment<3>(var::n));
+}
 
 /// The same rule along consecutive nodes given by their tangents, from r = r_first at the
 /// first of them: r_k = r_{k-1} + ds/2 (t_{k-1} + t_k). centreline_in_space is this from r0

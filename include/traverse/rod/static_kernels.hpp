@@ -8,9 +8,10 @@
 //   rows [0, 6): left end; 6 + 12 (j-1) + (0..11): cell (j-1, j); last 6: right end.
 // Cell rows (the dynamic box-scheme rows at rest, plus the frame and centreline):
 //   0-2   -(n_j - n_{j-1})/ds + avg(-kappa x n - R f) - point forces         (force balance)
-//   3-5   -K (kappa_j - kappa_{j-1})/ds + avg(-kappa x m - e3 x n - R l)     (moment balance)
+//   3-5   -K (kappa_j - kappa_{j-1})/ds + avg(-kappa x m - v x n - R l)      (moment balance)
 //   6-8   (log(R_j R_{j-1}^T) + ds avg(kappa)) / ds                           (frame follows kappa)
-//   9-11  (r_j - r_{j-1})/ds - avg(R^T e3)                                     (centreline, trapezoidal)
+//   9-11  (r_j - r_{j-1})/ds - avg(R^T v)                                      (centreline, trapezoidal)
+// with the strain v = e3 + C n of a rod that strains (RodProperties::C), e3 for the inextensible rod.
 // avg() is the cell average (value at j-1 + value at j)/2: the frame relation is the midpoint
 // exponential of state_from_curvature and the centreline the trapezoidal rule, both second order.
 #include <vector>

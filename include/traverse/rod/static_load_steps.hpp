@@ -52,6 +52,12 @@ StaticReport solve_with_load_steps(const StaticModel& m, const StaticNewton& new
 /// max(|dr| / L, |dtheta|, |dkappa| L, |dn| / fscale), i.e. |d| divided by (L, 1, 1/L, fscale).
 std::array<double, 4> static_update_scales(double length, double fscale);
 
+/// The scaled update of one node unknown, `index` in 0..11 (r, theta, kappa, n of svar), changed
+/// by d: |d| / scales[index / 3]; for a force component n_i in a direction the rod strains in
+/// (compliance C_i not zero), the smaller of that and the strain's update |C_i d|: the positions
+/// fix such a force only to within E A times their rounding.
+double scaled_update(int index, double d, const std::array<double, 4>& scales, const Vec3& compliance);
+
 /// The force scale of the convergence test: the largest of E I / L^2 + the rod's weight and
 /// the point and end forces [N].
 double static_force_scale(const StaticModel& m);

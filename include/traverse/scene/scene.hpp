@@ -37,10 +37,12 @@ enum class ContinuationMethod { arclength, natural };
 enum class ContinuationProbeType { point, end_compression };
 enum class ProbeType { deflection, point, acceleration };
 /// A vector quantity of the rod at a point (probes) or at every node (fields).
-enum class Quantity { position, u, omega, kappa, n, m, d1, d2, d3 };
+enum class Quantity { position, u, omega, kappa, n, m, d1, d2, d3, v };
 enum class Frame { fixed, body };
+/// rod.model: which strains of the centreline the rod admits (none, stretch, stretch and shear).
+enum class RodStrain { inextensible, extensible, shearable };
 /// Fields written at every node: rod (u .. R) and beam (deflection .. bending_moment).
-enum class Field { u, omega, kappa, n, m, r, R, deflection, slope, bending_moment };
+enum class Field { u, omega, kappa, n, m, r, R, deflection, slope, bending_moment, v, stretch, axial_force };
 
 template <class E>
 const std::vector<std::string>& enum_names();
@@ -59,6 +61,7 @@ template <> const std::vector<std::string>& enum_names<ContinuationProbeType>();
 template <> const std::vector<std::string>& enum_names<ProbeType>();
 template <> const std::vector<std::string>& enum_names<Quantity>();
 template <> const std::vector<std::string>& enum_names<Frame>();
+template <> const std::vector<std::string>& enum_names<RodStrain>();
 template <> const std::vector<std::string>& enum_names<Field>();
 
 /// The scene-file word of an enumerator.
@@ -82,6 +85,7 @@ struct SectionSpec {
   double I1 = 0.0;      ///< second moment about d1 (bending in the d2 direction) [m^4]
   double I2 = 0.0;      ///< second moment about d2 [m^4]
   double J = 0.0;       ///< torsion constant [m^4]
+  double radius_ratio = 0.0;  ///< inner / outer radius (hollow_circle; 0 otherwise)
 };
 
 /// Small-deflection Euler–Bernoulli beam (bending in the (j, k) plane: I = I1).
@@ -103,7 +107,8 @@ struct BeamSpec {
   double mass() const { return density * section.area * length; }  ///< beam mass [kg]
 };
 
-/// Inextensible, unshearable Cosserat rod, initially straight along k in the (j, k) plane.
+/// Cosserat rod, initially straight along k in the (j, k) plane: inextensible and unshearable,
+/// extensible, or extensible and shearable (rod.model).
 struct RodSpec {
   double length = 0.0;          ///< L [m]
   double youngs_modulus = 0.0;  ///< E [Pa]
@@ -111,6 +116,15 @@ struct RodSpec {
   double density = 0.0;         ///< rho [kg/m^3]
   SectionSpec section;
   Vec3 intrinsic_curvature = Vec3::Zero();  ///< kappa0, body components [1/m]
+  RodStrain strain = RodStrain::inextensible;  ///< rod.model
+  /// Shear coefficient k: rod.shear_coefficient, else Cowper's of the section (solid and hollow
+  /// circle, rectangle; 0 for a `properties` section, which must give it for a shearable rod).
+  double shear_coefficient = 0.0;
+  double axial_stiffness = 0.0;  ///< E A, or rod.axial_stiffness [N]
+  double shear_stiffness = 0.0;  ///< k G A, or rod.shear_stiffness [N] (0 when k is unknown)
+  /// rod.damping: Kelvin-Voigt viscosities of the stretch and the shear [N s], of bending and
+  /// of torsion [N m^2 s] (zero: none).
+  double damping_axial = 0.0, damping_shear = 0.0, damping_bending = 0.0, damping_torsion = 0.0;
   double mass() const { return density * section.area * length; }
 };
 

@@ -19,6 +19,9 @@ struct NodeView {
   Mat3 R = Mat3::Identity();  ///< rows d1, d2, d3 in fixed components
   Vec3 r = Vec3::Zero();      ///< centreline [m] (when known)
   Vec3 u = Vec3::Zero(), omega = Vec3::Zero(), kappa = Vec3::Zero(), n = Vec3::Zero();  ///< body components
+  /// The rates the viscosities and the strain read: kappa_t and the strain rate v_t (the
+  /// histories' kappa and n slots; zero at rest and for static nodes).
+  Vec3 kappa_t = Vec3::Zero(), strain_rate = Vec3::Zero();
 };
 NodeView node_view(const rod::RodNode& node, const Vec3& r);
 NodeView node_view(const rod::StaticNode& node);
@@ -52,7 +55,12 @@ struct RodFieldInfo {
 };
 RodFieldInfo rod_field_info(scene::Field f);
 
-/// The quantity a rod field holds at every node (r: position, R: none, the others theirs).
+/// The quantity a rod field holds at every node (r: position, R, stretch, axial_force: none, the
+/// others theirs).
 scene::Quantity field_quantity(scene::Field f);
+
+/// A rod field's rod_field_info(f).components values at a node into `out`: R's rows, the
+/// stretch |v|, the axial force n . v / |v|, the others their quantity in body components.
+void field_values(scene::Field f, const NodeView& node, const rod::RodProperties& props, double* out);
 
 }  // namespace traverse::setup

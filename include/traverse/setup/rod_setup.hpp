@@ -25,7 +25,9 @@
 
 namespace traverse::setup {
 
-/// Section and material of the scene's rod.
+/// The rod module's word for rod.model.
+rod::RodStrain rod_strain(scene::RodStrain s);
+/// Section and material of the scene's rod (with rod.model's compliance and rod.damping).
 rod::RodProperties rod_properties(const scene::RodSpec& r);
 
 /// What an arch start (initial_state: arch) depends on in the scene: the rod, the mesh,

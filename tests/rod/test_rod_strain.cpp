@@ -1,0 +1,446 @@
+// The extensible and the shearable rod (docs/rod.md, "Extensible and shearable rods") against
+// closed forms: the axial step response of a clamped rod pulled at its end (a triangle wave),
+// the Timoshenko frequencies of a simply supported rod, and the inextensible rod as the stiff
+// limit of the same scheme.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "reference_statics.hpp"
+#include "reference_stepper.hpp"
+#include "rod_test_util.hpp"
+
+namespace traverse::rod {
+namespace {
+
+constexpr double pi = constants::pi;
+
+double order(double coarse, double fine, double ratio = 2.0) { return std::log(coarse / fine) / std::log(ratio); }
+
+// ---------------------------------------------------------------------------------------
+// Axial step: clamped at s = 0, pulled by F along k at s = L from t = 0 (a roller end sliding
+// along k holds n3 = F; its lateral rows fix nothing a straight rod in pure stretch uses). The
+// end moves as a triangle wave between 0 and 2 F L / (E A) with period 4 L / c, c = sqrt(E/rho).
+// ---------------------------------------------------------------------------------------
+struct AxialRod {
+  double L = 1.0, E = 2.5e8, rho = 1500.0, radius = 0.005, F = 10.0;
+  RodProperties props() const {
+    RodProperties p = RodProperties::circular(radius, E, 0.25, rho);
+    p.C = RodProperties::compliance(RodStrain::extensible, EA(), 0.0);
+    return p;
+  }
+  double EA() const { return E * pi * radius * radius; }
+  double c() const { return std::sqrt(E / rho); }
+  double period() const { return 4.0 * L / c(); }
+  /// The exact end displacement: rises at speed F c / (E A) for 2 L / c, falls back as fast.
+  double end_displacement(double t) const {
+    const double T = period(), x = std::fmod(t, T) / T;  // phase in [0, 1)
+    const double peak = 2.0 * F * L / EA();
+    return peak * (x < 0.5 ? 2.0 * x : 2.0 - 2.0 * x);
+  }
+};
+
+RodModel axial_model(const AxialRod& a, int N, RodStrain strain = RodStrain::extensible) {
+  RodModel m;
+  m.props = a.props();
+  if (strain == RodStrain::shearable) m.props.C = RodProperties::compliance(strain, a.EA(), 0.5 * a.EA());
+  m.num_cells = N;
+  m.length = a.L;
+  m.left = EndCondition::make_clamped();
+  m.right = EndCondition::make_roller(Vec3::UnitX(), Vec3::UnitZ(), a.F);
+  return m;
+}
+
+/// The largest error of the end displacement (the trapezoidal integral of its velocity) at the
+/// time levels over `periods` periods, at Courant number nu = c dt / ds, relative to the peak;
+/// against the triangle wave delayed by `delay` steps.
+double axial_step_error(const AxialRod& a, int N, double nu, double periods, double delay,
+                        RodStrain strain = RodStrain::extensible) {
+  const ReferenceStepper stepper(axial_model(a, N, strain));
+  RodState s = straight_rest_state(N, a.L);
+  const double dt = nu * (a.L / N) / a.c();
+  const int steps = static_cast<int>(std::lround(periods * a.period() / dt));
+  double x = 0.0, err = 0.0, u_old = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    const ReferenceStepReport r = stepper.step(s, dt);
+    EXPECT_TRUE(r.converged) << "step " << i;
+    if (!r.converged) return HUGE_VAL;
+    const double u = fixed_velocity(s.nodes.back()).z();
+    x += 0.5 * dt * (u_old + u);
+    u_old = u;
+    err = std::max(err, std::abs(x - a.end_displacement(std::max(0.0, s.t - delay * dt))));
+  }
+  return err / (2.0 * a.F * a.L / a.EA());
+}
+
+// The scheme samples the end force at the time levels: F at level 1 and later, none at level 0.
+// Its trapezoidal average over the first step is the impulse of a step at dt / 2, the time the
+// box scheme reads a load that starts between two levels; the reference is the triangle wave
+// delayed by dt / 2 (undelayed, the error is that delay times the end speed, first order).
+//
+// At Courant number 1 the box scheme carries the characteristic variables u3 -+ c C n3 exactly
+// from node to node (a cell's box equation for one of them is a shift by one node per step), and
+// the end conditions reflect them exactly: the end displacement is the delayed triangle wave to
+// rounding, for the extensible and the shearable rod alike (a straight rod in pure stretch).
+TEST(RodStrain, AxialStepIsExactAtCourantNumberOne) {
+  const AxialRod a;
+  for (RodStrain strain : {RodStrain::extensible, RodStrain::shearable}) {
+    const double e = axial_step_error(a, 20, 1.0, 2.0, 0.5, strain);
+    std::printf("%s, N = 20, c dt / ds = 1: max end displacement error / peak %.2e over two periods "
+                "(peak 2 F L / (E A) = %.4e m, period 4 L / c = %.4e s)\n",
+                strain == RodStrain::extensible ? "extensible" : "shearable", e, 2.0 * a.F * a.L / a.EA(),
+                a.period());
+    EXPECT_LT(e, 1e-9);
+  }
+}
+
+// At another Courant number the step excites the scheme's dispersive waves. The end velocity
+// jumps at each reflection; a second-order scheme without dissipation, whose phase error grows
+// like (q ds)^2 q c t, spreads a jump into an Airy front of width ~ (c t ds^2)^(1/3), over which
+// the velocity error is of the jump's size: the displacement's largest error is of that width,
+// order 2/3 in ds. Asserted: the observed order between N = 40 and 80 is 2/3 within 0.1, and the
+// error falls under refinement.
+TEST(RodStrain, AxialStepConvergesAtCourantNumberOneHalf) {
+  const AxialRod a;
+  const int Ns[3] = {20, 40, 80};
+  double e[3];
+  for (int k = 0; k < 3; ++k) {
+    e[k] = axial_step_error(a, Ns[k], 0.5, 1.0, 0.5);
+    std::printf("N = %d, c dt / ds = 0.5: max end displacement error / peak %.3e over one period\n", Ns[k], e[k]);
+  }
+  const double p1 = order(e[0], e[1]), p2 = order(e[1], e[2]);
+  std::printf("observed orders %.3f, %.3f (expected 2/3)\n", p1, p2);
+  EXPECT_LT(e[2], e[1]);
+  EXPECT_LT(e[1], e[0]);
+  EXPECT_NEAR(p2, 2.0 / 3.0, 0.1);
+}
+
+// ---------------------------------------------------------------------------------------
+// Timoshenko: a shearable rod pinned at both ends (pin axis i) vibrating in the (j, k) plane in
+// mode j, wavenumber q = j pi / L. Its frequencies solve
+//   (k G A q^2 - rho A w^2) (E I q^2 + k G A - rho I w^2) - (k G A q)^2 = 0,
+// a quadratic in w^2 whose lower root is the bending branch.
+// ---------------------------------------------------------------------------------------
+struct StubbyRod {
+  double L = 1.0, E = 2.5e8, nu = 0.25, rho = 1500.0, radius = 0.1;
+  double k() const { return 6.0 * (1.0 + nu) / (7.0 + 6.0 * nu); }  // Cowper, solid circle
+  double A() const { return pi * radius * radius; }
+  double I() const { return pi * std::pow(radius, 4) / 4.0; }
+  double kGA() const { return k() * E / (2.0 * (1.0 + nu)) * A(); }
+  RodProperties props() const {
+    RodProperties p = RodProperties::circular(radius, E, nu, rho);
+    p.C = RodProperties::compliance(RodStrain::shearable, E * A(), kGA());
+    return p;
+  }
+  double timoshenko(int mode) const {
+    const double q = mode * pi / L, rA = rho * A(), rI = rho * I(), EI = E * I();
+    const double a = rA * rI, b = -(rA * (EI * q * q + kGA()) + rI * kGA() * q * q), c = kGA() * EI * std::pow(q, 4);
+    return std::sqrt((-b - std::sqrt(b * b - 4.0 * a * c)) / (2.0 * a));
+  }
+  double euler_bernoulli(int mode) const { return std::pow(mode * pi / L, 2) * std::sqrt(E * I() / (rho * A())); }
+};
+
+/// The stubby rod pinned at both ends (pin axis i).
+RodModel pinned_model(const StubbyRod& r, int N) {
+  RodModel m;
+  m.props = r.props();
+  m.num_cells = N;
+  m.length = r.L;
+  m.left = m.right = EndCondition::make_pinned(Vec3::UnitX());
+  return m;
+}
+
+/// Straight and unstressed, moving in the bending branch's mode `mode`: velocity
+/// u2 = U sin(q s), spin omega1 = B cos(q s), B/U = w^2 rho A / (q k G A) - q (from the
+/// compatibility rows). The histories hold the rates this motion has: the shear rate
+/// v2_t = u2_s + omega1 (the n slot) and kappa1_t = omega1_s (with viscosity the moment and the
+/// force read them); unstrained, the contact force is the viscous one, n = B_se v_t.
+RodState timoshenko_mode_start(const StubbyRod& r, int N, int mode, double U, const RodProperties& p) {
+  RodState s = straight_rest_state(N, r.L);
+  const double q = mode * pi / r.L, w = r.timoshenko(mode), ds = r.L / N;
+  const double B = (w * w * r.rho * r.A() / (q * r.kGA()) - q) * U;
+  for (int j = 0; j <= N; ++j) {
+    s.nodes[j].y(var::u + 1) = U * std::sin(q * j * ds);
+    s.nodes[j].y(var::omega) = B * std::cos(q * j * ds);
+    s.nodes[j].yt(var::n + 1) = (q * U + B) * std::cos(q * j * ds);
+    s.nodes[j].yt(var::kappa) = -q * B * std::sin(q * j * ds);
+    s.nodes[j].y.segment<3>(var::n) = p.B_se.cwiseProduct(s.nodes[j].yt.segment<3>(var::n));
+  }
+  return s;
+}
+
+/// The circular frequency of the discrete rod started in mode `mode` (timoshenko_mode_start):
+/// from the zero crossings of u2 at s = L / (2 mode) over `periods` periods of
+/// `steps_per_period` steps.
+double measured_frequency(const StubbyRod& r, int N, int mode, double periods, int steps_per_period) {
+  const ReferenceStepper stepper(pinned_model(r, N));
+  RodState s = timoshenko_mode_start(r, N, mode, 1e-3, r.props());
+  const double w = r.timoshenko(mode);
+  const int probe = N / (2 * mode);
+  const double dt = 2.0 * pi / w / steps_per_period;
+  std::vector<double> crossings;
+  double prev = s.nodes[probe].y(var::u + 1);
+  for (int i = 0; i < static_cast<int>(periods * steps_per_period); ++i) {
+    const ReferenceStepReport rep = stepper.step(s, dt);
+    EXPECT_TRUE(rep.converged) << "step " << i << " its " << rep.iterations << " last dx " << rep.last_correction;
+    if (!rep.converged) return 0.0;
+    const double cur = s.nodes[probe].y(var::u + 1);
+    if ((prev < 0.0) != (cur < 0.0)) crossings.push_back(s.t - dt * cur / (cur - prev));
+    prev = cur;
+  }
+  if (crossings.size() < 3) return 0.0;
+  const double half = (crossings.back() - crossings.front()) / static_cast<double>(crossings.size() - 1);
+  return pi / half;
+}
+
+// The measured frequency of mode 1 of a stubby rod (L / r = 10, where shear and rotary inertia
+// lower it by several percent from Euler-Bernoulli's) approaches the Timoshenko root at second
+// order in ds (the time step's error, (w dt)^2 / 24 with 1000 steps per period, is 2e-6 of it).
+TEST(RodStrain, TimoshenkoFrequencyOfASimplySupportedShearableRod) {
+  const StubbyRod r;
+  const double wt = r.timoshenko(1), we = r.euler_bernoulli(1);
+  std::printf("mode 1: Timoshenko w = %.6f rad/s, Euler-Bernoulli %.6f rad/s (%.2f %% higher)\n", wt, we,
+              100.0 * (we / wt - 1.0));
+  const int Ns[3] = {10, 20, 40};
+  double e[3];
+  for (int k = 0; k < 3; ++k) {
+    const double w = measured_frequency(r, Ns[k], 1, 2.0, 1000);
+    e[k] = std::abs(w / wt - 1.0);
+    std::printf("N = %d: measured w = %.6f rad/s, relative error %.3e\n", Ns[k], w, e[k]);
+  }
+  const double p1 = order(e[0], e[1]), p2 = order(e[1], e[2]);
+  std::printf("observed orders %.3f, %.3f\n", p1, p2);
+  EXPECT_LT(e[1], e[0]);
+  EXPECT_LT(e[2], e[1]);
+  EXPECT_NEAR(p2, 2.0, 0.2);
+  EXPECT_LT(e[2], 0.05 * (we / wt - 1.0));  // the shear correction is resolved
+}
+
+// ---------------------------------------------------------------------------------------
+// Kelvin-Voigt damping (docs/rod.md, "Material damping"): the energy balance
+// d/dt (kinetic + elastic) = - integral (v_t . B_se v_t + kappa_t . B_bt kappa_t) ds, and the
+// viscosities picked from a damping ratio zeta at the mode's frequency (B = 2 zeta S / w for each
+// stiffness S), which make the damping proportional to the stiffness: the mode keeps its shape
+// and its energy decays as exp(-2 zeta w t) over whole periods.
+// ---------------------------------------------------------------------------------------
+struct DampedRun {
+  double balance = 0.0;   ///< |E0 - E1 - dissipated| / dissipated
+  double zeta = 0.0;      ///< the damping ratio the energy's decay shows
+};
+
+/// `steps` steps of dt from `s`, E = discrete_energy, the dissipated energy the sum of dt times
+/// discrete_dissipation; the decay ratio -ln(E1/E0) / (2 w t).
+DampedRun damped_run(const RodModel& m, RodState s, double dt, int steps, double w) {
+  const ReferenceStepper stepper(m);
+  const double E0 = discrete_energy(s, m.props), t0 = s.t;
+  double dissipated = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    const RodState old = s;
+    EXPECT_TRUE(stepper.step(s, dt).converged);
+    dissipated += dt * discrete_dissipation(old, s, m.props);
+  }
+  const double E1 = discrete_energy(s, m.props);
+  DampedRun out;
+  out.balance = std::abs(E0 - E1 - dissipated) / dissipated;
+  out.zeta = -std::log(E1 / E0) / (2.0 * w * (s.t - t0));
+  std::printf("  E0 = %.6e J, E1 = %.6e J, dissipated %.6e J: balance defect %.2e, decay ratio %.5f\n", E0, E1,
+              dissipated, out.balance, out.zeta);
+  return out;
+}
+
+// The centred box scheme's energy identity: multiplied by the box averages of u, omega, n and m,
+// the linearised cell equations sum to the change of the cell-averaged energy plus dt times the
+// cell-averaged secant rates' dissipation, exactly; the rod's nonlinear terms leave a defect of
+// the order of the motion's amplitude (here rotations of 1e-5). Asserted: defect below 1e-6 of
+// the dissipated energy; decay ratio zeta within 1 % (the discrete mode's frequency and damping
+// ratio differ from the continuous ones at O(ds^2), the damped period from the undamped one by
+// zeta^2 / 2; N = 40 for the bending mode, whose shape varies along the rod).
+TEST(RodStrain, KelvinVoigtDampingDissipatesAtTheRateTheoryGives) {
+  const double zeta = 0.02;
+  {
+    const StubbyRod r;
+    const double w = r.timoshenko(1), EI = r.E * r.I(), GJ = r.E / (2.0 * (1.0 + r.nu)) * 2.0 * r.I();
+    RodModel m = pinned_model(r, 40);
+    m.props.B_se = Vec3(kelvin_voigt_viscosity(zeta, w, r.kGA()), kelvin_voigt_viscosity(zeta, w, r.kGA()),
+                        kelvin_voigt_viscosity(zeta, w, r.E * r.A()));
+    m.props.B_bt = Vec3(kelvin_voigt_viscosity(zeta, w, EI), kelvin_voigt_viscosity(zeta, w, EI),
+                        kelvin_voigt_viscosity(zeta, w, GJ));
+    std::printf("shearable, bending mode 1 (w = %.4f rad/s), zeta = %.3f, N = 40, 400 steps per period:\n", w, zeta);
+    const DampedRun d = damped_run(m, timoshenko_mode_start(r, 40, 1, 1e-3, m.props), 2.0 * pi / w / 400, 800, w);
+    EXPECT_LT(d.balance, 1e-6);
+    EXPECT_NEAR(d.zeta / zeta, 1.0, 0.01);
+  }
+  {
+    // Axial mode 1 of a clamped-free extensible rod, u3 = U sin(pi s / (2 L)), w = pi c / (2 L).
+    const AxialRod a;
+    const int N = 40;
+    RodModel m = axial_model(a, N);
+    m.right = EndCondition::make_free();
+    const double w = pi * a.c() / (2.0 * a.L);
+    m.props.B_se.z() = kelvin_voigt_viscosity(zeta, w, a.EA());
+    RodState s = straight_rest_state(N, a.L);
+    for (int j = 0; j <= N; ++j) {  // and its strain rate v3_t = u3_s
+      s.nodes[j].y(var::u + 2) = 0.01 * std::sin(pi * j / (2.0 * N));
+      s.nodes[j].yt(var::n + 2) = 0.01 * pi / (2.0 * a.L) * std::cos(pi * j / (2.0 * N));
+      s.nodes[j].y(var::n + 2) = m.props.B_se.z() * s.nodes[j].yt(var::n + 2);  // unstrained: viscous force only
+    }
+    std::printf("extensible, axial mode 1 (w = %.4f rad/s), zeta = %.3f, N = 40, 400 steps per period:\n", w, zeta);
+    const DampedRun d = damped_run(m, s, 2.0 * pi / w / 400, 800, w);
+    EXPECT_LT(d.balance, 1e-6);
+    EXPECT_NEAR(d.zeta / zeta, 1.0, 0.01);
+  }
+}
+
+// ---------------------------------------------------------------------------------------
+// Statics: the elastic catenary (Irvine). A cable of unstretched length L0 and weight
+// W = rho A g L0, ends at the same height a span l apart, horizontal tension H, vertical end
+// reactions V = W / 2; along the unstretched arclength s0 (z downward):
+//   x(s0) = H s0 / (E A) + (H L0 / W) [asinh(V / H) - asinh((V - W s0 / L0) / H)]
+//   z(s0) = (W s0 / (E A)) (V / W - s0 / (2 L0)) + (H L0 / W) [sqrt(1 + (V/H)^2) - sqrt(1 + ((V - W s0/L0)/H)^2)]
+// with H from x(L0) = l. A rod with a small E I approaches it (pinned ends: no moment there).
+// ---------------------------------------------------------------------------------------
+struct Catenary {
+  double L0 = 1.0, l = 1.0005, EA = 0.0, W = 0.0, H = 0.0;
+  double x(double s0) const {
+    const double V = 0.5 * W;
+    return H * s0 / EA + H * L0 / W * (std::asinh(V / H) - std::asinh((V - W * s0 / L0) / H));
+  }
+  double z(double s0) const {
+    const double V = 0.5 * W, a = V / H, b = (V - W * s0 / L0) / H;
+    return W * s0 / EA * (V / W - s0 / (2.0 * L0)) + H * L0 / W * (std::sqrt(1.0 + a * a) - std::sqrt(1.0 + b * b));
+  }
+  /// H from x(L0) = l by bisection (x(L0) grows with H).
+  void solve_tension() {
+    double lo = 1e-6 * W, hi = 1e6 * W;
+    for (int i = 0; i < 200; ++i) {
+      H = std::sqrt(lo * hi);
+      (x(L0) < l ? lo : hi) = H;
+    }
+  }
+};
+
+/// The discrete equilibrium of the extensible cable between pinned ends a span c.l apart under
+/// gravity, N cells; the rod: radius 5 mm, E = 2.5e8 Pa, rho = 1500 kg/m^3, E I scaled by `bend`.
+std::vector<StaticNode> catenary_state(int N, double bend, Catenary& c, StaticModel& m) {
+  m.props = RodProperties::circular(0.005, 2.5e8, 0.25, 1500.0);
+  m.props.K *= bend;
+  c.EA = 2.5e8 * pi * 0.005 * 0.005;
+  c.W = m.props.rhoA * 9.8 * c.L0;
+  c.solve_tension();
+  m.props.C = RodProperties::compliance(RodStrain::extensible, c.EA, 0.0);
+  m.num_cells = N;
+  m.length = c.L0;
+  m.left.type = m.right.type = EndType::pinned;
+  m.left.axis = m.right.axis = Vec3::UnitX();
+  m.right.position = Vec3(0.0, 0.0, c.l);
+  // Unloaded equilibrium: straight, stretched uniformly to the span.
+  std::vector<StaticNode> nodes = straight_static_state(m);
+  for (int j = 0; j <= N; ++j) {
+    nodes[j].x(svar::r + 2) = c.l * j / N;
+    nodes[j].x(svar::n + 2) = c.EA * (c.l / c.L0 - 1.0);
+  }
+  m.gravity = Vec3(0.0, -9.8, 0.0);
+  const StaticReport rep = serial_load_steps(m, nodes);
+  EXPECT_TRUE(rep.converged) << "N = " << N << ": " << rep.message;
+  return nodes;
+}
+
+/// The largest distance of catenary_state's nodes from the catenary, relative to its sag.
+double catenary_error(int N, double bend, Catenary& c) {
+  StaticModel m;
+  const std::vector<StaticNode> nodes = catenary_state(N, bend, c, m);
+  double err = 0.0;
+  for (int j = 0; j <= N; ++j) {
+    const double s0 = c.L0 * j / N;
+    const Vec3 exact(0.0, -c.z(s0), c.x(s0));
+    err = std::max(err, (nodes[j].x.segment<3>(svar::r) - exact).norm());
+  }
+  return err / c.z(0.5 * c.L0);
+}
+
+// The discrete equilibrium converges to the elastic catenary at second order in ds while the
+// bending stiffness's effect (a boundary layer of width sqrt(E I / H) at each end, whose
+// displacement is of order the catenary's curvature times its width squared) stays below the
+// discretisation error: E I of the rod / 1e4 (the layer: 0.4 mm).
+TEST(RodStrain, ElasticCatenaryOfAnExtensibleCable) {
+  Catenary c;
+  const int Ns[3] = {20, 40, 80};
+  double e[3];
+  for (int k = 0; k < 3; ++k) {
+    e[k] = catenary_error(Ns[k], 1e-4, c);
+    std::printf("N = %d: max |r - r_catenary| / sag %.3e (H = %.4f N, sag %.4e m, strain H / (E A) = %.2e)\n", Ns[k],
+                e[k], c.H, c.z(0.5 * c.L0), c.H / c.EA);
+  }
+  const double p1 = order(e[0], e[1]), p2 = order(e[1], e[2]);
+  std::printf("observed orders %.3f, %.3f\n", p1, p2);
+  EXPECT_LT(e[2], e[1]);
+  EXPECT_NEAR(p2, 2.0, 0.25);
+}
+
+// The static rows are the dynamic box scheme's at rest (no strain rate, yt = 0): the static
+// equilibrium of the extensible cable, as a dynamic state, stays at rest under the same loads:
+// its velocities stay below what the static solve's residual test (1e-9 of the weight W per unit
+// length) could accelerate in the 20 steps, 1e-9 W 20 dt / (rho A).
+TEST(RodStrain, StaticEquilibriumOfAnExtensibleCableIsADynamicRest) {
+  Catenary c;
+  StaticModel sm;
+  const std::vector<StaticNode> nodes = catenary_state(20, 1e-4, c, sm);
+  RodModel m;
+  m.props = sm.props;
+  m.num_cells = sm.num_cells;
+  m.length = sm.length;
+  m.left = m.right = EndCondition::make_pinned(Vec3::UnitX());
+  m.loads.gravity = sm.gravity;
+  const ReferenceStepper stepper(m);
+  RodState s = dynamic_state_from_static(sm, nodes);
+  const double dt = 1e-3;
+  double u = 0.0;
+  for (int i = 0; i < 20; ++i) {
+    EXPECT_TRUE(stepper.step(s, dt).converged);
+    for (const RodNode& nd : s.nodes) u = std::max(u, nd.y.segment<3>(var::u).cwiseAbs().maxCoeff());
+  }
+  const double bound = 1e-9 * c.W * 20.0 * dt / m.props.rhoA;
+  std::printf("largest velocity over 20 steps from the static state %.2e m/s (bound %.2e m/s)\n", u, bound);
+  EXPECT_LT(u, bound);
+}
+
+// ---------------------------------------------------------------------------------------
+// The inextensible rod is the stiff limit of the same scheme: a shearable rod whose E A and
+// k G A grow by s differs from the inextensible rod by O(1/s) under the same transverse load.
+// ---------------------------------------------------------------------------------------
+TEST(RodStrain, StiffLimitIsTheInextensibleRod) {
+  const int N = 20;
+  RodModel m = test::scene_model(N);
+  m.right = EndCondition::make_sliding(Vec3::UnitZ());
+  m.loads.f_fixed = [](double s, double t) {
+    const double p = t < 0.05 ? std::pow(std::sin(pi * t / 0.05), 4) : 0.0;
+    return Vec3(0.1 * p * std::sin(2.0 * pi * s), 0.5 * p * std::sin(pi * s), 0.0);
+  };
+  auto run = [&](double scale) {
+    RodModel mm = m;
+    const double EA = 2.5e8 * pi * 0.005 * 0.005;
+    if (scale > 0.0) mm.props.C = RodProperties::compliance(RodStrain::shearable, scale * EA, scale * 0.4 * EA);
+    const ReferenceStepper stepper(mm);
+    RodState s = straight_rest_state(N, 1.0);
+    for (int i = 0; i < 50; ++i) EXPECT_TRUE(stepper.step(s, 2e-3).converged);
+    VecX y(12 * (N + 1));
+    for (int j = 0; j <= N; ++j) y.segment<12>(12 * j) = s.nodes[j].y;
+    return y;
+  };
+  const VecX ref = run(0.0);
+  double d[3];
+  const double scales[3] = {1e2, 1e3, 1e4};
+  for (int k = 0; k < 3; ++k) {
+    d[k] = (run(scales[k]) - ref).cwiseAbs().maxCoeff() / ref.cwiseAbs().maxCoeff();
+    std::printf("E A, k G A x %.0e: max |y - y_inextensible| / max |y| = %.3e\n", scales[k], d[k]);
+  }
+  const double p = order(d[1], d[2], 10.0);
+  std::printf("observed order in the compliance %.3f\n", p);
+  EXPECT_NEAR(p, 1.0, 0.1);
+}
+
+}  // namespace
+}  // namespace traverse::rod
