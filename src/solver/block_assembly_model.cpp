@@ -1,8 +1,10 @@
 #include "traverse/solver/block_assembly_model.hpp"
 #include "thyra_tpetra.hpp"
+#include "traverse/solver/block_tridiagonal_operator.hpp"
 
 #include <Thyra_DefaultLinearOpSource.hpp>
 #include <Thyra_TpetraThyraWrappers.hpp>
+#include <algorithm>
 #include <stdexcept>
 
 namespace traverse::solver {
@@ -22,6 +24,13 @@ BlockAssemblyModel::BlockAssemblyModel(Teuchos::RCP<const mesh::DistributedMesh>
   W_op_ = Thyra::tpetraLinearOp<double, LO, GO, Node>(x_space_, x_space_, W_);
   x_ghosted_ = Teuchos::rcp(new Vector(mesh_->ghosted_dof_map()));
   build_offsets();
+}
+
+void BlockAssemblyModel::use_block_storage() {
+  W_blocks_ = Teuchos::rcp(new BlockTridiagonalOperator(mesh_, x_space_));
+  W_op_ = W_blocks_;
+  W_ = Teuchos::null;
+  offsets_.clear();
 }
 
 Teuchos::RCP<BlockAssemblyModel::Matrix> BlockAssemblyModel::new_matrix() const {
@@ -78,6 +87,14 @@ BlockAssemblyModel::Scatter::Scatter(const BlockAssemblyModel& model, Vector* f,
   }
 }
 
+BlockAssemblyModel::Scatter::Scatter(const BlockAssemblyModel& model, Vector* f, bool own_W)
+    : Scatter(model, f, own_W && model.W_blocks_.is_null() ? model.W_.get() : nullptr) {
+  if (own_W && !model.W_blocks_.is_null()) {
+    blocks_ = model.W_blocks_.get();
+    blocks_->begin_fill();
+  }
+}
+
 void BlockAssemblyModel::Scatter::add(const rod::LocalBlock& b) {
   const Eigen::Index r0 = m_.row_begin_, r1 = m_.row_end_;
   const int p = m_.p_;
@@ -86,6 +103,10 @@ void BlockAssemblyModel::Scatter::add(const rod::LocalBlock& b) {
       const Eigen::Index g = b.row + i;
       if (g >= r0 && g < r1) fd_[static_cast<size_t>(g - r0)] += b.residual(i);
     }
+  if (blocks_) {
+    add_to_blocks(b);
+    return;
+  }
   if (!W_) return;
   for (Eigen::Index i = 0; i < b.residual.size(); ++i) {
     const Eigen::Index g = b.row + i;
@@ -119,7 +140,32 @@ void BlockAssemblyModel::Scatter::add(const rod::LocalBlock& b) {
   }
 }
 
+void BlockAssemblyModel::Scatter::add_to_blocks(const rod::LocalBlock& b) {
+  // The block's owned rows a node at a time: rows [i0, i1) of column block k go to the chunks
+  // of their node's block rel (0: previous node, 1: itself, 2: next node).
+  const Eigen::Index r0 = m_.row_begin_, r1 = m_.row_end_;
+  const int p = m_.p_;
+  const Eigen::Index rows = b.residual.size();
+  for (Eigen::Index i0 = 0; i0 < rows;) {
+    const Eigen::Index g0 = b.row + i0;
+    const Eigen::Index i1 = std::min(rows, i0 + p - g0 % p);  // the rows of g0's node
+    if (g0 >= r0 && g0 < r1) {
+      const Eigen::Index node = g0 / p;
+      for (size_t k = 0; k < b.cols.size(); ++k) {
+        const Eigen::Index rel = b.cols[k] / p - node + 1;
+        const MatX& J = b.jac[k];
+        if (rel < 0 || rel > 2 || b.cols[k] % p != 0 || J.cols() != p)
+          throw std::logic_error(m_.name_ + ": a kernel entry lies outside the block-tridiagonal pattern");
+        blocks_->add_chunk_rows(static_cast<long>(g0 - r0), static_cast<int>(i1 - i0), static_cast<int>(rel),
+                                J.data() + i0, static_cast<long>(J.rows()));
+      }
+    }
+    i0 = i1;
+  }
+}
+
 void BlockAssemblyModel::Scatter::finish() {
+  if (blocks_) blocks_->end_fill();
   if (W_ && !direct_) W_->fillComplete();
 }
 
@@ -134,16 +180,26 @@ BlockAssemblyModel::Request BlockAssemblyModel::request(const MEB::InArgs<double
   r.x = Extract::getConstTpetraVector(in.get_x());
   if (!out.get_f().is_null()) r.f = Extract::getTpetraVector(out.get_f());
   if (!out.get_W_op().is_null()) {
-    auto op = Extract::getTpetraOperator(out.get_W_op());
-    r.W = dynamic_cast<Matrix*>(op.get());
-    if (!r.W || r.W->getCrsGraph().get() != mesh_->graph().get())
-      throw std::invalid_argument(name_ + ": W_op must be a CrsMatrix on the mesh graph (use create_W_op)");
+    if (out.get_W_op().get() == W_op_.get()) {
+      r.W_own = true;
+    } else {
+      auto op = Extract::getTpetraOperator(out.get_W_op());
+      r.W_other = dynamic_cast<Matrix*>(op.get());
+      if (!r.W_other || r.W_other->getCrsGraph().get() != mesh_->graph().get())
+        throw std::invalid_argument(name_ + ": W_op must be a CrsMatrix on the mesh graph (use create_W_op)");
+      if (r.W_other == W_.get()) {
+        r.W_own = true;
+        r.W_other = nullptr;
+      }
+    }
   }
   r.want_prec = out.supports(MEB::OUT_ARG_W_prec) && !out.get_W_prec().is_null();
   return r;
 }
 
 void BlockAssemblyModel::initialize_prec(const MEB::OutArgs<double>& out) const {
+  if (W_.is_null())
+    throw std::logic_error(name_ + ": a preconditioner factory needs W as a CrsMatrix, not in block storage");
   const auto src = Thyra::defaultLinearOpSource<double>(W_op_);
   prec_factory_->initializePrec(src, out.get_W_prec().get(), Thyra::SUPPORT_SOLVE_UNSPECIFIED);
 }

@@ -38,6 +38,43 @@ void lu_solve_rows(const Eigen::PartialPivLU<Eigen::Matrix<double, B, B>>& lu,
   }
 }
 
+/// dst -= l r for blocks of fixed size B: coefficient-based (unrolled at compile time) instead
+/// of Eigen's general product kernels, whose packing costs more than the arithmetic of a 6 x 6
+/// or 12 x 12 block.
+template <int B, class Dst, class Lhs, class Rhs>
+void subtract_product(Dst&& dst, const Lhs& l, const Rhs& r) {
+  if constexpr (B == Eigen::Dynamic) dst.noalias() -= l * r;
+  else dst.noalias() -= l.lazyProduct(r);
+}
+
+/// out = A^{-1} z for a fixed-size LU and one vector: the permutation, then forward and back
+/// substitution by columns (contiguous in the column-major factors, so they vectorise; Eigen's
+/// triangular solver is written for large matrices).
+template <int B>
+void lu_solve_vector(const Eigen::PartialPivLU<Eigen::Matrix<double, B, B>>& lu, const Eigen::Matrix<double, B, 1>& z,
+                     double* out) {
+  using Vec = Eigen::Matrix<double, B, 1>;
+  if constexpr (B == Eigen::Dynamic) {
+    Eigen::Map<Vec>(out, z.size()) = lu.solve(z);
+  } else {
+    Vec x = lu.permutationP() * z;
+    const double* A = lu.matrixLU().data();
+    for (int j = 0; j + 1 < B; ++j) {  // unit lower triangle
+      const double xj = x(j);
+      const double* col = A + j * B;
+      for (int i = j + 1; i < B; ++i) x(i) -= col[i] * xj;
+    }
+    for (int j = B - 1; j >= 0; --j) {  // upper triangle
+      const double* col = A + j * B;
+      const double xj = x(j) / col[j];
+      x(j) = xj;
+      for (int i = 0; i < j; ++i) x(i) -= col[i] * xj;
+    }
+    Eigen::Map<Vec> dst(out);
+    dst = x;
+  }
+}
+
 /// The block Thomas algorithm on a chain of m blocks, visited in a given order (natural or
 /// reversed): position i has the coupling Lp[i] to position i-1, Dp[i], the coupling Up[i]
 /// to position i+1, and its vector block at offset off[i] (in blocks). The first q positions
@@ -115,7 +152,7 @@ struct Chain {
     for (int k = q; k < m; ++k) {
       const auto K = static_cast<size_t>(k);
       S = CMap(Dp[K], b, b);
-      S.noalias() -= CMap(Lp[K], b, b) * C[K - 1];
+      subtract_product<B>(S, CMap(Lp[K], b, b), C[K - 1]);
       lu[K].compute(S);
       if (k + 1 < m) lu_solve_rows<B>(lu[K], CMap(Up[K], b, b), C[K]);
     }
@@ -139,8 +176,8 @@ struct Chain {
     for (int k = q; k < m; ++k) {
       const auto K = static_cast<size_t>(k);
       z = Eigen::Map<const Vec>(x + off[K] * b, b);
-      z.noalias() -= CMap(Lp[K], b, b) * Eigen::Map<const Vec>(y + off[K - 1] * b, b);
-      Eigen::Map<Vec>(y + off[K] * b, b) = lu[K].solve(z);
+      subtract_product<B>(z, CMap(Lp[K], b, b), Eigen::Map<const Vec>(y + off[K - 1] * b, b));
+      lu_solve_vector<B>(lu[K], z, y + off[K] * b);
     }
   }
 
@@ -152,8 +189,8 @@ struct Chain {
     const auto K = static_cast<size_t>(m - 1);
     if (m > q) {
       Vec z = x_last;
-      z.noalias() -= CMap(Lp[K], b, b) * Eigen::Map<const Vec>(y + off[K - 1] * b, b);
-      Eigen::Map<Vec>(y + off[K] * b, b) = lu[K].solve(z);
+      subtract_product<B>(z, CMap(Lp[K], b, b), Eigen::Map<const Vec>(y + off[K - 1] * b, b));
+      lu_solve_vector<B>(lu[K], z, y + off[K] * b);
       return;
     }
     for (int i = 0; i + 1 < q; ++i)
@@ -168,7 +205,7 @@ struct Chain {
     if (m == 0) return;
     for (int k = m - 2; k >= q; --k) {
       const auto K = static_cast<size_t>(k);
-      Eigen::Map<Vec>(y + off[K] * b, b).noalias() -= C[K] * Eigen::Map<const Vec>(y + off[K + 1] * b, b);
+      subtract_product<B>(Eigen::Map<Vec>(y + off[K] * b, b), C[K], Eigen::Map<const Vec>(y + off[K + 1] * b, b));
     }
     if (q < m) {
       const Vec yq = Eigen::Map<const Vec>(y + off[static_cast<size_t>(q)] * b, b);

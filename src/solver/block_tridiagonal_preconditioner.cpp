@@ -1,5 +1,6 @@
 #include "block_tridiagonal_preconditioner.hpp"
 #include "block_tridiagonal_factors.hpp"
+#include "traverse/solver/block_tridiagonal_operator.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
 
@@ -21,7 +22,9 @@ constexpr int kMaxBlock = 64;
 }  // namespace
 
 struct BlockTridiagonalPreconditioner::Impl {
-  Teuchos::RCP<const Matrix> A;
+  Teuchos::RCP<const Matrix> A;                    ///< CrsMatrix input (else null)
+  Teuchos::RCP<const BlockTridiagonalOperator> op; ///< block-storage input (else null)
+  std::shared_ptr<const std::vector<double>> held; ///< op's values last factorised
   Teuchos::RCP<const Teuchos::Comm<int>> comm;
   int b = 1;     ///< block size
   int n = 0;     ///< blocks (nodes) on this rank
@@ -30,7 +33,8 @@ struct BlockTridiagonalPreconditioner::Impl {
   /// Per local matrix entry: its index in its row's three blocks (L, D, U: 3 b^2 values
   /// from the row's block on), or -1 (dropped). 2 bytes per entry (b <= 64).
   std::vector<std::int16_t> dest;
-  std::vector<double> blocks;   ///< 3 b^2 per block: L, D, U
+  std::vector<double> blocks;   ///< 3 b^2 per block: L, D, U (copied from A)
+  const double* values() const { return op.is_null() ? blocks.data() : held->data(); }
   std::unique_ptr<BlockTridiagonalFactors> factors;
   mutable std::vector<double> tmp;
 
@@ -117,6 +121,43 @@ bool couples_to_neighbours_only(const LocalMatrix& lcl, const ColMap& colmap, GO
 
 }  // namespace
 
+namespace {
+
+// Why the ranks' blocks [b0, b1) do not form one chain in rank order (empty when they do).
+std::string layout_problem(const Teuchos::Comm<int>& comm, GO b0, GO b1) {
+  const int P = comm.getSize();
+  const double mine[2] = {static_cast<double>(b0), static_cast<double>(b1)};
+  std::vector<double> all(2 * static_cast<size_t>(P));
+  Teuchos::gatherAll<int, double>(comm, 2, mine, static_cast<int>(all.size()), all.data());
+  for (int r = 0; r < P; ++r) {
+    if (all[2 * r + 1] - all[2 * r] < 1) return "rank " + std::to_string(r) + " holds no rows";
+    if (r + 1 < P && all[2 * (r + 1)] != all[2 * r + 1]) return "the ranks' blocks are not consecutive in rank order";
+  }
+  return "";
+}
+
+}  // namespace
+
+BlockTridiagonalPreconditioner::BlockTridiagonalPreconditioner() : impl_(std::make_unique<Impl>()) {}
+
+Teuchos::RCP<BlockTridiagonalPreconditioner> BlockTridiagonalPreconditioner::on_blocks(
+    Teuchos::RCP<const BlockTridiagonalOperator> A) {
+  if (A.is_null()) throw std::invalid_argument("BlockTridiagonalPreconditioner: null operator");
+  Teuchos::RCP<BlockTridiagonalPreconditioner> p(new BlockTridiagonalPreconditioner);
+  Impl& I = *p->impl_;
+  const mesh::DistributedMesh& mesh = A->mesh();
+  I.comm = mesh.dof_map()->getComm();
+  I.op = A;
+  I.b = A->block_size();
+  I.n = A->num_nodes();
+  const GO b0 = mesh.first_owned_node(), b1 = b0 + mesh.num_owned_nodes();
+  I.layout = layout_problem(*I.comm, b0, b1);
+  I.exact = I.layout.empty();
+  I.factors = make_block_tridiagonal_factors(I.b);
+  I.tmp.resize(static_cast<size_t>(I.n) * static_cast<size_t>(I.b));
+  return p;
+}
+
 BlockTridiagonalPreconditioner::BlockTridiagonalPreconditioner(Teuchos::RCP<const Matrix> A)
     : impl_(std::make_unique<Impl>()) {
   if (A.is_null()) throw std::invalid_argument("BlockTridiagonalPreconditioner: null matrix");
@@ -155,15 +196,7 @@ BlockTridiagonalPreconditioner::BlockTridiagonalPreconditioner(Teuchos::RCP<cons
   // blocks, in rank order, and couplings to other ranks only between neighbouring blocks;
   // else block Jacobi.
   const bool near = couples_to_neighbours_only(lcl, colmap, first, nrows, b);
-  const int P = comm->getSize();
-  std::vector<double> mine{static_cast<double>(b0), static_cast<double>(b1)};
-  const std::vector<double> all = impl_->gather(mine);
-  std::string why;
-  for (int r = 0; r < P && why.empty(); ++r) {
-    if (all[2 * r + 1] - all[2 * r] < 1) why = "rank " + std::to_string(r) + " holds no rows";
-    else if (r + 1 < P && all[2 * (r + 1)] != all[2 * r + 1])
-      why = "the ranks' blocks are not consecutive in rank order";
-  }
+  std::string why = layout_problem(*comm, b0, b1);
   if (why.empty() && !all_ranks(*comm, near)) why = "a row couples to a block more than one block away";
   impl_->exact = why.empty();
   impl_->layout = why;
@@ -190,19 +223,23 @@ BlockTridiagonalPreconditioner::~BlockTridiagonalPreconditioner() = default;
 
 void BlockTridiagonalPreconditioner::compute() {
   auto& I = *impl_;
-  std::fill(I.blocks.begin(), I.blocks.end(), 0.0);
-  const auto lcl = I.A->getLocalMatrixHost();
-  const auto vals = lcl.values;
-  if (vals.extent(0) != I.dest.size())
-    throw std::logic_error("BlockTridiagonalPreconditioner: the matrix graph changed since construction");
-  const size_t bb3 = 3 * static_cast<size_t>(I.b) * static_cast<size_t>(I.b);
-  const LO nrows = static_cast<LO>(lcl.graph.row_map.extent(0)) - 1;
-  for (LO r = 0; r < nrows; ++r) {
-    double* row_blocks = I.blocks.data() + bb3 * static_cast<size_t>(r / I.b);  // the row's L, D, U
-    for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k)
-      if (I.dest[k] >= 0) row_blocks[static_cast<size_t>(I.dest[k])] += vals(k);
+  if (!I.op.is_null()) {
+    I.held = I.op->values();
+  } else {
+    std::fill(I.blocks.begin(), I.blocks.end(), 0.0);
+    const auto lcl = I.A->getLocalMatrixHost();
+    const auto vals = lcl.values;
+    if (vals.extent(0) != I.dest.size())
+      throw std::logic_error("BlockTridiagonalPreconditioner: the matrix graph changed since construction");
+    const size_t bb3 = 3 * static_cast<size_t>(I.b) * static_cast<size_t>(I.b);
+    const LO nrows = static_cast<LO>(lcl.graph.row_map.extent(0)) - 1;
+    for (LO r = 0; r < nrows; ++r) {
+      double* row_blocks = I.blocks.data() + bb3 * static_cast<size_t>(r / I.b);  // the row's L, D, U
+      for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k)
+        if (I.dest[k] >= 0) row_blocks[static_cast<size_t>(I.dest[k])] += vals(k);
+    }
   }
-  I.factors->factor(I.blocks.data(), I.n, I.b, I.rank(), I.ranks(),
+  I.factors->factor(I.values(), I.n, I.b, I.rank(), I.ranks(),
                     [&I](const std::vector<double>& v) { return I.gather(v); });
 }
 
@@ -210,15 +247,21 @@ int BlockTridiagonalPreconditioner::block_size() const { return impl_->b; }
 bool BlockTridiagonalPreconditioner::exact() const { return impl_->exact; }
 const std::string& BlockTridiagonalPreconditioner::why_not_exact() const { return impl_->layout; }
 double BlockTridiagonalPreconditioner::min_rcond() const { return impl_->factors->min_rcond(); }
-const Teuchos::RCP<const BlockTridiagonalPreconditioner::Matrix>& BlockTridiagonalPreconditioner::matrix() const {
-  return impl_->A;
+const void* BlockTridiagonalPreconditioner::source() const {
+  return impl_->op.is_null() ? static_cast<const void*>(impl_->A.get()) : static_cast<const void*>(impl_->op.get());
+}
+
+void BlockTridiagonalPreconditioner::apply_matrix(const MV& x, MV& y) const {
+  const auto& I = *impl_;
+  if (I.op.is_null()) I.A->apply(x, y);
+  else I.op->apply_values(*I.held, x, y);
 }
 
 Teuchos::RCP<const BlockTridiagonalPreconditioner::Map> BlockTridiagonalPreconditioner::getDomainMap() const {
-  return impl_->A->getDomainMap();
+  return impl_->op.is_null() ? impl_->A->getDomainMap() : impl_->op->mesh().dof_map();
 }
 Teuchos::RCP<const BlockTridiagonalPreconditioner::Map> BlockTridiagonalPreconditioner::getRangeMap() const {
-  return impl_->A->getRangeMap();
+  return getDomainMap();
 }
 
 void BlockTridiagonalPreconditioner::apply(const MV& X, MV& Y, Teuchos::ETransp mode, double alpha,
@@ -229,7 +272,7 @@ void BlockTridiagonalPreconditioner::apply(const MV& X, MV& Y, Teuchos::ETransp 
   for (size_t j = 0; j < X.getNumVectors(); ++j) {
     const auto x = X.getData(j);
     auto y = Y.getDataNonConst(j);
-    I.factors->solve(x.getRawPtr(), I.tmp.data(), I.blocks.data(),
+    I.factors->solve(x.getRawPtr(), I.tmp.data(), I.values(),
                      [&I](const std::vector<double>& v) { return I.gather(v); });
     for (size_t i = 0; i < I.tmp.size(); ++i)
       y[i] = beta == 0.0 ? alpha * I.tmp[i] : beta * y[i] + alpha * I.tmp[i];

@@ -41,6 +41,8 @@
 
 namespace traverse::solver {
 
+class BlockTridiagonalOperator;
+
 class BlockTridiagonalPreconditioner : public Tpetra::Operator<double> {
  public:
   using Matrix = Tpetra::CrsMatrix<double>;
@@ -54,9 +56,13 @@ class BlockTridiagonalPreconditioner : public Tpetra::Operator<double> {
   /// maps). Collective. Throws std::invalid_argument (on every rank) when no block size
   /// makes some rank's owned rows block tridiagonal.
   explicit BlockTridiagonalPreconditioner(Teuchos::RCP<const Matrix> A);
+  /// On a matrix in block storage (its blocks are factorised as they are, without a copy:
+  /// compute() holds the operator's current values). Collective.
+  static Teuchos::RCP<BlockTridiagonalPreconditioner> on_blocks(Teuchos::RCP<const BlockTridiagonalOperator> A);
   ~BlockTridiagonalPreconditioner() override;
 
-  /// Copies A's current values and factorises (A's graph must not have changed).
+  /// Takes A's current values (a copy from a CrsMatrix, whose graph must not have changed;
+  /// the values themselves in block storage) and factorises.
   void compute();
 
   int block_size() const;
@@ -67,7 +73,10 @@ class BlockTridiagonalPreconditioner : public Tpetra::Operator<double> {
   /// Smallest reciprocal condition estimate of the factorised diagonal blocks (this rank),
   /// estimated when asked (about b^2 work per block), 1 when there are none.
   double min_rcond() const;
-  const Teuchos::RCP<const Matrix>& matrix() const;
+  /// The matrix this was built on (a CrsMatrix or a BlockTridiagonalOperator).
+  const void* source() const;
+  /// y = A x with the values last factorised (collective).
+  void apply_matrix(const MV& x, MV& y) const;
 
   Teuchos::RCP<const Map> getDomainMap() const override;
   Teuchos::RCP<const Map> getRangeMap() const override;
@@ -76,6 +85,7 @@ class BlockTridiagonalPreconditioner : public Tpetra::Operator<double> {
              double beta = 0.0) const override;
 
  private:
+  BlockTridiagonalPreconditioner();
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -63,6 +63,8 @@ struct DistributedStepper::Impl {
           build_linear_solver(choice, [model_ptr] { return model_ptr->jacobian_version(); }, direct_stats);
       me->set_W_factory(ls.lows);
       me->set_prec_factory(ls.prec);
+      // The block LU as the direct solver factorises W's blocks: assemble straight into them.
+      if (is_block_tridiagonal_solve_factory(*ls.lows)) me->use_block_storage();
     }
     x = Teuchos::rcp(new Tpetra::Vector<double>(mesh->dof_map()));
   }
@@ -172,9 +174,10 @@ ReuseCounters DistributedStepper::reuse_counters() const {
   return c;
 }
 
-const void* DistributedStepper::jacobian_address() const { return impl_->me->jacobian_matrix().get(); }
+const void* DistributedStepper::jacobian_address() const { return impl_->me->create_W_op().get(); }
 const void* DistributedStepper::graph_address() const {
-  return impl_->me->jacobian_matrix()->getCrsGraph().get();
+  const auto& W = impl_->me->jacobian_matrix();
+  return W.is_null() ? nullptr : W->getCrsGraph().get();
 }
 const void* DistributedStepper::mesh_graph_address() const { return impl_->mesh->graph().get(); }
 

@@ -17,6 +17,7 @@
 
 #include "block_tridiagonal_preconditioner.hpp"
 #include "reusable_ifpack2_factory.hpp"
+#include "traverse/solver/block_tridiagonal_operator.hpp"
 #include "traverse/solver/rod_step_model.hpp"
 
 namespace traverse::solver {
@@ -145,7 +146,7 @@ class BlockTridiagonalLows : public Thyra::LinearOpWithSolveBase<double> {
     b->normInf(Teuchos::ArrayView<double>(nb));
     double worst = 0.0;
     for (int pass = 0; pass <= 2; ++pass) {
-      lu_->matrix()->apply(*x, r);
+      lu_->apply_matrix(*x, r);
       r.update(1.0, *b, -1.0);
       r.normInf(Teuchos::ArrayView<double>(nr));
       worst = 0.0;
@@ -187,6 +188,7 @@ class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<
   void set_stats(std::shared_ptr<DirectSolverStats> stats) { stats_ = std::move(stats); }
 
   bool isCompatible(const Thyra::LinearOpSourceBase<double>& src) const override {
+    if (!Teuchos::rcp_dynamic_cast<const BlockTridiagonalOperator>(src.getOp()).is_null()) return true;
     return !Teuchos::rcp_dynamic_cast<const Matrix>(Converter::getConstTpetraOperator(src.getOp())).is_null();
   }
   Teuchos::RCP<Thyra::LinearOpWithSolveBase<double>> createOp() const override {
@@ -197,10 +199,16 @@ class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<
     TEUCHOS_TEST_FOR_EXCEPT(op == nullptr || src.is_null() || src->getOp().is_null());
     const auto t0 = std::chrono::steady_clock::now();
     const Teuchos::RCP<const Thyra::LinearOpBase<double>> fwd = src->getOp();
-    const auto A = Teuchos::rcp_dynamic_cast<const Matrix>(Converter::getConstTpetraOperator(fwd), true);
+    // W in block storage is factorised as it is; a CrsMatrix is copied into blocks.
+    const auto blocks = Teuchos::rcp_dynamic_cast<const BlockTridiagonalOperator>(fwd);
+    const auto A = blocks.is_null()
+                       ? Teuchos::rcp_dynamic_cast<const Matrix>(Converter::getConstTpetraOperator(fwd), true)
+                       : Teuchos::null;
+    const void* source = blocks.is_null() ? static_cast<const void*>(A.get()) : static_cast<const void*>(blocks.get());
     const long v = version_ ? version_() : -1;
-    if (lu_.is_null() || lu_->matrix().get() != A.get()) {
-      lu_ = Teuchos::rcp(new BlockTridiagonalPreconditioner(A));
+    if (lu_.is_null() || lu_->source() != source) {
+      lu_ = blocks.is_null() ? Teuchos::rcp(new BlockTridiagonalPreconditioner(A))
+                             : BlockTridiagonalPreconditioner::on_blocks(blocks);
       TEUCHOS_TEST_FOR_EXCEPTION(!lu_->exact(), std::runtime_error,
                                  "block-tridiagonal LU as a direct solver: the couplings between ranks "
                                  "cannot be kept ("

@@ -71,7 +71,7 @@ void ReusableIfpack2Factory::initializePrec(
 
   if (type == "BLOCK_TRIDIAGONAL") {  // traverse's own exact block-tridiagonal LU
     auto bt = Teuchos::rcp_dynamic_cast<BlockTridiagonalPreconditioner>(held_operator(*dp));
-    if (!bt.is_null() && bt->matrix().get() != A.get()) bt = Teuchos::null;
+    if (!bt.is_null() && bt->source() != A.get()) bt = Teuchos::null;
     if (bt.is_null()) {
       bt = Teuchos::rcp(new BlockTridiagonalPreconditioner(A));
       ++counters_.created;

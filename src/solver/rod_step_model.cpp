@@ -78,18 +78,18 @@ void RodStepModel::ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out
   asm_.full_unknowns(data.getRawPtr(), out);
 }
 
-void RodStepModel::fill(const Vector& x, Vector* f, Matrix* W) const {
+void RodStepModel::fill(const Vector& x, Vector* f, bool own_W, Matrix* other_W) const {
   const auto data = ghosted(x).getData();
   // Each block is added into f and W as soon as it is computed (same blocks in the same order
   // as when all were computed first, so the same sums).
-  Scatter scatter(*this, f, W);
+  Scatter scatter = other_W ? Scatter(*this, f, other_W) : Scatter(*this, f, own_W);
   const double dropped = asm_.for_each_block(data.getRawPtr(), [&](const rod::LocalBlock& b) { scatter.add(b); });
   scatter.finish();
   if (f) {
     dropped_ = dropped;
     ++n_f_;
   }
-  if (W) ++W_version_;
+  if (own_W || other_W) ++W_version_;
 }
 
 Thyra::ModelEvaluatorBase::InArgs<double> RodStepModel::getNominalValues() const {
@@ -113,38 +113,40 @@ void RodStepModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>
   const Request req = request(in, out);
   const Teuchos::RCP<const Vector>& x = req.x;
   const Teuchos::RCP<Vector>& f = req.f;
-  Matrix* W = req.W;
   const bool want_prec = req.want_prec;
-  const bool want_W = W || want_prec;
+  const bool want_W = req.W_own || req.W_other || want_prec;
   if (want_W) ++n_W_;
 
   // Modified Newton: keep the W already filled (at an earlier iterate or step) unless the last
   // residual contraction of this solve was too weak or full Newton is forced.
   bool keep_W = false;
-  if (want_W && reuse_ && W_filled_ && !full_newton_ && (!W || W == W_.get())) {
+  if (want_W && reuse_ && W_filled_ && !full_newton_ && !req.W_other) {
     const size_t n = f_norms_.size();
     const bool weak = n >= 2 && f_norms_[n - 1] > contraction_ * f_norms_[n - 2];
     keep_W = !weak;
   }
 
-  Matrix* W_fill = nullptr;
+  // Which W this evaluation fills: another matrix on the graph, or our own unless it was
+  // filled at this very x.
+  bool fill_own = false;
+  Matrix* fill_other = nullptr;
   if (want_W && !keep_W) {
-    W_fill = W ? W : W_.get();
-    if (W_fill == W_.get() && same_x(*x)) W_fill = nullptr;  // W was filled at this very x
+    if (req.W_other) fill_other = req.W_other;
+    else fill_own = !same_x(*x);
   }
   // Without Jacobian reuse, a residual evaluation also fills our W (the kernels compute the
   // Jacobian blocks anyway): NOX asks for W at the same x next, which is then free.
-  if (f && !want_W && !reuse_) W_fill = W_.get();
+  if (f && !want_W && !reuse_) fill_own = true;
 
   const auto t0 = std::chrono::steady_clock::now();
-  if (f || W_fill) fill(*x, f.get(), W_fill);
+  if (f || fill_own || fill_other) fill(*x, f.get(), fill_own, fill_other);
   const auto t1 = std::chrono::steady_clock::now();
   t_fill_ += std::chrono::duration<double>(t1 - t0).count();
-  if (W_fill == W_.get()) {
+  if (fill_own) {
     Tpetra::deep_copy(*W_at_x_, *x);
     W_valid_ = true;
     W_filled_ = true;
-  } else if (W_fill) {
+  } else if (fill_other) {
     W_valid_ = false;  // someone else's matrix on our graph: ours is not at x
   }
   if (f && reuse_) f_norms_.push_back(f->normInf());

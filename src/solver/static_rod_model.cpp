@@ -206,8 +206,7 @@ void StaticRodModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<doubl
     auto d = pv->getData();
     for (int i = 0; i < rod::num_static_parameters; ++i) p[static_cast<size_t>(i)] = d[i];
   }
-  Matrix* W = req.W;
-  if (req.want_prec && !W) W = W_.get();
+  Matrix* W = req.W_other ? req.W_other : req.W_own || req.want_prec ? W_.get() : nullptr;
   if (req.f || W) fill(*req.x, fixed_ ? *fixed_ : problem_.model(p), Kind::residual_jacobian, req.f.get(), W);
   if (req.want_prec) initialize_prec(out);
   // dF/dp by columns, one per parameter (LOCA::Thyra::Group with implement_dfdp asks for it).

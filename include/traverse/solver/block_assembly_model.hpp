@@ -20,6 +20,8 @@
 
 namespace traverse::solver {
 
+class BlockTridiagonalOperator;
+
 class BlockAssemblyModel : public Thyra::StateFuncModelEvaluatorBase<double> {
  public:
   using Vector = Tpetra::Vector<double>;
@@ -30,7 +32,12 @@ class BlockAssemblyModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   void set_prec_factory(const Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>>& f) { prec_factory_ = f; }
   const Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>>& prec_factory() const { return prec_factory_; }
 
+  /// W as a CrsMatrix on the mesh graph (null with block storage).
   const Teuchos::RCP<Matrix>& jacobian_matrix() const { return W_; }
+  /// Keeps this model's W in block storage (BlockTridiagonalOperator) instead of the
+  /// CrsMatrix: for the block-tridiagonal LU, which factorises the blocks as they are.
+  void use_block_storage();
+  bool block_storage() const { return !W_blocks_.is_null(); }
   const mesh::DistributedMesh& mesh() const { return *mesh_; }
   const Teuchos::RCP<const mesh::DistributedMesh>& mesh_rcp() const { return mesh_; }
   /// A fill-completed zero matrix on the mesh graph (same structure as W).
@@ -55,30 +62,37 @@ class BlockAssemblyModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   /// Adds kernel blocks into f and W (either may be null): the constructor zeroes them, add()
   /// sums a block's owned rows, finish() completes W. For this model's own W the values are
   /// added in place at precomputed positions (no fillComplete; same sums, same order as
-  /// sumIntoGlobalValues, which is used for any other matrix on the graph).
+  /// sumIntoGlobalValues, which is used for any other matrix on the graph), or into its blocks
+  /// (block storage).
   class Scatter {
    public:
     Scatter(const BlockAssemblyModel& model, Vector* f, Matrix* W);
+    /// Into f and this model's own W, whichever storage it has (own_W false: f alone).
+    Scatter(const BlockAssemblyModel& model, Vector* f, bool own_W);
     void add(const rod::LocalBlock& b);
     void finish();
 
    private:
+    void add_to_blocks(const rod::LocalBlock& b);
     const BlockAssemblyModel& m_;
     Vector* f_;
     Matrix* W_;
     bool direct_;
+    BlockTridiagonalOperator* blocks_ = nullptr;  ///< block storage being filled (else null)
     Teuchos::ArrayRCP<double> fd_;
     Matrix::local_matrix_host_type lcl_;
     std::vector<mesh::GO> cols_;
     std::vector<double> vals_;
   };
 
-  /// What an evaluation asks for: x, f (null if not asked), W (null if not asked; checked to
-  /// be a CrsMatrix on the mesh graph), and whether a preconditioner is wanted.
+  /// What an evaluation asks for: x, f (null if not asked), this model's own W, another W
+  /// (null if not asked; checked to be a CrsMatrix on the mesh graph), and whether a
+  /// preconditioner is wanted.
   struct Request {
     Teuchos::RCP<const Vector> x;
     Teuchos::RCP<Vector> f;
-    Matrix* W = nullptr;
+    bool W_own = false;
+    Matrix* W_other = nullptr;
     bool want_prec = false;
   };
   Request request(const Thyra::ModelEvaluatorBase::InArgs<double>& in,
@@ -95,7 +109,8 @@ class BlockAssemblyModel : public Thyra::StateFuncModelEvaluatorBase<double> {
   Eigen::Index row_begin_ = 0, row_end_ = 0;  ///< owned global rows [begin, end)
   std::string name_;
   Teuchos::RCP<const Thyra::VectorSpaceBase<double>> x_space_;
-  Teuchos::RCP<Matrix> W_;
+  Teuchos::RCP<Matrix> W_;                            ///< W as a CrsMatrix (null with block storage)
+  Teuchos::RCP<BlockTridiagonalOperator> W_blocks_;  ///< W in block storage (null without)
   Teuchos::RCP<Thyra::LinearOpBase<double>> W_op_;
 
  private:

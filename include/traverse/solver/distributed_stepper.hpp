@@ -29,8 +29,8 @@ class DistributedStepper : public RodStepper {
   rod::RodState gather_state() const override;
   ReuseCounters reuse_counters() const override;
   /// Identity of the reused objects (for tests): the W matrix and its graph.
-  const void* jacobian_address() const;
-  const void* graph_address() const;
+  const void* jacobian_address() const;  ///< the W operator (the same object every step)
+  const void* graph_address() const;     ///< W's graph (null with block storage)
   const void* mesh_graph_address() const;
 
  protected:

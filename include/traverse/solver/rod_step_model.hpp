@@ -108,7 +108,9 @@ class RodStepModel : public BlockAssemblyModel {
                      const Thyra::ModelEvaluatorBase::OutArgs<double>& out) const override;
 
   void ghosted_unknowns_into(const Vector& x, std::vector<VecX>& out) const;
-  void fill(const Vector& x, Vector* f, Matrix* W) const;
+  /// Evaluates at x into f (if not null) and this model's W (own_W) or another matrix on the
+  /// graph (other_W, if not null).
+  void fill(const Vector& x, Vector* f, bool own_W, Matrix* other_W) const;
   bool same_x(const Vector& x) const;  ///< x == the x at which W was last filled
 
   rod::StepAssembly asm_;
