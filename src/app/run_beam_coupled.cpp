@@ -78,11 +78,7 @@ void run_beam_coupled(const scene::Scene& sc, const beam::BeamProblem& problem, 
     replay.write(outputs, writer, sim.time(), written, comm);
     if (const std::string why = deflection_check.why(sim.time(), sim.Y()); !why.empty()) fail(why);
   };
-  auto track = [&] {  // the probes' extremes over every time step (an output step's: taken by write)
-    if (extremes.taken_at(sim.time())) return;
-    outputs.evaluate_probes(sim);
-    extremes.take(sim.time(), outputs.probes());
-  };
+  auto track = [&] { extremes.take_after_step(outputs, sim); };  // the probes' extremes over every time step
   RunObserver observer({write, [](long) {}, [&] { return sim.time(); }, {}, track}, writer, opt, progress, comm);
   time::TimeIntegrator steps(sim.schedule(), sim, observer);
   const auto wall_start = std::chrono::steady_clock::now();

@@ -49,11 +49,7 @@ void run_beam_vehicles(const scene::Scene& sc, const beam::BeamProblem& problem,
     extremes.take(sim.time(), outputs.probes());
     replay.write(outputs, writer, sim.time(), written, comm);
   };
-  auto track = [&] {  // the probes' extremes over every time step (an output step's: taken by write)
-    if (extremes.taken_at(sim.time())) return;
-    outputs.evaluate_probes(sim);
-    extremes.take(sim.time(), outputs.probes());
-  };
+  auto track = [&] { extremes.take_after_step(outputs, sim); };  // the probes' extremes over every time step
   RunObserver observer({write, [](long) {}, [&] { return sim.time(); }, {}, track}, writer, opt, progress, comm);
   time::TimeIntegrator steps(sim.schedule(), sim, observer);
   const auto wall_start = std::chrono::steady_clock::now();

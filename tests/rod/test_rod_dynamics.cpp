@@ -241,7 +241,7 @@ TEST(RodDynamics, ClampedClampedNaturalFrequenciesConvergeAtSecondOrder) {
     EXPECT_NEAR(extrap / exact, 1.0, 1e-3);
   }
 }
-/// Issue #7: a rod run gathers the full state and rebuilds the centreline only for outputs
+/// A rod run gathers the full state and rebuilds the centreline only for outputs
 /// that need it (a position probe or the field r); other probes read just the nodes around
 /// them (what run_rod gathers at an output step), fields only each rank's own nodes.
 TEST(RodOutputs, OnlyPositionOutputsNeedTheCentrelineOtherProbesTheirTwoNodes) {
@@ -270,7 +270,7 @@ TEST(RodOutputs, OnlyPositionOutputsNeedTheCentrelineOtherProbesTheirTwoNodes) {
   EXPECT_EQ(output_needs(N, ds, {{0.5, true}}, false).nodes, (std::vector<int>{50, 51}));
 }
 
-/// Issue #14: the centreline of a rod held in pieces (the ranks' nodes, in any rank order,
+/// The centreline of a rod held in pieces (the ranks' nodes, in any rank order,
 /// some empty) is each piece integrated from the start centreline_starts gives it; one or two
 /// pieces are centreline_in_space to the bit, more agree with it to rounding.
 TEST(RodOutputs, CentrelineInPiecesIsTheCentrelineOfTheWholeRod) {

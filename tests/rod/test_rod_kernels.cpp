@@ -281,7 +281,7 @@ TEST(RodKernels, EndConditionJacobiansMatchCentralDifferences) {
   }
 }
 
-/// Issue #14: every end condition type declared for the scene (traverse/core/end_types.hpp)
+/// Every end condition type declared for the scene (traverse/core/end_types.hpp)
 /// has its entry in the rod's table: the conversion from the scene's spec, 6 dynamic rows, a
 /// static reading with 6 static rows and the continuation's end load and position.
 TEST(RodKernels, EveryDeclaredEndTypeHasRowsStaticRowsAndAConversion) {
@@ -404,7 +404,7 @@ TEST(RodKernels, FrameInvariance) {
   }
 }
 
-/// Issue #7: a scene without gravity computes no gravity terms. The model says so
+/// A scene without gravity computes no gravity terms. The model says so
 /// (has_gravity, has_frame_loads, NodeFlux::frame_loads), and skipping them changes nothing:
 /// the same model with a distributed force that is identically zero (which forces the general
 /// path: R f and its frame sensitivity formed and added) gives exactly the same residuals and

@@ -254,7 +254,7 @@ TEST(Scene, SolverSectionKeepsTheFilesValuesTypesAndOrder) {
   EXPECT_THROW((void)unvalidated.solver_parameters(), std::logic_error);
 }
 
-/// Issue #14: the end conditions come from their one declaration (traverse/core/end_types.hpp):
+/// The end conditions come from their one declaration (traverse/core/end_types.hpp):
 /// its words in enumerator order, each type in `traverse check --types`, and each parameter
 /// read into its member of EndSpec (a direction normalised).
 TEST(Scene, EndTypesAreTheirDeclarations) {

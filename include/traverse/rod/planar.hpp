@@ -1,5 +1,5 @@
 #pragma once
-// Planar fast path (issue #7): when a rod problem is symmetric under the reflection through a
+// Planar fast path: when a rod problem is symmetric under the reflection through a
 // fixed plane, the out-of-plane unknowns stay exactly zero and the step's Jacobian splits into
 // an in-plane and an out-of-plane block, so the step can be solved with the in-plane half of
 // the unknowns and rows only. This header detects the symmetry and maps kernel blocks (12 or 24

@@ -144,8 +144,8 @@ struct PointOutput {
   bool position = false;
 };
 
-/// What a rod run's outputs read from the state at an output step (issue #7: the centreline
-/// is reconstructed only for outputs that need it; issue #14: never from a gathered state).
+/// What a rod run's outputs read from the state at an output step (the centreline
+/// is reconstructed only for outputs that need it, and never from a gathered state).
 struct OutputNeeds {
   /// r(s) at the nodes: a "position" point output or the field "r" (each rank integrates its
   /// own nodes from the start centreline_starts gives it).

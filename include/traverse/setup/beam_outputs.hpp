@@ -28,6 +28,14 @@ class ProbeTracker {
   void write(output::Writer& w) const;
   /// Whether the probes at time t were taken last (an output step's, before the step's hook).
   bool taken_at(double t) const { return !e_.empty() && t == last_t_; }
+  /// After a time step: the probes of `outputs` at `sim`'s time (outputs.evaluate_probes(sim)),
+  /// unless the output step at that time took them already.
+  template <class Outputs, class Sim>
+  void take_after_step(Outputs& outputs, const Sim& sim) {
+    if (taken_at(sim.time())) return;
+    outputs.evaluate_probes(sim);
+    take(sim.time(), outputs.probes());
+  }
 
  private:
   std::vector<output::ProbeExtremes> e_;
