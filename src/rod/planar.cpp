@@ -432,7 +432,7 @@ void PlanarReduction::strain_levels(const RodModel& model, const StepTimes& step
 
 double PlanarReduction::cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step, int j,
                                       const OldNode& op, const OldNode& oc, const double* xp, const double* xc,
-                                      const NewLevels& lp, const NewLevels& lc) const {
+                                      const NewLevels& lp, const NewLevels& lc, bool jacobian) const {
   if (j < 1 || j > num_cells_) throw std::out_of_range("PlanarReduction::cell_block_into: cell index");
   b.row = (carried_ ? 9 : 3) + static_cast<Eigen::Index>(q_) * (j - 1);
   b.cols.resize(2);
@@ -444,7 +444,8 @@ double PlanarReduction::cell_block_into(LocalBlock& b, const RodModel& model, co
   const CellNode<6> P{op.y, op.yt, op.ys, op.F, M6(xp), M6(carried_ ? xp + 6 : xp), lp.yt, lp.F};
   const CellNode<6> C{oc.y, oc.yt, oc.ys, oc.F, M6(xc), M6(carried_ ? xc + 6 : xc), lc.yt, lc.F};
   cell_scheme_residual<6>(b.residual, model.alpha, carried_, model.ds(), Mm6_, Kk6_, P, C);
-  if (!model.props.compliant()) {
+  if (!jacobian) {
+  } else if (!model.props.compliant()) {
     cell_scheme_jacobian<6>(b.jac[0], b.jac[1], model.alpha, carried_, model.ds(), step.dt, Mm6_, Kk6_, lp.dF, lc.dF);
   } else {  // the strain rate's slots depend on n through the effective compliance
     Eigen::Matrix<double, 6, 6> MmJ = Mm6_;

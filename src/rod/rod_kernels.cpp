@@ -476,7 +476,8 @@ void cell_residual_into(VecX& r, const RodModel& model, const Mat12& Mm, const M
 
 void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step, int j,
                      const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
-                     const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur, bool loads_touch) {
+                     const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur, bool loads_touch,
+                     bool jacobian) {
   if (j < 1 || j > model.num_cells) throw std::out_of_range("cell_block: cell index");
   check_unknowns(model, new_prev);
   check_unknowns(model, new_this);
@@ -486,6 +487,10 @@ void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step
 
   prepare_block(b, model.cell_row(j), model.cell_rows(), p, model.node_col(j - 1), model.node_col(j));
   cell_residual_into(b.residual, model, Mm, Kk, old_prev, old_this, new_prev, new_this, prev, cur);
+  if (!jacobian) {
+    if (loads_touch) b.residual.head<12>() += load_block(model, step, j, old_prev, old_this, new_prev, new_this).residual;
+    return;
+  }
   MatX& Jp = b.jac[0];
   MatX& Jc = b.jac[1];
   const Mat12 dFp = new_level_flux_jacobian(prev.F_new, prev.nn.G), dFc = new_level_flux_jacobian(cur.F_new, cur.nn.G);

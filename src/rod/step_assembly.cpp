@@ -62,13 +62,14 @@ void StepAssembly::full_unknowns(const double* ghosted, std::vector<VecX>& out) 
   }
 }
 
-double StepAssembly::for_each_block(const double* ghosted,
-                                    const std::function<void(const LocalBlock&)>& visit) const {
+double StepAssembly::for_each_block(const double* ghosted, const std::function<void(const LocalBlock&)>& visit,
+                                    bool jacobian) const {
   if (old_nodes_.empty()) throw std::logic_error("StepAssembly: evaluated before set_old_level");
-  return planar_ ? blocks_planar(ghosted, visit) : blocks_3d(ghosted, visit);
+  return planar_ ? blocks_planar(ghosted, visit, jacobian) : blocks_3d(ghosted, visit, jacobian);
 }
 
-double StepAssembly::blocks_3d(const double* ghosted, const std::function<void(const LocalBlock&)>& visit) const {
+double StepAssembly::blocks_3d(const double* ghosted, const std::function<void(const LocalBlock&)>& visit,
+                               bool jacobian) const {
   full_unknowns(ghosted, xg_);
   const int N = model_->num_cells;
   const int first = o0_, last = o0_ + no_ - 1;
@@ -90,15 +91,15 @@ double StepAssembly::blocks_3d(const double* ghosted, const std::function<void(c
   for (int j = c0; j <= c1; ++j) {
     const NodeLevels& cur = levels(j);
     cell_block_into(block_, *model_, step_, j, O(j - 1), O(j), X(j - 1), X(j),
-                    window_[static_cast<size_t>((j - 1) & 1)], cur, touched(j));
+                    window_[static_cast<size_t>((j - 1) & 1)], cur, touched(j), jacobian);
     visit(block_);
   }
   if (last == N) visit(right_block(*model_, step_, O(N), X(N)));
   return 0.0;
 }
 
-double StepAssembly::blocks_planar(const double* ghosted,
-                                   const std::function<void(const LocalBlock&)>& visit) const {
+double StepAssembly::blocks_planar(const double* ghosted, const std::function<void(const LocalBlock&)>& visit,
+                                   bool jacobian) const {
   // Planar layout (row r still belongs to node r / q).
   const int N = model_->num_cells;
   const int first = o0_, last = o0_ + no_ - 1;
@@ -124,7 +125,7 @@ double StepAssembly::blocks_planar(const double* ghosted,
     const PlanarReduction::NewLevels& cur = levels(j);
     const double own = planar_->cell_block_into(block_, *model_, step_, j, planar_old_[static_cast<size_t>(j - 1 - g0_)],
                              planar_old_[static_cast<size_t>(j - g0_)], X(j - 1), X(j),
-                             planar_window_[static_cast<size_t>((j - 1) & 1)], cur);
+                             planar_window_[static_cast<size_t>((j - 1) & 1)], cur, jacobian);
     dropped = std::max(dropped, own);
     if (touched(j))  // a point force or moving mass on this cell (rare)
       dropped = std::max(dropped, planar_->add_loads(block_, load_block(*model_, step_, j, O(j - 1), O(j),

@@ -160,6 +160,7 @@ ReuseCounters DistributedStepper::reuse_counters() const {
   ReuseCounters c;
   c.jacobian_evaluations = m.me->jacobian_evaluations();
   c.residual_evaluations = m.me->residual_evaluations();
+  c.jacobian_fills = m.me->jacobian_version();
   c.assembly_seconds = m.me->assembly_seconds();
   c.linear_setup_seconds = m.me->preconditioner_seconds() + m.direct_stats->seconds;
   c.jacobian_reuses = m.me->jacobian_reuses();

@@ -57,6 +57,9 @@ bool RodStepModel::same_x(const Vector& x) const {
 void RodStepModel::set_old_level(std::vector<rod::RodNode> ghosted_old_nodes,
                                  const rod::StepTimes& step) {
   asm_.set_old_level(std::move(ghosted_old_nodes), step);
+  if (W_requests_ > 0) expected_iterations_ = W_requests_;
+  W_requests_ = 0;
+  f_evaluations_ = 0;
   W_valid_ = false;  // W at the same x differs now (it depends on the old level)
   f_norms_.clear();
   stale_used_ = false;
@@ -83,7 +86,8 @@ void RodStepModel::fill(const Vector& x, Vector* f, bool own_W, Matrix* other_W)
   // Each block is added into f and W as soon as it is computed (same blocks in the same order
   // as when all were computed first, so the same sums).
   Scatter scatter = other_W ? Scatter(*this, f, other_W) : Scatter(*this, f, own_W);
-  const double dropped = asm_.for_each_block(data.getRawPtr(), [&](const rod::LocalBlock& b) { scatter.add(b); });
+  const double dropped =
+      asm_.for_each_block(data.getRawPtr(), [&](const rod::LocalBlock& b) { scatter.add(b); }, own_W || other_W);
   scatter.finish();
   if (f) {
     dropped_ = dropped;
@@ -115,7 +119,10 @@ void RodStepModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>
   const Teuchos::RCP<Vector>& f = req.f;
   const bool want_prec = req.want_prec;
   const bool want_W = req.W_own || req.W_other || want_prec;
-  if (want_W) ++n_W_;
+  if (want_W) {
+    ++n_W_;
+    ++W_requests_;
+  }
 
   // Modified Newton: keep the W already filled (at an earlier iterate or step) unless the last
   // residual contraction of this solve was too weak or full Newton is forced.
@@ -134,9 +141,14 @@ void RodStepModel::evalModelImpl(const Thyra::ModelEvaluatorBase::InArgs<double>
     if (req.W_other) fill_other = req.W_other;
     else fill_own = !same_x(*x);
   }
-  // Without Jacobian reuse, a residual evaluation also fills our W (the kernels compute the
-  // Jacobian blocks anyway): NOX asks for W at the same x next, which is then free.
-  if (f && !want_W && !reuse_) fill_own = true;
+  // Without Jacobian reuse, a residual evaluation also fills our W: NOX asks for W at the same
+  // x next unless the solve has converged there. Solves of consecutive steps take about as many
+  // iterations, so at the iterate where the last solve converged the residual alone is
+  // evaluated (should NOX ask for W there after all, W is filled then).
+  if (f && !want_W) {
+    if (!reuse_) fill_own = f_evaluations_ != expected_iterations_;
+    ++f_evaluations_;
+  }
 
   const auto t0 = std::chrono::steady_clock::now();
   if (f || fill_own || fill_other) fill(*x, f.get(), fill_own, fill_other);

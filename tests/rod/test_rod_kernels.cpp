@@ -567,5 +567,38 @@ TEST(RodKernels, AssembleNodesOnARangeMatchesWholeRod) {
   }
 }
 
+TEST(RodKernels, ResidualAloneIsTheSameResidual) {
+  // The time step evaluates the residual alone where no Jacobian is wanted: the same bits as
+  // the residual of the full cell block, with loads on the cell or not, and no Jacobian.
+  test::Rng rng;
+  const StepTimes st{0.37, 0.01};
+  for (const auto& pc : param_cases()) {
+    const RodModel m = loaded_model(pc.alpha, 6, st);
+    std::vector<RodNode> old;
+    std::vector<VecX> x;
+    std::vector<NodeLevels> lv(static_cast<size_t>(m.num_cells + 1));
+    for (int j = 0; j <= m.num_cells; ++j) {
+      old.push_back(rng.node());
+      x.push_back(rng.unknowns(m, old.back()));
+      new_level_quantities(m, st, j, old.back(), x.back(), lv[static_cast<size_t>(j)]);
+      lv[static_cast<size_t>(j)].F_old = old_level_flux(m, st, j, old.back());
+    }
+    int touched = 0;
+    for (int j = 1; j <= m.num_cells; ++j) {
+      const auto J = static_cast<size_t>(j);
+      const bool loads = loads_touch_cell(m, st, j);
+      touched += loads ? 1 : 0;
+      LocalBlock full, alone;
+      cell_block_into(full, m, st, j, old[J - 1], old[J], x[J - 1], x[J], lv[J - 1], lv[J], loads, true);
+      cell_block_into(alone, m, st, j, old[J - 1], old[J], x[J - 1], x[J], lv[J - 1], lv[J], loads, false);
+      ASSERT_EQ(full.residual.size(), alone.residual.size());
+      EXPECT_EQ((full.residual - alone.residual).cwiseAbs().maxCoeff(), 0.0) << pc.name << ", cell " << j;
+      EXPECT_GT(full.jac[0].cwiseAbs().maxCoeff(), 0.0);
+      EXPECT_EQ(alone.jac[0].cwiseAbs().maxCoeff() + alone.jac[1].cwiseAbs().maxCoeff(), 0.0);
+    }
+    EXPECT_GE(touched, 1) << pc.name << ": no cell carries the moving loads";
+  }
+}
+
 }  // namespace
 }  // namespace traverse::rod

@@ -191,6 +191,28 @@ TEST(DistributedStepper, SubdividesAFailingStepAndThrowsWithoutRetries) {
   EXPECT_EQ(test::max_difference(strict.gather_state(), before), 0.0);
 }
 
+TEST(DistributedStepper, NoJacobianAtTheIterateWhereTheLastSolveConverged) {
+  // Consecutive steps take as many Newton iterations, so the residual at the iterate where the
+  // last solve converged is evaluated alone: one Jacobian per Newton iteration (a step of k
+  // iterations evaluates k + 1 residuals), not one per residual. (That the residual alone has
+  // the same bits as the full evaluation's: RodKernels.ResidualAloneIsTheSameResidual.)
+  const rod::RodModel model = test::cantilever(20);
+  DistributedStepper ds(model, test::comm(), test::solver_params("auto"));
+  ds.step(2e-3);  // the first solve sets the expected count
+  const ReuseCounters c0 = ds.reuse_counters();
+  int newton = 0;
+  const int steps = 6;
+  for (int i = 0; i < steps; ++i) newton += ds.step(2e-3).newton_iterations;
+  const ReuseCounters c1 = ds.reuse_counters();
+  const long fills = c1.jacobian_fills - c0.jacobian_fills;
+  const int residuals = c1.residual_evaluations - c0.residual_evaluations;
+  say("[%d ranks] %d steps, %d Newton iterations, %d residuals, %ld Jacobians\n", test::ranks(), steps, newton,
+      residuals, fills);
+  EXPECT_EQ(residuals, newton + steps);
+  EXPECT_GE(fills, newton);
+  EXPECT_LT(fills, newton + steps);
+}
+
 TEST(DistributedStepper, ReusesGraphMatrixAndPreconditioner) {
   const rod::RodModel model = test::cantilever(20);
   DistributedStepper ds(model, test::comm(), test::solver_params("GMRES+SCHWARZ"));

@@ -141,9 +141,10 @@ class PlanarReduction {
   /// of the cell's dropped rows: at an embedded planar state only the momentum row along the
   /// normal can be nonzero, by the weight's component along it (the frame's normal axis does
   /// not turn), so that row is all it computes.
+  /// `jacobian` false: the residual alone (the same bits), the Jacobian blocks left zero.
   double cell_block_into(LocalBlock& out, const RodModel& model, const StepTimes& step, int j, const OldNode& op,
                        const OldNode& oc, const double* x_prev, const double* x_this, const NewLevels& lp,
-                       const NewLevels& lc) const;
+                       const NewLevels& lc, bool jacobian = true) const;
   /// Adds the in-plane rows and columns of a cell's load_block (full layout) to its planar cell
   /// block; returns the largest |residual| of the load's out-of-plane rows.
   double add_loads(LocalBlock& cell, const LocalBlock& loads) const;

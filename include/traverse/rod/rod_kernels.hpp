@@ -105,10 +105,12 @@ void new_level_quantities(const RodModel& model, const StepTimes& step, int j, c
 /// cell_block with the nodes' quantities precomputed (as above, for nodes j-1 and j), written
 /// into `out` reusing its storage. Identical arithmetic, so identical bits: cell_block is
 /// this function with the NodeLevels computed on the spot. `loads_touch`: loads_touch_cell(model,
-/// step, j), which depends only on the step (StepAssembly finds it once per step).
+/// step, j), which depends only on the step (StepAssembly finds it once per step). `jacobian`
+/// false: the residual alone (the same bits), the Jacobian blocks left zero.
 void cell_block_into(LocalBlock& out, const RodModel& model, const StepTimes& step, int j,
                      const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev,
-                     const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur, bool loads_touch);
+                     const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur, bool loads_touch,
+                     bool jacobian = true);
 
 /// The residual rows of cell (j-1, j) without the point loads, written into r (12 rows, or 24
 /// with carried ys: the recursion rows): Mm A_t + Kk A_s + A_F with the generalised-alpha

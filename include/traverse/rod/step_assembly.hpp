@@ -57,8 +57,10 @@ class StepAssembly {
   /// Each node's new-level quantities are computed once and shared by its two cells through a
   /// two-node window. Planar path: the in-plane kernel (PlanarReduction::cell_block_into) and
   /// the restricted end and load blocks; returns the largest dropped (out-of-plane) residual of
-  /// the blocks that have one (0 on the 3D path).
-  double for_each_block(const double* ghosted, const std::function<void(const LocalBlock&)>& visit) const;
+  /// the blocks that have one (0 on the 3D path). `jacobian` false: the cells' residuals alone
+  /// (the same bits; the cells' Jacobian blocks are left zero, the ends' are computed).
+  double for_each_block(const double* ghosted, const std::function<void(const LocalBlock&)>& visit,
+                        bool jacobian = true) const;
 
  private:
   std::shared_ptr<const RodModel> model_;
@@ -68,8 +70,9 @@ class StepAssembly {
   StepTimes step_;
   std::vector<char> touched_;  ///< per ghosted node k: whether a load acts on cell (k-1, k) (set per step)
   bool touched(int j) const { return touched_[static_cast<size_t>(j - g0_)] != 0; }
-  double blocks_3d(const double* ghosted, const std::function<void(const LocalBlock&)>& visit) const;
-  double blocks_planar(const double* ghosted, const std::function<void(const LocalBlock&)>& visit) const;
+  double blocks_3d(const double* ghosted, const std::function<void(const LocalBlock&)>& visit, bool jacobian) const;
+  double blocks_planar(const double* ghosted, const std::function<void(const LocalBlock&)>& visit,
+                       bool jacobian) const;
 
   std::vector<Vec12> F_old_;           ///< 3D: per ghosted node, the old-level flux (set per step)
   std::vector<PlanarReduction::OldNode> planar_old_;  ///< planar: per ghosted node (set per step)

@@ -126,6 +126,10 @@ class RodStepModel : public BlockAssemblyModel {
   mutable bool W_filled_ = false, stale_used_ = false;
   mutable std::vector<double> f_norms_;  ///< max|f| of this solve's residual evaluations
   mutable long W_version_ = 0;
+  /// Newton iterations of the last solve (its W requests; -1 before one), and the W requests
+  /// and residual-only evaluations of the current one: the iterate numbered
+  /// expected_iterations_ gets its residual alone.
+  mutable int expected_iterations_ = -1, W_requests_ = 0, f_evaluations_ = 0;
   mutable int n_reused_ = 0;
 };
 

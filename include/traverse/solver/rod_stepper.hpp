@@ -47,8 +47,11 @@ struct ReuseCounters {
   int preconditioners_created = 0;
   int preconditioner_initializations = 0;  ///< symbolic set-ups
   int preconditioner_computations = 0;     ///< numeric set-ups
-  int jacobian_evaluations = 0;
+  int jacobian_evaluations = 0;  ///< W requests
   int residual_evaluations = 0;
+  /// Evaluations that computed W (one per W request at a new iterate; a residual evaluation
+  /// fills W too, except at the iterate where the last solve converged).
+  long jacobian_fills = 0;
   /// Wall time [s] spent in the kernel evaluation and the assembly of f and W (this rank).
   double assembly_seconds = 0.0;
   /// Wall time [s] spent setting up the linear solver: preconditioner initialize/compute, or
