@@ -444,14 +444,14 @@ double PlanarReduction::cell_block_into(LocalBlock& b, const RodModel& model, co
   const CellNode<6> P{op.y, op.yt, op.ys, op.F, M6(xp), M6(carried_ ? xp + 6 : xp), lp.yt, lp.F};
   const CellNode<6> C{oc.y, oc.yt, oc.ys, oc.F, M6(xc), M6(carried_ ? xc + 6 : xc), lc.yt, lc.F};
   cell_scheme_residual<6>(b.residual, model.alpha, carried_, model.ds(), Mm6_, Kk6_, P, C);
-  if (!jacobian) {
-  } else if (!model.props.compliant()) {
-    cell_scheme_jacobian<6>(b.jac[0], b.jac[1], model.alpha, carried_, model.ds(), step.dt, Mm6_, Kk6_, lp.dF, lc.dF);
-  } else {  // the strain rate's slots depend on n through the effective compliance
+  if (jacobian) {
+    // With strain, the strain rate's slots depend on n through the effective compliance.
     Eigen::Matrix<double, 6, 6> MmJ = Mm6_;
-    const Vec3 ce = effective_compliance(model.props, 1.0 / (model.alpha.gt * step.dt));
-    MmJ(4, 4) = -ce(cols_[4] - var::n);
-    MmJ(5, 5) = -ce(2);
+    if (model.props.compliant()) {
+      const Vec3 ce = effective_compliance(model.props, 1.0 / (model.alpha.gt * step.dt));
+      MmJ(4, 4) = -ce(cols_[4] - var::n);
+      MmJ(5, 5) = -ce(2);
+    }
     cell_scheme_jacobian<6>(b.jac[0], b.jac[1], model.alpha, carried_, model.ds(), step.dt, MmJ, Kk6_, lp.dF, lc.dF);
   }
   add_bending_viscosity(b, model, step, op, oc, lp, lc);

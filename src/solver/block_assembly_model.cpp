@@ -14,23 +14,21 @@ using namespace tt;  // MEB, LO, GO, Node, Extract
 }  // namespace
 
 BlockAssemblyModel::BlockAssemblyModel(Teuchos::RCP<const mesh::DistributedMesh> mesh, int unknowns_per_node,
-                                       std::string name)
+                                       std::string name, bool block_storage)
     : mesh_(std::move(mesh)), p_(unknowns_per_node), name_(std::move(name)) {
   if (mesh_.is_null()) throw std::invalid_argument(name_ + ": null mesh");
   row_begin_ = static_cast<Eigen::Index>(p_) * mesh_->first_owned_node();
   row_end_ = row_begin_ + static_cast<Eigen::Index>(p_) * mesh_->num_owned_nodes();
   x_space_ = Thyra::createVectorSpace<double, LO, GO, Node>(mesh_->dof_map());
+  x_ghosted_ = Teuchos::rcp(new Vector(mesh_->ghosted_dof_map()));
+  if (block_storage) {
+    W_blocks_ = Teuchos::rcp(new BlockTridiagonalOperator(mesh_, x_space_));
+    W_op_ = W_blocks_;
+    return;
+  }
   W_ = new_matrix();
   W_op_ = Thyra::tpetraLinearOp<double, LO, GO, Node>(x_space_, x_space_, W_);
-  x_ghosted_ = Teuchos::rcp(new Vector(mesh_->ghosted_dof_map()));
   build_offsets();
-}
-
-void BlockAssemblyModel::use_block_storage() {
-  W_blocks_ = Teuchos::rcp(new BlockTridiagonalOperator(mesh_, x_space_));
-  W_op_ = W_blocks_;
-  W_ = Teuchos::null;
-  offsets_.clear();
 }
 
 Teuchos::RCP<BlockAssemblyModel::Matrix> BlockAssemblyModel::new_matrix() const {

@@ -1,6 +1,7 @@
 #include "traverse/solver/distributed_stepper.hpp"
 
 #include <Teuchos_CommHelpers.hpp>
+#include <functional>
 #include <stdexcept>
 
 #include "linear_solver_builder.hpp"
@@ -49,23 +50,24 @@ struct DistributedStepper::Impl {
     direct_stats = std::make_shared<DirectSolverStats>();
     reusing_klu2 = false;
     mesh = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(rm.length, rm.num_cells + 1), comm, p));
-    me = Teuchos::rcp(new RodStepModel(model, mesh, planar));
-    me->set_jacobian_reuse(params.get<bool>("Jacobian Reuse"), params.get<double>("Jacobian Reuse Contraction"));
+    // The linear solver first: the block LU as the direct solver factorises W's blocks, so the
+    // model then assembles straight into them. The factories ask the model (made next, owned
+    // here, outliving their use) for its Jacobian's version.
+    const std::function<long()> version = [this] { return me->jacobian_version(); };
+    Teuchos::RCP<const Thyra::LinearOpWithSolveFactoryBase<double>> lows;
+    LinearSolverObjects ls;
     if (params.get<std::string>("Direct Solver Path") == "Reuse Symbolic" && comm->getSize() == 1 &&
         is_plain_klu2(choice)) {
-      RodStepModel* model_ptr = me.get();  // owned by the stepper, outlives the factory's use
-      me->set_W_factory(make_reusing_klu2_factory([model_ptr] { return model_ptr->jacobian_version(); },
-                                                  direct_stats));
+      lows = make_reusing_klu2_factory(version, direct_stats);
       reusing_klu2 = true;
     } else {  // through Stratimikos: Belos, Amesos2, or the block-tridiagonal LU (kBlockTridiagonalLu)
-      RodStepModel* model_ptr = me.get();
-      const LinearSolverObjects ls =
-          build_linear_solver(choice, [model_ptr] { return model_ptr->jacobian_version(); }, direct_stats);
-      me->set_W_factory(ls.lows);
-      me->set_prec_factory(ls.prec);
-      // The block LU as the direct solver factorises W's blocks: assemble straight into them.
-      if (is_block_tridiagonal_solve_factory(*ls.lows)) me->use_block_storage();
+      ls = build_linear_solver(choice, version, direct_stats);
+      lows = ls.lows;
     }
+    me = Teuchos::rcp(new RodStepModel(model, mesh, planar, is_block_tridiagonal_solve_factory(*lows)));
+    me->set_jacobian_reuse(params.get<bool>("Jacobian Reuse"), params.get<double>("Jacobian Reuse Contraction"));
+    me->set_W_factory(lows);
+    me->set_prec_factory(ls.prec);
     x = Teuchos::rcp(new Tpetra::Vector<double>(mesh->dof_map()));
   }
 

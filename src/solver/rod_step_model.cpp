@@ -27,8 +27,8 @@ int step_unknowns(const std::shared_ptr<const rod::RodModel>& model,
 
 RodStepModel::RodStepModel(std::shared_ptr<const rod::RodModel> model,
                            Teuchos::RCP<const mesh::DistributedMesh> mesh,
-                           std::shared_ptr<const rod::PlanarReduction> planar)
-    : BlockAssemblyModel(std::move(mesh), step_unknowns(model, planar), "traverse rod time step"),
+                           std::shared_ptr<const rod::PlanarReduction> planar, bool block_storage)
+    : BlockAssemblyModel(std::move(mesh), step_unknowns(model, planar), "traverse rod time step", block_storage),
       asm_(model, planar, mesh_->first_ghosted_node(), mesh_->num_ghosted_nodes(), mesh_->first_owned_node(),
            mesh_->num_owned_nodes()) {
   if (mesh_->unknowns_per_node() != p_ || mesh_->mesh().num_nodes() != model->num_cells + 1)

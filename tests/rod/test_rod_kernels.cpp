@@ -541,6 +541,14 @@ TEST(RodKernels, AdvanceNodeKeepsTheSecantAndPackingRoundTrips) {
   EXPECT_NE(n.yg, Vec12::Zero());  // the round trip carries a non-trivial blend
 }
 
+/// Random old nodes and new unknowns at every node of m.
+void random_levels(test::Rng& rng, const RodModel& m, std::vector<RodNode>& old, std::vector<VecX>& x) {
+  for (int j = 0; j <= m.num_cells; ++j) {
+    old.push_back(rng.node());
+    x.push_back(rng.unknowns(m, old.back()));
+  }
+}
+
 TEST(RodKernels, AssembleNodesOnARangeMatchesWholeRod) {
   test::Rng rng;
   const StepTimes st{0.37, 0.01};
@@ -548,10 +556,7 @@ TEST(RodKernels, AssembleNodesOnARangeMatchesWholeRod) {
     const RodModel m = loaded_model(pc.alpha, 6, st);
     std::vector<RodNode> old;
     std::vector<VecX> x;
-    for (int j = 0; j <= m.num_cells; ++j) {
-      old.push_back(rng.node());
-      x.push_back(rng.unknowns(m, old.back()));
-    }
+    random_levels(rng, m, old, x);
     const auto whole = assemble_nodes(m, st, 0, m.num_cells, 0, old, x);
     // Nodes 4..7 with one ghost on each side: nodes 3..8.
     std::vector<RodNode> o2(old.begin() + 3, old.begin() + 9);
@@ -576,12 +581,12 @@ TEST(RodKernels, ResidualAloneIsTheSameResidual) {
     const RodModel m = loaded_model(pc.alpha, 6, st);
     std::vector<RodNode> old;
     std::vector<VecX> x;
+    random_levels(rng, m, old, x);
     std::vector<NodeLevels> lv(static_cast<size_t>(m.num_cells + 1));
     for (int j = 0; j <= m.num_cells; ++j) {
-      old.push_back(rng.node());
-      x.push_back(rng.unknowns(m, old.back()));
-      new_level_quantities(m, st, j, old.back(), x.back(), lv[static_cast<size_t>(j)]);
-      lv[static_cast<size_t>(j)].F_old = old_level_flux(m, st, j, old.back());
+      const auto J = static_cast<size_t>(j);
+      new_level_quantities(m, st, j, old[J], x[J], lv[J]);
+      lv[J].F_old = old_level_flux(m, st, j, old[J]);
     }
     int touched = 0;
     for (int j = 1; j <= m.num_cells; ++j) {

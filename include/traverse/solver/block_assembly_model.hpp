@@ -34,9 +34,6 @@ class BlockAssemblyModel : public Thyra::StateFuncModelEvaluatorBase<double> {
 
   /// W as a CrsMatrix on the mesh graph (null with block storage).
   const Teuchos::RCP<Matrix>& jacobian_matrix() const { return W_; }
-  /// Keeps this model's W in block storage (BlockTridiagonalOperator) instead of the
-  /// CrsMatrix: for the block-tridiagonal LU, which factorises the blocks as they are.
-  void use_block_storage();
   bool block_storage() const { return !W_blocks_.is_null(); }
   const mesh::DistributedMesh& mesh() const { return *mesh_; }
   const Teuchos::RCP<const mesh::DistributedMesh>& mesh_rcp() const { return mesh_; }
@@ -56,8 +53,11 @@ class BlockAssemblyModel : public Thyra::StateFuncModelEvaluatorBase<double> {
 
  protected:
   /// `mesh` with `unknowns_per_node` unknowns per node; `name` is used in messages and the
-  /// model descriptions. Creates W on mesh->graph().
-  BlockAssemblyModel(Teuchos::RCP<const mesh::DistributedMesh> mesh, int unknowns_per_node, std::string name);
+  /// model descriptions. Creates W: a CrsMatrix on mesh->graph(), or with `block_storage` a
+  /// BlockTridiagonalOperator (for the block-tridiagonal LU, which factorises the blocks as
+  /// they are).
+  BlockAssemblyModel(Teuchos::RCP<const mesh::DistributedMesh> mesh, int unknowns_per_node, std::string name,
+                     bool block_storage = false);
 
   /// Adds kernel blocks into f and W (either may be null): the constructor zeroes them, add()
   /// sums a block's owned rows, finish() completes W. For this model's own W the values are

@@ -46,11 +46,11 @@ class RodStepModel : public BlockAssemblyModel {
  public:
 
   /// `mesh` must have model->unknowns_per_node() unknowns per node (planar->unknowns_per_node()
-  /// with a planar reduction) and model->num_cells + 1 nodes. Creates the single W matrix on
-  /// mesh->graph().
+  /// with a planar reduction) and model->num_cells + 1 nodes. Creates the single W: a
+  /// CrsMatrix on mesh->graph(), or in block storage (`block_storage`, for the block LU).
   RodStepModel(std::shared_ptr<const rod::RodModel> model,
                Teuchos::RCP<const mesh::DistributedMesh> mesh,
-               std::shared_ptr<const rod::PlanarReduction> planar = nullptr);
+               std::shared_ptr<const rod::PlanarReduction> planar = nullptr, bool block_storage = false);
 
   /// Old-level states of this rank's ghosted nodes (mesh->first_ghosted_node() ...) and the
   /// step. The nominal x (getNominalValues) is then the old level's unknowns.
