@@ -261,6 +261,36 @@ bool loads_touch_cell(const RodModel& model, const StepTimes& step, int j) {
   return any;
 }
 
+std::vector<int> cells_touched_by_loads(const RodModel& model, const StepTimes& step, int c0, int c1) {
+  const auto& loads = model.loads;
+  std::vector<int> out;
+  c0 = std::max(c0, 1);
+  c1 = std::min(c1, model.num_cells);
+  if (c0 > c1 || (loads.point_forces.empty() && loads.masses.empty())) return out;
+  // A load at sigma weighs on the nodes of the cell holding it (point_load_weights), so it
+  // reaches that cell and its two neighbours; a mass's inertia reaches the cells of its path
+  // and their neighbours. Candidates a cell wider on each side, then the exact test.
+  std::vector<std::pair<int, int>> ranges;
+  const double ds = model.ds(), cells = model.num_cells;
+  auto add = [&](double a, double b) {
+    const double lo = std::clamp(std::floor(std::min(a, b) / ds) - 2.0, 0.0, cells + 1.0);
+    const double hi = std::clamp(std::ceil(std::max(a, b) / ds) + 2.0, 0.0, cells + 1.0);
+    if (std::isfinite(lo) && std::isfinite(hi)) ranges.emplace_back(static_cast<int>(lo), static_cast<int>(hi));
+    else ranges.emplace_back(0, model.num_cells + 1);  // no position: every cell is a candidate
+  };
+  for (const PointForce& P : loads.point_forces) add(P.sigma(step.t_old), P.sigma(step.t_new()));
+  for (const MovingMass& M : loads.masses) add(M.sigma(step.t_old), M.sigma(step.t_new()));
+  std::sort(ranges.begin(), ranges.end());
+  int next = c0;  // the first cell not yet checked
+  for (const auto& [lo, hi] : ranges) {
+    const int to = std::min(hi, c1);
+    for (int j = std::max(lo, next); j <= to; ++j)
+      if (loads_touch_cell(model, step, j)) out.push_back(j);
+    next = std::max(next, to + 1);
+  }
+  return out;
+}
+
 namespace {
 
 void check_unknowns(const RodModel& model, const VecX& x) {
@@ -274,17 +304,18 @@ Vec12 apply_Mm(const RodProperties& p, const Vec12& y) { return Mm_matrix(p) * y
 Vec12 apply_Kk(const RodProperties& p, const Vec12& y) { return Kk_matrix(p) * y; }
 
 NewLevelNode new_level_node(const RodNode& old_node, const Vec12& y_new, double dt,
-                            const AlphaParameters& alpha) {
+                            const AlphaParameters& alpha, bool with_G) {
   NewLevelNode n;
   const Vec3 x = -0.5 * dt * (y_new.segment<3>(var::omega) + old_node.y.segment<3>(var::omega));
   n.R = so3::exp(x) * old_node.R;
-  n.G = so3::left_jacobian(x) * (0.5 * dt);
+  n.G = with_G ? Mat3(so3::left_jacobian(x) * (0.5 * dt)) : Mat3::Zero();
   n.yt = (y_new - old_node.y) / (alpha.gt * dt) - (1.0 - alpha.gt) / alpha.gt * old_node.yt;
   return n;
 }
 
-NewLevelNode new_level_node(const RodModel& model, const RodNode& old_node, const Vec12& y_new, double dt) {
-  NewLevelNode n = new_level_node(old_node, y_new, dt, model.alpha);
+NewLevelNode new_level_node(const RodModel& model, const RodNode& old_node, const Vec12& y_new, double dt,
+                            bool with_G) {
+  NewLevelNode n = new_level_node(old_node, y_new, dt, model.alpha, with_G);
   if (model.props.compliant())
     n.yt.segment<3>(var::n) = strain_rate(model.props, old_node.y.segment<3>(var::n), old_node.yt.segment<3>(var::n),
                                           y_new.segment<3>(var::n), dt, model.alpha);
@@ -433,11 +464,12 @@ NodeFlux old_level_flux(const RodModel& model, const StepTimes& step, int j, con
 }
 
 void new_level_quantities(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node,
-                          const VecX& new_node, NodeLevels& out) {
+                          const VecX& new_node, NodeLevels& out, bool jacobian) {
   check_unknowns(model, new_node);
   const Vec12 y = new_node.head<12>();
-  out.nn = new_level_node(model, old_node, y, step.dt);
-  out.F_new = node_flux(model, y, out.nn.yt, 1.0 / (model.alpha.gt * step.dt), out.nn.R, j * model.ds(), step.t_new());
+  out.nn = new_level_node(model, old_node, y, step.dt, jacobian);
+  out.F_new = node_flux(model, y, out.nn.yt, 1.0 / (model.alpha.gt * step.dt), out.nn.R, j * model.ds(), step.t_new(),
+                        jacobian);
 }
 
 LocalBlock cell_block(const RodModel& model, const StepTimes& step, int j,
@@ -585,9 +617,9 @@ VecX node_unknowns(const RodModel& model, const RodNode& node) {
 RodNode advance_node(const RodModel& model, const RodNode& old_node, const VecX& new_unknowns,
                      double dt) {
   check_unknowns(model, new_unknowns);
-  RodNode n;
+  RodNode n{RodNode::NoInit{}};  // every member is assigned below
   n.y = new_unknowns.head<12>();
-  const NewLevelNode nn = new_level_node(model, old_node, n.y, dt);
+  const NewLevelNode nn = new_level_node(model, old_node, n.y, dt, false);
   n.R = nn.R;
   n.yt = nn.yt;
   n.yv = (n.y - old_node.y) / dt;

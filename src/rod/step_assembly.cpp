@@ -24,8 +24,7 @@ void StepAssembly::set_old_level(std::vector<RodNode> ghosted_old_nodes, const S
   step_ = step;
   // The cells a load acts on depend on the step only: found once here, not per evaluation.
   touched_.assign(static_cast<size_t>(ng_), 0);
-  for (int j = std::max(1, g0_ + 1); j < g0_ + ng_; ++j)
-    touched_[static_cast<size_t>(j - g0_)] = loads_touch_cell(*model_, step_, j) ? 1 : 0;
+  for (int j : cells_touched_by_loads(*model_, step_, g0_ + 1, g0_ + ng_ - 1)) touched_[static_cast<size_t>(j - g0_)] = 1;
   // Old-level fluxes: fixed during the step's Newton iterations (the cells use F only).
   if (planar_) {
     planar_old_.resize(old_nodes_.size());
@@ -82,7 +81,7 @@ double StepAssembly::blocks_3d(const double* ghosted, const std::function<void(c
   // cell_block.
   auto levels = [&](int j) -> NodeLevels& {
     NodeLevels& L = window_[static_cast<size_t>(j & 1)];
-    new_level_quantities(*model_, step_, j, O(j), X(j), L);
+    new_level_quantities(*model_, step_, j, O(j), X(j), L, jacobian);
     L.F_old.F = F_old_[static_cast<size_t>(j - g0_)];
     return L;
   };

@@ -47,32 +47,33 @@ void subtract_product(Dst&& dst, const Lhs& l, const Rhs& r) {
   else dst.noalias() -= l.lazyProduct(r);
 }
 
-/// out = A^{-1} z for a fixed-size LU and one vector: the permutation, then forward and back
-/// substitution by columns (contiguous in the column-major factors, so they vectorise; Eigen's
-/// triangular solver is written for large matrices).
-template <int B>
-void lu_solve_vector(const Eigen::PartialPivLU<Eigen::Matrix<double, B, B>>& lu, const Eigen::Matrix<double, B, 1>& z,
-                     double* out) {
-  using Vec = Eigen::Matrix<double, B, 1>;
-  if constexpr (B == Eigen::Dynamic) {
-    Eigen::Map<Vec>(out, z.size()) = lu.solve(z);
-  } else {
-    Vec x = lu.permutationP() * z;
-    const double* A = lu.matrixLU().data();
-    for (int j = 0; j + 1 < B; ++j) {  // unit lower triangle
-      const double xj = x(j);
-      const double* col = A + j * B;
-      for (int i = j + 1; i < B; ++i) x(i) -= col[i] * xj;
-    }
-    for (int j = B - 1; j >= 0; --j) {  // upper triangle
-      const double* col = A + j * B;
-      const double xj = x(j) / col[j];
-      x(j) = xj;
-      for (int i = 0; i < j; ++i) x(i) -= col[i] * xj;
-    }
-    Eigen::Map<Vec> dst(out);
-    dst = x;
+/// out = A^{-1} z (Eigen's solve: for one vector and fixed sizes faster than substitutions
+/// written out here).
+template <class LU, class Vec>
+void lu_solve_vector(const LU& lu, const Vec& z, double* out) {
+  Eigen::Map<Vec>(out, z.size()) = lu.solve(z);
+}
+
+/// X = R S^{-1} for a fixed-size LU of S (P S = L U) and R with H rows, by column operations
+/// (the columns of the H x B result are contiguous): X P^T L U = R is solved as T U = R,
+/// V L = T, X = V P. H x B instead of B x B: the rows of a coupling block that are not zero.
+template <int B, int H, class Rhs>
+void lu_solve_right(const Eigen::PartialPivLU<Eigen::Matrix<double, B, B>>& lu, const Rhs& R,
+                    Eigen::Matrix<double, H, B>& X) {
+  using Col = Eigen::Matrix<double, H, 1>;
+  const auto& A = lu.matrixLU();
+  Eigen::Matrix<double, H, B> V;
+  for (int i = 0; i < B; ++i) {  // T U = R (upper triangle, columns in increasing order)
+    Col t = R.col(i);
+    for (int j = 0; j < i; ++j) t -= A(j, i) * V.col(j);
+    V.col(i) = t / A(i, i);
   }
+  for (int i = B - 2; i >= 0; --i) {  // V L = T (unit lower triangle, decreasing order)
+    Col v = V.col(i);
+    for (int j = i + 1; j < B; ++j) v -= A(j, i) * V.col(j);
+    V.col(i) = v;
+  }
+  X.noalias() = V * lu.permutationP();
 }
 
 /// The block Thomas algorithm on a chain of m blocks, visited in a given order (natural or
@@ -82,28 +83,48 @@ void lu_solve_vector(const Eigen::PartialPivLU<Eigen::Matrix<double, B, B>>& lu,
 /// singular on its own, which happens at a rod end eliminated first in the reversed order
 /// (the right end's rows there are its end conditions and the kinematic rows of the last
 /// cell, which leave the force unknowns out), then q grows until the start block is regular.
+///
+/// Dense couplings: the Schur complements S_i = D_i - Lp_i C_{i-1} with C_i = S_i^{-1} Up_i;
+/// the forward sweep stores S_i^{-1} (x_i - Lp_i y_{i-1}), the backward one subtracts C_i y_{i+1}.
+/// Half couplings (see BlockTridiagonalFactors::factor; natural order: Lp's non-zero rows are
+/// the first H = B/2, Up's the last H; reversed the other way round): with X_i = Lp_{i+1}' S_i^{-1}
+/// (H x B, Lp' the non-zero rows), S_{i+1} = D_{i+1} - X_i' Up_i' only on Lp's rows (X' the
+/// columns of Up's rows): an H x H by H x B product where the dense form has B x B by B x B,
+/// and X_i costs H right-hand sides where C_i costs B. The forward sweep stores
+/// w_i = x_i - Lp_i S_{i-1}^{-1} w_{i-1} (X_{i-1} w_{i-1} on Lp's rows), the last position
+/// solved; the backward one solves y_i = S_i^{-1} (w_i - Up_i y_{i+1}). The start block
+/// (positions 0..q-1) and the first position after it are the same in both forms.
 template <int B>
 struct Chain {
   using Mat = Eigen::Matrix<double, B, B>;
   using Vec = Eigen::Matrix<double, B, 1>;
   using CMap = Eigen::Map<const Mat>;
   using Dyn = Eigen::MatrixXd;
+  static constexpr bool kCanHalve = B != Eigen::Dynamic && B % 2 == 0;
+  static constexpr int H = kCanHalve ? B / 2 : 1;
+  using HalfRows = Eigen::Matrix<double, H, B>;
   static constexpr int kMaxMerge = 4;
   static constexpr double kStartPivot = 1e-13;
   int b = 0, m = 0, q = 1;
+  bool half = false;
+  int lo = 0, uo = 0;  ///< first non-zero row of Lp and of Up (half couplings)
   std::vector<const double*> Lp, Dp, Up;
   std::vector<long> off;
   Eigen::PartialPivLU<Dyn> lu0;              ///< LU of the start block (positions 0..q-1)
   Dyn E0;                                    ///< start block^-1 [0; ..; 0; U_{q-1}]
   std::vector<Eigen::PartialPivLU<Mat>> lu;  ///< LU of the Schur complements S_i, i >= q
   std::vector<Mat> C;                        ///< S_i^{-1} U_i (i = q-1: E0's last block)
+  std::vector<HalfRows> X;                   ///< half couplings: Lp_{i+1}' S_i^{-1}, i >= q
   mutable Eigen::VectorXd zq;
 
   /// Positions 0..m_-1 over the blocks first..first+m_-1 of a [L, D, U] array, natural
   /// order or reversed (then "previous" is the next node: L and U swap roles).
-  void bind(const double* blocks, int bsz, int first, int m_, bool reversed) {
+  void bind(const double* blocks, int bsz, int first, int m_, bool reversed, bool half_couplings) {
     b = bsz;
     m = m_;
+    half = half_couplings && kCanHalve;
+    lo = reversed ? H : 0;
+    uo = reversed ? 0 : H;
     const long bb = static_cast<long>(b) * b;
     Lp.assign(static_cast<size_t>(m), nullptr);
     Dp = Up = Lp;
@@ -128,7 +149,6 @@ struct Chain {
 
   void factor() {
     lu.resize(static_cast<size_t>(m));
-    C.resize(static_cast<size_t>(m));
     if (m == 0) return;
     for (int want = 1;; ++want) {
       q = std::min(want, m);
@@ -142,6 +162,8 @@ struct Chain {
       lu0.compute(M);
       if (q == m || want == kMaxMerge || regular_start()) break;
     }
+    C.resize(static_cast<size_t>(half ? q : m));  // half couplings: only C_{q-1}
+    if (half) X.resize(static_cast<size_t>(m));
     if (q < m) {
       Dyn R = Dyn::Zero(q * b, b);
       R.bottomRows(b) = CMap(Up[static_cast<size_t>(q - 1)], b, b);
@@ -152,9 +174,17 @@ struct Chain {
     for (int k = q; k < m; ++k) {
       const auto K = static_cast<size_t>(k);
       S = CMap(Dp[K], b, b);
-      subtract_product<B>(S, CMap(Lp[K], b, b), C[K - 1]);
+      if (half && k > q) {
+        if constexpr (kCanHalve)
+          subtract_product<B>(S.template middleRows<H>(lo), X[K - 1].template middleCols<H>(uo),
+                              CMap(Up[K - 1]).template middleRows<H>(uo));
+      } else {
+        subtract_product<B>(S, CMap(Lp[K], b, b), C[K - 1]);
+      }
       lu[K].compute(S);
-      if (k + 1 < m) lu_solve_rows<B>(lu[K], CMap(Up[K], b, b), C[K]);
+      if (k + 1 == m) continue;
+      if (!half) lu_solve_rows<B>(lu[K], CMap(Up[K], b, b), C[K]);
+      else if constexpr (kCanHalve) lu_solve_right<B, H>(lu[K], CMap(Lp[K + 1]).template middleRows<H>(lo), X[K]);
     }
   }
 
@@ -176,8 +206,21 @@ struct Chain {
     for (int k = q; k < m; ++k) {
       const auto K = static_cast<size_t>(k);
       z = Eigen::Map<const Vec>(x + off[K] * b, b);
-      subtract_product<B>(z, CMap(Lp[K], b, b), Eigen::Map<const Vec>(y + off[K - 1] * b, b));
-      lu_solve_vector<B>(lu[K], z, y + off[K] * b);
+      eliminate_previous(k, z, y);
+      if (half && k + 1 < m) Eigen::Map<Vec>(y + off[K] * b, b) = z;
+      else lu_solve_vector(lu[K], z, y + off[K] * b);
+    }
+  }
+
+  /// z -= (the previous position's contribution) for position k >= q of the forward sweep,
+  /// y holding the sweep's values of the positions before k.
+  void eliminate_previous(int k, Vec& z, const double* y) const {
+    const auto K = static_cast<size_t>(k);
+    const Eigen::Map<const Vec> prev(y + off[K - 1] * b, b);
+    if (half && k > q) {
+      if constexpr (kCanHalve) z.template segment<H>(lo).noalias() -= X[K - 1].lazyProduct(prev);
+    } else {
+      subtract_product<B>(z, CMap(Lp[K], b, b), prev);
     }
   }
 
@@ -189,8 +232,8 @@ struct Chain {
     const auto K = static_cast<size_t>(m - 1);
     if (m > q) {
       Vec z = x_last;
-      subtract_product<B>(z, CMap(Lp[K], b, b), Eigen::Map<const Vec>(y + off[K - 1] * b, b));
-      lu_solve_vector<B>(lu[K], z, y + off[K] * b);
+      eliminate_previous(m - 1, z, y);
+      lu_solve_vector(lu[K], z, y + off[K] * b);
       return;
     }
     for (int i = 0; i + 1 < q; ++i)
@@ -205,7 +248,14 @@ struct Chain {
     if (m == 0) return;
     for (int k = m - 2; k >= q; --k) {
       const auto K = static_cast<size_t>(k);
-      subtract_product<B>(Eigen::Map<Vec>(y + off[K] * b, b), C[K], Eigen::Map<const Vec>(y + off[K + 1] * b, b));
+      const Eigen::Map<const Vec> next(y + off[K + 1] * b, b);
+      if (!half) {
+        subtract_product<B>(Eigen::Map<Vec>(y + off[K] * b, b), C[K], next);
+      } else if constexpr (kCanHalve) {
+        Vec z = Eigen::Map<const Vec>(y + off[K] * b, b);
+        z.template segment<H>(uo).noalias() -= CMap(Up[K]).template middleRows<H>(uo).lazyProduct(next);
+        lu_solve_vector(lu[K], z, y + off[K] * b);
+      }
     }
     if (q < m) {
       const Vec yq = Eigen::Map<const Vec>(y + off[static_cast<size_t>(q)] * b, b);
@@ -261,8 +311,8 @@ struct Factors final : BlockTridiagonalFactors {
   const double* D(const double* blocks, long j) const { return blocks + 3L * b * b * j + static_cast<long>(b) * b; }
   const double* U(const double* blocks, long j) const { return blocks + 3L * b * b * j + 2L * b * b; }
 
-  void factor(const double* blocks, int n_, int b_, int rank_, int ranks_,
-              const BlockExchange& exchange) override {
+  void factor(const double* blocks, int n_, int b_, int rank_, int ranks_, const BlockExchange& exchange,
+              bool half) override {
     b = b_;
     n = n_;
     rank = rank_;
@@ -272,11 +322,11 @@ struct Factors final : BlockTridiagonalFactors {
     m = has_sep ? n - 1 : n;
     const bool need_fwd = has_sep || !has_left;
     if (need_fwd) {
-      fwd.bind(blocks, b, 0, m, false);
+      fwd.bind(blocks, b, 0, m, false, half);
       fwd.factor();
     }
     if (has_left) {
-      rev.bind(blocks, b, 0, m, true);
+      rev.bind(blocks, b, 0, m, true, half);
       rev.factor();
     }
     solver = need_fwd ? &fwd : &rev;
@@ -326,7 +376,7 @@ struct Factors final : BlockTridiagonalFactors {
       Eigen::Map<Mat>(base + bb, b, b) = got(k, 0) - Us * got(k + 1, 3);
       if (k + 1 < ns) Eigen::Map<Mat>(base + 2 * bb, b, b) = -(Us * got(k + 1, 4));
     }
-    red_chain.bind(red.data(), b, 0, ns, false);
+    red_chain.bind(red.data(), b, 0, ns, false, false);
     red_chain.factor();
     z.assign(static_cast<size_t>(n) * b, 0.0);
     w.assign(static_cast<size_t>(n) * b, 0.0);
@@ -405,6 +455,19 @@ struct Factors final : BlockTridiagonalFactors {
 };
 
 }  // namespace
+
+bool half_coupled(const double* blocks, int n, int b) {
+  if (b % 2 != 0) return false;
+  const long bb = static_cast<long>(b) * b, h = b / 2;
+  for (long k = 0; k < n; ++k) {
+    const double* L = blocks + 3 * bb * k;
+    const double* U = L + 2 * bb;
+    for (long c = 0; c < b; ++c)
+      for (long r = 0; r < h; ++r)
+        if (L[c * b + h + r] != 0.0 || U[c * b + r] != 0.0) return false;
+  }
+  return true;
+}
 
 std::unique_ptr<BlockTridiagonalFactors> make_block_tridiagonal_factors(int b) {
   switch (b) {

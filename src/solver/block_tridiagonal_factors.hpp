@@ -22,13 +22,21 @@ class BlockTridiagonalFactors {
  public:
   virtual ~BlockTridiagonalFactors() = default;
   /// Factorises this rank's part (n nodes, block size b); on several ranks `exchange` is called
-  /// once with this rank's contribution to the separator system.
-  virtual void factor(const double* blocks, int n, int b, int rank, int ranks, const BlockExchange& exchange) = 0;
+  /// once with this rank's contribution to the separator system. `half`: every L_k is zero
+  /// outside its first b/2 rows and every U_k outside its last b/2 (half_coupled(); the rod's
+  /// rows are a cell's, and a cell's rows fall to its left node's last half and its right
+  /// node's first), which the factorisation and the solve then use: about half the arithmetic
+  /// of dense couplings (fixed block sizes; the dynamic size ignores it).
+  virtual void factor(const double* blocks, int n, int b, int rank, int ranks, const BlockExchange& exchange,
+                      bool half) = 0;
   /// y = A^{-1} x (this rank's entries); `blocks` are the factorised ones.
   virtual void solve(const double* x, double* y, const double* blocks, const BlockExchange& exchange) const = 0;
   /// Smallest reciprocal condition estimate of the factorised diagonal blocks (this rank).
   virtual double min_rcond() const = 0;
 };
+
+/// Whether the L and U blocks of n nodes are zero where `half` in factor() says (b even).
+bool half_coupled(const double* blocks, int n, int b);
 
 /// Factors for block size b (fixed-size Eigen blocks for 6, 12 and 24, dynamic otherwise).
 std::unique_ptr<BlockTridiagonalFactors> make_block_tridiagonal_factors(int b);

@@ -25,6 +25,7 @@ struct BlockTridiagonalPreconditioner::Impl {
   Teuchos::RCP<const Matrix> A;                    ///< CrsMatrix input (else null)
   Teuchos::RCP<const BlockTridiagonalOperator> op; ///< block-storage input (else null)
   std::shared_ptr<const std::vector<double>> held; ///< op's values last factorised
+  bool half = false;                               ///< their couplings are halved (half_coupled)
   Teuchos::RCP<const Teuchos::Comm<int>> comm;
   int b = 1;     ///< block size
   int n = 0;     ///< blocks (nodes) on this rank
@@ -225,6 +226,7 @@ void BlockTridiagonalPreconditioner::compute() {
   auto& I = *impl_;
   if (!I.op.is_null()) {
     I.held = I.op->values();
+    I.half = I.op->half_couplings();
   } else {
     std::fill(I.blocks.begin(), I.blocks.end(), 0.0);
     const auto lcl = I.A->getLocalMatrixHost();
@@ -238,15 +240,17 @@ void BlockTridiagonalPreconditioner::compute() {
       for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k)
         if (I.dest[k] >= 0) row_blocks[static_cast<size_t>(I.dest[k])] += vals(k);
     }
+    I.half = half_coupled(I.blocks.data(), I.n, I.b);
   }
   I.factors->factor(I.values(), I.n, I.b, I.rank(), I.ranks(),
-                    [&I](const std::vector<double>& v) { return I.gather(v); });
+                    [&I](const std::vector<double>& v) { return I.gather(v); }, I.half);
 }
 
 int BlockTridiagonalPreconditioner::block_size() const { return impl_->b; }
 bool BlockTridiagonalPreconditioner::exact() const { return impl_->exact; }
 const std::string& BlockTridiagonalPreconditioner::why_not_exact() const { return impl_->layout; }
 double BlockTridiagonalPreconditioner::min_rcond() const { return impl_->factors->min_rcond(); }
+bool BlockTridiagonalPreconditioner::half_couplings() const { return impl_->half; }
 const void* BlockTridiagonalPreconditioner::source() const {
   return impl_->op.is_null() ? static_cast<const void*>(impl_->A.get()) : static_cast<const void*>(impl_->op.get());
 }
@@ -254,7 +258,7 @@ const void* BlockTridiagonalPreconditioner::source() const {
 void BlockTridiagonalPreconditioner::apply_matrix(const MV& x, MV& y) const {
   const auto& I = *impl_;
   if (I.op.is_null()) I.A->apply(x, y);
-  else I.op->apply_values(*I.held, x, y);
+  else I.op->apply_values(*I.held, I.half, x, y);
 }
 
 Teuchos::RCP<const BlockTridiagonalPreconditioner::Map> BlockTridiagonalPreconditioner::getDomainMap() const {

@@ -10,7 +10,8 @@
 // for the planar one), so nothing else needs to tell it. One rank: the block Thomas algorithm
 // (Schur complements S_k = D_k - L_k S_{k-1}^{-1} U_{k-1}, each factorised by LU with
 // partial pivoting inside the block), about 8 b^3 / 3 flops per node: the
-// "block-tridiagonal LU floor" of docs/benchmarks.md.
+// "block-tridiagonal LU floor" of docs/benchmarks.md; about half that when the coupling blocks
+// are halved, as the rod's are (BlockTridiagonalFactors::factor).
 //
 // Several ranks (each holding a consecutive piece of the chain, in rank order, as
 // mesh::DistributedMesh partitions the rod): the last node of every rank but the last is a
@@ -73,6 +74,9 @@ class BlockTridiagonalPreconditioner : public Tpetra::Operator<double> {
   /// Smallest reciprocal condition estimate of the factorised diagonal blocks (this rank),
   /// estimated when asked (about b^2 work per block), 1 when there are none.
   double min_rcond() const;
+  /// Whether the last compute() found the couplings halved (BlockTridiagonalFactors::factor):
+  /// from the fill in block storage, from the values of a CrsMatrix.
+  bool half_couplings() const;
   /// The matrix this was built on (a CrsMatrix or a BlockTridiagonalOperator).
   const void* source() const;
   /// y = A x with the values last factorised (collective).

@@ -163,7 +163,8 @@ class BlockTridiagonalLows : public Thyra::LinearOpWithSolveBase<double> {
     Thyra::SolveStatus<double> st;
     st.solveStatus = worst <= tolerance_ ? Thyra::SOLVE_STATUS_CONVERGED : Thyra::SOLVE_STATUS_UNCONVERGED;
     st.achievedTol = worst;
-    st.message = "block-tridiagonal LU, max|b - A x| / max|b| = " + std::to_string(worst);
+    if (st.solveStatus != Thyra::SOLVE_STATUS_CONVERGED)  // a message only where there is news
+      st.message = "block-tridiagonal LU, max|b - A x| / max|b| = " + std::to_string(worst);
     return st;
   }
 

@@ -114,7 +114,7 @@ void RodStepper::check_planarity(double t0, double dt) const {
 bool RodStepper::attempt(double t0, double dt, StepReport& sr, bool warm) {
   if (!warm) set_old_level(std::move(nodes_), rod::StepTimes{t0, dt});
   nodes_.clear();
-  std::vector<VecX> xg;
+  std::vector<VecX>& xg = xg_;  // kept between steps: its node blocks keep their storage
   bool retried = false;  // solved from the old level after the blend failed
   try {
     if (warm) {
@@ -137,10 +137,10 @@ bool RodStepper::attempt(double t0, double dt, StepReport& sr, bool warm) {
     nodes_ = old;
     return false;
   }
-  nodes_.resize(old.size());
-  for (size_t k = 0; k < nodes_.size(); ++k) {
-    nodes_[k] = rod::advance_node(*model_, old[k], xg[k], dt);
-    if (retried) nodes_[k].yg.setZero();  // the next step starts from its old level too
+  nodes_.reserve(old.size());
+  for (size_t k = 0; k < old.size(); ++k) {
+    nodes_.push_back(rod::advance_node(*model_, old[k], xg[k], dt));
+    if (retried) nodes_.back().yg.setZero();  // the next step starts from its old level too
   }
   t_ = t0 + dt;
   return true;

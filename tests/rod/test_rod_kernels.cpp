@@ -582,11 +582,13 @@ TEST(RodKernels, ResidualAloneIsTheSameResidual) {
     std::vector<RodNode> old;
     std::vector<VecX> x;
     random_levels(rng, m, old, x);
-    std::vector<NodeLevels> lv(static_cast<size_t>(m.num_cells + 1));
+    // The levels with their Jacobians (for the full block) and without (for the residual alone).
+    std::vector<NodeLevels> lv(static_cast<size_t>(m.num_cells + 1)), lr(lv.size());
     for (int j = 0; j <= m.num_cells; ++j) {
       const auto J = static_cast<size_t>(j);
       new_level_quantities(m, st, j, old[J], x[J], lv[J]);
-      lv[J].F_old = old_level_flux(m, st, j, old[J]);
+      new_level_quantities(m, st, j, old[J], x[J], lr[J], false);
+      lv[J].F_old = lr[J].F_old = old_level_flux(m, st, j, old[J]);
     }
     int touched = 0;
     for (int j = 1; j <= m.num_cells; ++j) {
@@ -595,7 +597,7 @@ TEST(RodKernels, ResidualAloneIsTheSameResidual) {
       touched += loads ? 1 : 0;
       LocalBlock full, alone;
       cell_block_into(full, m, st, j, old[J - 1], old[J], x[J - 1], x[J], lv[J - 1], lv[J], loads, true);
-      cell_block_into(alone, m, st, j, old[J - 1], old[J], x[J - 1], x[J], lv[J - 1], lv[J], loads, false);
+      cell_block_into(alone, m, st, j, old[J - 1], old[J], x[J - 1], x[J], lr[J - 1], lr[J], loads, false);
       ASSERT_EQ(full.residual.size(), alone.residual.size());
       EXPECT_EQ((full.residual - alone.residual).cwiseAbs().maxCoeff(), 0.0) << pc.name << ", cell " << j;
       EXPECT_GT(full.jac[0].cwiseAbs().maxCoeff(), 0.0);
@@ -603,6 +605,41 @@ TEST(RodKernels, ResidualAloneIsTheSameResidual) {
     }
     EXPECT_GE(touched, 1) << pc.name << ": no cell carries the moving loads";
   }
+}
+
+TEST(RodKernels, CellsTouchedByLoadsAreTheCellsThatLoadsTouch) {
+  // The cells found from the loads' positions are those loads_touch_cell finds visiting every
+  // cell: loads inside the rod, at its ends, off it, a mass crossing several cells in a step
+  // (its inertia's path), over the whole rod and over a piece of it (a rank's cells).
+  const double dt = 0.01;
+  int touched = 0;
+  for (double s0 : {-0.3, 0.0, 0.013, 0.27, 0.5, 0.96, 1.0, 1.4})
+    for (double cells_per_step : {0.0, 0.4, 3.5, -2.2})
+      for (bool inertia : {true, false}) {
+        const StepTimes st{0.37, dt};
+        RodModel m = test::scene_model(40, AlphaParameters{});
+        const double ds = m.ds(), v = cells_per_step * ds / dt, t0 = st.t_old;
+        PointForce P;
+        P.force_fixed = [](double) { return Vec3(0.0, -1.0, 0.0); };
+        P.sigma = [=](double t) { return s0 + v * (t - t0); };
+        m.loads.point_forces.push_back(P);
+        MovingMass M;
+        M.mass = 0.2;
+        M.inertia = inertia;
+        M.sigma = [=](double t) { return 1.0 - s0 - 0.7 * v * (t - t0); };
+        M.speed = [=](double) { return -0.7 * v; };
+        M.accel = [](double) { return 0.0; };
+        m.loads.masses.push_back(M);
+        for (const auto& [c0, c1] : {std::pair{1, 40}, std::pair{7, 19}, std::pair{0, 3}}) {
+          std::vector<int> all;
+          for (int j = std::max(c0, 1); j <= c1; ++j)
+            if (loads_touch_cell(m, st, j)) all.push_back(j);
+          EXPECT_EQ(cells_touched_by_loads(m, st, c0, c1), all) << "s0 = " << s0 << ", " << cells_per_step
+                                                                << " cells per step, cells " << c0 << ".." << c1;
+          touched += static_cast<int>(all.size());
+        }
+      }
+  EXPECT_GT(touched, 100);  // the cases do reach cells
 }
 
 }  // namespace

@@ -57,8 +57,10 @@ Teuchos::RCP<const Map> node_map(int nodes, int b, int single = -1, bool reverse
 /// A random block-tridiagonal matrix (b x b blocks). keep_off_rank = false drops the
 /// entries whose column belongs to another rank (the matrix the preconditioner inverts).
 /// zero_diagonal: each diagonal block has zeros on its diagonal (LU needs row exchanges).
+/// halved: a node's first b/2 rows do not couple to the next node, its last b/2 not to the
+/// previous one (the rod's layout: each row is one cell's).
 Teuchos::RCP<Matrix> random_matrix(const Teuchos::RCP<const Map>& map, int b, double scale,
-                                   bool keep_off_rank, bool zero_diagonal, unsigned seed) {
+                                   bool keep_off_rank, bool zero_diagonal, unsigned seed, bool halved = false) {
   const GO n = static_cast<GO>(map->getGlobalNumElements());
   const GO nodes = n / b;
   auto A = Teuchos::rcp(new Matrix(map, 3 * b));
@@ -76,6 +78,7 @@ Teuchos::RCP<Matrix> random_matrix(const Teuchos::RCP<const Map>& map, int b, do
         if (m == k && col == g) v = zero_diagonal ? 0.0 : v + scale;
         if (m == k && zero_diagonal && (g % b + 1) % b == c) v += scale;  // a shifted "diagonal"
         if (!keep_off_rank && (col < lo || col > hi)) continue;
+        if (halved && ((m == k - 1 && 2 * (g % b) >= b) || (m == k + 1 && 2 * (g % b) < b))) continue;
         cols.push_back(col);
         vals.push_back(v);
       }
@@ -83,6 +86,24 @@ Teuchos::RCP<Matrix> random_matrix(const Teuchos::RCP<const Map>& map, int b, do
   }
   A->fillComplete();
   return A;
+}
+
+/// Zeroes the last b/2 columns of the diagonal blocks of the first and the last node (their
+/// rows on this rank): those blocks are then singular on their own.
+void make_end_blocks_singular(Matrix& A, int nodes, int b) {
+  const auto map = A.getRowMap();
+  A.resumeFill();
+  for (GO node : {GO(0), GO(nodes - 1)})
+    for (int i = 0; i < b; ++i) {
+      const GO row = node * b + i;
+      if (!map->isNodeGlobalElement(row)) continue;
+      for (int c = b / 2; c < b; ++c) {
+        const GO col = node * b + c;
+        const double zero = 0.0;
+        A.replaceGlobalValues(row, 1, &zero, &col);
+      }
+    }
+  A.fillComplete();
 }
 
 /// max |A y - x| / max |x| for y = M^{-1} x with a random x.
@@ -115,6 +136,43 @@ TEST(BlockTridiagonal, FindsTheBlockSizeAndSolvesExactlyAcrossRanks) {
                     comm()->getSize(), b, nodes, M.block_size(), res, M.min_rcond());
       EXPECT_LT(res, 1e-12) << "b = " << b << ", " << nodes << " nodes";
     }
+  }
+}
+
+TEST(BlockTridiagonal, HalfCouplingsAreFoundAndSolvedExactlyAcrossRanks) {
+  // The rod's layout (L zero past row b/2, U zero before it): found from the values, and the
+  // factorisation on the halves solves exactly, also from merged singular end blocks (the
+  // right end's reversed elimination on the last rank) and after refactorisation.
+  for (int b : {6, 12}) {
+    for (int nodes : {200, 7}) {
+      const auto map = node_map(nodes, b);
+      const auto A = random_matrix(map, b, 8.0, true, false, 31, true);
+      Prec M(A);
+      M.compute();
+      EXPECT_TRUE(M.half_couplings()) << "b = " << b;
+      const double res = solve_residual(M, *A);
+      if (comm()->getRank() == 0)
+        std::printf("[%d ranks] half couplings, b = %d, %d nodes: max|A y - x|/max|x| = %.2e\n",
+                    comm()->getSize(), b, nodes, res);
+      EXPECT_LT(res, 1e-12) << "b = " << b << ", " << nodes << " nodes";
+      A->resumeFill();
+      A->scale(-0.5);
+      A->fillComplete();
+      M.compute();
+      EXPECT_LT(solve_residual(M, *A), 1e-12) << "refactorised, b = " << b << ", " << nodes << " nodes";
+    }
+    const int nodes = 60;
+    const auto map = node_map(nodes, b);
+    const auto A = random_matrix(map, b, 8.0, true, true, 32, true);  // pivoting inside blocks
+    make_end_blocks_singular(*A, nodes, b);  // as in SingularEndBlocksStartWithMergedNodes
+    Prec M(A);
+    M.compute();
+    EXPECT_TRUE(M.half_couplings());
+    EXPECT_LT(solve_residual(M, *A), 1e-11) << "singular ends, b = " << b;
+    // A dense random matrix is not taken for halved.
+    Prec D(random_matrix(map, b, 8.0, true, false, 33));
+    D.compute();
+    EXPECT_FALSE(D.half_couplings());
   }
 }
 
@@ -200,18 +258,7 @@ TEST(BlockTridiagonal, SingularEndBlocksStartWithMergedNodes) {
   const int b = 12, nodes = 60;
   const auto map = node_map(nodes, b);
   const auto A = random_matrix(map, b, 8.0, true, false, 8);
-  A->resumeFill();
-  for (GO node : {GO(0), GO(nodes - 1)})
-    for (int i = 0; i < b; ++i) {
-      const GO row = node * b + i;
-      if (!map->isNodeGlobalElement(row)) continue;
-      for (int c = b / 2; c < b; ++c) {
-        const GO col = node * b + c;
-        const double zero = 0.0;
-        A->replaceGlobalValues(row, 1, &zero, &col);
-      }
-    }
-  A->fillComplete();
+  make_end_blocks_singular(*A, nodes, b);
   Prec M(A);
   M.compute();
   EXPECT_TRUE(M.exact()) << M.why_not_exact();
@@ -303,19 +350,22 @@ TEST(BlockTridiagonal, BlockStorageIsTheSameMatrixAndKeepsTheFactorisedValues) {
   // The same random matrix as a CrsMatrix and in block storage on the mesh's layout: the same
   // products and the same factorisation (bit for bit: the same values in the same blocks);
   // a refill of the blocks after compute() leaves the factorisation and its residual check on
-  // the values it factorised, until the next compute().
-  for (int b : {12, 6}) {
+  // the values it factorised, until the next compute(). With dense couplings and with halved
+  // ones (a fill that reaches L only in the first b/2 rows and U only in the last: the operator
+  // says so, its product and both factorisations take the halves).
+  for (const auto& [b, halved] : {std::pair{12, false}, std::pair{6, false}, std::pair{12, true}, std::pair{6, true}}) {
     const int nodes = 150;
     const auto mesh = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(1.0, nodes), comm(), b));
     const auto space = Thyra::createVectorSpace<double>(mesh->dof_map());
     const auto op = Teuchos::rcp(new BlockTridiagonalOperator(mesh, space));
-    const auto A = random_matrix(mesh->dof_map(), b, 8.0, true, false, 21);
-    const auto A2 = random_matrix(mesh->dof_map(), b, 8.0, true, false, 22);
+    const auto A = random_matrix(mesh->dof_map(), b, 8.0, true, false, 21, halved);
+    const auto A2 = random_matrix(mesh->dof_map(), b, 8.0, true, false, 22, halved);
     fill_blocks(*op, *A);
+    EXPECT_EQ(op->half_couplings(), halved);
     MV x(mesh->dof_map(), 2), y_crs(mesh->dof_map(), 2), y_blocks(mesh->dof_map(), 2);
     x.randomize();
     A->apply(x, y_crs);
-    op->apply_values(*op->values(), x, y_blocks);
+    op->apply_values(*op->values(), op->half_couplings(), x, y_blocks);
     EXPECT_LT(max_difference(y_crs, y_blocks), 1e-14) << "b = " << b;
 
     Prec crs(A);
@@ -324,6 +374,8 @@ TEST(BlockTridiagonal, BlockStorageIsTheSameMatrixAndKeepsTheFactorisedValues) {
     blocks->compute();
     EXPECT_TRUE(blocks->exact()) << blocks->why_not_exact();
     EXPECT_EQ(blocks->block_size(), b);
+    EXPECT_EQ(crs.half_couplings(), halved);
+    EXPECT_EQ(blocks->half_couplings(), halved);
     MV s_crs(mesh->dof_map(), 2), s_blocks(mesh->dof_map(), 2);
     crs.apply(x, s_crs);
     blocks->apply(x, s_blocks);
@@ -335,7 +387,7 @@ TEST(BlockTridiagonal, BlockStorageIsTheSameMatrixAndKeepsTheFactorisedValues) {
     EXPECT_EQ(max_difference(again, s_blocks), 0.0) << "b = " << b;
     blocks->apply_matrix(s_blocks, Ay);  // A (not A2) times A^{-1} x
     EXPECT_LT(max_difference(Ay, x), 1e-12) << "b = " << b;
-    op->apply_values(*op->values(), x, y_blocks);  // the operator itself has A2 now
+    op->apply_values(*op->values(), op->half_couplings(), x, y_blocks);  // the operator itself has A2 now
     A2->apply(x, y_crs);
     EXPECT_LT(max_difference(y_crs, y_blocks), 1e-14) << "b = " << b;
 
@@ -349,7 +401,7 @@ TEST(BlockTridiagonal, BlockStorageIsTheSameMatrixAndKeepsTheFactorisedValues) {
     // A fill in two contributions per row (assign, then add) gives the same matrix; a fill
     // that reaches only the diagonal blocks leaves zeros in L and U, not an earlier fill's values.
     fill_blocks(*op, *A, true);
-    op->apply_values(*op->values(), x, y_blocks);
+    op->apply_values(*op->values(), op->half_couplings(), x, y_blocks);
     A->apply(x, y_crs);
     EXPECT_LT(max_difference(y_crs, y_blocks), 1e-14) << "b = " << b;
     const auto full = op->values();  // held: the next fill goes to the other buffer
@@ -363,6 +415,9 @@ TEST(BlockTridiagonal, BlockStorageIsTheSameMatrixAndKeepsTheFactorisedValues) {
       if (diagonal ? v[k] != (*full)[k] : v[k] != 0.0) ++wrong;
     }
     EXPECT_EQ(wrong, 0u) << "b = " << b;
+    EXPECT_TRUE(op->half_couplings()) << "b = " << b;  // no L or U chunk reached
+    fill_blocks(*op, *random_matrix(mesh->dof_map(), b, 8.0, true, false, 23));  // all of L and U
+    EXPECT_FALSE(op->half_couplings()) << "b = " << b;
   }
 }
 

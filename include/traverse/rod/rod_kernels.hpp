@@ -35,13 +35,15 @@ struct NewLevelNode {
   Mat3 G;
   Vec12 yt;
 };
+/// `with_G` false: G is left zero (a new level that no Jacobian needs, as a converged step's).
 NewLevelNode new_level_node(const RodNode& old_node, const Vec12& y_new, double dt,
-                            const AlphaParameters& alpha);
+                            const AlphaParameters& alpha, bool with_G = true);
 /// The same for the model's rod: for a rod that strains (RodProperties::compliant) the n slot of
 /// yt holds the strain rate v_t instead of n's (docs/rod.md, "Extensible and shearable rods"):
 /// the Kelvin-Voigt law n = C^-1 (v - e3) + B_se v_t with v_t from the same recursion, solved
 /// for v at the new level. The inextensible rod's yt is new_level_node's above.
-NewLevelNode new_level_node(const RodModel& model, const RodNode& old_node, const Vec12& y_new, double dt);
+NewLevelNode new_level_node(const RodModel& model, const RodNode& old_node, const Vec12& y_new, double dt,
+                            bool with_G = true);
 
 /// The strain rate v_t of a node at the new level from its new contact force n_new [N]: the
 /// Kelvin-Voigt law n = C^-1 (v - e3) + B_se v_t with v_t = (v_new - v_old)/(gt dt) -
@@ -99,9 +101,11 @@ struct NodeLevels {
 };
 /// F_old of node j (s_j = j ds) at t_old: F only (has_jacobian false).
 NodeFlux old_level_flux(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node);
-/// nn and F_new of node j from its new unknown block; leaves out.F_old alone.
+/// nn and F_new of node j from its new unknown block; leaves out.F_old alone. `jacobian`
+/// false: without nn.G and F_new's Jacobian (for cell_block_into's residual alone; the same
+/// residual bits).
 void new_level_quantities(const RodModel& model, const StepTimes& step, int j, const RodNode& old_node,
-                          const VecX& new_node, NodeLevels& out);
+                          const VecX& new_node, NodeLevels& out, bool jacobian = true);
 /// cell_block with the nodes' quantities precomputed (as above, for nodes j-1 and j), written
 /// into `out` reusing its storage. Identical arithmetic, so identical bits: cell_block is
 /// this function with the NodeLevels computed on the spot. `loads_touch`: loads_touch_cell(model,
@@ -124,6 +128,10 @@ void cell_residual_into(VecX& r, const RodModel& model, const Mat12& Mm, const M
 /// Whether a point force or moving mass acts on cell j at either level of the step (when not,
 /// load_block is zero).
 bool loads_touch_cell(const RodModel& model, const StepTimes& step, int j);
+/// The cells c0 <= j <= c1 for which loads_touch_cell holds, in increasing order, found from
+/// the loads' positions (each load's cells at both levels and those between, with their
+/// neighbours, checked by loads_touch_cell) instead of by visiting every cell.
+std::vector<int> cells_touched_by_loads(const RodModel& model, const StepTimes& step, int c0, int c1);
 
 /// Only the point-force and moving-mass contributions to the 12 PDE rows of cell j (the
 /// load kernel; already included in cell_block).

@@ -21,6 +21,11 @@ inline constexpr int n = 9;      ///< contact force [N]
 
 /// One node at one time level.
 struct RodNode {
+  /// A node whose members are all about to be assigned (no zeroing first).
+  struct NoInit {};
+  RodNode() = default;
+  explicit RodNode(NoInit) : y(), R(), yt(), ys(), yv(), yg() {}
+
   Vec12 y = Vec12::Zero();    ///< (u, omega, kappa, n), body components
   Mat3 R = Mat3::Identity();  ///< fixed -> body components; rows are d1, d2, d3 (fixed comps)
   Vec12 yt = Vec12::Zero();   ///< time-derivative history (generalised-alpha), zero at rest

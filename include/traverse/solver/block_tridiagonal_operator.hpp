@@ -12,7 +12,10 @@
 // A fill does not clear the buffer first: each row's part of a block (a "chunk": b values)
 // is assigned by its first contribution and summed into by the others, and end_fill() zeroes
 // the chunks this fill did not reach that still hold values of an earlier one. The kernels
-// reach the same chunks at every fill, so in practice nothing is cleared at all.
+// reach the same chunks at every fill, so in practice nothing is cleared at all. The chunks a
+// fill reached also tell whether the couplings are halved (half_couplings()): no L chunk in
+// the rows past b/2 and no U chunk before, as the rod's cell rows are laid out, which the LU
+// and the products then use.
 //
 // Solver-module header: it exposes Thyra and Tpetra types.
 #include <Thyra_LinearOpDefaultBase.hpp>
@@ -49,8 +52,12 @@ class BlockTridiagonalOperator : public Thyra::LinearOpDefaultBase<double> {
   void end_fill();
   /// The current values. Holding the pointer keeps a later begin_fill from writing into them.
   std::shared_ptr<const std::vector<double>> values() const { return buf_[cur_]; }
-  /// y = A x with `blocks` as the values (collective: imports x's neighbouring nodes).
-  void apply_values(const std::vector<double>& blocks, const MV& x, MV& y) const;
+  /// Whether the current values' L blocks are zero past row b/2 and their U blocks before it
+  /// (as the last fill reached them; false before any fill).
+  bool half_couplings() const { return half_[cur_]; }
+  /// y = A x with `blocks` as the values, `half` their half_couplings() (collective: imports
+  /// x's neighbouring nodes).
+  void apply_values(const std::vector<double>& blocks, bool half, const MV& x, MV& y) const;
 
   Teuchos::RCP<const Thyra::VectorSpaceBase<double>> range() const override { return space_; }
   Teuchos::RCP<const Thyra::VectorSpaceBase<double>> domain() const override { return space_; }
@@ -68,6 +75,10 @@ class BlockTridiagonalOperator : public Thyra::LinearOpDefaultBase<double> {
   std::shared_ptr<std::vector<double>> buf_[2];
   std::vector<std::uint8_t> dirty_[2];  ///< per chunk: may hold non-zero values
   std::vector<std::uint8_t> written_;   ///< per chunk: reached by the current fill
+  bool half_[2] = {false, false};       ///< per buffer: half_couplings()
+  std::size_t n_dirty_[2] = {0, 0};     ///< per buffer: chunks marked dirty
+  std::size_t n_written_ = 0;           ///< chunks reached by the current fill
+  bool new_chunks_ = false;             ///< the current fill reached a chunk not dirty before
   int cur_ = 0;
   mutable Teuchos::RCP<MV> ghosted_, tmp_;  ///< x on the ghosted map; A x (applyImpl)
 };

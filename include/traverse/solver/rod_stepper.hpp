@@ -177,6 +177,7 @@ class RodStepper {
   std::shared_ptr<const rod::PlanarReduction> planar_;  ///< null on the 3D path
   int g0_ = 0, ng_ = 0, o0_ = 0, no_ = 0;
   std::vector<rod::RodNode> nodes_;  ///< ghosted range, current level
+  std::vector<VecX> xg_;             ///< the unknowns a step's solve returns (attempt)
   double t_ = 0.0;
   NewtonReport last_;
   int max_depth_ = 4;
