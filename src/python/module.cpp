@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "interrupt.hpp"
 #include "run.hpp"
 #include "traverse/core/numerics_error.hpp"
 #include "traverse/output/output_error.hpp"

@@ -92,5 +92,5 @@ def test_numerical_failure_raises_run_error_with_a_readable_partial_file(tmp_pat
         assert partial.status == f.attrs["status"].decode() if isinstance(f.attrs["status"], bytes) else f.attrs["status"]
         assert partial.steps_written == int(f.attrs["steps_written"])
     # The process is still good for another run.
-    ok = traverse.run(traverse.Scene.load(path, overrides=["time.dt=1e-4"]))
+    ok = traverse.run(traverse.Scene.load(path))
     assert ok.status == "complete"

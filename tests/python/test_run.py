@@ -11,10 +11,10 @@ import pytest
 import traverse
 from conftest import assert_same_datasets, run_exe, scene_path
 
-# (scene, --set strings that keep the run short). The default scene is run as it is.
+# (scene, --set strings). Each runs in about a second.
 CASES = {
     "default": ("default.yaml", []),
-    "beam_cantilever": (os.path.join("beam", "cantilever.yaml"), ["time.dt=1e-4"]),
+    "beam_cantilever": (os.path.join("beam", "cantilever.yaml"), []),
     "statics_euler_buckling": (os.path.join("statics", "euler_buckling.yaml"), []),
 }
 
@@ -41,10 +41,17 @@ def test_same_file_as_the_executable(tmp_path, case):
     print(f"{case}: {n} datasets equal bit for bit, {result.steps} output steps")
     assert result.status == "complete"
     with h5py.File(exe_out, "r") as a, h5py.File(py_out, "r") as b:
-        # The same run: model, status, steps and the validated scene the run used.
-        for key in ("model", "status", "steps_written", "scene"):
-            assert a.attrs[key] == b.attrs[key], key
-    assert os.path.exists(os.path.splitext(py_out)[0] + ".xmf"), "the ParaView sidecar is written too"
+        # The same root attributes (model, status, steps or points, the validated scene, the
+        # initial state...), but for the command line that made the file.
+        keys = sorted(set(a.attrs) | set(b.attrs))
+        assert keys == sorted(a.attrs) == sorted(b.attrs), keys
+        for key in keys:
+            if key != "command_line":
+                assert a.attrs[key] == b.attrs[key], key
+        assert b.attrs["command_line"].startswith("traverse.run(")
+    # The ParaView sidecar where the executable writes one (time-series runs).
+    sidecar = [os.path.exists(os.path.splitext(p)[0] + ".xmf") for p in (exe_out, py_out)]
+    assert sidecar[0] == sidecar[1] == (result.kind == "time_series"), sidecar
 
 
 def test_result_arrays_are_the_files(tmp_path):
@@ -56,10 +63,27 @@ def test_result_arrays_are_the_files(tmp_path):
         np.testing.assert_array_equal(result.sigma, f["sigma"][:n])
         np.testing.assert_array_equal(result.probes["midspan"], f["probes/midspan"][:n])
         assert list(result.fields) == ["r"] and "r" in result.fields
-        np.testing.assert_array_equal(result.fields["r"], f["fields/r"][:n])
+        r = f["fields/r"][:n]
+    np.testing.assert_array_equal(result.fields["r"], r)
     assert result.fields["r"].shape == (n, result.s.size, 3)
     assert result.attrs["status"] == "complete"
     assert "steps written: " + str(n) in result.summary()
+
+
+def test_continuation_result_is_the_file(tmp_path):
+    _, py_out, result = run_both(tmp_path, "statics_euler_buckling")
+    assert result.kind == "continuation"
+    with h5py.File(py_out, "r") as f:
+        n = int(f.attrs["points_written"])
+        assert result.steps == n > 1
+        assert sorted(result.continuation) == sorted(f["continuation"])
+        for name in f["continuation"]:
+            np.testing.assert_array_equal(result.continuation[name], f["continuation"][name][:n])
+        assert result.parameter == traverse.Scene.load(scene_path(CASES["statics_euler_buckling"][0]))["continuation.parameter"]
+        assert result.bifurcations["type"] == [t.decode() for t in f["bifurcations/type"][()]]
+        np.testing.assert_array_equal(result.states["final"]["r"], f["states/final/r"][()])
+    with pytest.raises(AttributeError):
+        result.time
 
 
 def test_repeated_runs_leave_no_state(tmp_path):
@@ -67,7 +91,7 @@ def test_repeated_runs_leave_no_state(tmp_path):
     rod runs' files are equal bit for bit (nothing of a run is left for the next)."""
     rod = traverse.Scene.load(scene_path("default.yaml"), overrides=["mesh.ds=0.05"])
     first = traverse.run(rod)
-    traverse.run(traverse.Scene.load(scene_path("beam", "cantilever.yaml"), overrides=["time.dt=1e-4"]))
+    traverse.run(traverse.Scene.load(scene_path("beam", "cantilever.yaml")))
     traverse.run(scene_path("statics", "euler_buckling.yaml"))
     second = traverse.run(rod)
     assert first.path != second.path
@@ -76,7 +100,7 @@ def test_repeated_runs_leave_no_state(tmp_path):
 
 
 def test_temporary_output_is_owned_by_the_result():
-    scene = traverse.Scene.load(scene_path("beam", "cantilever.yaml"), overrides=["time.dt=1e-4"])
+    scene = traverse.Scene.load(scene_path("beam", "cantilever.yaml"))
     result = traverse.run(scene)
     path = result.path
     assert os.path.exists(path)
@@ -87,13 +111,13 @@ def test_temporary_output_is_owned_by_the_result():
 def test_existing_output_refused_like_the_executable(tmp_path):
     path = scene_path("beam", "cantilever.yaml")
     out = str(tmp_path / "taken.h5")
-    traverse.run(traverse.Scene.load(path, overrides=["time.dt=1e-4"]), output=out)
+    traverse.run(traverse.Scene.load(path), output=out)
     before = os.path.getmtime(out)
     with pytest.raises(traverse.OutputError) as e:
-        traverse.run(traverse.Scene.load(path, overrides=["time.dt=1e-4"]), output=out)
-    r = run_exe("run", path, "-o", out, "-q", "--set", "time.dt=1e-4")
+        traverse.run(traverse.Scene.load(path), output=out)
+    r = run_exe("run", path, "-o", out, "-q")
     assert r.returncode == 2
     assert r.stderr.strip() == f"traverse: bad output path: {e.value}"
     assert os.path.getmtime(out) == before
     # overwrite=True replaces it, as --overwrite does.
-    assert traverse.run(traverse.Scene.load(path, overrides=["time.dt=1e-4"]), output=out, overwrite=True).status == "complete"
+    assert traverse.run(traverse.Scene.load(path), output=out, overwrite=True).status == "complete"

@@ -14,13 +14,13 @@ import atexit as _atexit
 
 from . import _traverse
 from ._errors import OutputError, RunError, SceneError
-from .reader import IncompleteOutputError, TraverseOutput, summary
+from .reader import ContinuationOutput, IncompleteOutputError, TraverseOutput, summary
 from .result import Result, read, run
 from .scene import Scene
 
 __version__ = _traverse.version
-__all__ = ["Scene", "run", "read", "Result", "TraverseOutput", "summary", "SceneError", "RunError", "OutputError",
-           "IncompleteOutputError"]
+__all__ = ["Scene", "run", "read", "Result", "TraverseOutput", "ContinuationOutput", "summary", "SceneError",
+           "RunError", "OutputError", "IncompleteOutputError"]
 
 # Kokkos (kept from the first rod run to the last, as in the program) and MPI, when this
 # module started it, end at the interpreter's exit. atexit runs its functions in reverse

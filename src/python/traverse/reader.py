@@ -28,7 +28,8 @@ import sys
 import h5py
 import numpy as np
 
-__all__ = ["load", "TraverseOutput", "IncompleteOutputError", "summary", "sweep_index", "sweep_outputs"]
+__all__ = ["load", "TraverseOutput", "IncompleteOutputError", "summary", "sweep_index", "sweep_outputs",
+           "ContinuationOutput", "load_continuation", "read"]
 
 SUPPORTED_FORMAT = 1
 
@@ -50,6 +51,12 @@ def _open(path):
     try:
         return h5py.File(path, "r", locking=False)
     except (TypeError, ValueError):
+        return h5py.File(path, "r")
+    except OSError as e:
+        # The file is open in this process already, with file locking (HDF5 refuses to open
+        # it again with other locking flags): open it as it is open.
+        if "locking flag" not in str(e):
+            raise
         return h5py.File(path, "r")
 
 
@@ -163,6 +170,78 @@ def load(path, allow_incomplete=False):
             f"{out.path}: run status is {out.status!r} ({out.steps_written} steps written), "
             "not 'complete'; pass allow_incomplete=True to read the written steps anyway")
     return out
+
+
+class ContinuationOutput:
+    """Contents of one continuation (statics) output file, trimmed to the points written
+    (layout: docs/output.md, "Continuation files").
+
+    Attributes: path, attrs (root attributes; kind = "continuation"), status, points_written,
+    s [m] (nodes,), parameter (the continued parameter's name), continuation (dict name ->
+    (points,) array: the parameter, each probe, unstable_modes, critical_eigenvalue, branch),
+    bifurcations (dict name -> (n,) array: type as str, branch, located, the parameter and the
+    probes), bifurcation_states (list of dicts r, R, kappa, n), states (dict name -> dict r,
+    R, kappa, n; "final" is the run's last state).
+    """
+
+    def __init__(self, path):
+        self.path = str(path)
+        self._units = {}
+        with _open(self.path) as f:
+            self.attrs = {k: _text(v) for k, v in f.attrs.items()}
+            if self.attrs.get("kind") != "continuation" or "points_written" not in self.attrs:
+                raise ValueError(f"{self.path} is not a traverse continuation output "
+                                 "(no kind = continuation / points_written root attributes)")
+            self.status = str(self.attrs.get("status", ""))
+            n = self.points_written = int(self.attrs["points_written"])
+            self.s = np.asarray(f["mesh/s"][...]).reshape(-1)
+            self.continuation, self.parameter = {}, None
+            for name, d in f.get("continuation", {}).items():
+                self.continuation[name] = np.asarray(d[:n])
+                self._units[name] = _text(d.attrs.get("units", ""))
+                if _text(d.attrs.get("description", "")) == "the continued parameter":
+                    self.parameter = name
+            self.bifurcations, self.bifurcation_states = {}, []
+            g = f.get("bifurcations", {})
+            for name in g:
+                if isinstance(g[name], h5py.Dataset):
+                    v = np.asarray(g[name][()])
+                    self.bifurcations[name] = [_text(x) for x in v] if v.dtype.kind in "SO" else v
+            k = 0
+            while f"state_{k}" in g:
+                self.bifurcation_states.append({a: np.asarray(b[...]) for a, b in g[f"state_{k}"].items()})
+                k += 1
+            self.states = {name: {a: np.asarray(b[...]) for a, b in grp.items()}
+                           for name, grp in f.get("states", {}).items()}
+
+    def units(self, name):
+        """Units of a dataset of /continuation ("" when none are given)."""
+        return self._units[name]
+
+    def __repr__(self):
+        return (f"ContinuationOutput({self.path!r}, status={self.status!r}, "
+                f"points_written={self.points_written})")
+
+
+def load_continuation(path, allow_incomplete=False):
+    """Reads a continuation output file; IncompleteOutputError if the run did not complete,
+    unless allow_incomplete=True."""
+    out = ContinuationOutput(path)
+    if out.status != "complete" and not allow_incomplete:
+        raise IncompleteOutputError(
+            f"{out.path}: run status is {out.status!r} ({out.points_written} points written), "
+            "not 'complete'; pass allow_incomplete=True to read the written points anyway")
+    return out
+
+
+def read(path, allow_incomplete=False):
+    """Any traverse output file: a ContinuationOutput for a continuation (statics) run, else
+    a TraverseOutput (load)."""
+    with _open(str(path)) as f:
+        kind = _text(f.attrs.get("kind", ""))
+    if kind == "continuation":
+        return load_continuation(path, allow_incomplete)
+    return load(path, allow_incomplete)
 
 
 def command(exe, verb, ranks=1):

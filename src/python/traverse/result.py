@@ -10,10 +10,12 @@ from .scene import Scene
 
 
 def read(path, allow_incomplete=False):
-    """The output file `path` (any traverse run's) as a TraverseOutput: time, sigma, s,
-    probes, field(name), attrs, status (docs/output.md). Raises IncompleteOutputError when
-    the run did not complete, unless allow_incomplete=True (then the steps written)."""
-    return _reader.load(os.fspath(path), allow_incomplete=allow_incomplete)
+    """The output file `path` (any traverse run's): a TraverseOutput (time, sigma, s, probes,
+    field(name), attrs, status) for a time-series run, a ContinuationOutput (continuation,
+    bifurcations, states, parameter) for a continuation run (docs/output.md). Raises
+    IncompleteOutputError when the run did not complete, unless allow_incomplete=True (then
+    what was written)."""
+    return _reader.read(os.fspath(path), allow_incomplete=allow_incomplete)
 
 
 class _Fields:
@@ -40,31 +42,63 @@ class _Fields:
 
 
 class Result:
-    """What one traverse.run wrote: `path` (the HDF5 file), `time` [s], `sigma` [m], `s` [m],
-    `probes[name]`, `fields[name]` (numpy arrays), `attrs` (the file's root attributes),
-    `status`, `steps` (output steps written), `output` (the TraverseOutput read from it).
+    """What one traverse.run wrote: `path` (the HDF5 file), `attrs` (its root attributes),
+    `status`, `steps` (output steps, or continuation points, written), `output` (the file
+    read: a TraverseOutput or a ContinuationOutput), and
+
+    - of a time-series run (beam, rod): `time` [s], `sigma` [m], `s` [m], `probes[name]`,
+      `fields[name]` (numpy arrays, fields read when asked for);
+    - of a continuation run (statics): `continuation[name]` (the parameter, each probe,
+      unstable_modes, critical_eigenvalue, branch), `parameter`, `bifurcations`, `states`.
 
     When run() was given no output path the file lives in a temporary directory that this
     object owns: it is removed with the object or by close(); keep(path) moves it out first.
     """
 
     def __init__(self, path, temporary_dir=None):
-        self.path = path
         self._tmp = temporary_dir
-        self.output = read(path)
-        self.fields = _Fields(self.output)
+        self._read(path)
 
-    time = property(lambda self: self.output.time)
-    sigma = property(lambda self: self.output.sigma)
+    def _read(self, path):
+        self.path = path
+        self.output = read(path)
+        self.kind = "continuation" if isinstance(self.output, _reader.ContinuationOutput) else "time_series"
+        self.fields = _Fields(self.output) if self.kind == "time_series" else {}
+
+    def _series(self, name):
+        if self.kind != "time_series":
+            raise AttributeError(f"{self.path} is a continuation run: it has no {name} (see result.continuation)")
+        return getattr(self.output, name)
+
+    def _points(self, name):
+        if self.kind != "continuation":
+            raise AttributeError(f"{self.path} is a time-series run: it has no {name} (see result.time, probes)")
+        return getattr(self.output, name)
+
+    time = property(lambda self: self._series("time"))
+    sigma = property(lambda self: self._series("sigma"))
+    probes = property(lambda self: self._series("probes"))
+    continuation = property(lambda self: self._points("continuation"))
+    parameter = property(lambda self: self._points("parameter"))
+    bifurcations = property(lambda self: self._points("bifurcations"))
+    states = property(lambda self: self._points("states"))
     s = property(lambda self: self.output.s)
-    probes = property(lambda self: self.output.probes)
     attrs = property(lambda self: self.output.attrs)
     status = property(lambda self: self.output.status)
-    steps = property(lambda self: self.output.steps_written)
+    steps = property(lambda self: self.output.steps_written if self.kind == "time_series" else self.output.points_written)
 
     def summary(self):
-        """The summary `python3 postprocessing/traverse_io.py FILE` prints."""
-        return _reader.summary(self.output)
+        """The summary `python3 postprocessing/traverse_io.py FILE` prints (time-series runs);
+        for a continuation run its points, parameter range and bifurcations."""
+        if self.kind == "time_series":
+            return _reader.summary(self.output)
+        o = self.output
+        p = o.continuation.get(o.parameter)
+        lines = [f"file:          {self.path}", f"status:        {o.status}", f"points:        {o.points_written}",
+                 f"parameter:     {o.parameter}" + (f" {p.min():.6g} .. {p.max():.6g}" if p is not None and p.size else ""),
+                 f"bifurcations:  {', '.join(o.bifurcations.get('type', [])) or 'none'}",
+                 f"states:        {', '.join(o.states) or 'none'}"]
+        return "\n".join(lines)
 
     def keep(self, path):
         """Moves a temporary output (and its .xmf sidecar) to `path`; the result then refers
@@ -77,9 +111,7 @@ class Result:
         if os.path.exists(side):
             shutil.move(side, os.path.splitext(path)[0] + ".xmf")
         self.close()
-        self.path = path
-        self.output = read(path)
-        self.fields = _Fields(self.output)
+        self._read(path)
         return path
 
     def close(self):
