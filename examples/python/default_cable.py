@@ -35,14 +35,16 @@ def main():
         scene.set(key, value)
     result = traverse.run(scene, output=args.keep)
 
-    load = next(iter(scene.check()["loads"]))  # the scene's first moving load
+    complete = scene.check()  # the scene as run, defaults filled in
+    load = next(iter(complete["loads"]))  # the scene's first moving load
     sigma = result.sigma if result.sigma.ndim == 1 else result.sigma[:, 0]
     height = result.probes["midspan"][:, 1]  # the position's y component: up
     fig, ax = plt.subplots(figsize=(7, 4))
     ax.plot(sigma, 1e3 * height, lw=1.5)
     ax.set_xlabel(f"position of the load '{load}' along the cable, sigma [{result.output.units('sigma')}]")
     ax.set_ylabel("midspan height y [mm]")
-    ax.set_title(f"{result.attrs.get('model')} run in Python: {result.steps} output steps, status {result.status}")
+    ax.set_title(f"{complete.get('title', args.scene)}\n(run in Python: {result.steps} output steps, {result.status})",
+                 fontsize=10)
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
     fig.savefig(args.output, dpi=120)
