@@ -91,12 +91,14 @@ void ensure_mpi() {
   MPI_Finalized(&finalized);
   if (finalized) throw std::runtime_error("traverse: MPI was already finalised in this process; no run can start");
   if (initialized) return;
-  // Serialized: runs take a lock (run_mutex), so that one thread at a time calls MPI.
+  // Serialized: calls take a lock (run_mutex), so that one thread at a time calls MPI.
   int provided = 0;
   MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided);
   mpi_state().started_here = true;
 }
 
+// One call into the program at a time (a run, a check or a read of a scene): the program is
+// not written for concurrent runs in one process. Taken with the interpreter's lock released.
 std::mutex& run_mutex() {
   static std::mutex m;
   return m;
@@ -106,6 +108,7 @@ std::mutex& run_mutex() {
 // (kept alive from the first rod run to the last, setup::finish_solver_runtime), then MPI if
 // this module started it. Registered with atexit by the package; harmless when called again.
 void finish() {
+  py::gil_scoped_release nogil;  // a run in another thread may need it to raise its error
   std::lock_guard<std::mutex> lock(run_mutex());
   setup::finish_solver_runtime();
   MpiState& s = mpi_state();
@@ -121,6 +124,8 @@ void finish() {
 // default filled in, with or without its comments). Runs the same checks, in this process
 // alone as the command does outside a launcher.
 std::pair<std::string, std::string> check(const Source& s, bool comments) {
+  py::gil_scoped_release nogil;
+  std::lock_guard<std::mutex> lock(run_mutex());
   return translated([&] {
     const scene::Scene sc = load(s);
     if (sc.model == scene::Model::Rod) app::check_rod(sc);
@@ -131,6 +136,8 @@ std::pair<std::string, std::string> check(const Source& s, bool comments) {
 
 // Reads the scene only (what --set is checked against before anything runs).
 void validate(const Source& s) {
+  py::gil_scoped_release nogil;
+  std::lock_guard<std::mutex> lock(run_mutex());
   translated([&] { (void)load(s); });
 }
 
