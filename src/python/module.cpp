@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <filesystem>
 #include <mutex>
 #include <string>
 #include <utility>
@@ -68,7 +69,8 @@ auto translated(F&& f, const std::string& output = {}) -> decltype(f()) {
   } catch (const app::UsageError& e) {
     raise("SceneError", e.message);
   } catch (const NumericsError& e) {
-    raise("RunError", e.what(), output);
+    // A failed time step leaves the steps written so far; a failed start writes nothing.
+    raise("RunError", e.what(), !output.empty() && std::filesystem::exists(output) ? output : std::string());
   } catch (const app::Interrupted& e) {
     raise("RunError", e.what(), e.output());
   }

@@ -19,6 +19,7 @@ class OutputError(OSError):
 class RunError(RuntimeError):
     """A run whose numerics failed (the command line's exit code 3), with its message.
     `output` is the path of the file the run wrote up to the failure (status "failed"),
-    readable with traverse.read(output, allow_incomplete=True)."""
+    readable with traverse.read(output, allow_incomplete=True); None when the run failed
+    before it wrote anything (e.g. its initial state)."""
 
     output = None
