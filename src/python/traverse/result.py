@@ -1,0 +1,158 @@
+"""traverse.run and traverse.read: a scene run in this process, and what it wrote."""
+
+import os
+import shutil
+import tempfile
+
+from . import _traverse
+from . import reader as _reader
+from .scene import Scene
+
+
+def read(path, allow_incomplete=False):
+    """The output file `path` (any traverse run's): a TraverseOutput (time, sigma, s, probes,
+    field(name), attrs, status) for a time-series run, a ContinuationOutput (continuation,
+    bifurcations, states, parameter) for a continuation run (docs/output.md). Raises
+    IncompleteOutputError when the run did not complete, unless allow_incomplete=True (then
+    what was written)."""
+    return _reader.read(os.fspath(path), allow_incomplete=allow_incomplete)
+
+
+class _Fields:
+    """result.fields[name]: a field's values at every output step, (steps, nodes, components),
+    read from the file when asked for."""
+
+    def __init__(self, out):
+        self._out = out
+
+    def __getitem__(self, name):
+        return self._out.field(name)
+
+    def __contains__(self, name):
+        return name in self._out.field_names
+
+    def __iter__(self):
+        return iter(self._out.field_names)
+
+    def __len__(self):
+        return len(self._out.field_names)
+
+    def keys(self):
+        return list(self._out.field_names)
+
+
+class Result:
+    """What one traverse.run wrote: `path` (the HDF5 file), `attrs` (its root attributes),
+    `status`, `steps` (output steps, or continuation points, written), `output` (the file
+    read: a TraverseOutput or a ContinuationOutput), and
+
+    - of a time-series run (beam, rod): `time` [s], `sigma` [m], `s` [m], `probes[name]`,
+      `fields[name]` (numpy arrays, fields read when asked for);
+    - of a continuation run (statics): `continuation[name]` (the parameter, each probe,
+      unstable_modes, critical_eigenvalue, branch), `parameter`, `bifurcations`, `states`.
+
+    When run() was given no output path the file lives in a temporary directory that this
+    object owns: it is removed with the object or by close(); keep(path) moves it out first.
+    """
+
+    def __init__(self, path, temporary_dir=None):
+        self._tmp = temporary_dir
+        self._read(path)
+
+    def _read(self, path):
+        self.path = path
+        self.output = read(path)
+        self.kind = "continuation" if isinstance(self.output, _reader.ContinuationOutput) else "time_series"
+        self.fields = _Fields(self.output) if self.kind == "time_series" else {}
+
+    def _series(self, name):
+        if self.kind != "time_series":
+            raise AttributeError(f"{self.path} is a continuation run: it has no {name} (see result.continuation)")
+        return getattr(self.output, name)
+
+    def _points(self, name):
+        if self.kind != "continuation":
+            raise AttributeError(f"{self.path} is a time-series run: it has no {name} (see result.time, probes)")
+        return getattr(self.output, name)
+
+    time = property(lambda self: self._series("time"))
+    sigma = property(lambda self: self._series("sigma"))
+    probes = property(lambda self: self._series("probes"))
+    continuation = property(lambda self: self._points("continuation"))
+    parameter = property(lambda self: self._points("parameter"))
+    bifurcations = property(lambda self: self._points("bifurcations"))
+    states = property(lambda self: self._points("states"))
+    s = property(lambda self: self.output.s)
+    attrs = property(lambda self: self.output.attrs)
+    status = property(lambda self: self.output.status)
+    steps = property(lambda self: self.output.steps_written if self.kind == "time_series" else self.output.points_written)
+
+    def summary(self):
+        """The summary `python3 postprocessing/traverse_io.py FILE` prints (time-series runs);
+        for a continuation run its points, parameter range and bifurcations."""
+        if self.kind == "time_series":
+            return _reader.summary(self.output)
+        o = self.output
+        p = o.continuation.get(o.parameter)
+        lines = [f"file:          {self.path}", f"status:        {o.status}", f"points:        {o.points_written}",
+                 f"parameter:     {o.parameter}" + (f" {p.min():.6g} .. {p.max():.6g}" if p is not None and p.size else ""),
+                 f"bifurcations:  {', '.join(o.bifurcations.get('type', [])) or 'none'}",
+                 f"states:        {', '.join(o.states) or 'none'}"]
+        return "\n".join(lines)
+
+    def keep(self, path):
+        """Moves a temporary output (and its .xmf sidecar) to `path`; the result then refers
+        to it and no longer removes it. Returns the new path."""
+        path = os.fspath(path)
+        if os.path.exists(path):
+            raise FileExistsError(f"traverse.Result.keep: {path} exists")
+        shutil.move(self.path, path)
+        side = os.path.splitext(self.path)[0] + ".xmf"
+        if os.path.exists(side):
+            shutil.move(side, os.path.splitext(path)[0] + ".xmf")
+        self.close()
+        self._read(path)
+        return path
+
+    def close(self):
+        """Removes the temporary directory of an output written without a path (if any)."""
+        if self._tmp is not None:
+            shutil.rmtree(self._tmp, ignore_errors=True)
+            self._tmp = None
+
+    def __del__(self):
+        self.close()
+
+    def __repr__(self):
+        return f"traverse.Result({self.path!r}, status={self.status!r}, steps={self.steps})"
+
+
+def run(scene, output=None, quiet=True, overwrite=False, verbose=False):
+    """Runs `scene` (a Scene, or the path of a scene file) in this process, as
+    `traverse run SCENE -o OUTPUT [--overwrite] [-q]` does, and returns its Result.
+
+    `output`: the HDF5 file to write (and its .xmf sidecar), the same file the program
+    writes; None: a file in a temporary directory owned by the Result. MPI starts on the
+    first run if nobody started it (one process, or every rank of an MPI launch calling run).
+
+    Raises SceneError for a scene that only shows as bad when its model is built,
+    OutputError for an output path that cannot be written, RunError when the numerics fail
+    (its `output` is the partial file).
+    """
+    if not isinstance(scene, Scene):
+        scene = Scene.load(scene)
+    tmp = None
+    if output is None:
+        tmp = tempfile.mkdtemp(prefix="traverse-")
+        output = os.path.join(tmp, "run.h5")
+    output = os.fspath(output)
+    invocation = f"traverse.run({scene.name!r}" + "".join(f", --set {o}" for o in scene.overrides) + ")"
+    try:
+        _traverse.run(scene._src(), output, overwrite, quiet, verbose, invocation)
+        return Result(output, tmp)
+    except BaseException as e:
+        # A failed run's partial file is the caller's to read: a temporary one is kept
+        # (its directory is named in RunError.output); anything else removes the directory.
+        if tmp is not None and not (hasattr(e, "output") and e.output):
+            shutil.rmtree(tmp, ignore_errors=True)
+        raise

@@ -1,0 +1,58 @@
+"""Shared helpers of the Python module's tests: the executable of the same build (TRAVERSE_EXE),
+the source tree (TRAVERSE_SOURCE_DIR), and a comparison of two output files."""
+
+import os
+import subprocess
+
+import h5py
+import numpy as np
+import pytest
+
+SOURCE_DIR = os.environ.get("TRAVERSE_SOURCE_DIR", os.path.join(os.path.dirname(__file__), os.pardir, os.pardir))
+EXE = os.environ.get("TRAVERSE_EXE", "")
+
+# Datasets that are the run's bookkeeping, not its results (as scripts/compare-runs.py skips
+# them): wall times, timings and restart points.
+SKIPPED = ("wall", "seconds", "timing", "restart")
+
+
+def scene_path(*parts):
+    return os.path.join(SOURCE_DIR, "inputs", *parts)
+
+
+def run_exe(*args):
+    """Runs the executable with `args`; returns the CompletedProcess (text output)."""
+    if not EXE or not os.path.exists(EXE):
+        pytest.fail(f"TRAVERSE_EXE is not the traverse executable: {EXE!r} (run through ctest)")
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    return subprocess.run([EXE, *args], capture_output=True, text=True, env=env, timeout=240)
+
+
+def datasets(path):
+    """Every dataset of the file outside /xdmf and the skipped bookkeeping: name -> array."""
+    out = {}
+    with h5py.File(path, "r") as f:
+        def visit(name, obj):
+            if isinstance(obj, h5py.Dataset) and not name.startswith("xdmf/") and not any(s in name for s in SKIPPED):
+                out[name] = obj[()]
+        f.visititems(visit)
+    return out
+
+
+def assert_same_datasets(a, b):
+    """The two files hold the same datasets with the same dtypes and shapes, equal bit for
+    bit (NaN where the other has NaN). Returns the number of datasets compared."""
+    da, db = datasets(a), datasets(b)
+    assert sorted(da) == sorted(db), f"datasets differ: only in {a}: {sorted(set(da) - set(db))}, only in {b}: {sorted(set(db) - set(da))}"
+    for name in sorted(da):
+        x, y = np.asarray(da[name]), np.asarray(db[name])
+        assert x.dtype == y.dtype, f"{name}: dtype {x.dtype} against {y.dtype}"
+        assert x.shape == y.shape, f"{name}: shape {x.shape} against {y.shape}"
+        if x.dtype.kind in "fiub":
+            # Bit for bit: the same bytes (NaN where the other has NaN, signed zeros alike).
+            if x.tobytes() != y.tobytes():
+                diff = np.nanmax(np.abs(x.astype(float) - y.astype(float))) if x.size else 0.0
+                pytest.fail(f"{name}: values differ (largest difference {diff:.3e})")
+        else:
+            assert np.array_equal(x, y), f"{name}: values differ"
+    return len(da)
