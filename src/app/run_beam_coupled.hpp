@@ -13,7 +13,8 @@
 
 namespace traverse::app {
 
-/// The scene's coupled_mass load, or nullptr.
+/// The load stepped with the structure by a partitioned iteration: the scene's coupled_mass, or
+/// on the rod its sprung_mass; nullptr without one.
 const scene::MovingLoadSpec* coupled_load(const scene::Scene& scene);
 
 /// time.end: auto (scene::TimeSpec::end_at_event) and no event by time.auto_limit: appends the

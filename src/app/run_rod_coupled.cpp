@@ -41,7 +41,8 @@ namespace extra {
 enum : std::size_t {
   dt, planar, sigma, speed, drive_work, dissipated, friction_work, stick, up_prev, up_time, normal,
   tangential = normal + 3, steps, newton, coupling, written_t, event_count, event_time, event_position, event_reason,
-  fixed
+  body, fixed = body + 6  // body: a suspension's z, z', w, w', force, damper work
+
 };
 }  // namespace extra
 const char* const kEventReasons[] = {"left_rod_at_0", "left_rod_at_L", "lift_off", "stick", "time_limit"};
@@ -99,6 +100,8 @@ std::vector<double> CoupledRecord::restart_extra() const {
   x[extra::dissipated] = m_.dissipated;
   x[extra::friction_work] = m_.friction_work;
   x[extra::stick] = m_.stick_fraction;
+  const auto body = m_.suspension_values();
+  std::copy(body.begin(), body.end(), x.begin() + extra::body);
   x[extra::up_prev] = c.up_prev;
   x[extra::up_time] = c.up_time;
   for (int k = 0; k < 3; ++k) x[extra::normal + k] = c.normal(k);
@@ -154,6 +157,7 @@ std::optional<time::ControllerState> CoupledRecord::restore(const output::Restar
   m.dissipated = x[extra::dissipated];
   m.friction_work = x[extra::friction_work];
   m.stick_fraction = x[extra::stick];
+  m.set_suspension_values(&x[extra::body]);
   solver::ContactHistory& c = model_.contact;
   c.up_prev = x[extra::up_prev];
   c.up_time = x[extra::up_time];
@@ -180,12 +184,6 @@ std::optional<time::ControllerState> CoupledRecord::restore(const output::Restar
   return rc_->restore(solver::rod_levels(state_), per_node, std::vector<double>(q + 1, q + 1 + na));
 }
 
-// The coupled mass of the rod's stepper, from its scene load.
-rod::CoupledRodMass rod_mass(const scene::MovingLoadSpec& load) {
-  return {load.mass, load.drive, load.resistance, load.friction,
-          load.resistance_through == scene::ResistanceThrough::structure};
-}
-
 // The rod's estimate and the mass's (its position only); the larger decides.
 void make_estimates(const scene::Scene& sc, const rod::AlphaParameters& alpha, const rod::RodState& state,
                     const rod::CoupledMassState& m, std::unique_ptr<solver::RodErrorEstimate>& rc,
@@ -201,8 +199,8 @@ void make_estimates(const scene::Scene& sc, const rod::AlphaParameters& alpha, c
 void print_start(const scene::Scene& sc, const TimeGrid& grid, const std::string& initial,
                  const solver::RodStepper& st, const std::string& path_text, const RunOptions& opt,
                  const output::RestartPoint& point) {
-  std::printf("rod scene '%s': %d nodes, coupled mass '%s', up to %ld steps of dt = %.6g s to t = %.6g s%s\n",
-              sc.file.c_str(), sc.mesh.nodes, coupled_load(sc)->name.c_str(), grid.steps, grid.dt, grid.t_end,
+  std::printf("rod scene '%s': %d nodes, %s '%s', up to %ld steps of dt = %.6g s to t = %.6g s%s\n",
+              sc.file.c_str(), sc.mesh.nodes, scene::name_of(coupled_load(sc)->type).c_str(), coupled_load(sc)->name.c_str(), grid.steps, grid.dt, grid.t_end,
               sc.time.adaptive.enabled ? " (adaptive: the first step and the output spacing)" : "");
   if (opt.verbose)
     std::printf("  initial state: %s; partitioned iteration of rod and mass; linear solver: %s; path: %s\n",
@@ -251,7 +249,7 @@ void run_rod_coupled(const scene::Scene& sc, const setup::RodSetup& setup, const
   } else {
     start = setup::initial_state(sc, setup, comm);
   }
-  const rod::CoupledRodMass mass = rod_mass(load);
+  const rod::CoupledRodMass mass = setup::coupled_rod_mass(load);
   // The rod's steps on the distributed stepper, made from the model with the mass's loads.
   solver::DistributedCoupledRodSolve* rod_solve = nullptr;
   rod::CoupledRodStepper stepper(setup.model, mass, [&](rod::RodModel with_mass) {
@@ -271,7 +269,8 @@ void run_rod_coupled(const scene::Scene& sc, const setup::RodSetup& setup, const
   const setup::PathChoice path = setup::choose_path(sc, setup.model, st, stored_path, comm);
   if (path.planar) st.set_planar(&path.symmetry);
   const std::string path_text = st.path_description() + "; " + path.detail;
-  rod::CoupledMassState m{load.start, load.initial_velocity()};
+  rod::CoupledMassState m{load.position(0.0), load.velocity(0.0)};
+  if (mass.suspended && !opt.restart) rod::start_suspension(mass, stepper.model().loads.gravity, state, m);
   const int first = st.first_owned_node(), count = st.num_owned_nodes();
   setup::CoupledRodOutputs outputs(sc, load, stepper.model(), first, count);
   if (opt.restart) {
@@ -279,7 +278,7 @@ void run_rod_coupled(const scene::Scene& sc, const setup::RodSetup& setup, const
     source = output::move_aside_for_restart(opt.output, comm);
   }
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod", {}};
-  info.attributes = {{"rod_path", path.planar ? "planar" : "3D"}, {"rod_path_detail", path_text + " (coupled_mass)"},
+  info.attributes = {{"rod_path", path.planar ? "planar" : "3D"}, {"rod_path_detail", path_text + " (" + scene::name_of(load.type) + ")"},
                      {"initial_state", start.description}};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
   writer.set_intervals(opt.flush_interval, writer.xdmf_interval());

@@ -26,6 +26,7 @@ Vec3 mass_velocity(const RodState& state, const CoupledMassState& m) {
 struct CoupledRodStepper::Path {
   double t_old = 0.0, t_new = 0.0, dt = 1.0;
   double s_old = 0.0, s_new = 0.0, v_old = 0.0, v_new = 0.0;
+  double force = 0.0;  ///< a suspension's force k e + c e' on the rod over the step (latest iterate)
   Vec3 d3 = Vec3::UnitZ();  ///< tangent at sigma for the resistance (latest iterate)
   double at(double t, double a, double b) const {
     if (t == t_new) return b;
@@ -38,7 +39,14 @@ CoupledRodStepper::~CoupledRodStepper() = default;
 
 CoupledRodStepper::CoupledRodStepper(RodModel model, CoupledRodMass mass, const CoupledRodSolveFactory& make)
     : path_(std::make_shared<Path>()), mass_(mass) {
-  if (!(mass_.mass > 0.0)) throw std::invalid_argument("CoupledRodStepper: mass must be > 0");
+  if (mass_.suspended ? !(mass_.mass >= 0.0) : !(mass_.mass > 0.0))
+    throw std::invalid_argument("CoupledRodStepper: mass must be > 0 (>= 0 under a suspension)");
+  if (mass_.suspended && (!mass_.prescribed() || !(mass_.suspension.body_mass > 0.0) ||
+                          !(mass_.suspension.stiffness > 0.0) || !(mass_.suspension.damping >= 0.0)))
+    throw std::invalid_argument("CoupledRodStepper: a suspension needs a prescribed path, body mass and stiffness > 0, "
+                                "damping >= 0");
+  if (mass_.prescribed() && (mass_.drive != 0.0 || mass_.resistance != 0.0 || mass_.friction != 0.0 || !mass_.path_speed))
+    throw std::invalid_argument("CoupledRodStepper: a prescribed path needs its speed and no drive, resistance or friction");
   if (!(mass_.resistance >= 0.0)) throw std::invalid_argument("CoupledRodStepper: resistance must be >= 0");
   if (!(mass_.friction >= 0.0) || !std::isfinite(mass_.friction))
     throw std::invalid_argument("CoupledRodStepper: friction must be finite and >= 0");
@@ -49,7 +57,19 @@ CoupledRodStepper::CoupledRodStepper(RodModel model, CoupledRodMass mass, const 
   mm.speed = [p](double t) { return p->at(t, p->v_old, p->v_new); };
   mm.accel = [p](double) { return (p->v_new - p->v_old) / p->dt; };
   mm.inertia = true;
+  if (mass_.suspended) {  // the body rides with the wheel across up
+    mm.carried = mass_.suspension.body_mass;
+    mm.carried_axis = mass_.suspension.up;
+    mm.mass += mm.carried;
+  }
   model.loads.masses.push_back(mm);
+  if (mass_.suspended) {
+    const Vec3 up = mass_.suspension.up;
+    PointForce f;
+    f.sigma = mm.sigma;
+    f.force_fixed = [p, up](double) -> Vec3 { return p->force * up; };  // constant over the step: the body's impulse
+    model.loads.point_forces.push_back(f);
+  }
   if (air_resistance()) {
     const double c = mass_.resistance;
     PointForce f;
@@ -74,7 +94,57 @@ Vec3 normal_part(const RodPointKinematics& ko, double v_old, const RodPointKinem
 
 double sign(double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }
 
+// M (p'_new - p'_old) / dt - M g, dp the change of p' over the step: with a suspension plus the
+// body's momentum change across up and minus the spring's force along up (`spring`).
+Vec3 momentum_balance(const CoupledRodMass& mass, const Vec3& dp, const Vec3& g, double spring, double dt) {
+  Vec3 C = mass.mass * (dp / dt - g);
+  if (mass.suspended) {
+    const Vec3& up = mass.suspension.up;
+    C += mass.suspension.body_mass * (dp - up * up.dot(dp)) / dt - spring * up;
+  }
+  return C;
+}
+
+/// The body's new level from the wheel's velocity along up at the new level (the midpoint rule
+/// of the suspension's equation, header): z, z', w, w' and the force k e_mid + c e'_mid on the
+/// rod over the step (the body's impulse).
+struct BodyLevel {
+  double z = 0.0, zt = 0.0, w = 0.0, wt = 0.0, force = 0.0, damper_work = 0.0;
+};
+BodyLevel body_level(const Suspension& s, const Vec3& g, const CoupledMassState& m, double wheel_speed_new, double dt) {
+  const double M = s.body_mass, k = s.stiffness, c = s.damping, gu = g.dot(s.up);
+  BodyLevel b;
+  b.wt = wheel_speed_new;
+  b.w = m.wheel + 0.5 * dt * (m.wheel_speed + b.wt);
+  const double e_old = m.body - m.wheel, et_old = m.body_speed - m.wheel_speed;
+  // e_new = z_old + dt/2 (z'_old + z'_new) - w_new, e'_new = z'_new - w'_new: linear in z'_new
+  b.zt = (M * m.body_speed + dt * (-0.5 * k * (e_old + m.body + 0.5 * dt * m.body_speed - b.w) -
+                                   0.5 * c * (et_old - b.wt) + M * gu)) /
+         (M + 0.25 * k * dt * dt + 0.5 * c * dt);
+  b.z = m.body + 0.5 * dt * (m.body_speed + b.zt);
+  const double et_mid = 0.5 * (et_old + b.zt - b.wt);
+  b.force = M * gu - M * (b.zt - m.body_speed) / dt;
+  b.damper_work = dt * c * et_mid * et_mid;
+  return b;
+}
+
 }  // namespace
+
+void start_suspension(const CoupledRodMass& mass, const Vec3& gravity, const RodState& state, CoupledMassState& m) {
+  const Suspension& s = mass.suspension;
+  const double e = s.body_mass * gravity.dot(s.up) / s.stiffness;
+  m.wheel = 0.0;
+  m.wheel_speed = s.up.dot(mass_velocity(state, m));
+  m.body = e;
+  m.body_speed = m.wheel_speed;
+  m.spring_force = s.stiffness * e;
+}
+
+double body_acceleration(const CoupledRodMass& mass, const Vec3& gravity, const CoupledMassState& m) {
+  const Suspension& s = mass.suspension;
+  const double e = m.body - m.wheel, et = m.body_speed - m.wheel_speed;
+  return (-s.stiffness * e - s.damping * et) / s.body_mass + gravity.dot(s.up);
+}
 
 /// v_new of a step and what the friction did in it.
 struct CoupledRodStepper::Speed {
@@ -124,28 +194,53 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   p.dt = dt;
   p.s_old = m.sigma;
   p.v_old = m.speed;
-  p.v_new = m.speed;
-  p.s_new = m.sigma + dt * m.speed;
+  if (mass_.prescribed()) {
+    p.s_new = mass_.path_sigma(p.t_new);
+    p.v_new = mass_.path_speed(p.t_new);
+  } else {
+    p.v_new = m.speed;
+    p.s_new = m.sigma + dt * m.speed;
+  }
+  p.force = m.spring_force;
   const double ds = state.ds;
+  const Vec3 g = model_.loads.gravity, up = mass_.suspension.up;
   const RodPointKinematics ko = point_kinematics(state, m.sigma);
   p.d3 = ko.d3.normalized();
   CoupledStepReport rep;
   Speed speed;
-  double omega = 1.0, r_prev = 0.0;  // Aitken's relaxation of the speed (a heavy mass: strong coupling)
+  BodyLevel body;
+  // Aitken's relaxation of the fixed point in the speed (a heavy mass) or the suspension's
+  // force (a stiff spring): strong coupling
+  double omega = 1.0, r_prev = 0.0;
   for (int k = 1; k <= max_coupling_iterations; ++k) {
     if (!solve_->solve(state, dt, k > 1, rep.newton_iterations)) return rep;
-    speed = new_speed(ko, solve_->point(p.s_new), m.speed, p.v_new, dt);
-    const double r = speed.v - p.v_new;  // the fixed point's residual in the speed
+    const RodPointKinematics kn = solve_->point(p.s_new);
+    double r = 0.0, x = 0.0;  // the fixed point's residual and variable
+    if (mass_.suspended) {
+      body = body_level(mass_.suspension, g, m, up.dot(kn.U + p.v_new * kn.d3), dt);
+      r = body.force - p.force;
+      x = p.force;
+    } else if (!mass_.prescribed()) {
+      speed = new_speed(ko, kn, m.speed, p.v_new, dt);
+      r = speed.v - p.v_new;
+      x = p.v_new;
+    }
     if (!std::isfinite(r)) return rep;
     if (k > 1 && r != r_prev) omega = std::clamp(-omega * r_prev / (r - r_prev), -1e3, 1e3);
     r_prev = r;
-    const double v = p.v_new + omega * r, s = m.sigma + 0.5 * dt * (m.speed + v);
     rep.coupling_iterations = k;
     const double previous = rep.last_change;
-    rep.last_change = std::abs(r) * dt / ds;  // sigma's residual is half of it
-    p.s_new = s;
-    p.v_new = v;
-    if (air_resistance()) p.d3 = solve_->point(s).d3.normalized();  // only the point force reads it
+    if (mass_.suspended) {
+      p.force = x + omega * r;
+      // the body's position moves by dt^2 / (4 M_v) times the change of the force
+      rep.last_change = std::abs(r) * dt * dt / (4.0 * mass_.suspension.body_mass * ds);
+    } else if (!mass_.prescribed()) {
+      const double v = x + omega * r;
+      rep.last_change = std::abs(r) * dt / ds;  // sigma's residual is half of it
+      p.s_new = m.sigma + 0.5 * dt * (m.speed + v);
+      p.v_new = v;
+    }
+    if (air_resistance()) p.d3 = solve_->point(p.s_new).d3.normalized();  // only the point force reads it
     // converged; or at the round-off floor (a heavy mass: the change stalls a little above tol)
     if (rep.last_change <= tol || (k > 2 && rep.last_change <= 1e3 * tol && rep.last_change > 0.5 * previous)) {
       rep.converged = true;
@@ -156,16 +251,30 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   // The drive is a force pair between mass and rod: its net power is D sigma'. The resistance
   // through the air acts on the mass alone: its power is c sigma' d3 . p' (p' = U + sigma' d3
   // includes the rod's material velocity along d3), here at the step's midpoint; through the
-  // rod it is a pair like the drive, of power c sigma'^2.
+  // rod it is a pair like the drive, of power c sigma'^2. A prescribed path is kept by the
+  // force along d3m that the mass's momentum balance needs: a drive of its own.
   const double vm = 0.5 * (m.speed + p.v_new);
   RodState trial = solve_->solution();
   const RodPointKinematics kn = point_kinematics(trial, p.s_new);
   const Vec3 d3m = (ko.d3 + kn.d3).normalized();
   const Vec3 pm = 0.5 * (ko.U + m.speed * ko.d3 + kn.U + p.v_new * kn.d3);
-  m.drive_work += dt * mass_.drive * vm;
+  double drive = mass_.drive;
+  if (mass_.prescribed()) {
+    const Vec3 dp = (kn.U + p.v_new * kn.d3) - (ko.U + m.speed * ko.d3);
+    drive = momentum_balance(mass_, dp, g, body.force, dt).dot(d3m);
+  }
+  m.drive_work += dt * drive * vm;
   m.dissipated += dt * mass_.resistance * vm * (mass_.resistance_through_rod ? vm : d3m.dot(pm));
   m.friction_work += speed.friction_work;
   m.stick_fraction = speed.stick_fraction;
+  if (mass_.suspended) {
+    m.body = body.z;
+    m.body_speed = body.zt;
+    m.wheel = body.w;
+    m.wheel_speed = body.wt;
+    m.spring_force = body.force;
+    m.damper_work += body.damper_work;
+  }
   m.sigma = p.s_new;
   m.speed = p.v_new;
   state = std::move(trial);
@@ -178,7 +287,8 @@ CoupledContact step_contact(const RodState& old_state, const CoupledMassState& m
   const Vec3 d3m = (ko.d3 + kn.d3).normalized();
   const double vm = 0.5 * (m_old.speed + m_new.speed);
   const Vec3 dp = (kn.U + m_new.speed * kn.d3) - (ko.U + m_old.speed * ko.d3);
-  const Vec3 C = mass.mass * dp / dt - mass.mass * gravity - (mass.drive - mass.resistance * vm) * d3m;
+  const Vec3 C =
+      momentum_balance(mass, dp, gravity, m_new.spring_force, dt) - (mass.drive - mass.resistance * vm) * d3m;
   auto d2_at = [](const RodState& s, double sigma) -> Vec3 {
     const NodeInterpolation at = locate_on_nodes(sigma, s.ds, s.num_cells());
     return (1.0 - at.xi) * s.nodes[static_cast<size_t>(at.j)].R.row(1).transpose() +
@@ -193,7 +303,8 @@ CoupledContact step_contact(const RodState& old_state, const CoupledMassState& m
 }
 
 CoupledRodEnergies coupled_energies(const RodModel& model, const RodState& state, const std::vector<Vec3>& r,
-                                    const CoupledMassState& m, double mass) {
+                                    const CoupledMassState& m, const CoupledRodMass& coupled) {
+  const double mass = coupled.mass;
   CoupledRodEnergies e;
   e.rod = discrete_energy(state, model.props);
   const Vec3 g = model.loads.gravity;
@@ -202,6 +313,10 @@ CoupledRodEnergies coupled_energies(const RodModel& model, const RodState& state
     e.rod_gravity -= ds * model.props.rhoA * g.dot(0.5 * (r[static_cast<size_t>(j - 1)] + r[static_cast<size_t>(j)]));
   const Vec3 pdot = mass_velocity(state, m);
   e.mass_kinetic = 0.5 * mass * pdot.squaredNorm();
+  if (coupled.suspended) {
+    const Vec3 across = pdot - coupled.suspension.up * coupled.suspension.up.dot(pdot);
+    e.mass_kinetic += 0.5 * coupled.suspension.body_mass * across.squaredNorm();
+  }
   const NodeInterpolation at = locate_on_nodes(m.sigma, ds, state.num_cells());
   const Vec3 rp = (1.0 - at.xi) * r[static_cast<size_t>(at.j)] +
                   at.xi * r[static_cast<size_t>(std::min(at.j + 1, state.num_cells()))];
@@ -209,6 +324,13 @@ CoupledRodEnergies coupled_energies(const RodModel& model, const RodState& state
   e.drive_work = m.drive_work;
   e.dissipated = m.dissipated;
   e.friction_work = m.friction_work;
+  if (coupled.suspended) {
+    const Suspension& su = coupled.suspension;
+    const double stretch = m.body - m.wheel;
+    e.body = 0.5 * su.body_mass * m.body_speed * m.body_speed + 0.5 * su.stiffness * stretch * stretch -
+             su.body_mass * g.dot(su.up) * m.body;
+    e.damper_work = m.damper_work;
+  }
   return e;
 }
 

@@ -134,6 +134,9 @@ void add_mass_momentum(LocalBlock& b, const RodModel& model, const StepTimes& st
   const double sigma_old = M.sigma(step.t_old), sigma_new = M.sigma(step.t_new());
   const double s0 = (j - 1) * ds, s1 = j * ds;  // the cell's ends
   const double rho = M.mass / (2.0 * ds);        // the line mass's density
+  // The inertia tensor's shape (fixed frame): I, or I - (carried / mass) a a^T
+  const Mat3 inertia_shape =
+      Mat3::Identity() - (M.carried != 0.0 ? M.carried / M.mass : 0.0) * M.carried_axis * M.carried_axis.transpose();
   // Corner c = 2 q + lev: node j-1+q, lev 0 = new level (unknowns), 1 = old level.
   Vec3 U[4], D[4];
   const Mat3* R[4];
@@ -194,6 +197,7 @@ void add_mass_momentum(LocalBlock& b, const RodModel& model, const StepTimes& st
       dP += aU[c] * U[c] + aD[c] * D[c];
       Rm += wm[c] * *R[c];
     }
+    if (M.carried != 0.0) dP = inertia_shape * dP;
     const Vec3 J = Rm * dP;  // I in body components
     const double C = 1.0 / (ds * dt);
     const double arm = xm - (s0 + model.alpha.bs * ds);
@@ -207,8 +211,9 @@ void add_mass_momentum(LocalBlock& b, const RodModel& model, const StepTimes& st
       const Mat3& Rn = nn[q].R;
       const Mat3& G = nn[q].G;
       const Vec3 x = aU[c] * yn[q].segment<3>(var::u) + aD[c] * e3;
-      const Mat3 dJ_du = aU[c] * (Rm * Rn.transpose());
-      const Mat3 dJ_dw = -(Rm * Rn.transpose()) * hat(x) * G + wm[c] * hat(Vec3(Rn * dP)) * G;
+      const Mat3 RPR = Rm * inertia_shape * Rn.transpose();
+      const Mat3 dJ_du = aU[c] * RPR;
+      const Mat3 dJ_dw = -RPR * hat(x) * G + wm[c] * hat(Vec3(Rn * dP)) * G;
       b.jac[q].block<3, 3>(0, var::u) += C * dJ_du;
       b.jac[q].block<3, 3>(0, var::omega) += C * dJ_dw;
       b.jac[q].block<3, 3>(3, var::u) += (C * arm) * he3 * dJ_du;
@@ -445,7 +450,7 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
         for (int q = 0; q < 2; ++q) {
           const double w = weight_at(W, node[q]);
           if (w == 0.0) continue;
-          const double c = tw_b[lev] * sw_b[q] * w / ds * M.mass;
+          const double c = tw_b[lev] * sw_b[q] * w / ds * (M.mass - M.carried);
           const Mat3& R = lev == 0 ? nn[q].R : old[q]->R;
           const Vec3 Rg = R * loads.gravity;
           b.residual.head<3>() -= c * Rg;

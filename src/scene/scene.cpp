@@ -149,9 +149,10 @@ void add_vehicle_types(TypeRegistry& r) {
                                enum_names<Contact>()).def("bilateral");
   {
     TypeInfo t{"sprung_mass",
-               "A moving oscillator (beam): a body on a spring and damper above a contact point moving at the "
-               "prescribed speed, its bounce an unknown coupled with the beam through the contact force "
-               "(static weight included); starts in static equilibrium",
+               "A moving oscillator: a body on a spring and damper above a contact point moving at the "
+               "prescribed speed, its bounce (along j) an unknown coupled with the structure through the contact "
+               "force (static weight included); starts in static equilibrium (on the rod: the only load, on the "
+               "rod from t = 0)",
                {real("mass", "Body mass M_v (sprung)", "kg").positive().required(),
                 real("stiffness", "Suspension stiffness k_v", "N/m").positive().required(),
                 real("damping", "Suspension damping c_v", "N s/m").non_negative().def(0.0),
@@ -1111,15 +1112,35 @@ void check_coupled_masses(Scene& sc) {
             std::to_string(sc.loads.size()) + " loads");
 }
 
-// sprung_mass, vehicle, axle_train: beam scenes only; vehicles on suspensions only with each other.
+// A sprung_mass on the rod: the only load, on the rod from the start (the rod's coupled run).
+void check_rod_sprung_mass(const Scene& sc, const MovingLoadSpec& l) {
+  const std::string k = "loads." + l.name;
+  if (sc.loads.size() > 1)
+    fail_at(sc, k + ".type", "a sprung_mass on the rod as the only load of its scene (not yet supported: together "
+            "with other loads)", std::to_string(sc.loads.size()) + " loads");
+  if (sc.continuation.enabled)
+    fail_at(sc, k + ".type", "a moving_mass or moving_force in a continuation scene (a sprung_mass: dynamics only)",
+            "sprung_mass");
+  if (l.entry_time != 0.0)
+    fail_at(sc, k + ".entry_time", "0 for a sprung_mass on the rod (it starts on the rod)", format_number(l.entry_time));
+  if (sc.time.adaptive.enabled)
+    fail_at(sc, "time.adaptive", "fixed steps with a sprung_mass (adaptive steps are not supported)", "a section");
+}
+
+// vehicle, axle_train: beam scenes only, sprung_mass also on the rod; vehicles on suspensions
+// only with each other.
 void check_vehicles(const Scene& sc) {
   const MovingLoadSpec* suspended = nullptr;
   const MovingLoadSpec* other = nullptr;
   for (const auto& l : sc.loads) {
     const bool vehicle_type = l.suspended() || l.type == LoadType::axle_train;
+    if (vehicle_type && sc.model == Model::Rod && l.type == LoadType::sprung_mass) {
+      check_rod_sprung_mass(sc, l);
+      continue;
+    }
     if (vehicle_type && sc.model != Model::Beam)
-      fail_at(sc, "loads." + l.name + ".type", "a load type of the rod (moving_mass, moving_force, coupled_mass; "
-              "vehicles and axle trains ride on the beam model)", "'" + name_of(l.type) + "'");
+      fail_at(sc, "loads." + l.name + ".type", "a load type of the rod (moving_mass, moving_force, coupled_mass, "
+              "sprung_mass; vehicles and axle trains ride on the beam model)", "'" + name_of(l.type) + "'");
     (l.suspended() ? suspended : other) = &l;
   }
   if (suspended && other)

@@ -32,6 +32,8 @@ const char* const kMassProbes[] = {"_position", "_speed", "_fixed_position", "_f
                                     "_tangential_force"};
 const char* const kEnergyProbes[] = {"energy_rod", "energy_rod_gravity", "energy_mass_kinetic", "energy_mass_gravity",
                                      "work_drive", "work_dissipated", "work_friction", "energy_balance"};
+const char* const kBodyProbes[] = {"_body_displacement", "_body_acceleration", "_contact_force"};
+const char* const kBodyEnergyProbes[] = {"energy_body", "work_damper"};
 
 }  // namespace
 
@@ -149,11 +151,28 @@ void RodOutputs::write(output::Writer& w, double t, const Vec3& r0) {
   w.write_step(t, sigma_, probe_values_, views);
 }
 
+rod::CoupledRodMass coupled_rod_mass(const scene::MovingLoadSpec& load) {
+  if (load.type != scene::LoadType::sprung_mass)
+    return {load.mass, load.drive, load.resistance, load.friction,
+            load.resistance_through == scene::ResistanceThrough::structure, {}, {}, false, {}};
+  rod::CoupledRodMass m;
+  m.mass = load.wheel_masses.at(0);
+  m.path_sigma = [load](double t) { return load.position(t); };
+  m.path_speed = [load](double t) { return load.velocity(t); };
+  m.suspended = true;
+  m.suspension = {load.mass, load.axle_stiffness.at(0), load.axle_damping.at(0), Vec3::UnitY()};
+  return m;
+}
+
 std::vector<std::string> CoupledRodOutputs::probe_names() const {
   std::vector<std::string> names;
   for (const auto& pr : sc_.output.probes) names.push_back(pr.name);
   for (const char* q : kMassProbes) names.push_back(load_.name + q);
+  if (mass_.suspended)
+    for (const char* q : kBodyProbes) names.push_back(load_.name + q);
   for (const char* e : kEnergyProbes) names.push_back(e);
+  if (mass_.suspended)
+    for (const char* e : kBodyEnergyProbes) names.push_back(e);
   return names;
 }
 
@@ -166,7 +185,7 @@ std::vector<std::string> CoupledRodOutputs::field_names() const {
 void CoupledRodOutputs::declare(output::Writer& w) const {
   declare_rod_probes(w, sc_.output.probes);
   const std::vector<std::string> xyz{"x", "y", "z"};
-  const std::string n = load_.name, q = "coupled mass '" + n + "'";
+  const std::string n = load_.name, q = (mass_.suspended ? "the wheel of sprung mass '" : "coupled mass '") + n + "'";
   w.add_probe({n + "_position", 1, "m", "arclength sigma(t) of " + q, {}});
   w.add_probe({n + "_speed", 1, "m/s", "speed sigma'(t) of " + q + " along the rod (signed)", {}});
   w.add_probe({n + "_fixed_position", 3, "m", "fixed-frame position r(sigma) of " + q, xyz});
@@ -174,7 +193,14 @@ void CoupledRodOutputs::declare(output::Writer& w) const {
   w.add_probe({n + "_normal_force", 3, "N", "normal contact force of the rod on " + q +
                ", fixed frame, over the step ending here (NaN at t = 0)", xyz});
   w.add_probe({n + "_tangential_force", 1, "N", "tangential contact force of the rod on " + q +
-               " (0 without friction; NaN at t = 0)", {}});
+               (mass_.prescribed() ? " (the traction that keeps its path" : " (0 without friction") + "; NaN at t = 0)", {}});
+  if (mass_.suspended) {
+    w.add_probe({n + "_body_displacement", 1, "m", "body displacement z along j of sprung mass '" + n +
+                 "', from its place at rest over the wheel's start with an unloaded spring", {}});
+    w.add_probe({n + "_body_acceleration", 1, "m/s^2", "body acceleration z'' along j of sprung mass '" + n + "'", {}});
+    w.add_probe({n + "_contact_force", 1, "N", "contact force of the rod on sprung mass '" + n +
+                 "' along d2 over the step ending here (positive: pushes it towards +d2; NaN at t = 0)", {}});
+  }
   const std::pair<const char*, const char*> energies[] = {
       {"energy_rod", "rod kinetic + elastic energy (discrete_energy, cell averages)"},
       {"energy_rod_gravity", "rod gravity potential, -int rhoA g . r ds"},
@@ -183,9 +209,14 @@ void CoupledRodOutputs::declare(output::Writer& w) const {
       {"work_drive", "work of the drive since the start"},
       {"work_dissipated", "work dissipated by the resistance since the start"},
       {"work_friction", "work dissipated by the Coulomb friction since the start, int mu |C_perp| |sigma'| dt"},
-      {"energy_balance", "mechanical energy - work_drive + work_dissipated + work_friction (constant up to the "
-                         "discretisation)"}};
+      {"energy_balance", "mechanical energy - work_drive + work_dissipated + work_friction (+ energy_body + "
+                         "work_damper with a suspension; constant up to the discretisation)"}};
   for (const auto& [name, what] : energies) w.add_probe({name, 1, "J", what, {}});
+  if (mass_.suspended) {
+    w.add_probe({"energy_body", 1, "J", "the sprung body's kinetic, spring and gravity energy 1/2 M_v z'^2 + 1/2 k e^2 "
+                 "+ M_v g z", {}});
+    w.add_probe({"work_damper", 1, "J", "work dissipated by the suspension's damper since the start", {}});
+  }
   for (const auto f : sc_.output.fields) {
     const RodFieldInfo fi = rod_field_info(f);
     w.add_field({scene::name_of(f), fi.components, fi.units, fi.description, fi.component_names, fi.geometry});
@@ -210,10 +241,19 @@ void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const s
   probes_.push_back({pv.x(), pv.y(), pv.z()});
   probes_.push_back({c.normal.x(), c.normal.y(), c.normal.z()});
   probes_.push_back({c.tangential});
-  const auto e = rod::coupled_energies(model_, s, r, m, load_.mass);
+  if (mass_.suspended) {
+    probes_.push_back({m.body});
+    probes_.push_back({rod::body_acceleration(mass_, model_.loads.gravity, m)});
+    probes_.push_back({std::isnan(c.tangential) ? c.tangential : c.up_prev});
+  }
+  const auto e = rod::coupled_energies(model_, s, r, m, mass_);
   for (double v : {e.rod, e.rod_gravity, e.mass_kinetic, e.mass_gravity, e.drive_work, e.dissipated, e.friction_work,
                    e.balance()})
     probes_.push_back({v});
+  if (mass_.suspended) {
+    probes_.push_back({e.body});
+    probes_.push_back({e.damper_work});
+  }
   auto owned_view = [&](int k) { return view(first_ + k); };
   evaluate_rod_fields(sc_.output.fields, count_, owned_view, model_.props, fields_);
   std::vector<output::DoubleView> views(fields_.begin(), fields_.end());

@@ -74,14 +74,14 @@ void check_coupled_rod(const scene::Scene& sc, const rod::RodModel& model) {
   const auto& a = model.alpha;
   for (double w : {a.as, a.bs, a.gs, a.at, a.bt, a.gt})
     if (w != 0.5)
-      scene::fail_at(sc, "scheme.rho_inf", "rho_inf = rho_inf_space = 1 (all six parameters 1/2) with a coupled_mass "
+      scene::fail_at(sc, "scheme.rho_inf", "rho_inf = rho_inf_space = 1 (all six parameters 1/2) with a coupled_mass or sprung_mass "
                      "(its midpoint rule is the box scheme's; other parameters are not yet supported)",
                      "parameters (" + scene::format_number(a.as) + ", " + scene::format_number(a.bs) + ", " +
                          scene::format_number(a.gs) + ", " + scene::format_number(a.at) + ", " +
                          scene::format_number(a.bt) + ", " + scene::format_number(a.gt) + ")");
   if (sc.mesh.nodes > kMaxCoupledNodes)
     scene::fail_at(sc, sc.has("mesh.ds") ? "mesh.ds" : "mesh.nodes",
-                   "at most " + std::to_string(kMaxCoupledNodes) + " nodes with a coupled_mass on the rod (its run "
+                   "at most " + std::to_string(kMaxCoupledNodes) + " nodes with a coupled or sprung mass on the rod (its run "
                    "keeps the whole rod on every rank)", std::to_string(sc.mesh.nodes) + " nodes");
 }
 

@@ -66,7 +66,7 @@ Trace advance(RodSetup s, const rod::CoupledRodMass& mass, rod::CoupledMassState
   std::vector<Vec3> r = rod::centreline_in_space(s.state);
   Trace tr;
   auto record = [&]() {
-    const auto e = rod::coupled_energies(stepper.model(), s.state, r, m, mass.mass);
+    const auto e = rod::coupled_energies(stepper.model(), s.state, r, m, stepper.coupled_mass());
     tr.t.push_back(s.state.t);
     tr.sigma.push_back(m.sigma);
     tr.speed.push_back(m.speed);
@@ -316,7 +316,7 @@ double balance_error(int cells, const rod::CoupledRodMass& mass, double T, rod::
   rod::CoupledMassState m{s0, v0};
   std::vector<Vec3> r = rod::centreline_in_space(s.state);
   const double dt = (1.0 / cells) / v0;
-  auto balance = [&]() { return rod::coupled_energies(stepper.model(), s.state, r, m, mass.mass).balance(); };
+  auto balance = [&]() { return rod::coupled_energies(stepper.model(), s.state, r, m, stepper.coupled_mass()).balance(); };
   const double b0 = balance();
   double err = 0.0;
   for (long k = 1; k <= std::lround(T / dt); ++k) {
@@ -410,7 +410,7 @@ TEST(CoupledMassRod, FrictionStopsAMassOnALevelRod) {
     rod::CoupledRodStepper stepper(s.model, {M, 0.0, 0.0, mu}, rod::reference_rod_solve);
     rod::CoupledMassState m{s0, v0};
     std::vector<Vec3> r = rod::centreline_in_space(s.state);
-    const double b0 = rod::coupled_energies(stepper.model(), s.state, r, m, M).balance();
+    const double b0 = rod::coupled_energies(stepper.model(), s.state, r, m, stepper.coupled_mass()).balance();
     double t_stop = -1.0, d_stop = 0.0, drift = 0.0;
     for (long k = 1; k <= std::lround(2.0 * t_exact / dt) && t_stop < 0.0; ++k) {
       const rod::RodState old = s.state;
@@ -421,7 +421,7 @@ TEST(CoupledMassRod, FrictionStopsAMassOnALevelRod) {
         t_stop = old.t + m.stick_fraction * dt;
         d_stop = m_old.sigma + 0.5 * m_old.speed * m.stick_fraction * dt - s0;
       } else {
-        drift = std::max(drift, std::abs(rod::coupled_energies(stepper.model(), s.state, r, m, M).balance() - b0));
+        drift = std::max(drift, std::abs(rod::coupled_energies(stepper.model(), s.state, r, m, stepper.coupled_mass()).balance() - b0));
       }
     }
     std::printf("dt = %.4g s: stops at t = %.7f s (v0 / (mu g) = %.7f s, error %.3e s) after %.7f m (v0^2 / (2 mu g) "

@@ -194,6 +194,22 @@ loads:
 )";
 }  // namespace
 
+// A sprung mass on the rod: accepted alone, on the rod from t = 0, fixed steps; vehicles and axle
+// trains stay on the beam.
+TEST(Scene, SprungMassOnTheRod) {
+  const std::string sprung = "loads.F={type: sprung_mass, mass: 0.1, stiffness: 40, speed: 1.0";
+  const Scene s = parse_scene(kRod, "scene.yaml", {sprung + ", start: 0.2}"});
+  ASSERT_EQ(s.loads.size(), 1u);
+  EXPECT_EQ(s.loads[0].type, LoadType::sprung_mass);
+  expect_error({sprung + ", entry_time: 0.1}"}, {"loads.F.entry_time", "0 for a sprung_mass on the rod", "0.1"}, kRod);
+  expect_error({sprung + ", start: 1.5}"}, {"loads.F.start", "a position on the structure, in [0, 1]", "1.5"}, kRod);
+  expect_error({sprung + "}", "loads.G={type: moving_force, force: 1.0, speed: 1.0}"},
+               {"loads.", "a sprung_mass on the rod as the only load", "2 loads"}, kRod);
+  expect_error({sprung + "}", "time.adaptive.tolerance=1e-3"}, {"time.adaptive", "fixed steps with a sprung_mass"}, kRod);
+  expect_error({"loads.F={type: axle_train, offsets: [0, 2], loads: [1, 1], speed: 1.0}"},
+               {"loads.F.type", "vehicles and axle trains ride on the beam model", "'axle_train'"}, kRod);
+}
+
 TEST(Scene, RodSceneWithRollerAndDefaults) {
   const Scene s = parse_scene(kRod, "scene.yaml");
   EXPECT_EQ(s.model, Model::Rod);

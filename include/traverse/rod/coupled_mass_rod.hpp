@@ -4,6 +4,7 @@
 // the Newton tolerance (docs/rod.md "Coupled mass"). The rod's step inside it is solved by a
 // CoupledRodSolve: the runs use solver::DistributedStepper (on any ranks, either path, any
 // linear solver), the tests also an independent reference.
+#include <array>
 #include <functional>
 #include <memory>
 
@@ -11,10 +12,25 @@
 
 namespace traverse::rod {
 
+/// A body on a spring and damper above the mass, acting along the fixed direction `up`: the
+/// mass is then the wheel (unsprung, mass >= 0) of a sprung mass (docs/rod.md "Sprung mass").
+/// The body moves with the wheel across `up`; along `up` its displacement z is an unknown:
+///     M_v z'' = -k e - c e' + M_v g . up,     e = z - w,
+/// w the wheel's displacement along up (the integral of up . p', p' its velocity). The rod
+/// carries the wheel as a moving mass, the body as a moving mass across up only (rod_loads.hpp,
+/// MovingMass::carried: no weight, no inertia along up) and the force (k e + c e') up at the
+/// wheel.
+struct Suspension {
+  double body_mass = 0.0;  ///< M_v [kg]
+  double stiffness = 0.0;  ///< k [N/m]
+  double damping = 0.0;    ///< c [N s/m]
+  Vec3 up = Vec3::UnitY();
+};
+
 /// The coupled mass (SI). Bilateral contact (a bead threaded on the rod); the app checks the
 /// unilateral sign condition.
 struct CoupledRodMass {
-  double mass = 0.0;        ///< M [kg]
+  double mass = 0.0;        ///< M [kg] (the wheel's with a suspension, may be 0 there)
   double drive = 0.0;       ///< D [N] along d3 (a robot's traction)
   double resistance = 0.0;  ///< c [N s/m]: the force -c sigma' d3 on the mass
   double friction = 0.0;    ///< Coulomb coefficient mu >= 0: tangential contact force -mu |C_perp| sign(sigma')
@@ -22,6 +38,13 @@ struct CoupledRodMass {
   /// and the loss c sigma' d3 . p' (docs/rod.md, "Coupled mass"). true: a force pair with the rod (wheels, a
   /// motor), the rod taking +c sigma' d3: its load is M (g - p''), the loss c sigma'^2 >= 0.
   bool resistance_through_rod = false;
+  /// A prescribed path instead of the mass's own motion (a sprung mass rides at a given
+  /// speed): sigma(t) and sigma'(t); then drive, resistance and friction must be 0, and the
+  /// force along the rod that keeps the path is the drive (its work counts as drive work).
+  std::function<double(double)> path_sigma, path_speed;
+  bool prescribed() const { return static_cast<bool>(path_sigma); }
+  bool suspended = false;
+  Suspension suspension;
 };
 
 /// The mass's state at a time level.
@@ -36,7 +59,23 @@ struct CoupledMassState {
   /// sliding friction to its end, so sigma' has overshot to the other sign). -1: no stop.
   double stick_fraction = -1.0;
   bool sticks() const { return stick_fraction >= 0.0; }
+  // With a suspension: the body's displacement z and velocity z' along up, the wheel's w and
+  // w' (z - w the spring's stretch), the force k e + c e' on the rod along up over the step that
+  // produced this state, and the damper's dissipation int c e'^2 dt [J].
+  double body = 0.0, body_speed = 0.0, wheel = 0.0, wheel_speed = 0.0, spring_force = 0.0, damper_work = 0.0;
+  /// These six values in this order (a restart point keeps them).
+  std::array<double, 6> suspension_values() const {
+    return {body, body_speed, wheel, wheel_speed, spring_force, damper_work};
+  }
+  void set_suspension_values(const double* v) {
+    body = v[0], body_speed = v[1], wheel = v[2], wheel_speed = v[3], spring_force = v[4], damper_work = v[5];
+  }
 };
+/// The state of a sprung mass at rest in static equilibrium with its wheel at sigma (e =
+/// M_v g . up / k, z' = w' = up . p', w = 0); m.sigma and m.speed set.
+void start_suspension(const CoupledRodMass& mass, const Vec3& gravity, const RodState& state, CoupledMassState& m);
+/// The body's acceleration z'' [m/s^2] at a state (the body's equation at that level).
+double body_acceleration(const CoupledRodMass& mass, const Vec3& gravity, const CoupledMassState& m);
 
 /// The rod's fields at sigma, interpolated linearly between the nodes of the cell holding it
 /// (the transpose of the hat weights that distribute the mass's force, docs/rod.md).
@@ -91,6 +130,12 @@ struct CoupledStepReport {
 /// sticks (stick_fraction) when the demand T = M g . d3m + D - M (U_new - U_old) . d3m / dt is at
 /// most mu |C_perp|, and otherwise reverses (J switches sign at the crossing: v_new from a
 /// quadratic, docs/rod.md "Coupled mass").
+/// With a prescribed path (CoupledRodMass::path_sigma) the mass's equation is not solved: its
+/// path is given. With a suspension the iteration is on the spring's force F over the step
+/// (the rod takes F up at the wheel): given the rod's new level, the body's midpoint rule
+///     M_v (z'_new - z'_old) = dt (M_v g . up - F),   F = k e_mid + c e'_mid,
+/// with w' = up . p' at the wheel, gives F; it stops when the body's position changes by less
+/// than tol * ds (Aitken-relaxed as the speed).
 class CoupledRodStepper {
  public:
   /// `model` without the mass; `make` builds the rod solve from it with the mass's loads
@@ -125,8 +170,9 @@ class CoupledRodStepper {
 namespace traverse::rod {
 
 /// The contact force of the rod on the mass over one step [N], fixed frame:
-/// C = M (p'_new - p'_old) / dt - M g - (D - c v_mid) d3m (the mass's momentum balance at the
-/// step's midpoint), split along d3m = unit(d3_old + d3_new) into `tangential` (zero without
+/// C = M (p'_new - p'_old) / dt - M g - (D - c v_mid) d3m - F up (the mass's momentum balance at
+/// the step's midpoint; with a suspension F its spring_force, and the body's M_v (I - up up^T)
+/// (p'_new - p'_old) / dt added), split along d3m = unit(d3_old + d3_new) into `tangential` (zero without
 /// friction, to round-off: the mass's own equation) and `normal`; `up` = C . d2m,
 /// d2m = unit(d2_old + d2_new) at sigma: a unilateral mass (on the +d2 side) lifts off where it
 /// would turn negative.
@@ -141,16 +187,19 @@ CoupledContact step_contact(const RodState& old_state, const CoupledMassState& m
 /// Energies of rod + coupled mass [J] (docs/rod.md, "Coupled mass").
 struct CoupledRodEnergies {
   double rod = 0.0;           ///< kinetic + elastic, discrete_energy (cell averages)
+  /// mass_kinetic: 1/2 M |p'|^2, with a suspension plus the body's 1/2 M_v |p' across up|^2
   double rod_gravity = 0.0;   ///< sum over cells of ds rhoA (-g . r_cell_average)
   double mass_kinetic = 0.0;  ///< 1/2 M |p'|^2
   double mass_gravity = 0.0;  ///< -M g . r(sigma)
-  double drive_work = 0.0, dissipated = 0.0, friction_work = 0.0;
-  double mechanical() const { return rod + rod_gravity + mass_kinetic + mass_gravity; }
+  /// A suspension's body: 1/2 M_v z'^2 + 1/2 k e^2 - M_v g . up z.
+  double body = 0.0;
+  double drive_work = 0.0, dissipated = 0.0, friction_work = 0.0, damper_work = 0.0;
+  double mechanical() const { return rod + rod_gravity + mass_kinetic + mass_gravity + body; }
   /// mechanical - drive work + the losses (constant up to the discretisation).
-  double balance() const { return mechanical() - drive_work + dissipated + friction_work; }
+  double balance() const { return mechanical() - drive_work + dissipated + friction_work + damper_work; }
 };
 /// `r` is the centreline at the nodes (centreline_in_space or advanced in time).
 CoupledRodEnergies coupled_energies(const RodModel& model, const RodState& state, const std::vector<Vec3>& r,
-                                    const CoupledMassState& m, double mass);
+                                    const CoupledMassState& m, const CoupledRodMass& mass);
 
 }  // namespace traverse::rod

@@ -33,6 +33,12 @@ struct MovingMass {
   double mass = 0.0;
   std::function<double(double)> sigma, speed, accel;
   bool inertia = true;
+  /// The part of `mass` that is carried across `carried_axis` only (unit, fixed frame): it has
+  /// no weight and no inertia along the axis (a sprung body, whose weight and motion along the
+  /// axis reach the rod through its suspension: coupled_mass_rod.hpp). The inertia is then the
+  /// tensor mass I - carried a a^T, the weight (mass - carried) g.
+  double carried = 0.0;
+  Vec3 carried_axis = Vec3::UnitY();
 };
 
 /// Everything applied to the rod besides the end conditions.

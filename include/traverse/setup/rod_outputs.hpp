@@ -45,15 +45,20 @@ class RodOutputs {
   std::vector<double> sigma_;
 };
 
-/// The outputs of a rod run with a coupled mass: the scene's probes and fields, the mass's
-/// probes (position, speed, fixed-frame position and velocity, contact forces) and the
+/// The mass that rides on the rod by itself (a coupled_mass) or on its own suspension at the
+/// prescribed path (a sprung_mass: the wheel's mass, the body on its spring and damper along j).
+rod::CoupledRodMass coupled_rod_mass(const scene::MovingLoadSpec& load);
+
+/// The outputs of a rod run with a coupled or sprung mass: the scene's probes and fields, the
+/// mass's probes (position, speed, fixed-frame position and velocity, contact forces; for a
+/// sprung mass the body's displacement and acceleration and the contact force along d2) and the
 /// energies, from the whole state (kept on every rank); the fields of this rank's nodes.
 class CoupledRodOutputs {
  public:
   /// The fields of nodes first .. first + count - 1 are this rank's.
   CoupledRodOutputs(const scene::Scene& sc, const scene::MovingLoadSpec& load, const rod::RodModel& model, int first,
                     int count)
-      : sc_(sc), load_(load), model_(model), first_(first), count_(count) {}
+      : sc_(sc), load_(load), mass_(coupled_rod_mass(load)), model_(model), first_(first), count_(count) {}
   output::NodeLayout layout() const {
     output::NodeLayout l;
     l.global_count = static_cast<size_t>(sc_.mesh.nodes);
@@ -72,6 +77,7 @@ class CoupledRodOutputs {
  private:
   const scene::Scene& sc_;
   const scene::MovingLoadSpec& load_;
+  rod::CoupledRodMass mass_;
   const rod::RodModel& model_;
   int first_, count_;
   std::vector<std::vector<double>> probes_, fields_;
