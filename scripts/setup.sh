@@ -19,7 +19,12 @@ case "$mode" in demo|test|build|sanitize) ;; *) echo "usage: bash scripts/setup.
 # 1. Debian packages: install only what is missing; refresh the package lists only then.
 sudo_cmd=""
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd="sudo"; fi
-mapfile -t wanted < <(grep -vE '^\s*(#|$)' "$here/.ci/debian-packages.txt")
+# demo: the packages above the line "# -- the tests" (build, run, figure); the others: all.
+if [ "$mode" = demo ]; then
+  mapfile -t wanted < <(sed '/^# -- the tests/,$d' "$here/.ci/debian-packages.txt" | grep -vE '^\s*(#|$)')
+else
+  mapfile -t wanted < <(grep -vE '^\s*(#|$)' "$here/.ci/debian-packages.txt")
+fi
 missing=()
 for p in "${wanted[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then missing+=("$p"); fi
@@ -35,8 +40,12 @@ fi
 if [ "$mode" = sanitize ]; then
   build=${TRAVERSE_ASAN_BUILD_DIR:-$here/build-asan}
   cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTRAVERSE_SANITIZE=ON -DTRAVERSE_BUILD_BENCHMARKS=OFF
-else
-  cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release
+elif [ "$mode" = demo ]; then  # the executable only
+  cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release -DTRAVERSE_BUILD_TESTS=OFF -DTRAVERSE_BUILD_BENCHMARKS=OFF \
+    -DTRAVERSE_BUILD_PYTHON=OFF
+else  # everything (also after a demo configured the same tree without it)
+  cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release -DTRAVERSE_BUILD_TESTS=ON -DTRAVERSE_BUILD_BENCHMARKS=ON \
+    -DTRAVERSE_BUILD_PYTHON=ON
 fi
 # The demo needs only the executable; the tests need everything.
 if [ "$mode" = demo ]; then
