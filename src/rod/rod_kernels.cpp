@@ -98,7 +98,8 @@ double weight_at(const PointLoadWeights& w, int node) {
 ///
 /// Momentum form over the cell's space-time box (the box's rows are its equations integrated
 /// over [s_{j-1}, s_j] x [t_{i-1}, t_i], divided by ds dt). The mass's momentum per unit mass
-/// is p' = U + v d3 in fixed components (U = R^T u, d3 = R^T e3), taken bilinear in the box
+/// is p' = U + v r_s in fixed components (U = R^T u, r_s = R^T v_strain: d3 = R^T e3 for the
+/// inextensible rod, R^T (e3 + C n - tau v_t) for one that strains), taken bilinear in the box
 /// from its four corners. The mass is carried as a line mass of density M / (2 ds) on
 /// [sigma - ds, sigma + ds] moving with it (line_mass_part). While sigma runs along a segment
 /// a -> b of its path (mass_path_in_cell: sigma in cell j - 1, j or j + 1), the line mass's
@@ -138,6 +139,16 @@ void add_mass_momentum(LocalBlock& b, const RodModel& model, const StepTimes& st
   const Mat3 inertia_shape =
       Mat3::Identity() - (M.carried != 0.0 ? M.carried / M.mass : 0.0) * M.carried_axis * M.carried_axis.transpose();
   // Corner c = 2 q + lev: node j-1+q, lev 0 = new level (unknowns), 1 = old level.
+  // The centreline's tangent r_s in body components at the corners (the strain v), and its
+  // sensitivity to the new level's n (the effective compliance, rod_kernels.hpp).
+  const RodProperties& p = model.props;
+  const bool strains = p.compliant();
+  Vec3 V[4];
+  for (int q = 0; q < 2; ++q) {
+    V[2 * q] = strains ? p.strain(yn[q].segment<3>(var::n), nn[q].yt.segment<3>(var::n)) : e3;
+    V[2 * q + 1] = strains ? p.strain(old[q]->y.segment<3>(var::n), old[q]->yt.segment<3>(var::n)) : e3;
+  }
+  const Vec3 dv_dn = strains ? effective_compliance(p, 1.0 / (model.alpha.gt * dt)) : Vec3::Zero();
   Vec3 U[4], D[4];
   const Mat3* R[4];
   for (int q = 0; q < 2; ++q) {
@@ -145,8 +156,8 @@ void add_mass_momentum(LocalBlock& b, const RodModel& model, const StepTimes& st
     R[2 * q + 1] = &old[q]->R;
     U[2 * q] = nn[q].R.transpose() * yn[q].segment<3>(var::u);
     U[2 * q + 1] = old[q]->R.transpose() * old[q]->y.segment<3>(var::u);
-    D[2 * q] = nn[q].R.transpose() * e3;
-    D[2 * q + 1] = old[q]->R.transpose() * e3;
+    D[2 * q] = nn[q].R.transpose() * V[2 * q];
+    D[2 * q + 1] = old[q]->R.transpose() * V[2 * q + 1];
   }
   // Bilinear weights of the corners at (s, tau), tau = (t - t_old) / dt, s in the cell.
   auto corner_weights = [&](double s, double tau, double w[4]) {
@@ -210,7 +221,7 @@ void add_mass_momentum(LocalBlock& b, const RodModel& model, const StepTimes& st
       const int c = 2 * q;
       const Mat3& Rn = nn[q].R;
       const Mat3& G = nn[q].G;
-      const Vec3 x = aU[c] * yn[q].segment<3>(var::u) + aD[c] * e3;
+      const Vec3 x = aU[c] * yn[q].segment<3>(var::u) + aD[c] * V[c];
       const Mat3 RPR = Rm * inertia_shape * Rn.transpose();
       const Mat3 dJ_du = aU[c] * RPR;
       const Mat3 dJ_dw = -RPR * hat(x) * G + wm[c] * hat(Vec3(Rn * dP)) * G;
@@ -218,6 +229,11 @@ void add_mass_momentum(LocalBlock& b, const RodModel& model, const StepTimes& st
       b.jac[q].block<3, 3>(0, var::omega) += C * dJ_dw;
       b.jac[q].block<3, 3>(3, var::u) += (C * arm) * he3 * dJ_du;
       b.jac[q].block<3, 3>(3, var::omega) += (C * arm) * he3 * dJ_dw;
+      if (strains) {
+        const Mat3 dJ_dn = aD[c] * RPR * dv_dn.asDiagonal();
+        b.jac[q].block<3, 3>(0, var::n) += C * dJ_dn;
+        b.jac[q].block<3, 3>(3, var::n) += (C * arm) * he3 * dJ_dn;
+      }
     }
   }
 }
@@ -414,8 +430,8 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
   if (!loads_touch_cell(model, step, j)) return b;
   const Vec12 yn[2] = {new_prev.head<12>(), new_this.head<12>()};
   const RodNode* old[2] = {&old_prev, &old_this};
-  const NewLevelNode nn[2] = {new_level_node(old_prev, yn[0], dt, a),
-                              new_level_node(old_this, yn[1], dt, a)};
+  // (the model's: for a rod that strains the n slot of yt is the strain rate the masses read)
+  const NewLevelNode nn[2] = {new_level_node(model, old_prev, yn[0], dt), new_level_node(model, old_this, yn[1], dt)};
   const int node[2] = {j - 1, j};
   const double sw_b[2] = {a.bs, 1.0 - a.bs};  // spatial weights of F in this cell
   // level 0 = new (t_i, weight 1 - bt), level 1 = old (t_{i-1}, weight bt)

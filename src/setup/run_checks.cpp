@@ -35,9 +35,9 @@ std::string summary(const scene::Scene& sc, const TimePlan* time, const MemoryPl
 
 // What the extensible and shearable rods (rod.model) and the viscosities (rod.damping) do not
 // have yet, refused where the scene chooses it rather than run as the inextensible rod:
-// continuation and the arch and file starts (not verified with strain), the moving and the
-// coupled masses (their inertia reads the tangent d3), adaptive steps (the error estimate has
-// no strain), and the bending viscosity with a carried spatial history. The static start (the
+// continuation and the arch and file starts (not verified with strain), the coupled and sprung
+// masses (their own equations read the tangent d3), adaptive steps (the error estimate has no
+// strain), and the bending viscosity with a carried spatial history. The static start (the
 // static kernels' compliance, tests/rod/test_rod_strain.cpp) and rest are allowed.
 void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
   const rod::RodProperties& p = model.props;
@@ -52,9 +52,9 @@ void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
       scene::fail_at(sc, "initial_state.type", "static or rest for " + word + " (its arch and file starts are not "
                      "implemented)", scene::name_of(sc.initial_state.type));
     for (const auto& l : sc.loads)
-      if (l.inertia)
-        scene::fail_at(sc, "loads." + l.name, "moving forces only with " + word + " (the inertia of a moving or "
-                       "coupled mass on a rod that strains is not implemented)", scene::name_of(l.type));
+      if (l.coupled || l.type == scene::LoadType::sprung_mass)
+        scene::fail_at(sc, "loads." + l.name, "moving forces and moving masses only with " + word + " (a coupled "
+                       "or sprung mass on a rod that strains is not implemented)", scene::name_of(l.type));
     if (sc.time.adaptive.enabled)
       scene::fail_at(sc, "time.adaptive", "fixed steps with " + word + " (the error estimate of adaptive steps "
                      "has no strain yet)", "time.adaptive");

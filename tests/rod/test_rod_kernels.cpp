@@ -204,11 +204,22 @@ TEST(RodKernels, MovingMassJacobiansOnEveryKindOfPath) {
                                    {"at rest", 5, 0.4, 0.4},        {"at rest on node j-1", 5, 0.0, 0.0},
                                    {"three cells", 5, -1.5, 1.7},   {"entering", 1, -0.3, 0.4},
                                    {"leaving", 10, 0.6, 1.4}};
-  // carried: a part of the mass without weight and inertia along an axis (a sprung body)
-  for (const double carried : {0.0, 0.2})
+  // carried: a part of the mass without weight and inertia along an axis (a sprung body);
+  // strained: on a shearable rod with viscosities (the path's tangent is the strain v, which
+  // reads the new level's n and v_t)
+  struct Variant {
+    double carried;
+    bool strained;
+  };
+  for (const Variant var : {Variant{0.0, false}, Variant{0.2, false}, Variant{0.0, true}})
   for (const auto& pc : param_cases()) {
+    const double carried = var.carried;
     for (const Path& P : paths) {
       RodModel m = test::scene_model(10, pc.alpha);
+      if (var.strained) {
+        m.props.C = RodProperties::compliance(RodStrain::shearable, 50.0, 20.0);  // strains of a few %
+        m.props.B_se = Vec3(0.02, 0.02, 0.05);
+      }
       const double ds = m.ds();
       m.loads.gravity = Vec3(0.0, -9.8, 0.0);
       const double s0 = (P.j - 1 + P.a) * ds, v = (P.b - P.a) * ds / st.dt, t0 = st.t_old;
@@ -246,8 +257,8 @@ TEST(RodKernels, MovingMassJacobiansOnEveryKindOfPath) {
       }
       worst /= scale;
       std::printf("[%s] %s%s: load Jacobian rel err %.2e (couple rows up to %.2e)\n", pc.name, P.name,
-                  carried > 0.0 ? " (part carried)" : "", worst, size);
-      EXPECT_LT(worst, 1e-7) << pc.name << ", " << P.name << ", carried " << carried;
+                  carried > 0.0 ? " (part carried)" : (var.strained ? " (shearable, damped)" : ""), worst, size);
+      EXPECT_LT(worst, 1e-7) << pc.name << ", " << P.name << ", carried " << carried << ", strained " << var.strained;
     }
   }
 }
