@@ -58,7 +58,7 @@ def main():
     ax.plot(speed, low, "o-", lw=1.5, label="lowest (largest sag)")
     ax.plot(speed, high, "s-", lw=1, label="highest")
     worst = int(np.argmin(low))
-    ax.annotate(f"{speed[worst]:g} m/s", (speed[worst], low[worst]), textcoords="offset points", xytext=(8, -12))
+    ax.annotate(f"{speed[worst]:g} m/s", (speed[worst], low[worst]), textcoords="offset points", xytext=(6, 8))
     ax.set_xlabel(f"speed of the load '{load}' [m/s]")
     ax.set_ylabel("midspan height y [mm]")
     ax.set_title(f"{scene.check().get('title', args.scene)}\n(traverse.sweep: {len(done)} of {len(table)} cases)",

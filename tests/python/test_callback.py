@@ -65,10 +65,15 @@ def test_callback_sees_every_kth_step(tmp_path, reference):
     assert_same_datasets(reference[0], result.path)  # the callback changes nothing of the run
 
 
-def test_false_stops_and_restart_completes(tmp_path, reference):
+# What a callback may return to stop: Python's False, or numpy's (a comparison of arrays).
+ANSWERS = {"bool": bool, "numpy": np.bool_}
+
+
+@pytest.mark.parametrize("answer", sorted(ANSWERS))
+def test_false_stops_and_restart_completes(tmp_path, reference, answer):
     stop_at = 2 * EVERY
     out = tmp_path / "stopped.h5"
-    result = traverse.run(scene(), output=out, every=EVERY, callback=lambda s: s.step < stop_at)
+    result = traverse.run(scene(), output=out, every=EVERY, callback=lambda s: ANSWERS[answer](s.step < stop_at))
     assert result.interrupted
     assert result.status.startswith(f"interrupted at t = ") and "stopped by the step callback" in result.status, result.status
     assert f"traverse run --restart {out}" in result.status

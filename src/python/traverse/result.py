@@ -161,8 +161,9 @@ def run(scene, output=None, quiet=True, overwrite=False, verbose=False, every=1,
 
     `callback`: a function called after every `every`-th time step of a rod run with a Step
     (t, step, r, directors, u, omega, kappa, n; on rank 0 of an MPI launch, with the whole
-    rod). If it returns False the run stops there as Ctrl-C stops `traverse run`: a restart
-    point, the file marked interrupted, and the Result is returned with `interrupted` True.
+    rod). If it returns a false value other than None (False, numpy's False, 0) the run
+    stops there as Ctrl-C stops `traverse run`: a restart point, the file marked
+    interrupted, and the Result is returned with `interrupted` True.
     If it raises, the run stops the same way and the exception propagates, with a note that
     names the restartable file (a temporary one is then kept). Beam and statics scenes, and
     rod scenes with a coupled mass, refuse a callback (ValueError).
@@ -187,9 +188,11 @@ def run(scene, output=None, quiet=True, overwrite=False, verbose=False, every=1,
     raised = []
 
     def call(step):
-        # What the callback raises stops the run (as False does) and is raised once it stopped.
+        # None (no return) goes on, any other false value (False, numpy's False, 0) stops the
+        # run; what the callback raises stops it too and is raised once it stopped.
         try:
-            return callback(step)
+            answer = callback(step)
+            return answer is None or bool(answer)
         except BaseException as e:
             raised.append(e)
             return False

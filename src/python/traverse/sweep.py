@@ -49,10 +49,12 @@ def _vary_options(vary):
     options = []
     for key, values in vary.items():
         if isinstance(key, tuple):
-            rows = [values] if isinstance(values, str) else list(values)
+            rows = None if isinstance(values, str) else list(values)
+            if not rows or any(not isinstance(row, (tuple, list)) or len(row) != len(key) for row in rows):
+                raise TypeError(f"traverse.sweep: the keys {key} vary together: expected a list of tuples of "
+                                f"{len(key)} values, one per key, found {values!r}")
             for i, k in enumerate(key):
-                column = [row[i] if isinstance(row, (tuple, list)) else row for row in rows]
-                options.append(("--vary" if i == 0 else "--with", f"{k}={_values_text(column)}"))
+                options.append(("--vary" if i == 0 else "--with", f"{k}={_values_text([row[i] for row in rows])}"))
         else:
             options.append(("--vary", f"{key}={_values_text(values)}"))
     return options
