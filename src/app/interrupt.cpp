@@ -7,6 +7,7 @@
 #include "progress.hpp"
 #include "traverse/core/comm.hpp"
 #include "traverse/output/writer.hpp"
+#include "traverse/time/time_integrator.hpp"
 
 namespace traverse::app {
 
@@ -56,6 +57,7 @@ void stop_interrupted_run(int signal, double t, const std::string& where, output
 }
 
 std::string signal_name(int signal) {
+  if (signal == time::kStopRequested) return "stopped by the step callback";
   if (const char* abbrev = sigabbrev_np(signal)) return std::string("SIG") + abbrev;
   return "signal " + std::to_string(signal);
 }

@@ -130,6 +130,8 @@ void prepare_directory(const CommandLine& cl, const std::vector<SweepCase>& case
   if (!error.empty()) throw output::OutputError(error);
 }
 
+}  // namespace
+
 // The summary of a case's probe: min, max and absmax from its extremes over every time step
 // when the run recorded them (beam runs), else from the output steps.
 double case_summary(const std::string& path, const SummarySpec& s) {
@@ -148,6 +150,8 @@ double case_summary(const std::string& path, const SummarySpec& s) {
   for (std::size_t row = 0; row < series.rows; ++row) values.push_back(series.values[row * series.components + c]);
   return reduce(values, s.reduction);
 }
+
+namespace {
 
 std::string case_text(std::size_t k, const SweepCase& c) {
   std::string t = "case " + std::to_string(k) + ":";

@@ -39,4 +39,7 @@ SweepPlan plan_sweep(const CommandLine& cl);
 /// Collective over `comm`.
 int run_sweep(const CommandLine& cl, const SweepPlan& plan, MPI_Comm comm);
 
+/// The summary `s` of the complete case file `path`: the value of the index's --summary column.
+double case_summary(const std::string& path, const SummarySpec& s);
+
 }  // namespace traverse::app

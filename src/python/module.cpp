@@ -4,22 +4,36 @@
 // app::run_scene). The Python side (src/python/traverse/) keeps a scene as its source and its
 // overrides and calls these functions with them, so that every message is the program's.
 #include <mpi.h>
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <mutex>
+#include <optional>
+#include <stdexcept>
+#include <tuple>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "interrupt.hpp"
 #include "run.hpp"
+#include "run_beam_coupled.hpp"
+#include "sweep.hpp"
 #include "traverse/core/numerics_error.hpp"
 #include "traverse/output/output_error.hpp"
+#include "traverse/output/reader.hpp"
+#include "traverse/output/restart.hpp"
 #include "traverse/scene/scene.hpp"
 #include "traverse/setup/run_checks.hpp"
 #include "traverse/setup/solver_access.hpp"
+#include "traverse/setup/step_view.hpp"
+#include "traverse/time/time_integrator.hpp"
 #include "traverse/version.hpp"
 
 namespace py = pybind11;
@@ -72,6 +86,8 @@ auto translated(F&& f, const std::string& output = {}) -> decltype(f()) {
     // A failed time step leaves the steps written so far; a failed start writes nothing.
     raise("RunError", e.what(), !output.empty() && std::filesystem::exists(output) ? output : std::string());
   } catch (const app::Interrupted& e) {
+    // Every rank stopped at the same step and the writer is closed: the final status, as main.cpp sets it.
+    output::set_file_status(e.output(), e.status(), MPI_COMM_WORLD);
     raise("RunError", e.what(), e.output());
   }
 }
@@ -143,27 +159,199 @@ void validate(const Source& s) {
   translated([&] { (void)load(s); });
 }
 
+// A read-only numpy array of `data` (copied) in the shape `shape`.
+py::array_t<double> frozen(const std::vector<double>& data, std::vector<py::ssize_t> shape) {
+  py::array_t<double> a(shape);
+  std::copy(data.begin(), data.end(), a.mutable_data());
+  a.attr("setflags")(py::arg("write") = false);
+  return a;
+}
+
+// The step callback of a rod run: `f` (a Python callable) called with a traverse.result.Step
+// of the view, under the interpreter's lock. Stops the run when f returns False or raises;
+// what it raised is kept in `raised` for run() to raise again once the run has stopped.
+// `f` is borrowed (the caller's argument, alive for the run): no reference count changes
+// without the lock.
+setup::RodStepCallback python_step_callback(long every, py::handle f, std::optional<py::error_already_set>& raised) {
+  return {every, [f, &raised](const setup::RodStepView& v) {
+            py::gil_scoped_acquire gil;
+            try {
+              const py::ssize_t n = v.nodes;
+              py::object step = py::module_::import("traverse.result")
+                                    .attr("Step")(v.t, v.step, frozen(v.r, {n, 3}), frozen(v.directors, {n, 3, 3}),
+                                                  frozen(v.u, {n, 3}), frozen(v.omega, {n, 3}), frozen(v.kappa, {n, 3}),
+                                                  frozen(v.n, {n, 3}));
+              return f(step).ptr() != Py_False;
+            } catch (py::error_already_set& e) {
+              raised.emplace(std::move(e));
+              return false;
+            }
+          }};
+}
+
 // Runs the scene into `output` as `traverse run SCENE -o OUTPUT [--overwrite] [-q]` does, on
 // MPI_COMM_WORLD (every rank of an MPI launch calls it). The GIL is released while it runs.
-void run(const Source& s, const std::string& output, bool overwrite, bool quiet, bool verbose,
-         const std::string& invocation) {
+// With `callback` (a rod run without a coupled mass), it is called every `every` time steps
+// on rank 0 (python_step_callback); a run it stopped returns the output file's status
+// ("interrupted at ..."), a run that completed "". What the callback raised is raised again.
+std::string run(const Source& s, const std::string& output, bool overwrite, bool quiet, bool verbose,
+                const std::string& invocation, long every, py::object callback) {
+  std::optional<py::error_already_set> raised;
+  std::string stopped;
+  {
+    py::gil_scoped_release nogil;
+    std::lock_guard<std::mutex> lock(run_mutex());
+    if (mpi_state().finished) throw std::runtime_error("traverse: the module was shut down (interpreter exit)");
+    translated(
+        [&] {
+          ensure_mpi();
+          const scene::Scene sc = load(s);
+          app::RunOptions opt;
+          opt.output = output;
+          opt.restart_interval = sc.output.restart_interval;
+          opt.overwrite = overwrite;
+          opt.quiet = quiet;
+          opt.verbose = verbose && !quiet;
+          opt.invocation = invocation;
+          if (!callback.is_none()) {
+            const bool statics = sc.model == scene::Model::Rod && sc.continuation.enabled;
+            if (sc.model != scene::Model::Rod || statics || app::coupled_load(sc))
+              throw std::invalid_argument(
+                  "traverse.run: callback= is for rod runs with time steps and no coupled mass; " + sc.file + " is " +
+                  (sc.model == scene::Model::Beam ? "a beam scene" : statics ? "a continuation (statics) scene"
+                                                                              : "a rod scene with a coupled mass"));
+            opt.on_step = python_step_callback(every, callback, raised);
+          }
+          try {
+            app::run_scene(sc, opt, MPI_COMM_WORLD);
+          } catch (const app::Interrupted& e) {
+            if (e.signal() != time::kStopRequested) throw;  // a signal's: RunError
+            output::set_file_status(e.output(), e.status(), MPI_COMM_WORLD);
+            stopped = e.status();
+          }
+        },
+        output);
+  }
+  if (raised) throw *raised;
+  return stopped;
+}
+
+// A text known to rank 0, on every rank of `comm`.
+std::string bcast_text(std::string text, MPI_Comm comm) {
+  unsigned long length = text.size();
+  MPI_Bcast(&length, 1, MPI_UNSIGNED_LONG, 0, comm);
+  text.resize(length);
+  MPI_Bcast(text.data(), static_cast<int>(length), MPI_CHAR, 0, comm);
+  return text;
+}
+
+// Throws OutputError with rank 0's `error` on every rank when it is not empty.
+void agree_on_error(const std::string& error, MPI_Comm comm) {
+  const std::string e = bcast_text(error, comm);
+  if (!e.empty()) throw output::OutputError(e);
+}
+
+// The arguments of a sweep as `traverse sweep` reads them from its command line.
+struct SweepArgs {
+  std::vector<std::pair<std::string, std::string>> vary;  // ("--vary" or "--with", "KEY=VALUES")
+  std::vector<std::string> summaries;                      // --summary texts; the first goes to the index
+  std::string directory;                                   // -o DIR; empty: a new temporary directory
+  bool overwrite = false, quiet = true;
+  std::string invocation;
+};
+
+// What a sweep returns on every rank: its exit code (as `traverse sweep`'s), the index (the
+// text of DIR/index.csv), the directory, the values of the summaries after the first (one
+// list per summary, a value per case, NaN where the case did not complete) and this rank.
+using SweepOutcome = std::tuple<int, std::string, std::string, std::vector<std::vector<double>>, int>;
+
+// Runs the sweep of `s` as `traverse sweep SCENE -o DIR --vary ... [--summary S] [--overwrite]
+// [-q]` does (app::plan_sweep, app::run_sweep) over MPI_COMM_WORLD, every rank calling it. A
+// scene of text is written to DIR/scene.yaml first (the cases read it as a file). Refused
+// arguments leave nothing behind: the temporary directory, or the scene file written.
+SweepOutcome sweep(const Source& s, const SweepArgs& a) {
   py::gil_scoped_release nogil;
   std::lock_guard<std::mutex> lock(run_mutex());
   if (mpi_state().finished) throw std::runtime_error("traverse: the module was shut down (interpreter exit)");
-  translated(
-      [&] {
-        ensure_mpi();
-        const scene::Scene sc = load(s);
-        app::RunOptions opt;
-        opt.output = output;
-        opt.restart_interval = sc.output.restart_interval;
-        opt.overwrite = overwrite;
-        opt.quiet = quiet;
-        opt.verbose = verbose && !quiet;
-        opt.invocation = invocation;
-        app::run_scene(sc, opt, MPI_COMM_WORLD);
-      },
-      output);
+  namespace fs = std::filesystem;
+  return translated([&]() -> SweepOutcome {
+    ensure_mpi();
+    const MPI_Comm comm = MPI_COMM_WORLD;
+    int rank = 0;
+    MPI_Comm_rank(comm, &rank);
+    // Everything the command line parses, parsed as it does (same messages).
+    app::CommandLine cl;
+    cl.command = app::CommandLine::Command::Sweep;
+    for (const auto& [option, text] : a.vary) {
+      cl.vary.push_back(app::parse_vary(text, option));
+      cl.vary.back().with_previous = option == "--with";
+    }
+    std::vector<app::SummarySpec> summaries;
+    for (const auto& text : a.summaries) summaries.push_back(app::parse_summary(text));
+    if (!summaries.empty()) cl.summary = summaries.front();
+    cl.overrides = s.overrides;
+    cl.overwrite = a.overwrite;
+    cl.quiet = a.quiet;
+    cl.invocation = a.invocation;
+    const bool temporary = a.directory.empty();
+    std::string made;  // what to remove if the sweep is refused (rank 0)
+    if (temporary) {
+      std::string error;
+      if (rank == 0) {
+        std::string pattern = (fs::temp_directory_path() / "traverse-sweep-XXXXXX").string();
+        if (mkdtemp(pattern.data())) made = pattern;
+        else error = pattern + ": cannot make a temporary directory for the sweep";
+      }
+      agree_on_error(error, comm);
+    }
+    cl.output = temporary ? bcast_text(made, comm) : a.directory;
+    cl.scene = s.is_file ? s.path_or_text : (fs::path(cl.output) / "scene.yaml").string();
+    try {
+      if (!s.is_file) {
+        std::string error;
+        if (rank == 0) {
+          std::error_code ec;
+          fs::create_directories(cl.output, ec);
+          if (!a.overwrite && fs::exists(cl.scene)) {
+            error = cl.scene + ": exists (use overwrite=True to replace the scene, the index and the case files)";
+          } else {
+            std::ofstream out(cl.scene);
+            out << s.path_or_text;
+            if (!out.flush()) error = cl.scene + ": cannot write the scene of the sweep";
+            if (!temporary) made = cl.scene;
+          }
+        }
+        agree_on_error(error, comm);
+      }
+      const app::SweepPlan plan = app::plan_sweep(cl);
+      for (std::size_t i = 1; i < summaries.size(); ++i) {  // each checked as --summary would be
+        app::CommandLine other = cl;
+        other.summary = summaries[i];
+        (void)app::plan_sweep(other);
+      }
+      const int code = app::run_sweep(cl, plan, comm);
+      made.clear();  // ran: the files are the sweep's
+      std::string index;
+      std::vector<std::vector<double>> more(summaries.size() > 1 ? summaries.size() - 1 : 0,
+                                            std::vector<double>(plan.cases.size(), std::nan("")));
+      if (rank == 0) {
+        std::ifstream in(fs::path(cl.output) / "index.csv");
+        index.assign(std::istreambuf_iterator<char>(in), {});
+        for (std::size_t i = 0; i < more.size(); ++i)
+          for (std::size_t k = 0; k < plan.cases.size(); ++k)
+            if (fs::exists(plan.cases[k].output) && output::Reader(plan.cases[k].output).status() == "complete")
+              more[i][k] = app::case_summary(plan.cases[k].output, summaries[i + 1]);
+      }
+      for (auto& values : more) MPI_Bcast(values.data(), static_cast<int>(values.size()), MPI_DOUBLE, 0, comm);
+      return {code, bcast_text(index, comm), cl.output, more, rank};
+    } catch (...) {
+      if (rank == 0 && !made.empty()) {
+        std::error_code ignored;
+        fs::remove_all(made, ignored);
+      }
+      throw;
+    }
+  });
 }
 
 }  // namespace
@@ -179,8 +367,20 @@ PYBIND11_MODULE(_traverse, m) {
         "(plan, complete scene as YAML) as `traverse check` prints them; raises SceneError");
   m.def("validate", &validate, py::arg("source"), "reads the scene with its overrides; raises SceneError");
   m.def("run", &run, py::arg("source"), py::arg("output"), py::arg("overwrite") = false, py::arg("quiet") = true,
-        py::arg("verbose") = false, py::arg("invocation") = "",
-        "runs the scene into the HDF5 file `output` (app::run_scene); raises SceneError, OutputError, RunError");
+        py::arg("verbose") = false, py::arg("invocation") = "", py::arg("every") = 1, py::arg("callback") = py::none(),
+        "runs the scene into the HDF5 file `output` (app::run_scene), calling `callback` every `every` time steps; "
+        "returns '' or the status of a run the callback stopped; raises SceneError, OutputError, RunError");
+  py::class_<SweepArgs>(m, "SweepArgs")
+      .def(py::init<>())
+      .def_readwrite("vary", &SweepArgs::vary)
+      .def_readwrite("summaries", &SweepArgs::summaries)
+      .def_readwrite("directory", &SweepArgs::directory)
+      .def_readwrite("overwrite", &SweepArgs::overwrite)
+      .def_readwrite("quiet", &SweepArgs::quiet)
+      .def_readwrite("invocation", &SweepArgs::invocation);
+  m.def("sweep", &sweep, py::arg("source"), py::arg("args"),
+        "runs a sweep (app::plan_sweep, app::run_sweep): (exit code, index.csv text, directory, further "
+        "summaries, rank); raises SceneError, OutputError");
   m.def("finish", &finish, "ends Kokkos and, when this module started it, MPI (at the interpreter's exit)");
   m.def("mpi_started_here", [] { return mpi_state().started_here; }, "whether this module called MPI_Init_thread");
   m.attr("version") = version_string();

@@ -151,6 +151,48 @@ void RodOutputs::write(output::Writer& w, double t, const Vec3& r0) {
   w.write_step(t, sigma_, probe_values_, views);
 }
 
+bool RodOutputs::call_back(const RodStepCallback& cb, long step, double t, const Vec3& r0) const {
+  const int nodes = model_.num_cells + 1;
+  // Each rank's nodes in their places, zero elsewhere, summed on rank 0: 3 (r) + 9 (R) + 12 (y).
+  constexpr int kPerNode = 24;
+  std::vector<double> mine(static_cast<size_t>(kPerNode) * static_cast<size_t>(nodes), 0.0), all;
+  const std::vector<Vec3> r = owned_centreline(r0);
+  for (int k = 0; k < count_; ++k) {
+    double* o = &mine[static_cast<size_t>(kPerNode) * static_cast<size_t>(first_ + k)];
+    const rod::RodNode& nd = st_.owned_node(k);
+    for (int i = 0; i < 3; ++i) o[i] = r[static_cast<size_t>(k)][i];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) o[3 + 3 * i + j] = nd.R(i, j);
+    for (int i = 0; i < 12; ++i) o[12 + i] = nd.y[i];
+  }
+  const int rank = par::rank(comm_);
+  if (rank == 0) all.resize(mine.size());
+  if (par::alone(comm_)) all = mine;
+  else MPI_Reduce(mine.data(), all.data(), static_cast<int>(mine.size()), MPI_DOUBLE, MPI_SUM, 0, comm_);
+  int go = 1;
+  if (rank == 0) {
+    RodStepView v;
+    v.t = t;
+    v.step = step;
+    v.nodes = nodes;
+    auto take = [&](std::vector<double>& out, int offset, int count) {
+      out.resize(static_cast<size_t>(count) * static_cast<size_t>(nodes));
+      for (int j = 0; j < nodes; ++j)
+        for (int i = 0; i < count; ++i)
+          out[static_cast<size_t>(count * j + i)] = all[static_cast<size_t>(kPerNode * j + offset + i)];
+    };
+    take(v.r, 0, 3);
+    take(v.directors, 3, 9);
+    take(v.u, 12, 3);
+    take(v.omega, 15, 3);
+    take(v.kappa, 18, 3);
+    take(v.n, 21, 3);
+    go = cb.call(v) ? 1 : 0;
+  }
+  par::bcast(&go, 1, MPI_INT, 0, comm_);
+  return go != 0;
+}
+
 rod::CoupledRodMass coupled_rod_mass(const scene::MovingLoadSpec& load) {
   if (load.type != scene::LoadType::sprung_mass)
     return {load.mass, load.drive, load.resistance, load.friction,

@@ -15,6 +15,7 @@
 #include "traverse/scene/scene.hpp"
 #include "traverse/solver/coupled_rod_time_model.hpp"
 #include "traverse/solver/rod_stepper.hpp"
+#include "traverse/setup/step_view.hpp"
 
 namespace traverse::setup {
 
@@ -29,6 +30,9 @@ class RodOutputs {
   output::NodeLayout layout() const;
   void declare(output::Writer& w) const;
   void write(output::Writer& w, double t, const Vec3& r0);
+  /// Calls `cb` on rank 0 with the whole rod after time step `step` at time t (r0: the left
+  /// end's position); its answer on every rank. Collective.
+  bool call_back(const RodStepCallback& cb, long step, double t, const Vec3& r0) const;
 
  private:
   void evaluate_probes(const std::vector<rod::RodNode>& near, const std::vector<Vec3>& near_r);

@@ -126,6 +126,43 @@ class CallbackObserver : public Observer {
   std::function<void()> output_;
 };
 
+/// What interrupt_requested answers for a stop that no signal asked for (a step hook's).
+inline constexpr int kStopRequested = 1000;
+
+/// An observer that passes everything on to `inner` and, after every `every`-th step (the step
+/// count progress() gets), asks `proceed(step)`: false stops the run there as a signal does
+/// (interrupt_requested answers kStopRequested, and the run ends through inner.interrupted).
+/// `proceed` must answer alike on every rank (the inner interrupt check is then skipped alike).
+class StepHookObserver : public Observer {
+ public:
+  StepHookObserver(Observer& inner, long every, std::function<bool(long)> proceed)
+      : inner_(inner), every_(std::max(1L, every)), proceed_(std::move(proceed)) {}
+  void output() override { inner_.output(); }
+  void store(long step) override { inner_.store(step); }
+  bool store_due() override { return inner_.store_due(); }
+  int interrupt_requested() override { return stop_ ? kStopRequested : inner_.interrupt_requested(); }
+  void progress(double t, long step, double next_dt, const StepControlTotals* totals) override {
+    inner_.progress(t, step, next_dt, totals);
+    if (step % every_ == 0 && !proceed_(step)) stop_ = true;
+  }
+  // (The inner observer's do not return either; the throws tell the compiler.)
+  [[noreturn]] void interrupted(int sig, long step, const std::string& where) override {
+    inner_.interrupted(sig, step, where);
+    throw std::logic_error("StepHookObserver: the run went on after the interrupt at " + where);
+  }
+  [[noreturn]] void failed(const std::string& where, const std::string& why, long step,
+                           const StepFailed* cause) override {
+    inner_.failed(where, why, step, cause);
+    throw RunFailed(where + ": " + why);
+  }
+
+ private:
+  Observer& inner_;
+  long every_;
+  std::function<bool(long)> proceed_;
+  bool stop_ = false;
+};
+
 /// The first of the sorted times `sorted` after t (+inf: none): a model's next_kink from a
 /// list of its kinks.
 inline double next_after(const std::vector<double>& sorted, double t) {

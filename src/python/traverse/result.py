@@ -1,5 +1,6 @@
 """traverse.run and traverse.read: a scene run in this process, and what it wrote."""
 
+import numbers
 import os
 import shutil
 import tempfile
@@ -41,6 +42,23 @@ class _Fields:
         return list(self._out.field_names)
 
 
+class Step:
+    """What a step callback of traverse.run(scene, every=k, callback=f) is given after every
+    k-th time step: `t` [s] (the step's time, t_k), `step` (its index k), and the whole rod
+    as read-only numpy arrays (copies, the callback may keep them): `r` (nodes, 3) the
+    centreline [m] and `directors` (nodes, 3, 3) the rows d1, d2, d3, in fixed components;
+    `u`, `omega`, `kappa`, `n` (nodes, 3) in body components, the fields of the same names."""
+
+    __slots__ = ("t", "step", "r", "directors", "u", "omega", "kappa", "n")
+
+    def __init__(self, t, step, r, directors, u, omega, kappa, n):
+        self.t, self.step, self.r, self.directors = t, step, r, directors
+        self.u, self.omega, self.kappa, self.n = u, omega, kappa, n
+
+    def __repr__(self):
+        return f"traverse.Step(step={self.step}, t={self.t!r}, nodes={self.r.shape[0]})"
+
+
 class Result:
     """What one traverse.run wrote: `path` (the HDF5 file), `attrs` (its root attributes),
     `status`, `steps` (output steps, or continuation points, written), `output` (the file
@@ -53,15 +71,21 @@ class Result:
 
     When run() was given no output path the file lives in a temporary directory that this
     object owns: it is removed with the object or by close(); keep(path) moves it out first.
+
+    `interrupted` is True for a run its step callback stopped: `status` then says where
+    ("interrupted at t = ... s (time step k of n, stopped by the step callback); ..."), the
+    arrays hold the output steps written until then, and the file continues with
+    `traverse run --restart PATH` (keep(path) a temporary one first).
     """
 
-    def __init__(self, path, temporary_dir=None):
+    def __init__(self, path, temporary_dir=None, interrupted=False):
         self._tmp = temporary_dir
+        self.interrupted = interrupted
         self._read(path)
 
     def _read(self, path):
         self.path = path
-        self.output = read(path)
+        self.output = read(path, allow_incomplete=self.interrupted)
         self.kind = "continuation" if isinstance(self.output, _reader.ContinuationOutput) else "time_series"
         self.fields = _Fields(self.output) if self.kind == "time_series" else {}
 
@@ -127,7 +151,7 @@ class Result:
         return f"traverse.Result({self.path!r}, status={self.status!r}, steps={self.steps})"
 
 
-def run(scene, output=None, quiet=True, overwrite=False, verbose=False):
+def run(scene, output=None, quiet=True, overwrite=False, verbose=False, every=1, callback=None):
     """Runs `scene` (a Scene, or the path of a scene file) in this process, as
     `traverse run SCENE -o OUTPUT [--overwrite] [-q]` does, and returns its Result.
 
@@ -135,24 +159,58 @@ def run(scene, output=None, quiet=True, overwrite=False, verbose=False):
     writes; None: a file in a temporary directory owned by the Result. MPI starts on the
     first run if nobody started it (one process, or every rank of an MPI launch calling run).
 
+    `callback`: a function called after every `every`-th time step of a rod run with a Step
+    (t, step, r, directors, u, omega, kappa, n; on rank 0 of an MPI launch, with the whole
+    rod). If it returns a false value other than None (False, numpy's False, 0) the run
+    stops there as Ctrl-C stops `traverse run`: a restart point, the file marked
+    interrupted, and the Result is returned with `interrupted` True.
+    If it raises, the run stops the same way and the exception propagates, with a note that
+    names the restartable file (a temporary one is then kept). Beam and statics scenes, and
+    rod scenes with a coupled mass, refuse a callback (ValueError).
+
     Raises SceneError for a scene that only shows as bad when its model is built,
     OutputError for an output path that cannot be written, RunError when the numerics fail
     (its `output` is the partial file).
     """
     if not isinstance(scene, Scene):
         scene = Scene.load(scene)
+    if callback is not None:
+        if not callable(callback):
+            raise TypeError(f"traverse.run: callback must be callable, found {type(callback).__name__}")
+        if isinstance(every, bool) or not isinstance(every, numbers.Integral) or every < 1:
+            raise ValueError(f"traverse.run: every must be a whole number of time steps >= 1, found {every!r}")
     tmp = None
     if output is None:
         tmp = tempfile.mkdtemp(prefix="traverse-")
         output = os.path.join(tmp, "run.h5")
     output = os.fspath(output)
     invocation = f"traverse.run({scene.name!r}" + "".join(f", --set {o}" for o in scene.overrides) + ")"
+    raised = []
+
+    def call(step):
+        # None (no return) goes on, any other false value (False, numpy's False, 0) stops the
+        # run; what the callback raises stops it too and is raised once it stopped.
+        try:
+            answer = callback(step)
+            return answer is None or bool(answer)
+        except BaseException as e:
+            raised.append(e)
+            return False
+
     try:
-        _traverse.run(scene._src(), output, overwrite, quiet, verbose, invocation)
-        return Result(output, tmp)
+        stopped = _traverse.run(scene._src(), output, overwrite, quiet, verbose, invocation, int(every),
+                                None if callback is None else call)
     except BaseException as e:
         # A failed run's partial file is the caller's to read: a temporary one is kept
         # (its directory is named in RunError.output); anything else removes the directory.
         if tmp is not None and not (hasattr(e, "output") and e.output):
             shutil.rmtree(tmp, ignore_errors=True)
         raise
+    if raised:
+        e = raised[0]
+        if stopped:
+            e.add_note(f"traverse.run: the step callback raised and stopped the run; {output} is restartable ({stopped})")
+        else:  # at the last step: nothing was left to stop
+            e.add_note(f"traverse.run: the step callback raised after the last step; {output} is complete")
+        raise e
+    return Result(output, tmp, interrupted=bool(stopped))
