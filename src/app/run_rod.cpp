@@ -248,9 +248,11 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
                         },
                         {}},
                        writer, opt, progress, comm);
-  time::StepHookObserver hooked(observer, opt.on_step.every,
-                                [&](long i) { return outputs.call_back(opt.on_step, i, stepper->time(), left.position()); });
-  time::Observer& watch = opt.on_step ? static_cast<time::Observer&>(hooked) : observer;  // a step callback's, or the run's
+  time::StepHookObserver hooked(observer, opt.on_step.every, [&](long i) {
+    return outputs.call_back(opt.on_step, i, stepper->time(), left.position());
+  });
+  // a step callback's observer, or the run's
+  time::Observer& watch = opt.on_step ? static_cast<time::Observer&>(hooked) : observer;
   time::TimeIntegrator integrator(setup::rod_schedule(sc, grid), model, watch);
   points.integrator = &integrator;
   if (controller) integrator.restore(*controller);

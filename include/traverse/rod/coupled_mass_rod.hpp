@@ -41,10 +41,10 @@ struct CoupledRodMass {
   /// A prescribed path instead of the mass's own motion (a sprung mass rides at a given
   /// speed): sigma(t) and sigma'(t); then drive, resistance and friction must be 0, and the
   /// force along the rod that keeps the path is the drive (its work counts as drive work).
-  std::function<double(double)> path_sigma, path_speed;
+  std::function<double(double)> path_sigma{}, path_speed{};
   bool prescribed() const { return static_cast<bool>(path_sigma); }
   bool suspended = false;
-  Suspension suspension;
+  Suspension suspension{};
 };
 
 /// The mass's state at a time level.
