@@ -42,7 +42,6 @@ enum : std::size_t {
   dt, planar, sigma, speed, drive_work, dissipated, friction_work, stick, up_prev, up_time, normal,
   tangential = normal + 3, steps, newton, coupling, written_t, event_count, event_time, event_position, event_reason,
   body, fixed = body + 6  // body: a suspension's z, z', w, w', force, damper work
-
 };
 }  // namespace extra
 const char* const kEventReasons[] = {"left_rod_at_0", "left_rod_at_L", "lift_off", "stick", "time_limit"};
@@ -199,8 +198,9 @@ void make_estimates(const scene::Scene& sc, const rod::AlphaParameters& alpha, c
 void print_start(const scene::Scene& sc, const TimeGrid& grid, const std::string& initial,
                  const solver::RodStepper& st, const std::string& path_text, const RunOptions& opt,
                  const output::RestartPoint& point) {
-  std::printf("rod scene '%s': %d nodes, %s '%s', up to %ld steps of dt = %.6g s to t = %.6g s%s\n",
-              sc.file.c_str(), sc.mesh.nodes, scene::name_of(coupled_load(sc)->type).c_str(), coupled_load(sc)->name.c_str(), grid.steps, grid.dt, grid.t_end,
+  const scene::MovingLoadSpec& load = *coupled_load(sc);
+  std::printf("rod scene '%s': %d nodes, %s '%s', up to %ld steps of dt = %.6g s to t = %.6g s%s\n", sc.file.c_str(),
+              sc.mesh.nodes, scene::name_of(load.type).c_str(), load.name.c_str(), grid.steps, grid.dt, grid.t_end,
               sc.time.adaptive.enabled ? " (adaptive: the first step and the output spacing)" : "");
   if (opt.verbose)
     std::printf("  initial state: %s; partitioned iteration of rod and mass; linear solver: %s; path: %s\n",
@@ -278,7 +278,8 @@ void run_rod_coupled(const scene::Scene& sc, const setup::RodSetup& setup, const
     source = output::move_aside_for_restart(opt.output, comm);
   }
   output::RunInfo info{version_string(), opt.invocation, sc.text, sc.file, "rod", {}};
-  info.attributes = {{"rod_path", path.planar ? "planar" : "3D"}, {"rod_path_detail", path_text + " (" + scene::name_of(load.type) + ")"},
+  info.attributes = {{"rod_path", path.planar ? "planar" : "3D"},
+                     {"rod_path_detail", path_text + " (" + scene::name_of(load.type) + ")"},
                      {"initial_state", start.description}};
   output::Writer writer(comm, opt.output, opt.overwrite || opt.restart, info, outputs.layout(), 1);
   writer.set_intervals(opt.flush_interval, writer.xdmf_interval());
