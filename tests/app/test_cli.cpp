@@ -607,6 +607,37 @@ TEST(Cli, CoupledMassRodLiftOff) {
   EXPECT_NEAR(events[0].position, exact, 5e-3 * exact);
 }
 
+// A sprung mass on the rod with unilateral contact (inputs/rod/sprung_cabin_cable.yaml at 1.5
+// m/s): the cabin's body swings up after the cable's dip and unloads the wheel; the run ends with
+// lift_off in the step where the rod's contact force along d2 turns negative, at the zero
+// interpolated between that step's midpoint and the one before. With the default bilateral
+// contact the same run goes on to the end, through steps where the rod pulls the wheel.
+TEST(Cli, SprungMassRodLiftOff) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "sprung_cabin_cable.yaml";
+  const std::string out = (scratch("sprung_lift") / "cabin.h5").string(), both = (scratch("sprung_lift") / "b.h5").string();
+  auto r = run("run " + scene.string() + " -o " + out + " -q --set loads.cabin.speed=1.5 --set loads.cabin.contact=unilateral");
+  ASSERT_EQ(r.code, 0) << r.out;
+  traverse::output::Reader f(out);
+  EXPECT_EQ(f.status(), "complete");
+  EXPECT_EQ(f.attribute("end_reason"), "lift_off");
+  const auto events = f.events();
+  ASSERT_EQ(events.size(), 1u);
+  const auto c = f.probe("cabin_contact_force").values;
+  const auto t = f.time();
+  ASSERT_GE(c.size(), 3u);
+  for (std::size_t k = 1; k + 1 < c.size(); ++k) EXPECT_GT(c[k], 0.0) << "step " << k;  // c[0]: NaN, no step yet
+  EXPECT_LT(c.back(), 0.0);
+  EXPECT_GT(events[0].time, t[t.size() - 3]);
+  EXPECT_LT(events[0].time, t.back());
+  std::printf("  lift-off at t = %.6f s, sigma = %.6f m (last contact forces %.4f, %.4f N)\n", events[0].time,
+              events[0].position, c[c.size() - 2], c.back());
+  r = run("run " + scene.string() + " -o " + both + " -q --set loads.cabin.speed=1.5");
+  ASSERT_EQ(r.code, 0) << r.out;
+  traverse::output::Reader g(both);
+  EXPECT_EQ(g.attribute("end_reason"), "end_time");
+  EXPECT_GT(g.time().back(), t.back());
+}
+
 // A Young's modulus typed in GPa (210 for steel) on a 20 m beam: the static deflection under
 // its own weight is thousands of spans. Refused before the run (exit 2, no output), by run
 // and by check, naming the key and the bound.
