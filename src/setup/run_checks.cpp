@@ -36,8 +36,8 @@ std::string summary(const scene::Scene& sc, const TimePlan* time, const MemoryPl
 // What the extensible and shearable rods (rod.model) and the viscosities (rod.damping) do not
 // have yet, refused where the scene chooses it rather than run as the inextensible rod:
 // continuation and the arch and file starts (not verified with strain), the coupled and sprung
-// masses (their own equations read the tangent d3), adaptive steps (the error estimate has no
-// strain), and the bending viscosity with a carried spatial history. The static start (the
+// masses (their own equations read the tangent d3), and the bending viscosity with a carried
+// spatial history. The static start (the
 // static kernels' compliance, tests/rod/test_rod_strain.cpp) and rest are allowed.
 void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
   const rod::RodProperties& p = model.props;
@@ -55,9 +55,6 @@ void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
       if (l.coupled || l.type == scene::LoadType::sprung_mass)
         scene::fail_at(sc, "loads." + l.name, "moving forces and moving masses only with " + word + " (a coupled "
                        "or sprung mass on a rod that strains is not implemented)", scene::name_of(l.type));
-    if (sc.time.adaptive.enabled)
-      scene::fail_at(sc, "time.adaptive", "fixed steps with " + word + " (the error estimate of adaptive steps "
-                     "has no strain yet)", "time.adaptive");
   }
   if (p.B_bt != Vec3::Zero() && model.carries_ys())
     scene::fail_at(sc, sc.rod.damping_bending > 0.0 ? "rod.damping.bending" : "rod.damping.torsion",

@@ -155,6 +155,14 @@ TEST(InterruptRestart, ShearableDampedRodSigintThenRestartBitForBit) {
   stop_and_restart("rod-shearable-planar-sigint", 1, kCable, kRodArgs + strain, 3, 40, Stop::sigint_process, 0.0);
 }
 
+// Adaptive steps on a damped shearable rod: the controller and the strain rate's history.
+TEST(InterruptRestart, ShearableAdaptiveSigintThenRestartBitForBit) {
+  stop_and_restart("rod-shearable-adaptive-sigint", 1, kCable,
+                   kRodArgs + " --set rod.model=shearable --set 'rod.damping={axial: 5, shear: 5}'"
+                              " --set time.adaptive.tolerance=1e-3",
+                   3, 40, Stop::sigint_process, 0.0);
+}
+
 TEST(InterruptRestart, RodSigintThenRestart) {
   stop_and_restart("rod-sigint", 1, kCable, kRodArgs, 3, 40, Stop::sigint_process);
 }
