@@ -270,7 +270,7 @@ void run_rod_coupled(const scene::Scene& sc, const setup::RodSetup& setup, const
   if (path.planar) st.set_planar(&path.symmetry);
   const std::string path_text = st.path_description() + "; " + path.detail;
   rod::CoupledMassState m{load.position(0.0), load.velocity(0.0)};
-  if (mass.suspended && !opt.restart) rod::start_suspension(mass, stepper.model().loads.gravity, state, m);
+  if (mass.suspended && !opt.restart) rod::start_suspension(mass, stepper.model(), state, m);
   const int first = st.first_owned_node(), count = st.num_owned_nodes();
   setup::CoupledRodOutputs outputs(sc, load, stepper.model(), first, count);
   if (opt.restart) {

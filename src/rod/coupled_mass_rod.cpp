@@ -6,18 +6,23 @@
 
 namespace traverse::rod {
 
-RodPointKinematics point_kinematics(const RodState& state, double sigma) {
+Vec3 node_tangent(const RodNode& node, const RodProperties& props) {
+  if (!props.compliant()) return node.R.row(2).transpose();
+  return node.R.transpose() * props.strain(node.y.segment<3>(var::n), node.yt.segment<3>(var::n));
+}
+
+RodPointKinematics point_kinematics(const RodState& state, double sigma, const RodProperties& props) {
   const NodeInterpolation at = locate_on_nodes(sigma, state.ds, state.num_cells());
   const RodNode& a = state.nodes[static_cast<size_t>(at.j)];
   const RodNode& b = state.nodes[static_cast<size_t>(std::min(at.j + 1, state.num_cells()))];
   RodPointKinematics k;
   k.U = (1.0 - at.xi) * fixed_velocity(a) + at.xi * fixed_velocity(b);
-  k.d3 = (1.0 - at.xi) * a.R.row(2).transpose() + at.xi * b.R.row(2).transpose();
+  k.d3 = (1.0 - at.xi) * node_tangent(a, props) + at.xi * node_tangent(b, props);
   return k;
 }
 
-Vec3 mass_velocity(const RodState& state, const CoupledMassState& m) {
-  const RodPointKinematics k = point_kinematics(state, m.sigma);
+Vec3 mass_velocity(const RodState& state, const CoupledMassState& m, const RodProperties& props) {
+  const RodPointKinematics k = point_kinematics(state, m.sigma, props);
   return k.U + m.speed * k.d3;
 }
 
@@ -130,11 +135,11 @@ BodyLevel body_level(const Suspension& s, const Vec3& g, const CoupledMassState&
 
 }  // namespace
 
-void start_suspension(const CoupledRodMass& mass, const Vec3& gravity, const RodState& state, CoupledMassState& m) {
+void start_suspension(const CoupledRodMass& mass, const RodModel& model, const RodState& state, CoupledMassState& m) {
   const Suspension& s = mass.suspension;
-  const double e = s.body_mass * gravity.dot(s.up) / s.stiffness;
+  const double e = s.body_mass * model.loads.gravity.dot(s.up) / s.stiffness;
   m.wheel = 0.0;
-  m.wheel_speed = s.up.dot(mass_velocity(state, m));
+  m.wheel_speed = s.up.dot(mass_velocity(state, m, model.props));
   m.body = e;
   m.body_speed = m.wheel_speed;
   m.spring_force = s.stiffness * e;
@@ -204,7 +209,7 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   p.force = m.spring_force;
   const double ds = state.ds;
   const Vec3 g = model_.loads.gravity, up = mass_.suspension.up;
-  const RodPointKinematics ko = point_kinematics(state, m.sigma);
+  const RodPointKinematics ko = point_kinematics(state, m.sigma, model_.props);
   p.d3 = ko.d3.normalized();
   CoupledStepReport rep;
   Speed speed;
@@ -255,7 +260,7 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
   // force along d3m that the mass's momentum balance needs: a drive of its own.
   const double vm = 0.5 * (m.speed + p.v_new);
   RodState trial = solve_->solution();
-  const RodPointKinematics kn = point_kinematics(trial, p.s_new);
+  const RodPointKinematics kn = point_kinematics(trial, p.s_new, model_.props);
   const Vec3 d3m = (ko.d3 + kn.d3).normalized();
   const Vec3 pm = 0.5 * (ko.U + m.speed * ko.d3 + kn.U + p.v_new * kn.d3);
   double drive = mass_.drive;
@@ -282,8 +287,10 @@ CoupledStepReport CoupledRodStepper::step(RodState& state, CoupledMassState& m, 
 }
 
 CoupledContact step_contact(const RodState& old_state, const CoupledMassState& m_old, const RodState& new_state,
-                            const CoupledMassState& m_new, const CoupledRodMass& mass, const Vec3& gravity, double dt) {
-  const RodPointKinematics ko = point_kinematics(old_state, m_old.sigma), kn = point_kinematics(new_state, m_new.sigma);
+                            const CoupledMassState& m_new, const CoupledRodMass& mass, const RodModel& model, double dt) {
+  const Vec3& gravity = model.loads.gravity;
+  const RodPointKinematics ko = point_kinematics(old_state, m_old.sigma, model.props),
+                           kn = point_kinematics(new_state, m_new.sigma, model.props);
   const Vec3 d3m = (ko.d3 + kn.d3).normalized();
   const double vm = 0.5 * (m_old.speed + m_new.speed);
   const Vec3 dp = (kn.U + m_new.speed * kn.d3) - (ko.U + m_old.speed * ko.d3);
@@ -311,7 +318,7 @@ CoupledRodEnergies coupled_energies(const RodModel& model, const RodState& state
   const double ds = state.ds;
   for (int j = 1; j <= state.num_cells(); ++j)
     e.rod_gravity -= ds * model.props.rhoA * g.dot(0.5 * (r[static_cast<size_t>(j - 1)] + r[static_cast<size_t>(j)]));
-  const Vec3 pdot = mass_velocity(state, m);
+  const Vec3 pdot = mass_velocity(state, m, model.props);
   e.mass_kinetic = 0.5 * mass * pdot.squaredNorm();
   if (coupled.suspended) {
     const Vec3 across = pdot - coupled.suspension.up * coupled.suspension.up.dot(pdot);

@@ -276,7 +276,7 @@ void CoupledRodOutputs::write(output::Writer& w, const rod::RodState& s, const s
   }
   const rod::NodeInterpolation at = rod::locate_on_nodes(m.sigma, s.ds, N);
   const Vec3 rp = (1.0 - at.xi) * r[static_cast<size_t>(at.j)] + at.xi * r[static_cast<size_t>(at.j + 1)];
-  const Vec3 pv = rod::mass_velocity(s, m);
+  const Vec3 pv = rod::mass_velocity(s, m, model_.props);
   probes_.push_back({m.sigma});
   probes_.push_back({m.speed});
   probes_.push_back({rp.x(), rp.y(), rp.z()});

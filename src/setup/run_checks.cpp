@@ -35,9 +35,8 @@ std::string summary(const scene::Scene& sc, const TimePlan* time, const MemoryPl
 
 // What the extensible and shearable rods (rod.model) and the viscosities (rod.damping) do not
 // have yet, refused where the scene chooses it rather than run as the inextensible rod:
-// continuation and the arch and file starts (not verified with strain), the coupled and sprung
-// masses (their own equations read the tangent d3), and the bending viscosity with a carried
-// spatial history. The static start (the
+// continuation and the arch and file starts (not verified with strain), and the bending
+// viscosity with a carried spatial history. The static start (the
 // static kernels' compliance, tests/rod/test_rod_strain.cpp) and rest are allowed.
 void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
   const rod::RodProperties& p = model.props;
@@ -51,10 +50,6 @@ void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
         sc.initial_state.type != scene::InitialStateType::static_equilibrium)
       scene::fail_at(sc, "initial_state.type", "static or rest for " + word + " (its arch and file starts are not "
                      "implemented)", scene::name_of(sc.initial_state.type));
-    for (const auto& l : sc.loads)
-      if (l.coupled || l.type == scene::LoadType::sprung_mass)
-        scene::fail_at(sc, "loads." + l.name, "moving forces and moving masses only with " + word + " (a coupled "
-                       "or sprung mass on a rod that strains is not implemented)", scene::name_of(l.type));
   }
   if (p.B_bt != Vec3::Zero() && model.carries_ys())
     scene::fail_at(sc, sc.rod.damping_bending > 0.0 ? "rod.damping.bending" : "rod.damping.torsion",

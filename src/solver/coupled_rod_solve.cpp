@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "traverse/core/comm.hpp"
+#include "traverse/rod/coupled_mass_rod.hpp"
 
 namespace traverse::solver {
 
@@ -36,7 +37,7 @@ rod::RodPointKinematics DistributedCoupledRodSolve::point(double sigma) const {
     const int k = nodes[side] - first;
     if (k < 0 || k >= owned) continue;
     const rod::RodNode& nd = st.owned_node(k);
-    const Vec3 U = w[side] * rod::fixed_velocity(nd), d3 = w[side] * nd.R.row(2).transpose();
+    const Vec3 U = w[side] * rod::fixed_velocity(nd), d3 = w[side] * rod::node_tangent(nd, st.model().props);
     for (int c = 0; c < 3; ++c) {
       local[c] += U(c);
       local[3 + c] += d3(c);

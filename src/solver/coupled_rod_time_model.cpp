@@ -104,7 +104,7 @@ void CoupledRodTimeModel::accepted(const rod::RodState& old, const rod::CoupledM
 void CoupledRodTimeModel::step_events(const rod::RodState& old, const rod::CoupledMassState& m_old, double h) {
   r = rod::advance_centreline_in_time(r, old, state_);
   const rod::CoupledContact c =
-      rod::step_contact(old, m_old, state_, m_, stepper_.coupled_mass(), stepper_.model().loads.gravity, h);
+      rod::step_contact(old, m_old, state_, m_, stepper_.coupled_mass(), stepper_.model(), h);
   const double L = stepper_.model().length;
   if (m_.sigma < 0.0 || m_.sigma > L) {  // left the rod in this step: the time where sigma crosses the end
     const double edge = m_.sigma < 0.0 ? 0.0 : L;

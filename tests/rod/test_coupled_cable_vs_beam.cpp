@@ -70,7 +70,7 @@ Compare compare(double g, int cells) {
   };
   double sigma0 = s0;
   for (int it = 0; it < 20; ++it) sigma0 += s0 - axial(sigma0);
-  const double speed0 = v0 / rod::point_kinematics(state, sigma0).d3.z();
+  const double speed0 = v0 / rod::point_kinematics(state, sigma0, props).d3.z();
   rod::CoupledMassState mass{sigma0, speed0};
   std::vector<double> rod_w, rod_s;
   const long steps = std::lround(T / dt);

@@ -456,7 +456,7 @@ TEST(CoupledMassRod, LiftOffFromARigidWire) {
     const rod::RodState old = s.state;
     const rod::CoupledMassState m_old = m;
     ASSERT_TRUE(stepper.step(s.state, m, dt).converged);
-    const auto c = rod::step_contact(old, m_old, s.state, m, mass, s.model.loads.gravity, dt);
+    const auto c = rod::step_contact(old, m_old, s.state, m, mass, s.model, dt);
     const double s_mid = 0.5 * (m_old.sigma + m.sigma);
     if (k == 1) up_first = c.up;
     if (k > 1 && up_prev > 0.0 && c.up <= 0.0) lift = s_prev + (s_mid - s_prev) * up_prev / (up_prev - c.up);

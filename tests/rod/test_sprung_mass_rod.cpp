@@ -53,7 +53,7 @@ History run_sprung(int cells, const rod::CoupledRodMass& mass, double t_end, con
   rod::RodState state = start(cells, loaded ? (mass.mass + mass.suspension.body_mass) * kG : 0.0, props);
   rod::CoupledRodStepper stepper(model, mass, rod::reference_rod_solve);
   rod::CoupledMassState m{kS0, mass.path_speed(0.0)};
-  rod::start_suspension(mass, model.loads.gravity, state, m);
+  rod::start_suspension(mass, model, state, m);
   std::vector<Vec3> r = rod::centreline_in_space(state);
   History h;
   auto record = [&] {
@@ -176,7 +176,7 @@ TEST(SprungMassRod, BodyOscillatesAsTheDampedOscillatorOnARigidTrack) {
     rod::RodState state = start(cells, (kBody + kWheel) * kG, props);
     rod::CoupledRodStepper stepper(model, mass, rod::reference_rod_solve);
     rod::CoupledMassState m{kS0, 0.0};
-    rod::start_suspension(mass, model.loads.gravity, state, m);
+    rod::start_suspension(mass, model, state, m);
     const double z0 = m.body;
     m.body_speed += u0;
     const double dt = 0.1 / (w * refine);

@@ -104,7 +104,7 @@ TEST(CoupledRodSolve, SprungMassTakesTheReferencesSteps) {
   mass.suspended = true;
   mass.suspension = {body, 20.0, 0.2, Vec3::UnitY()};
   rod::CoupledMassState m0{sigma0, v};
-  rod::start_suspension(mass, model.loads.gravity, initial, m0);
+  rod::start_suspension(mass, model, initial, m0);
   for (const bool planar : {false, true}) {
     const Compared c = compare(model, initial, mass, m0, 0.5 * model.ds() / v, 24, planar);
     say("  sprung mass, %s path, %d rank(s): max |state difference| %.2e, max |mass difference| %.2e; coupling "

@@ -117,7 +117,7 @@ class ReferenceRodSolve final : public CoupledRodSolve {
     trial_ = stepper_.state_from_unknowns(old, x_, dt);
     return true;
   }
-  RodPointKinematics point(double sigma) const override { return point_kinematics(trial_, sigma); }
+  RodPointKinematics point(double sigma) const override { return point_kinematics(trial_, sigma, stepper_.model().props); }
   RodState solution() const override { return trial_; }
 
  private:

@@ -72,8 +72,8 @@ struct CoupledMassState {
   }
 };
 /// The state of a sprung mass at rest in static equilibrium with its wheel at sigma (e =
-/// M_v g . up / k, z' = w' = up . p', w = 0); m.sigma and m.speed set.
-void start_suspension(const CoupledRodMass& mass, const Vec3& gravity, const RodState& state, CoupledMassState& m);
+/// M_v g . up / k, z' = w' = up . p', w = 0); m.sigma and m.speed set; `model` the rod's.
+void start_suspension(const CoupledRodMass& mass, const RodModel& model, const RodState& state, CoupledMassState& m);
 /// The body's acceleration z'' [m/s^2] at a state (the body's equation at that level).
 double body_acceleration(const CoupledRodMass& mass, const Vec3& gravity, const CoupledMassState& m);
 
@@ -81,11 +81,15 @@ double body_acceleration(const CoupledRodMass& mass, const Vec3& gravity, const 
 /// (the transpose of the hat weights that distribute the mass's force, docs/rod.md).
 struct RodPointKinematics {
   Vec3 U = Vec3::Zero();   ///< material velocity R^T u [m/s], fixed frame
-  Vec3 d3 = Vec3::Zero();  ///< tangent R^T e3 (interpolated, not renormalised), fixed frame
+  /// The centreline's tangent r_s (interpolated, not renormalised), fixed frame: d3 = R^T e3 for
+  /// the inextensible rod, R^T v (the strain, RodProperties::strain) for one that strains.
+  Vec3 d3 = Vec3::Zero();
 };
-RodPointKinematics point_kinematics(const RodState& state, double sigma);
-/// The mass's velocity p' = U + sigma' d3 at sigma [m/s], fixed frame.
-Vec3 mass_velocity(const RodState& state, const CoupledMassState& m);
+/// A node's tangent r_s, fixed frame (RodPointKinematics::d3).
+Vec3 node_tangent(const RodNode& node, const RodProperties& props);
+RodPointKinematics point_kinematics(const RodState& state, double sigma, const RodProperties& props);
+/// The mass's velocity p' = U + sigma' r_s at sigma [m/s], fixed frame.
+Vec3 mass_velocity(const RodState& state, const CoupledMassState& m, const RodProperties& props);
 
 /// The rod's time step with the coupled mass's path in it, for CoupledRodStepper. The model it
 /// is made from holds the mass's loads (their path is read from the stepper while it solves).
@@ -181,8 +185,9 @@ struct CoupledContact {
   double tangential = 0.0;
   double up = 0.0;
 };
+/// `model`: the rod's (its gravity and its strain).
 CoupledContact step_contact(const RodState& old_state, const CoupledMassState& m_old, const RodState& new_state,
-                            const CoupledMassState& m_new, const CoupledRodMass& mass, const Vec3& gravity, double dt);
+                            const CoupledMassState& m_new, const CoupledRodMass& mass, const RodModel& model, double dt);
 
 /// Energies of rod + coupled mass [J] (docs/rod.md, "Coupled mass").
 struct CoupledRodEnergies {
