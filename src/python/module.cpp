@@ -174,7 +174,8 @@ py::array_t<double> frozen(const std::vector<double>& data, std::vector<py::ssiz
 // the run has stopped. `f` is borrowed (the caller's argument, alive for the run): no reference
 // count changes without the lock.
 template <class View, class MakeStep>
-std::function<bool(const View&)> python_call(py::handle f, std::optional<py::error_already_set>& raised, MakeStep make) {
+std::function<bool(const View&)> python_call(py::handle f, std::optional<py::error_already_set>& raised,
+                                             MakeStep make) {
   return [f, &raised, make](const View& v) {
     py::gil_scoped_acquire gil;
     try {
@@ -238,7 +239,8 @@ std::string run(const Source& s, const std::string& output, bool overwrite, bool
             if (statics || (!beam && app::coupled_load(sc)))
               throw std::invalid_argument(
                   "traverse.run: callback= is for runs with time steps (beam runs, rod runs without a coupled "
-                  "mass); " + sc.file + " is " + (statics ? "a continuation (statics) scene" : "a rod scene with a coupled mass"));
+                  "mass); " + sc.file + " is " +
+                  (statics ? "a continuation (statics) scene" : "a rod scene with a coupled mass"));
             opt.on_step = python_step_callback(beam, every, callback, raised);
           }
           try {
