@@ -129,7 +129,8 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   RunObserver observer(
       {write, [&](long) { record.store_restart(); }, [&] { return sim.time(); }, {}, [&] { record.track(); }}, writer,
       opt, progress, comm);
-  time::TimeIntegrator integrator(sim.schedule(), sim, observer);
+  time::StepHookObserver hook(observer, opt.on_step.every, setup::beam_step_hook(opt.on_step, sim, sc, p, comm));
+  time::TimeIntegrator integrator(sim.schedule(), sim, opt.on_step ? static_cast<time::Observer&>(hook) : observer);
   const auto wall_start = std::chrono::steady_clock::now();
   write();
   integrator.run();

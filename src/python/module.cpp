@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <mutex>
 #include <optional>
@@ -167,32 +168,51 @@ py::array_t<double> frozen(const std::vector<double>& data, std::vector<py::ssiz
   return a;
 }
 
-// The step callback of a rod run: `f` (a Python callable) called with a traverse.result.Step
-// of the view, under the interpreter's lock. Stops the run when f returns False or raises;
-// what it raised is kept in `raised` for run() to raise again once the run has stopped.
-// `f` is borrowed (the caller's argument, alive for the run): no reference count changes
-// without the lock.
-setup::RodStepCallback python_step_callback(long every, py::handle f, std::optional<py::error_already_set>& raised) {
-  return {every, [f, &raised](const setup::RodStepView& v) {
-            py::gil_scoped_acquire gil;
-            try {
-              const py::ssize_t n = v.nodes;
-              py::object step = py::module_::import("traverse.result")
-                                    .attr("Step")(v.t, v.step, frozen(v.r, {n, 3}), frozen(v.directors, {n, 3, 3}),
-                                                  frozen(v.u, {n, 3}), frozen(v.omega, {n, 3}), frozen(v.kappa, {n, 3}),
-                                                  frozen(v.n, {n, 3}));
-              return f(step).ptr() != Py_False;
-            } catch (py::error_already_set& e) {
-              raised.emplace(std::move(e));
-              return false;
-            }
-          }};
+// The step callback of a run: `f` (a Python callable) called with a traverse.result.Step (rod
+// runs) or BeamStep (beam runs) of the view, under the interpreter's lock. Stops the run when
+// f returns False or raises; what it raised is kept in `raised` for run() to raise again once
+// the run has stopped. `f` is borrowed (the caller's argument, alive for the run): no reference
+// count changes without the lock.
+template <class View, class MakeStep>
+std::function<bool(const View&)> python_call(py::handle f, std::optional<py::error_already_set>& raised,
+                                             MakeStep make) {
+  return [f, &raised, make](const View& v) {
+    py::gil_scoped_acquire gil;
+    try {
+      return f(make(v)).ptr() != Py_False;
+    } catch (py::error_already_set& e) {
+      raised.emplace(std::move(e));
+      return false;
+    }
+  };
+}
+
+setup::StepCallback python_step_callback(bool beam, long every, py::handle f,
+                                         std::optional<py::error_already_set>& raised) {
+  setup::StepCallback cb;
+  cb.every = every;
+  if (beam) {
+    cb.beam = python_call<setup::BeamStepView>(f, raised, [](const setup::BeamStepView& v) {
+      const auto modes = static_cast<py::ssize_t>(v.q.size()), nodes = static_cast<py::ssize_t>(v.x.size());
+      return py::module_::import("traverse.result")
+          .attr("BeamStep")(v.t, v.step, frozen(v.q, {modes}), frozen(v.q_t, {modes}), frozen(v.x, {nodes}),
+                            frozen(v.w, {nodes}));
+    });
+  } else {
+    cb.rod = python_call<setup::RodStepView>(f, raised, [](const setup::RodStepView& v) {
+      const py::ssize_t n = v.nodes;
+      return py::module_::import("traverse.result")
+          .attr("Step")(v.t, v.step, frozen(v.r, {n, 3}), frozen(v.directors, {n, 3, 3}), frozen(v.u, {n, 3}),
+                        frozen(v.omega, {n, 3}), frozen(v.kappa, {n, 3}), frozen(v.n, {n, 3}));
+    });
+  }
+  return cb;
 }
 
 // Runs the scene into `output` as `traverse run SCENE -o OUTPUT [--overwrite] [-q]` does, on
 // MPI_COMM_WORLD (every rank of an MPI launch calls it). The GIL is released while it runs.
-// With `callback` (a rod run without a coupled mass), it is called every `every` time steps
-// on rank 0 (python_step_callback); a run it stopped returns the output file's status
+// With `callback` (a beam run, or a rod run without a coupled mass), it is called every `every`
+// time steps on rank 0 (python_step_callback); a run it stopped returns the output file's status
 // ("interrupted at ..."), a run that completed "". What the callback raised is raised again.
 std::string run(const Source& s, const std::string& output, bool overwrite, bool quiet, bool verbose,
                 const std::string& invocation, long every, py::object callback) {
@@ -214,13 +234,14 @@ std::string run(const Source& s, const std::string& output, bool overwrite, bool
           opt.verbose = verbose && !quiet;
           opt.invocation = invocation;
           if (!callback.is_none()) {
-            const bool statics = sc.model == scene::Model::Rod && sc.continuation.enabled;
-            if (sc.model != scene::Model::Rod || statics || app::coupled_load(sc))
+            const bool beam = sc.model == scene::Model::Beam;
+            const bool statics = !beam && sc.continuation.enabled;
+            if (statics || (!beam && app::coupled_load(sc)))
               throw std::invalid_argument(
-                  "traverse.run: callback= is for rod runs with time steps and no coupled mass; " + sc.file + " is " +
-                  (sc.model == scene::Model::Beam ? "a beam scene" : statics ? "a continuation (statics) scene"
-                                                                              : "a rod scene with a coupled mass"));
-            opt.on_step = python_step_callback(every, callback, raised);
+                  "traverse.run: callback= is for runs with time steps (beam runs, rod runs without a coupled "
+                  "mass); " + sc.file + " is " +
+                  (statics ? "a continuation (statics) scene" : "a rod scene with a coupled mass"));
+            opt.on_step = python_step_callback(beam, every, callback, raised);
           }
           try {
             app::run_scene(sc, opt, MPI_COMM_WORLD);

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "traverse/core/comm.hpp"
+
 namespace traverse::setup {
 
 namespace {
@@ -215,6 +217,32 @@ void VehicleOutputs::evaluate_probes(const beam::VehicleBeam& s) {
     for (std::size_t a = 0; a < l.axle_offsets.size(); ++a) f.push_back(s.contact_force(j, a));
     probes_.push_back(f);
   }
+}
+
+BeamNodeShapes::BeamNodeShapes(const scene::Scene& sc, const beam::BeamProblem& p, const beam::ModeSet& modes) {
+  const auto nodes = static_cast<std::size_t>(sc.mesh.nodes);
+  x.assign(p.quadrature_nodes.begin(), p.quadrature_nodes.begin() + static_cast<std::ptrdiff_t>(nodes));
+  VecX dphi(modes.size()), ddphi(modes.size());
+  phi.assign(nodes, VecX(modes.size()));
+  for (std::size_t j = 0; j < nodes; ++j) modes.evaluate(x[j], phi[j], dphi, ddphi);
+}
+
+bool call_beam_back(const StepCallback& cb, long step, double t, const VecX& Y, const VecX& Ydot,
+                    const BeamNodeShapes& shapes, MPI_Comm comm) {
+  int go = 1;
+  if (par::rank(comm) == 0) {
+    BeamStepView v;
+    v.t = t;
+    v.step = step;
+    v.q.assign(Y.data(), Y.data() + Y.size());
+    v.q_t.assign(Ydot.data(), Ydot.data() + Ydot.size());
+    v.x = shapes.x;
+    v.w.resize(shapes.x.size());
+    for (std::size_t j = 0; j < v.w.size(); ++j) v.w[j] = shapes.phi[j].dot(Y);  // as BeamFields::evaluate
+    go = cb.beam(v) ? 1 : 0;
+  }
+  par::bcast(&go, 1, MPI_INT, 0, comm);
+  return go != 0;
 }
 
 }  // namespace traverse::setup

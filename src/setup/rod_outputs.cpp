@@ -151,7 +151,7 @@ void RodOutputs::write(output::Writer& w, double t, const Vec3& r0) {
   w.write_step(t, sigma_, probe_values_, views);
 }
 
-bool RodOutputs::call_back(const RodStepCallback& cb, long step, double t, const Vec3& r0) const {
+bool RodOutputs::call_back(const StepCallback& cb, long step, double t, const Vec3& r0) const {
   const int nodes = model_.num_cells + 1;
   // Each rank's nodes in their places, zero elsewhere, summed on rank 0: 3 (r) + 9 (R) + 12 (y).
   constexpr int kPerNode = 24;
@@ -187,7 +187,7 @@ bool RodOutputs::call_back(const RodStepCallback& cb, long step, double t, const
     take(v.omega, 15, 3);
     take(v.kappa, 18, 3);
     take(v.n, 21, 3);
-    go = cb.call(v) ? 1 : 0;
+    go = cb.rod(v) ? 1 : 0;
   }
   par::bcast(&go, 1, MPI_INT, 0, comm_);
   return go != 0;

@@ -1,7 +1,9 @@
 """Run under `mpiexec -n N`: traverse.sweep with every rank calling it (the cases spread over
 MPI_COMM_WORLD) gives, on every rank, the table of REFERENCE_DIR/index.csv (the executable's
 sweep of the same cases); then a rod run with a step callback on N ranks: rank 0 sees the
-whole rod (the file's r at the output steps), and returning False stops every rank.
+whole rod (the file's r at the output steps), and returning False stops every rank; the same
+for a beam run (inputs/beam/cantilever.yaml next to SCENE): rank 0 sees the deflection the
+file holds.
 
     mpiexec -n 2 python3 check_mpi_sweep.py SCENE REFERENCE_DIR OUT_DIR SUMMARY KEY=VALUES [SET ...]
 """
@@ -48,6 +50,20 @@ def check_callback(scene, out):
     return len(seen), matched
 
 
+def check_beam_callback(scene_file, out):
+    beam = traverse.Scene.load(os.path.join(os.path.dirname(scene_file), "beam", "cantilever.yaml"),
+                               overrides=["time.dt=1e-4", "output.every=1"])
+    seen = []
+    result = traverse.run(beam, output=out, overwrite=True, every=2, callback=seen.append)
+    w = result.fields["deflection"]
+    for s in seen:
+        assert result.time[s.step] == s.t, (s.step, s.t)
+        np.testing.assert_array_equal(s.w, w[s.step].reshape(-1))
+    stopped = traverse.run(beam, output=out, overwrite=True, every=2, callback=lambda s: s.step < 4)
+    assert stopped.interrupted and stopped.steps == 5, (stopped.status, stopped.steps)
+    return len(seen)
+
+
 def main():
     scene_file, reference, out, summary, vary, *sets = sys.argv[1:]
     scene = traverse.Scene.load(scene_file, overrides=sets)
@@ -64,14 +80,15 @@ def main():
         if failure:
             raise RuntimeError(failure)
         seen, matched = check_callback(scene, os.path.join(out, "callback.h5"))
+        beam_seen = check_beam_callback(scene_file, os.path.join(out, "beam_callback.h5"))
         rows = comm.gather([(r["case"], r["status"], r[summary]) for r in table], root=0)
         if comm.Get_rank() == 0:
             assert all(x == rows[0] for x in rows), "the table differs between ranks"
-            assert seen > 0 and matched > 0, (seen, matched)
+            assert seen > 0 and matched > 0 and beam_seen > 0, (seen, matched, beam_seen)
             print(f"{comm.Get_size()} ranks: sweep of {len(table)} cases equals the executable's index; "
-                  f"callback saw {seen} steps, {matched} compared with the file")
+                  f"callback saw {seen} steps, {matched} compared with the file; beam callback {beam_seen} steps")
         else:
-            assert seen == 0, f"rank {comm.Get_rank()} called the callback"
+            assert seen == 0 and beam_seen == 0, f"rank {comm.Get_rank()} called the callback"
     except BaseException as e:  # every rank ends with the outcome
         failure = f"rank {comm.Get_rank()}: {type(e).__name__}: {e}"
     failures = [f for f in comm.allgather(failure) if f]

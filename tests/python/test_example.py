@@ -1,8 +1,11 @@
 """The examples of examples/python run and draw their figures."""
 
 import os
+import re
 import subprocess
 import sys
+
+import pytest
 
 from conftest import SOURCE_DIR
 
@@ -39,3 +42,27 @@ def test_speed_sweep_example(tmp_path):
     rows = traverse.reader.sweep_index(kept)
     assert [row["loads.F.speed"] for row in rows] == ["1.0", "2.5", "4.0"]
     assert all(row["status"] == "complete" for row in rows), rows
+
+
+def test_fit_stiffness_example(tmp_path):
+    """The fit recovers the modulus of the measurement to within the accuracy its search was
+    asked for: minimize_scalar's bounded search stops with the minimiser inside a bracket of
+    2 (sqrt(eps) |E| + xatol / 3) around its answer, so |E - E_true| <= xatol + 2 sqrt(eps) |E|
+    (the measurement is a run of the same model: its misfit is least at the true modulus)."""
+    try:
+        import scipy.optimize  # noqa: F401
+    except ImportError:
+        pytest.fail(f"the example needs scipy for {sys.executable} (Debian: python3-scipy)")
+    png = tmp_path / "fit.png"
+    true_modulus, xatol = 3.0e8, 1.0e5
+    script = os.path.join(SOURCE_DIR, "examples", "python", "fit_stiffness.py")
+    r = subprocess.run([sys.executable, script, "-o", str(png), "--true-modulus", repr(true_modulus),
+                        "--bounds", "1e8", "6e8", "--xatol", repr(xatol), "--set", "mesh.ds=0.05"],
+                       capture_output=True, text=True, timeout=240)
+    assert r.returncode == 0, r.stderr
+    recovered = float(re.search(r"^recovered modulus: +(\S+) Pa$", r.stdout, re.M).group(1))
+    tolerance = xatol + 2 * (2.0 ** -26) * recovered  # sqrt(eps) of a double is 2^-26
+    assert abs(recovered - true_modulus) <= tolerance, r.stdout
+    assert png.stat().st_size > 10_000, "a figure with curves, not an empty file"
+    with open(png, "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"

@@ -4,6 +4,8 @@
 // probes; the fields of beam_fields.hpp. Probe values are kept for a restart's replay check.
 #include <mpi.h>
 
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -15,6 +17,7 @@
 #include "traverse/output/writer.hpp"
 #include "traverse/scene/scene.hpp"
 #include "traverse/setup/beam_fields.hpp"
+#include "traverse/setup/step_view.hpp"
 
 namespace traverse::setup {
 
@@ -117,5 +120,33 @@ class VehicleOutputs {
   std::vector<std::vector<double>> probes_;
   std::vector<double> sigma_;
 };
+
+/// The mode shapes at the output's nodes (those of the field `deflection`), for the deflection
+/// a beam's step callback is given.
+struct BeamNodeShapes {
+  BeamNodeShapes(const scene::Scene& sc, const beam::BeamProblem& p, const beam::ModeSet& modes);
+  std::vector<double> x;  ///< the nodes [m]
+  std::vector<VecX> phi;  ///< the modes' values at each node
+};
+
+/// Calls `cb.beam` on rank 0 with the beam at time step `step` (time t, modal state Y, Y'): the
+/// deflection w = Phi Y at the nodes as the field `deflection` evaluates it. Its answer on every
+/// rank (each rank solves the whole beam: no gathering). Collective.
+bool call_beam_back(const StepCallback& cb, long step, double t, const VecX& Y, const VecX& Ydot,
+                    const BeamNodeShapes& shapes, MPI_Comm comm);
+
+/// The function a beam run's time::StepHookObserver calls after a time step: call_beam_back with
+/// the state of `sim` (a BeamSimulation, a CoupledMassBeam or a VehicleBeam: time(), Y(), Ydot(),
+/// modes()). The shapes are evaluated only when `cb` has a beam callback; `cb` and `sim` must
+/// outlive the function.
+template <class Sim>
+std::function<bool(long)> beam_step_hook(const StepCallback& cb, const Sim& sim, const scene::Scene& sc,
+                                         const beam::BeamProblem& p, MPI_Comm comm) {
+  if (!cb.beam) return [](long) { return true; };
+  auto shapes = std::make_shared<const BeamNodeShapes>(sc, p, sim.modes());
+  return [&cb, &sim, shapes, comm](long step) {
+    return call_beam_back(cb, step, sim.time(), sim.Y(), sim.Ydot(), *shapes, comm);
+  };
+}
 
 }  // namespace traverse::setup

@@ -32,7 +32,7 @@ class RodOutputs {
   void write(output::Writer& w, double t, const Vec3& r0);
   /// Calls `cb` on rank 0 with the whole rod after time step `step` at time t (r0: the left
   /// end's position); its answer on every rank. Collective.
-  bool call_back(const RodStepCallback& cb, long step, double t, const Vec3& r0) const;
+  bool call_back(const StepCallback& cb, long step, double t, const Vec3& r0) const;
 
  private:
   void evaluate_probes(const std::vector<rod::RodNode>& near, const std::vector<Vec3>& near_r);

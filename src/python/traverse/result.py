@@ -59,6 +59,22 @@ class Step:
         return f"traverse.Step(step={self.step}, t={self.t!r}, nodes={self.r.shape[0]})"
 
 
+class BeamStep:
+    """What a step callback of traverse.run(beam_scene, every=k, callback=f) is given after
+    every k-th time step: `t` [s] (the step's time, t_k), `step` (its index k), and the beam
+    as read-only numpy arrays (copies, the callback may keep them): `q`, `q_t` (modes,) the
+    modal coordinates [m] and their rates [m/s], `x` (nodes,) the output's nodes along the
+    beam [m] and `w` (nodes,) the deflection there [m] (positive up: the field `deflection`)."""
+
+    __slots__ = ("t", "step", "q", "q_t", "x", "w")
+
+    def __init__(self, t, step, q, q_t, x, w):
+        self.t, self.step, self.q, self.q_t, self.x, self.w = t, step, q, q_t, x, w
+
+    def __repr__(self):
+        return f"traverse.BeamStep(step={self.step}, t={self.t!r}, modes={self.q.shape[0]}, nodes={self.x.shape[0]})"
+
+
 class Result:
     """What one traverse.run wrote: `path` (the HDF5 file), `attrs` (its root attributes),
     `status`, `steps` (output steps, or continuation points, written), `output` (the file
@@ -159,14 +175,14 @@ def run(scene, output=None, quiet=True, overwrite=False, verbose=False, every=1,
     writes; None: a file in a temporary directory owned by the Result. MPI starts on the
     first run if nobody started it (one process, or every rank of an MPI launch calling run).
 
-    `callback`: a function called after every `every`-th time step of a rod run with a Step
+    `callback`: a function called after every `every`-th time step with a Step for a rod run
     (t, step, r, directors, u, omega, kappa, n; on rank 0 of an MPI launch, with the whole
-    rod). If it returns a false value other than None (False, numpy's False, 0) the run
+    rod) or a BeamStep for a beam run (t, step, q, q_t, x, w). If it returns a false value other than None (False, numpy's False, 0) the run
     stops there as Ctrl-C stops `traverse run`: a restart point, the file marked
     interrupted, and the Result is returned with `interrupted` True.
     If it raises, the run stops the same way and the exception propagates, with a note that
-    names the restartable file (a temporary one is then kept). Beam and statics scenes, and
-    rod scenes with a coupled mass, refuse a callback (ValueError).
+    names the restartable file (a temporary one is then kept). Statics scenes and rod scenes
+    with a coupled mass refuse a callback (ValueError).
 
     Raises SceneError for a scene that only shows as bad when its model is built,
     OutputError for an output path that cannot be written, RunError when the numerics fail
