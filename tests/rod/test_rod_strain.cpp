@@ -443,9 +443,34 @@ TEST(RodStrain, StiffLimitIsTheInextensibleRod) {
   EXPECT_NEAR(p, 1.0, 0.1);
 }
 
+// The rod of the two tests below: soft (E = 2.5e6 Pa, E A = 196 N), 1 m, 50 cells, clamped at
+// s = 0, a roller pulled by T = eps E A along k at s = L, no gravity; its first axial mode at
+// half its critical damping (Kelvin-Voigt); at rest stretched uniformly by eps.
+struct StretchedRod {
+  static constexpr double L = 1.0, radius = 0.005, E = 2.5e6, rho = 1500.0, eps = 0.1;
+  double EA = E * pi * radius * radius, T = eps * EA;
+  RodModel model() const {
+    RodModel m;
+    m.props = RodProperties::circular(radius, E, 0.25, rho);
+    m.props.C = RodProperties::compliance(RodStrain::extensible, EA, 0.0);
+    const double w1 = pi / 2.0 * std::sqrt(E / rho) / (L * (1.0 + eps));  // clamped-free axial mode 1
+    m.props.B_se = Vec3(0.0, 0.0, kelvin_voigt_viscosity(0.5, w1, EA));
+    m.num_cells = 50;
+    m.length = L;
+    m.left = EndCondition::make_clamped();
+    m.right = EndCondition::make_roller(Vec3::UnitX(), Vec3::UnitZ(), T);
+    return m;
+  }
+  RodState start() const {
+    RodState s = straight_rest_state(50, L);
+    for (auto& nd : s.nodes) nd.y(var::n + 2) = T;
+    return s;
+  }
+};
+
 // A mass moving along a rod that strains follows the stretched centreline: its velocity is
-// U + sigma' r_s, r_s = R^T v. On a straight rod stretched by the end force T (clamped at s = 0,
-// a roller pulled by T along k at s = L, no gravity; eps = T / (E A) = 0.1), a mass accelerating
+// U + sigma' r_s, r_s = R^T v. On the straight rod stretched by the end force T (StretchedRod,
+// eps = T / (E A) = 0.1), a mass accelerating
 // at a in the material coordinate accelerates at a (1 + eps) in space: its inertial force on the
 // rod is -M a (1 + eps) along k, and the left end's axial force settles at T - M a (1 + eps).
 // The axial waves of the sudden start are damped by an axial viscosity (mode 1 at half its
@@ -454,25 +479,16 @@ TEST(RodStrain, StiffLimitIsTheInextensibleRod) {
 // moves as it advances; each about 0.3 % of M a (measured: 0.6 % in all, settled to 3e-4 N
 // from t = 0.2 s). The tangent d3 instead of r_s would give T - M a, 10 % of M a away.
 TEST(RodStrain, MovingMassFollowsTheStretchedCentreline) {
-  const double L = 1.0, radius = 0.005, E = 2.5e6, rho = 1500.0, EA = E * pi * radius * radius;
-  const double eps = 0.1, T = eps * EA, M = 0.1, a = 10.0, s0 = 0.2;
-  RodModel m;
-  m.props = RodProperties::circular(radius, E, 0.25, rho);
-  m.props.C = RodProperties::compliance(RodStrain::extensible, EA, 0.0);
-  const double w1 = pi / 2.0 * std::sqrt(E / rho) / (L * (1.0 + eps));  // clamped-free axial mode 1
-  m.props.B_se = Vec3(0.0, 0.0, kelvin_voigt_viscosity(0.5, w1, EA));
-  m.num_cells = 50;
-  m.length = L;
-  m.left = EndCondition::make_clamped();
-  m.right = EndCondition::make_roller(Vec3::UnitX(), Vec3::UnitZ(), T);
+  const StretchedRod rod;
+  const double eps = rod.eps, T = rod.T, M = 0.1, a = 10.0, s0 = 0.2;
+  RodModel m = rod.model();
   MovingMass mm;
   mm.mass = M;
   mm.sigma = [=](double t) { return s0 + 0.5 * a * t * t; };
   mm.speed = [=](double t) { return a * t; };
   mm.accel = [=](double) { return a; };
   m.loads.masses.push_back(mm);
-  RodState s = straight_rest_state(m.num_cells, L);
-  for (auto& nd : s.nodes) nd.y(var::n + 2) = T;  // uniformly stretched, at rest
+  RodState s = rod.start();
   const ReferenceStepper stepper(m);
   const double dt = 1e-3;
   for (int i = 0; i < 250; ++i) ASSERT_TRUE(stepper.step(s, dt).converged) << "step " << i;
@@ -489,19 +505,10 @@ TEST(RodStrain, MovingMassFollowsTheStretchedCentreline) {
 // the start have died down (second difference of sigma at 0.15, 0.2, 0.25 s), to 1 %: the
 // strain step D / (E A) = 0.5 % that the mass makes moves it by a fraction of that.
 TEST(RodStrain, CoupledMassOnAStretchedRodMovesAlongTheStretchedCentreline) {
-  const double L = 1.0, radius = 0.005, E = 2.5e6, rho = 1500.0, EA = E * pi * radius * radius;
-  const double eps = 0.1, T = eps * EA, M = 0.1, D = 1.0, s0 = 0.2;
-  RodModel m;
-  m.props = RodProperties::circular(radius, E, 0.25, rho);
-  m.props.C = RodProperties::compliance(RodStrain::extensible, EA, 0.0);
-  const double w1 = pi / 2.0 * std::sqrt(E / rho) / (L * (1.0 + eps));
-  m.props.B_se = Vec3(0.0, 0.0, kelvin_voigt_viscosity(0.5, w1, EA));
-  m.num_cells = 50;
-  m.length = L;
-  m.left = EndCondition::make_clamped();
-  m.right = EndCondition::make_roller(Vec3::UnitX(), Vec3::UnitZ(), T);
-  RodState s = straight_rest_state(m.num_cells, L);
-  for (auto& nd : s.nodes) nd.y(var::n + 2) = T;
+  const StretchedRod rod;
+  const double eps = rod.eps, M = 0.1, D = 1.0, s0 = 0.2;
+  const RodModel m = rod.model();
+  RodState s = rod.start();
   CoupledRodMass mass;
   mass.mass = M;
   mass.drive = D;
