@@ -26,7 +26,7 @@ namespace traverse::app {
 
 const scene::MovingLoadSpec* coupled_load(const scene::Scene& sc) {
   for (const auto& l : sc.loads)
-    if (l.coupled || (sc.model == scene::Model::Rod && l.type == scene::LoadType::sprung_mass)) return &l;
+    if (sc.model == scene::Model::Rod ? l.stepped_with_rod() : l.coupled) return &l;
   return nullptr;
 }
 

@@ -272,7 +272,7 @@ void run_rod_coupled(const scene::Scene& sc, const setup::RodSetup& setup, const
   rod::CoupledMassState m{load.position(0.0), load.velocity(0.0)};
   if (mass.suspended && !opt.restart) rod::start_suspension(mass, stepper.model(), state, m);
   const int first = st.first_owned_node(), count = st.num_owned_nodes();
-  setup::CoupledRodOutputs outputs(sc, load, stepper.model(), first, count);
+  setup::CoupledRodOutputs outputs(sc, load, stepper.coupled_mass(), stepper.model(), first, count);
   if (opt.restart) {
     output::check_restart_outputs(source, outputs.probe_names(), outputs.field_names());
     source = output::move_aside_for_restart(opt.output, comm);

@@ -45,14 +45,11 @@ rod::RodProperties rod_properties(const scene::RodSpec& r) {
 
 namespace {
 
-// A coupled or sprung mass: rod::CoupledRodStepper adds its loads (run_rod_coupled.cpp).
-bool stepped_apart(const scene::MovingLoadSpec& l) { return l.coupled || l.type == scene::LoadType::sprung_mass; }
-
 rod::RodLoads rod_loads(const scene::Scene& sc) {
   rod::RodLoads loads;
   loads.gravity = Vec3(0.0, -sc.gravity, 0.0);
   for (const auto& l : sc.loads) {
-    if (stepped_apart(l)) continue;
+    if (l.stepped_with_rod()) continue;  // rod::CoupledRodStepper adds its loads (run_rod_coupled.cpp)
     auto sigma = [l](double t) { return l.sigma(t); };
     if (l.inertia) {
       rod::MovingMass m;
@@ -309,7 +306,7 @@ rod::RodState file_start(const scene::Scene& sc, std::string& description) {
 std::vector<Vec3> point_force_vectors(const scene::Scene& sc) {
   std::vector<Vec3> v;
   for (const auto& l : sc.loads)
-    if (!l.inertia && !stepped_apart(l)) v.push_back(l.force);
+    if (!l.inertia && !l.stepped_with_rod()) v.push_back(l.force);
   return v;
 }
 

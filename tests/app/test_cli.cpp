@@ -592,15 +592,29 @@ TEST(Cli, CoupledRobotWithAirResistanceIsFedEnergyByIt) {
 // Unilateral contact on the rod: inputs/rod/coupled_lift_off_arc.yaml at a coarse mesh and step
 // (20 cells, dt = 2e-3 s) ends with the event lift_off near the rigid-wire answer
 // R acos((v0^2/(g R) + 2 cos theta0) / 3) = 0.795613 m (docs/rod.md "Coupled mass").
-TEST(Cli, CoupledMassRodLiftOff) {
-  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "coupled_lift_off_arc.yaml";
-  const std::string out = (scratch("coupled_lift") / "arc.h5").string();
-  const auto r = run("run " + scene.string() + " -o " + out + " -q --set mesh.ds=0.05 --set time.dt=2e-3");
-  ASSERT_EQ(r.code, 0) << r.out;
+namespace {
+
+// Runs the rod scene `file` of inputs/rod into `out` with `args`: a complete run that ended with
+// the one event lift_off; its events (empty after a failed check).
+std::vector<traverse::output::RunEvent> lift_off_run(const std::string& file, const std::string& out,
+                                                     const std::string& args) {
+  const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / file;
+  const auto r = run("run " + scene.string() + " -o " + out + " -q " + args);
+  EXPECT_EQ(r.code, 0) << r.out;
+  if (r.code != 0) return {};
   traverse::output::Reader f(out);
   EXPECT_EQ(f.status(), "complete");
   EXPECT_EQ(f.attribute("end_reason"), "lift_off");
-  const auto events = f.events();
+  auto events = f.events();
+  EXPECT_EQ(events.size(), 1u);
+  return events.size() == 1u ? events : decltype(events){};
+}
+
+}  // namespace
+
+TEST(Cli, CoupledMassRodLiftOff) {
+  const std::string out = (scratch("coupled_lift") / "arc.h5").string();
+  const auto events = lift_off_run("coupled_lift_off_arc.yaml", out, "--set mesh.ds=0.05 --set time.dt=2e-3");
   ASSERT_EQ(events.size(), 1u);
   const double exact = std::acos((1.0 / 9.8 + 2.0 * std::cos(0.05)) / 3.0);
   std::printf("  lift-off at t = %.6f s, sigma = %.6f m (rigid wire %.6f m)\n", events[0].time, events[0].position, exact);
@@ -615,13 +629,10 @@ TEST(Cli, CoupledMassRodLiftOff) {
 TEST(Cli, SprungMassRodLiftOff) {
   const fs::path scene = fs::path(TRAVERSE_SOURCE_DIR) / "inputs" / "rod" / "sprung_cabin_cable.yaml";
   const std::string out = (scratch("sprung_lift") / "cabin.h5").string(), both = (scratch("sprung_lift") / "b.h5").string();
-  auto r = run("run " + scene.string() + " -o " + out + " -q --set loads.cabin.speed=1.5 --set loads.cabin.contact=unilateral");
-  ASSERT_EQ(r.code, 0) << r.out;
-  traverse::output::Reader f(out);
-  EXPECT_EQ(f.status(), "complete");
-  EXPECT_EQ(f.attribute("end_reason"), "lift_off");
-  const auto events = f.events();
+  const auto events = lift_off_run("sprung_cabin_cable.yaml", out,
+                                   "--set loads.cabin.speed=1.5 --set loads.cabin.contact=unilateral");
   ASSERT_EQ(events.size(), 1u);
+  traverse::output::Reader f(out);
   const auto c = f.probe("cabin_contact_force").values;
   const auto t = f.time();
   ASSERT_GE(c.size(), 3u);
@@ -631,7 +642,7 @@ TEST(Cli, SprungMassRodLiftOff) {
   EXPECT_LT(events[0].time, t.back());
   std::printf("  lift-off at t = %.6f s, sigma = %.6f m (last contact forces %.4f, %.4f N)\n", events[0].time,
               events[0].position, c[c.size() - 2], c.back());
-  r = run("run " + scene.string() + " -o " + both + " -q --set loads.cabin.speed=1.5");
+  const auto r = run("run " + scene.string() + " -o " + both + " -q --set loads.cabin.speed=1.5");
   ASSERT_EQ(r.code, 0) << r.out;
   traverse::output::Reader g(both);
   EXPECT_EQ(g.attribute("end_reason"), "end_time");

@@ -56,3 +56,25 @@ def assert_same_datasets(a, b):
         else:
             assert np.array_equal(x, y), f"{name}: values differ"
     return len(da)
+
+
+def assert_raising_callback_stops_restartably(traverse, scene, out, every, reference):
+    """A callback that raises after `every` steps: the exception propagates with a note naming
+    the restartable file `out`, which holds the steps up to there and, restarted by the
+    executable, equals `reference` bit for bit."""
+
+    class Enough(Exception):
+        pass
+
+    def explode(step):
+        if step.step >= every:
+            raise Enough(f"at t = {step.t}")
+
+    with pytest.raises(Enough) as e:
+        traverse.run(scene, output=out, callback=explode)
+    assert any(str(out) in note and "restartable" in note for note in e.value.__notes__), e.value.__notes__
+    out_file = traverse.read(out, allow_incomplete=True)
+    assert out_file.status.startswith("interrupted at t = ") and out_file.steps_written == every + 1
+    r = run_exe("run", "--restart", str(out), "-q")
+    assert r.returncode == 0, r.stderr
+    assert_same_datasets(reference, out)

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import traverse
-from conftest import assert_same_datasets, run_exe, scene_path
+from conftest import assert_raising_callback_stops_restartably, assert_same_datasets, run_exe, scene_path
 
 EVERY = 3
 # Every time step an output step (the file's /time holds each step's time), few steps.
@@ -95,19 +95,5 @@ def test_false_stops_and_restart_completes(tmp_path, references, kind):
 
 
 def test_exception_propagates_and_leaves_a_restartable_file(tmp_path, references):
-    class Enough(Exception):
-        pass
-
-    def explode(step):
-        if step.step >= EVERY:
-            raise Enough(f"at t = {step.t}")
-
-    out = tmp_path / "raised.h5"
-    with pytest.raises(Enough) as e:
-        traverse.run(scene("moving_mass"), output=out, callback=explode)
-    assert any(str(out) in note and "restartable" in note for note in e.value.__notes__), e.value.__notes__
-    out_file = traverse.read(out, allow_incomplete=True)
-    assert out_file.status.startswith("interrupted at t = ") and out_file.steps_written == EVERY + 1
-    r = run_exe("run", "--restart", str(out), "-q")
-    assert r.returncode == 0, r.stderr
-    assert_same_datasets(references["moving_mass"][0], out)
+    assert_raising_callback_stops_restartably(traverse, scene("moving_mass"), tmp_path / "raised.h5", EVERY,
+                                              references["moving_mass"][0])

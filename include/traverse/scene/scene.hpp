@@ -163,6 +163,9 @@ struct MovingLoadSpec {
   std::vector<double> train_offsets, train_loads;
   /// Whether the load carries a body on suspensions (sprung_mass, vehicle).
   bool suspended() const { return type == LoadType::sprung_mass || type == LoadType::vehicle; }
+  /// Whether a rod steps the load with itself by a partitioned iteration (rod::CoupledRodStepper:
+  /// a coupled_mass, or a sprung_mass), rather than carrying it as a load of its model.
+  bool stepped_with_rod() const { return coupled || type == LoadType::sprung_mass; }
   /// Distance [m] from the leading to the trailing axle (0 for a single point load).
   double extent() const;
   /// Initial velocity along +s [m/s] (coupled_mass).

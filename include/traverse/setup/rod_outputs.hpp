@@ -59,10 +59,11 @@ rod::CoupledRodMass coupled_rod_mass(const scene::MovingLoadSpec& load);
 /// energies, from the whole state (kept on every rank); the fields of this rank's nodes.
 class CoupledRodOutputs {
  public:
-  /// The fields of nodes first .. first + count - 1 are this rank's.
-  CoupledRodOutputs(const scene::Scene& sc, const scene::MovingLoadSpec& load, const rod::RodModel& model, int first,
-                    int count)
-      : sc_(sc), load_(load), mass_(coupled_rod_mass(load)), model_(model), first_(first), count_(count) {}
+  /// `mass`: the stepper's (coupled_rod_mass of `load`); the fields of nodes first .. first +
+  /// count - 1 are this rank's.
+  CoupledRodOutputs(const scene::Scene& sc, const scene::MovingLoadSpec& load, const rod::CoupledRodMass& mass,
+                    const rod::RodModel& model, int first, int count)
+      : sc_(sc), load_(load), mass_(mass), model_(model), first_(first), count_(count) {}
   output::NodeLayout layout() const {
     output::NodeLayout l;
     l.global_count = static_cast<size_t>(sc_.mesh.nodes);
@@ -81,7 +82,7 @@ class CoupledRodOutputs {
  private:
   const scene::Scene& sc_;
   const scene::MovingLoadSpec& load_;
-  rod::CoupledRodMass mass_;
+  const rod::CoupledRodMass& mass_;
   const rod::RodModel& model_;
   int first_, count_;
   std::vector<std::vector<double>> probes_, fields_;
