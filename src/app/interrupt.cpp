@@ -36,6 +36,19 @@ void install_interrupt_handlers() {
   handle_stop_signals(sa);
 }
 
+InterruptScope::InterruptScope() {
+  sigaction(SIGINT, nullptr, &int_);
+  sigaction(SIGTERM, nullptr, &term_);
+  g_signal = 0;
+  install_interrupt_handlers();
+}
+
+InterruptScope::~InterruptScope() {
+  sigaction(SIGINT, &int_, nullptr);
+  sigaction(SIGTERM, &term_, nullptr);
+  g_signal = 0;
+}
+
 int local_interrupt_signal() { return static_cast<int>(g_signal); }
 
 int interrupt_requested(MPI_Comm comm) {

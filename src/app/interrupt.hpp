@@ -7,6 +7,7 @@
 // the decision is an MPI_Allreduce, so all ranks stop at the same step.
 #include <mpi.h>
 
+#include <csignal>
 #include <functional>
 #include <stdexcept>
 #include <string>
@@ -21,6 +22,19 @@ class Progress;
 
 /// Installs the SIGINT and SIGTERM handlers (idempotent).
 void install_interrupt_handlers();
+
+/// The handlers of install_interrupt_handlers for its lifetime, in a process that has its own
+/// (the Python module's runs): puts back the handlers it found and forgets the signal received.
+class InterruptScope {
+ public:
+  InterruptScope();
+  ~InterruptScope();
+  InterruptScope(const InterruptScope&) = delete;
+  InterruptScope& operator=(const InterruptScope&) = delete;
+
+ private:
+  struct sigaction int_{}, term_{};
+};
 
 /// The signal this rank received (0: none). Not collective.
 int local_interrupt_signal();

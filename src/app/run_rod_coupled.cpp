@@ -293,7 +293,11 @@ void run_rod_coupled(const scene::Scene& sc, const setup::RodSetup& setup, const
                     opt.progress_interval);
   RunObserver observer({[&] { record.write(); }, [&](long) { record.store(); }, [&] { return state.t; }, {}, {}},
                        writer, opt, progress, comm);
-  time::TimeIntegrator integrator(setup::rod_schedule(sc, grid), model, observer);
+  time::StepHookObserver hooked(observer, opt.on_step.every, [&](long i) {
+    return setup::coupled_call_back(opt.on_step, i, state, model.r, m, mass.suspended, comm);
+  });
+  time::TimeIntegrator integrator(setup::rod_schedule(sc, grid), model,
+                                  opt.on_step ? static_cast<time::Observer&>(hooked) : observer);
   record.integrator = &integrator;
   if (opt.restart) {
     output::copy_output_steps(source, writer, point.steps_written, outputs.probe_names(), outputs.field_names(),

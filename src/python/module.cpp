@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "interrupt.hpp"
+#include "restart.hpp"
 #include "run.hpp"
 #include "run_beam_coupled.hpp"
 #include "sweep.hpp"
@@ -201,23 +202,35 @@ setup::StepCallback python_step_callback(bool beam, long every, py::handle f,
   } else {
     cb.rod = python_call<setup::RodStepView>(f, raised, [](const setup::RodStepView& v) {
       const py::ssize_t n = v.nodes;
-      return py::module_::import("traverse.result")
-          .attr("Step")(v.t, v.step, frozen(v.r, {n, 3}), frozen(v.directors, {n, 3, 3}), frozen(v.u, {n, 3}),
-                        frozen(v.omega, {n, 3}), frozen(v.kappa, {n, 3}), frozen(v.n, {n, 3}));
+      const py::module_ result = py::module_::import("traverse.result");
+      py::object mass = py::none();
+      if (v.has_mass)
+        mass = v.has_body ? result.attr("MassStep")(v.sigma, v.speed, v.body, v.body_speed)
+                          : result.attr("MassStep")(v.sigma, v.speed);
+      return result.attr("Step")(v.t, v.step, frozen(v.r, {n, 3}), frozen(v.directors, {n, 3, 3}),
+                                 frozen(v.u, {n, 3}), frozen(v.omega, {n, 3}), frozen(v.kappa, {n, 3}),
+                                 frozen(v.n, {n, 3}), mass);
     });
   }
   return cb;
 }
 
-// Runs the scene into `output` as `traverse run SCENE -o OUTPUT [--overwrite] [-q]` does, on
-// MPI_COMM_WORLD (every rank of an MPI launch calls it). The GIL is released while it runs.
-// With `callback` (a beam run, or a rod run without a coupled mass), it is called every `every`
-// time steps on rank 0 (python_step_callback); a run it stopped returns the output file's status
-// ("interrupted at ..."), a run that completed "". What the callback raised is raised again.
-std::string run(const Source& s, const std::string& output, bool overwrite, bool quiet, bool verbose,
-                const std::string& invocation, long every, py::object callback) {
+// How a run of run() ended early: the output file's status ("interrupted at ...") and the
+// signal that stopped it (time::kStopRequested: the step callback).
+using Stopped = std::pair<std::string, int>;
+
+// Runs the scene into `output` as `traverse run SCENE -o OUTPUT [--overwrite] [-q]` does (with
+// `restart`: as `traverse run --restart OUTPUT [SCENE]`, `s` empty for the scene stored in the
+// file), on MPI_COMM_WORLD (every rank of an MPI launch calls it). The GIL is released while it
+// runs. With `callback`, it is called every `every` time steps on rank 0 (python_step_callback).
+// With `signals` (the interpreter's main thread), SIGINT and SIGTERM stop the run as they stop
+// the executable (app::InterruptScope), and the interpreter's handlers are back afterwards.
+// A run stopped by the callback or a signal returns the output file's status and the signal;
+// a run that completed ("", 0). What the callback raised is raised again.
+Stopped run(const std::optional<Source>& s, const std::string& output, bool overwrite, bool quiet, bool verbose,
+            const std::string& invocation, bool restart, bool signals, long every, py::object callback) {
   std::optional<py::error_already_set> raised;
-  std::string stopped;
+  Stopped stopped{"", 0};
   {
     py::gil_scoped_release nogil;
     std::lock_guard<std::mutex> lock(run_mutex());
@@ -225,30 +238,35 @@ std::string run(const Source& s, const std::string& output, bool overwrite, bool
     translated(
         [&] {
           ensure_mpi();
-          const scene::Scene sc = load(s);
+          const scene::Scene sc = !restart ? load(*s)
+                                  : !s ? app::restart_scene(output, "", {})
+                                  : s->is_file ? app::restart_scene(output, s->path_or_text, s->overrides)
+                                               : load(*s);
+          const bool beam = sc.model == scene::Model::Beam;
+          const bool statics = !beam && sc.continuation.enabled;
+          if (restart && statics)
+            throw app::UsageError{"traverse.run(restart=" + output + "): continuation (statics) runs cannot be restarted"};
           app::RunOptions opt;
           opt.output = output;
+          opt.restart = restart;
           opt.restart_interval = sc.output.restart_interval;
           opt.overwrite = overwrite;
           opt.quiet = quiet;
           opt.verbose = verbose && !quiet;
           opt.invocation = invocation;
           if (!callback.is_none()) {
-            const bool beam = sc.model == scene::Model::Beam;
-            const bool statics = !beam && sc.continuation.enabled;
-            if (statics || (!beam && app::coupled_load(sc)))
-              throw std::invalid_argument(
-                  "traverse.run: callback= is for runs with time steps (beam runs, rod runs without a coupled "
-                  "mass); " + sc.file + " is " +
-                  (statics ? "a continuation (statics) scene" : "a rod scene with a coupled mass"));
+            if (statics)
+              throw std::invalid_argument("traverse.run: callback= is for runs with time steps; " + sc.file +
+                                          " is a continuation (statics) scene");
             opt.on_step = python_step_callback(beam, every, callback, raised);
           }
+          std::optional<app::InterruptScope> scope;
+          if (signals) scope.emplace();
           try {
             app::run_scene(sc, opt, MPI_COMM_WORLD);
           } catch (const app::Interrupted& e) {
-            if (e.signal() != time::kStopRequested) throw;  // a signal's: RunError
             output::set_file_status(e.output(), e.status(), MPI_COMM_WORLD);
-            stopped = e.status();
+            stopped = {e.status(), e.signal()};
           }
         },
         output);
@@ -278,13 +296,15 @@ struct SweepArgs {
   std::vector<std::string> summaries;                      // --summary texts; the first goes to the index
   std::string directory;                                   // -o DIR; empty: a new temporary directory
   bool overwrite = false, quiet = true;
+  bool signals = false;  // SIGINT and SIGTERM stop the sweep as they stop `traverse sweep` (app::InterruptScope)
   std::string invocation;
 };
 
 // What a sweep returns on every rank: its exit code (as `traverse sweep`'s), the index (the
 // text of DIR/index.csv), the directory, the values of the summaries after the first (one
-// list per summary, a value per case, NaN where the case did not complete) and this rank.
-using SweepOutcome = std::tuple<int, std::string, std::string, std::vector<std::vector<double>>, int>;
+// list per summary, a value per case, NaN where the case did not complete), this rank and the
+// signal that stopped the sweep (0: none; the largest of the ranks').
+using SweepOutcome = std::tuple<int, std::string, std::string, std::vector<std::vector<double>>, int, int>;
 
 // Runs the sweep of `s` as `traverse sweep SCENE -o DIR --vary ... [--summary S] [--overwrite]
 // [-q]` does (app::plan_sweep, app::run_sweep) over MPI_COMM_WORLD, every rank calling it. A
@@ -350,7 +370,11 @@ SweepOutcome sweep(const Source& s, const SweepArgs& a) {
         other.summary = summaries[i];
         (void)app::plan_sweep(other);
       }
+      std::optional<app::InterruptScope> scope;
+      if (a.signals) scope.emplace();
       const int code = app::run_sweep(cl, plan, comm);
+      const int signal = app::interrupt_requested(comm);
+      scope.reset();
       made.clear();  // ran: the files are the sweep's
       std::string index;
       std::vector<std::vector<double>> more(summaries.size() > 1 ? summaries.size() - 1 : 0,
@@ -364,7 +388,7 @@ SweepOutcome sweep(const Source& s, const SweepArgs& a) {
               more[i][k] = app::case_summary(plan.cases[k].output, summaries[i + 1]);
       }
       for (auto& values : more) MPI_Bcast(values.data(), static_cast<int>(values.size()), MPI_DOUBLE, 0, comm);
-      return {code, bcast_text(index, comm), cl.output, more, rank};
+      return {code, bcast_text(index, comm), cl.output, more, rank, signal};
     } catch (...) {
       if (rank == 0 && !made.empty()) {
         std::error_code ignored;
@@ -388,9 +412,11 @@ PYBIND11_MODULE(_traverse, m) {
         "(plan, complete scene as YAML) as `traverse check` prints them; raises SceneError");
   m.def("validate", &validate, py::arg("source"), "reads the scene with its overrides; raises SceneError");
   m.def("run", &run, py::arg("source"), py::arg("output"), py::arg("overwrite") = false, py::arg("quiet") = true,
-        py::arg("verbose") = false, py::arg("invocation") = "", py::arg("every") = 1, py::arg("callback") = py::none(),
-        "runs the scene into the HDF5 file `output` (app::run_scene), calling `callback` every `every` time steps; "
-        "returns '' or the status of a run the callback stopped; raises SceneError, OutputError, RunError");
+        py::arg("verbose") = false, py::arg("invocation") = "", py::arg("restart") = false, py::arg("signals") = false,
+        py::arg("every") = 1, py::arg("callback") = py::none(),
+        "runs the scene (None with restart: the file's) into the HDF5 file `output` (app::run_scene), or continues "
+        "it (restart), calling `callback` every `every` time steps; returns (status, signal) of a run a callback or "
+        "a signal stopped, ('', 0) of one that completed; raises SceneError, OutputError, RunError");
   py::class_<SweepArgs>(m, "SweepArgs")
       .def(py::init<>())
       .def_readwrite("vary", &SweepArgs::vary)
@@ -398,10 +424,11 @@ PYBIND11_MODULE(_traverse, m) {
       .def_readwrite("directory", &SweepArgs::directory)
       .def_readwrite("overwrite", &SweepArgs::overwrite)
       .def_readwrite("quiet", &SweepArgs::quiet)
+      .def_readwrite("signals", &SweepArgs::signals)
       .def_readwrite("invocation", &SweepArgs::invocation);
   m.def("sweep", &sweep, py::arg("source"), py::arg("args"),
         "runs a sweep (app::plan_sweep, app::run_sweep): (exit code, index.csv text, directory, further "
-        "summaries, rank); raises SceneError, OutputError");
+        "summaries, rank, signal); raises SceneError, OutputError");
   m.def("finish", &finish, "ends Kokkos and, when this module started it, MPI (at the interpreter's exit)");
   m.def("mpi_started_here", [] { return mpi_state().started_here; }, "whether this module called MPI_Init_thread");
   m.attr("version") = version_string();

@@ -151,6 +151,16 @@ void RodOutputs::write(output::Writer& w, double t, const Vec3& r0) {
   w.write_step(t, sigma_, probe_values_, views);
 }
 
+namespace {
+// Calls cb.rod with `v` on rank 0 (the view is filled there only); its answer on every rank.
+bool rank_zero_decides(const StepCallback& cb, const RodStepView& v, MPI_Comm comm) {
+  int go = 1;
+  if (par::rank(comm) == 0) go = cb.rod(v) ? 1 : 0;
+  par::bcast(&go, 1, MPI_INT, 0, comm);
+  return go != 0;
+}
+}  // namespace
+
 bool RodOutputs::call_back(const StepCallback& cb, long step, double t, const Vec3& r0) const {
   const int nodes = model_.num_cells + 1;
   // Each rank's nodes in their places, zero elsewhere, summed on rank 0: 3 (r) + 9 (R) + 12 (y).
@@ -169,9 +179,8 @@ bool RodOutputs::call_back(const StepCallback& cb, long step, double t, const Ve
   if (rank == 0) all.resize(mine.size());
   if (par::alone(comm_)) all = mine;
   else MPI_Reduce(mine.data(), all.data(), static_cast<int>(mine.size()), MPI_DOUBLE, MPI_SUM, 0, comm_);
-  int go = 1;
+  RodStepView v;
   if (rank == 0) {
-    RodStepView v;
     v.t = t;
     v.step = step;
     v.nodes = nodes;
@@ -187,10 +196,39 @@ bool RodOutputs::call_back(const StepCallback& cb, long step, double t, const Ve
     take(v.omega, 15, 3);
     take(v.kappa, 18, 3);
     take(v.n, 21, 3);
-    go = cb.rod(v) ? 1 : 0;
   }
-  par::bcast(&go, 1, MPI_INT, 0, comm_);
-  return go != 0;
+  return rank_zero_decides(cb, v, comm_);
+}
+
+bool coupled_call_back(const StepCallback& cb, long step, const rod::RodState& s, const std::vector<Vec3>& r,
+                       const rod::CoupledMassState& m, bool suspended, MPI_Comm comm) {
+  RodStepView v;
+  if (par::rank(comm) == 0) {
+    const int nodes = static_cast<int>(s.nodes.size());
+    v.t = s.t;
+    v.step = step;
+    v.nodes = nodes;
+    for (auto* f : {&v.r, &v.u, &v.omega, &v.kappa, &v.n}) f->reserve(3 * static_cast<size_t>(nodes));
+    v.directors.reserve(9 * static_cast<size_t>(nodes));
+    for (int j = 0; j < nodes; ++j) {
+      const rod::RodNode& nd = s.nodes[static_cast<size_t>(j)];
+      for (int i = 0; i < 3; ++i) v.r.push_back(r[static_cast<size_t>(j)](i));
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) v.directors.push_back(nd.R(i, k));
+      for (int i = 0; i < 3; ++i) {
+        v.u.push_back(nd.y[i]);
+        v.omega.push_back(nd.y[3 + i]);
+        v.kappa.push_back(nd.y[6 + i]);
+        v.n.push_back(nd.y[9 + i]);
+      }
+    }
+    v.has_mass = true;
+    v.sigma = m.sigma;
+    v.speed = m.speed;
+    v.has_body = suspended;
+    if (suspended) v.body = m.body, v.body_speed = m.body_speed;
+  }
+  return rank_zero_decides(cb, v, comm);
 }
 
 rod::CoupledRodMass coupled_rod_mass(const scene::MovingLoadSpec& load) {

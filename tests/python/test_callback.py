@@ -98,10 +98,8 @@ def test_temporary_output_of_a_raising_callback_is_kept():
     assert traverse.read(path, allow_incomplete=True).status.startswith("interrupted")
 
 
-def test_refused_where_there_are_no_time_steps_or_a_coupled_mass():
+def test_refused_where_there_are_no_time_steps():
     with pytest.raises(ValueError, match="callback= is for runs with time steps.*a continuation .statics. scene"):
         traverse.run(scene_path("statics", "euler_buckling.yaml"), callback=print)
-    with pytest.raises(ValueError, match="callback= is for runs with time steps.*a rod scene with a coupled mass"):
-        traverse.run(scene_path("rod", "coupled_bead_cable.yaml"), callback=print)
     with pytest.raises(ValueError, match="every must be"):
         traverse.run(scene(), every=0, callback=print)

@@ -1,5 +1,6 @@
 """The examples of examples/python run and draw their figures."""
 
+import math
 import os
 import re
 import subprocess
@@ -66,3 +67,44 @@ def test_fit_stiffness_example(tmp_path):
     assert png.stat().st_size > 10_000, "a figure with curves, not an empty file"
     with open(png, "rb") as f:
         assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+def run_example(name, *args):
+    script = os.path.join(SOURCE_DIR, "examples", "python", name)
+    r = subprocess.run([sys.executable, script, *args], capture_output=True, text=True, timeout=240)
+    assert r.returncode == 0, r.stderr
+    return r.stdout
+
+
+def assert_png(path):
+    assert path.stat().st_size > 10_000, "a figure with curves, not an empty file"
+    with open(path, "rb") as f:
+        assert f.read(8) == b"\x89PNG\r\n\x1a\n"
+
+
+def test_bridge_resonance_example(tmp_path):
+    """The beam example's sweep peaks at the speed nearest the first resonance f_1 d (73.65 m/s
+    for the shipped bridge and train: of 60, 65, ..., 90 m/s, 75)."""
+    png = tmp_path / "bridge.png"
+    out = run_example("bridge_resonance.py", "-o", str(png), "--speeds", "60:90:5")
+    resonance = float(re.search(r"resonance speed f1 d = (\S+) m/s", out).group(1))
+    peak = float(re.search(r"largest deflection \S+ mm at (\S+) m/s", out).group(1))
+    assert abs(resonance - 73.65) < 0.01, out
+    assert peak == 75.0, out
+    assert_png(png)
+
+
+def test_euler_buckling_example(tmp_path):
+    """The statics example's pitchfork and buckled branch approach the elastica's closed form at
+    second order in ds (measured 2.00 and 2.19 from ds = 0.04 to 0.02; asserted 2 +- 0.3)."""
+    found = {}
+    for ds in (0.04, 0.02):
+        png = tmp_path / f"euler_{ds}.png"
+        out = run_example("euler_buckling.py", "-o", str(png), "--set", f"mesh.ds={ds}")
+        pitchfork = abs(float(re.search(r"relative difference (\S+)\)", out).group(1)))
+        branch = float(re.search(r"largest distance from the closed form (\S+)", out).group(1))
+        found[ds] = (pitchfork, branch)
+        assert_png(png)
+    for i, what in enumerate(("pitchfork load", "buckled branch")):
+        order = math.log2(found[0.04][i] / found[0.02][i])
+        assert abs(order - 2.0) <= 0.3, f"{what}: order {order:.2f} ({found})"

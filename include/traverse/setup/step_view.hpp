@@ -14,6 +14,10 @@ struct RodStepView {
   std::vector<double> r;          ///< centreline [m], fixed components
   std::vector<double> directors;  ///< 9 per node: the rows d1, d2, d3, in fixed components
   std::vector<double> u, omega, kappa, n;  ///< body components, as the fields of the same names
+  /// A coupled or sprung mass (runs with one): its position sigma along the rod [m] and
+  /// sigma' [m/s]; a sprung mass's body displacement and velocity along up [m, m/s].
+  bool has_mass = false, has_body = false;
+  double sigma = 0.0, speed = 0.0, body = 0.0, body_speed = 0.0;
 };
 
 /// A beam after time step `step` (every beam run: moving loads, a coupled mass, vehicles):

@@ -16,12 +16,12 @@ import atexit as _atexit
 from . import _traverse
 from ._errors import OutputError, RunError, SceneError
 from .reader import ContinuationOutput, IncompleteOutputError, TraverseOutput, summary
-from .result import BeamStep, Result, Step, read, run
+from .result import BeamStep, MassStep, Result, Step, read, run
 from .scene import Scene
 from .sweep import SweepTable, sweep
 
 __version__ = _traverse.version
-__all__ = ["Scene", "run", "sweep", "SweepTable", "Step", "BeamStep", "read", "Result", "TraverseOutput", "ContinuationOutput",
+__all__ = ["Scene", "run", "sweep", "SweepTable", "Step", "MassStep", "BeamStep", "read", "Result", "TraverseOutput", "ContinuationOutput",
            "summary", "SceneError", "RunError", "OutputError", "IncompleteOutputError"]
 
 # Kokkos (kept from the first rod run to the last, as in the program) and MPI, when this

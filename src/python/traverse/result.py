@@ -3,10 +3,13 @@
 import numbers
 import os
 import shutil
+import signal
 import tempfile
+import threading
 
 from . import _traverse
 from . import reader as _reader
+from ._errors import RunError
 from .scene import Scene
 
 
@@ -42,21 +45,39 @@ class _Fields:
         return list(self._out.field_names)
 
 
+class MassStep:
+    """The coupled or sprung mass of a rod run's Step: `sigma` [m] its position along the rod
+    (arc length of the rest shape), `speed` [m/s] sigma'; of a sprung mass also `body` [m] and
+    `body_speed` [m/s], the body's displacement and velocity along up (None otherwise)."""
+
+    __slots__ = ("sigma", "speed", "body", "body_speed")
+
+    def __init__(self, sigma, speed, body=None, body_speed=None):
+        self.sigma, self.speed, self.body, self.body_speed = sigma, speed, body, body_speed
+
+    def __repr__(self):
+        return (f"traverse.MassStep(sigma={self.sigma!r}, speed={self.speed!r}"
+                + ("" if self.body is None else f", body={self.body!r}, body_speed={self.body_speed!r}") + ")")
+
+
 class Step:
     """What a step callback of traverse.run(scene, every=k, callback=f) is given after every
     k-th time step: `t` [s] (the step's time, t_k), `step` (its index k), and the whole rod
     as read-only numpy arrays (copies, the callback may keep them): `r` (nodes, 3) the
     centreline [m] and `directors` (nodes, 3, 3) the rows d1, d2, d3, in fixed components;
-    `u`, `omega`, `kappa`, `n` (nodes, 3) in body components, the fields of the same names."""
+    `u`, `omega`, `kappa`, `n` (nodes, 3) in body components, the fields of the same names.
+    `mass`: a MassStep in a run with a coupled or sprung mass, else None."""
 
-    __slots__ = ("t", "step", "r", "directors", "u", "omega", "kappa", "n")
+    __slots__ = ("t", "step", "r", "directors", "u", "omega", "kappa", "n", "mass")
 
-    def __init__(self, t, step, r, directors, u, omega, kappa, n):
+    def __init__(self, t, step, r, directors, u, omega, kappa, n, mass=None):
         self.t, self.step, self.r, self.directors = t, step, r, directors
         self.u, self.omega, self.kappa, self.n = u, omega, kappa, n
+        self.mass = mass
 
     def __repr__(self):
-        return f"traverse.Step(step={self.step}, t={self.t!r}, nodes={self.r.shape[0]})"
+        return (f"traverse.Step(step={self.step}, t={self.t!r}, nodes={self.r.shape[0]}"
+                + ("" if self.mass is None else f", mass={self.mass!r}") + ")")
 
 
 class BeamStep:
@@ -167,7 +188,33 @@ class Result:
         return f"traverse.Result({self.path!r}, status={self.status!r}, steps={self.steps})"
 
 
-def run(scene, output=None, quiet=True, overwrite=False, verbose=False, every=1, callback=None):
+_STOP_REQUESTED = 1000  # the signal number the program gives a stop by the step callback (time::kStopRequested)
+
+
+def _catches_signals():
+    # The program's SIGINT/SIGTERM handlers replace the interpreter's for the length of a run
+    # only in the main thread (where Python handles signals).
+    return threading.current_thread() is threading.main_thread()
+
+
+def _interrupted(status, sig, output, what):
+    """The exception for a run or sweep a signal stopped: KeyboardInterrupt for SIGINT (Ctrl-C),
+    RunError for another (SIGTERM); `output` the restartable file (None for a sweep)."""
+    try:
+        name = signal.Signals(sig).name
+    except ValueError:
+        name = f"signal {sig}"
+    if sig == signal.SIGINT:
+        e = KeyboardInterrupt(status)
+        e.output = output
+    else:
+        e = RunError(status)
+        e.output = output
+    e.add_note(f"{what}: stopped by {name}" + (f"; continue with traverse.run(restart={output!r})" if output else ""))
+    return e
+
+
+def run(scene=None, output=None, quiet=True, overwrite=False, verbose=False, every=1, callback=None, restart=None):
     """Runs `scene` (a Scene, or the path of a scene file) in this process, as
     `traverse run SCENE -o OUTPUT [--overwrite] [-q]` does, and returns its Result.
 
@@ -175,32 +222,62 @@ def run(scene, output=None, quiet=True, overwrite=False, verbose=False, every=1,
     writes; None: a file in a temporary directory owned by the Result. MPI starts on the
     first run if nobody started it (one process, or every rank of an MPI launch calling run).
 
+    `restart`: an output file (or the Result) of a run that was stopped (by the step callback,
+    Ctrl-C, a kill) or failed: continues it from its last restart point into the same file, as
+    `traverse run --restart OUTPUT [SCENE]` does; `scene` None takes the scene stored in the
+    file. The Result of a temporary output passes its file on to the new Result.
+
     `callback`: a function called after every `every`-th time step with a Step for a rod run
-    (t, step, r, directors, u, omega, kappa, n; on rank 0 of an MPI launch, with the whole
-    rod) or a BeamStep for a beam run (t, step, q, q_t, x, w). If it returns a false value other than None (False, numpy's False, 0) the run
+    (t, step, r, directors, u, omega, kappa, n, and `mass` for a coupled or sprung mass; on
+    rank 0 of an MPI launch, with the whole rod) or a BeamStep for a beam run (t, step, q,
+    q_t, x, w). If it returns a false value other than None (False, numpy's False, 0) the run
     stops there as Ctrl-C stops `traverse run`: a restart point, the file marked
     interrupted, and the Result is returned with `interrupted` True.
     If it raises, the run stops the same way and the exception propagates, with a note that
-    names the restartable file (a temporary one is then kept). Statics scenes and rod scenes
-    with a coupled mass refuse a callback (ValueError).
+    names the restartable file (a temporary one is then kept). Statics scenes refuse a
+    callback (ValueError).
+
+    Ctrl-C (SIGINT; in the main thread) stops the run after the time step in progress, as it
+    stops `traverse run`: the restart point is stored, the file marked interrupted (a temporary
+    one kept) and KeyboardInterrupt raised, its `output` the file to continue with
+    traverse.run(restart=...). SIGTERM does the same and raises RunError. A second Ctrl-C
+    ends the process at once, as it does the program.
 
     Raises SceneError for a scene that only shows as bad when its model is built,
     OutputError for an output path that cannot be written, RunError when the numerics fail
     (its `output` is the partial file).
     """
-    if not isinstance(scene, Scene):
-        scene = Scene.load(scene)
+    tmp = None
+    if restart is not None:
+        if isinstance(restart, Result):
+            tmp, restart._tmp = restart._tmp, None  # the new Result owns a temporary file now
+            restart = restart.path
+        restart = os.fspath(restart)
+        if output is not None and os.fspath(output) != restart:
+            raise ValueError(f"traverse.run: output={os.fspath(output)!r} with restart={restart!r}: a restart "
+                             "continues its own file")
+        if overwrite:
+            raise ValueError(f"traverse.run: overwrite=True with restart={restart!r}: a restart continues the file")
+        output = restart
+        if scene is not None and not isinstance(scene, Scene):
+            scene = Scene.load(scene)
+        invocation = f"traverse.run(restart={restart!r}" + ("" if scene is None else f", {scene.name!r}") + "".join(
+            f", --set {o}" for o in (scene.overrides if scene is not None else ())) + ")"
+    else:
+        if scene is None:
+            raise TypeError("traverse.run: a scene is needed (a Scene or a scene file's path), or restart=")
+        if not isinstance(scene, Scene):
+            scene = Scene.load(scene)
+        if output is None:
+            tmp = tempfile.mkdtemp(prefix="traverse-")
+            output = os.path.join(tmp, "run.h5")
+        output = os.fspath(output)
+        invocation = f"traverse.run({scene.name!r}" + "".join(f", --set {o}" for o in scene.overrides) + ")"
     if callback is not None:
         if not callable(callback):
             raise TypeError(f"traverse.run: callback must be callable, found {type(callback).__name__}")
         if isinstance(every, bool) or not isinstance(every, numbers.Integral) or every < 1:
             raise ValueError(f"traverse.run: every must be a whole number of time steps >= 1, found {every!r}")
-    tmp = None
-    if output is None:
-        tmp = tempfile.mkdtemp(prefix="traverse-")
-        output = os.path.join(tmp, "run.h5")
-    output = os.fspath(output)
-    invocation = f"traverse.run({scene.name!r}" + "".join(f", --set {o}" for o in scene.overrides) + ")"
     raised = []
 
     def call(step):
@@ -214,8 +291,9 @@ def run(scene, output=None, quiet=True, overwrite=False, verbose=False, every=1,
             return False
 
     try:
-        stopped = _traverse.run(scene._src(), output, overwrite, quiet, verbose, invocation, int(every),
-                                None if callback is None else call)
+        stopped, sig = _traverse.run(None if scene is None else scene._src(), output, overwrite, quiet, verbose,
+                                     invocation, restart is not None, _catches_signals(), int(every),
+                                     None if callback is None else call)
     except BaseException as e:
         # A failed run's partial file is the caller's to read: a temporary one is kept
         # (its directory is named in RunError.output); anything else removes the directory.
@@ -229,4 +307,6 @@ def run(scene, output=None, quiet=True, overwrite=False, verbose=False, every=1,
         else:  # at the last step: nothing was left to stop
             e.add_note(f"traverse.run: the step callback raised after the last step; {output} is complete")
         raise e
+    if sig and sig != _STOP_REQUESTED:
+        raise _interrupted(stopped, sig, output, "traverse.run")
     return Result(output, tmp, interrupted=bool(stopped))

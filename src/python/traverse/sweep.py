@@ -9,6 +9,7 @@ import re
 import shutil
 
 from . import _traverse
+from .result import _catches_signals, _interrupted
 from .scene import Scene, _value_text
 
 # A number as the index writes a varied value that is one (YAML's decimal and exponent forms).
@@ -151,9 +152,19 @@ def sweep(scene, vary, summary=None, output=None, overwrite=False, quiet=True):
     args.invocation = (f"traverse.sweep({scene.name!r}" + "".join(f", --set {o}" for o in scene.overrides) +
                        "".join(f", {opt} {text}" for opt, text in args.vary) +
                        (f", --summary {summaries[0]}" if summaries else "") + ")")
-    code, index, directory, more, rank = _traverse.sweep(scene._src(), args)
+    args.signals = _catches_signals()
+    code, index, directory, more, rank, sig = _traverse.sweep(scene._src(), args)
     keys = [text.split("=", 1)[0] for _, text in args.vary]
     table = _table(index, directory, code, keys, summaries, more, kept=output is not None)
     if output is None and rank == 0:
         shutil.rmtree(directory, ignore_errors=True)
+    if sig:
+        done = sum(row["status"] == "complete" for row in table)
+        e = _interrupted(f"traverse.sweep: interrupted after {done} of {len(table)} cases complete", sig, None,
+                         "traverse.sweep")
+        e.table = table
+        e.add_note("traverse.sweep: the cases run so far are in the exception's `table`"
+                   + (f" and in {os.path.join(directory, 'index.csv')}; the interrupted case continues with "
+                      "traverse.run(restart=its output)" if output is not None else ""))
+        raise e
     return table
