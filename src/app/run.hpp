@@ -27,7 +27,7 @@ struct RunOptions {
   double flush_interval = 1.0;     ///< wall seconds between flushes of the output (output.flush_interval)
   bool restart = false;  ///< continue the run of `output` from its last restart point (traverse/output/restart.hpp)
   setup::RunLimits limits;      ///< --max-memory, --max-steps
-  setup::StepCallback on_step;  ///< rod runs without a coupled mass, beam runs: called every on_step.every steps
+  setup::StepCallback on_step;  ///< rod and beam runs with time steps: called every on_step.every steps
 };
 
 /// Runs a beam scene; throws scene::SceneError for input that only shows as bad once the
