@@ -1,6 +1,6 @@
 #pragma once
 // Parameters (as, bs, gs, at, bt, gt) of the generalised-alpha space-time scheme
-// (docs/rod.md, "Equations" and "rho_inf mapping").
+// (docs/rod.md, "Equations" and "Discretisation").
 namespace traverse::rod {
 
 struct AlphaParameters {

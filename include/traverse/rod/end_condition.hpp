@@ -1,6 +1,6 @@
 #pragma once
-// End conditions of the rod: 6 scalar rows per end (docs/rod.md, "End
-// conditions"). Fixed-frame vectors are transformed to body components with R at the new level.
+// End conditions of the rod: 6 scalar rows per end (docs/rod.md, "Discretisation", the table
+// of ends). Fixed-frame vectors are transformed to body components with R at the new level.
 #include <functional>
 #include <string>
 
