@@ -33,24 +33,10 @@ std::string summary(const scene::Scene& sc, const TimePlan* time, const MemoryPl
   return s;
 }
 
-// What the extensible and shearable rods (rod.model) and the viscosities (rod.damping) do not
-// have yet, refused where the scene chooses it rather than run as the inextensible rod:
-// continuation and the arch and file starts (not verified with strain), and the bending
-// viscosity with a carried spatial history. The static start (the
-// static kernels' compliance, tests/rod/test_rod_strain.cpp) and rest are allowed.
+// What the viscosities (rod.damping) do not have yet, refused where the scene chooses it
+// rather than run without them: the bending viscosity with a carried spatial history.
 void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
   const rod::RodProperties& p = model.props;
-  if (!p.compliant() && !p.damped()) return;
-  const std::string word = "rod.model " + scene::name_of(sc.rod.strain);
-  if (p.compliant()) {
-    if (sc.continuation.enabled)
-      scene::fail_at(sc, "rod.model", "the inextensible rod for a continuation (statics of " + word + " are not "
-                     "implemented)", word);
-    if (sc.initial_state.type != scene::InitialStateType::rest &&
-        sc.initial_state.type != scene::InitialStateType::static_equilibrium)
-      scene::fail_at(sc, "initial_state.type", "static or rest for " + word + " (its arch and file starts are not "
-                     "implemented)", scene::name_of(sc.initial_state.type));
-  }
   if (p.B_bt != Vec3::Zero() && model.carries_ys())
     scene::fail_at(sc, sc.rod.damping_bending > 0.0 ? "rod.damping.bending" : "rod.damping.torsion",
                    "the box scheme in s (scheme.rho_inf_space 1) with a bending or torsion viscosity",
