@@ -50,9 +50,16 @@ def child_cpu(cmd, env=None, cwd=None):
     return (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime), p.stdout
 
 
-def traverse_run(exe, ds, out):
+# PyElastica's rod is extensible and shearable: E A, and alpha_c G A with its shear factor
+# alpha_c = 27/28 (pyelastica_cable.py's data: E = 2.5e8 Pa, nu = 0.25, r = 5 mm).
+PEER_SHEAR_STIFFNESS = 27.0 / 28.0 * 2.5e8 / (2.0 * 1.25) * np.pi * 0.005 ** 2
+MODEL_SETS = {"inextensible": [],
+              "shearable": ["--set", "rod.model=shearable", "--set", f"rod.shear_stiffness={PEER_SHEAR_STIFFNESS!r}"]}
+
+
+def traverse_run(exe, ds, out, model="inextensible"):
     cmd = [exe, "run", os.path.join(REPO, "inputs", "default.yaml"),
-           "--set", f"mesh.ds={ds}", "-o", out, "-q", "--overwrite"]
+           "--set", f"mesh.ds={ds}", "-o", out, "-q", "--overwrite", *MODEL_SETS[model]]
     cpu, _ = child_cpu(cmd)
     with h5py.File(out, "r") as f:
         t = f["time"][:]
@@ -95,19 +102,22 @@ def main():
     ap.add_argument("--skip-traverse", action="store_true",
                     help="reuse summary.json's traverse figures from --out")
     ap.add_argument("--out", default="out/peers")
+    ap.add_argument("--model", choices=sorted(MODEL_SETS), default="inextensible",
+                    help="traverse's rod model (its runs and its reference); shearable: PyElastica's own "
+                         "model, with its E A and shear stiffness (27/28) G A")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     summary_path = os.path.join(args.out, "summary.json")
 
-    ref_file = os.path.join(args.out, f"traverse_ref_ds{args.ref_ds}.h5")
+    ref_file = os.path.join(args.out, f"traverse_{args.model}_ref_ds{args.ref_ds}.h5")
     if args.skip_traverse and os.path.exists(summary_path):
         summary = json.load(open(summary_path))
         with h5py.File(ref_file, "r") as f:
             t_ref, h_ref = f["time"][:], f["probes/midspan"][:, 1]
     else:
         summary = {"runs": []}
-        cpu, t_ref, h_ref = traverse_run(args.traverse, args.ref_ds, ref_file)
-        summary["reference"] = {"ds": args.ref_ds, "steps": len(t_ref) - 1, "cpu": cpu,
+        cpu, t_ref, h_ref = traverse_run(args.traverse, args.ref_ds, ref_file, args.model)
+        summary["reference"] = {"model": args.model, "ds": args.ref_ds, "steps": len(t_ref) - 1, "cpu": cpu,
                                 "min": spline_min(t_ref, h_ref), "static": float(h_ref[0])}
     ref = (t_ref, h_ref, spline_min(t_ref, h_ref))
 
@@ -115,12 +125,12 @@ def main():
         for ds in [float(x) for x in args.ds.split(",") if x]:
             cpus = []
             for k in range(args.repeat):
-                out = os.path.join(args.out, f"traverse_ds{ds}.h5")
-                cpu, t, h = traverse_run(args.traverse, ds, out)
+                out = os.path.join(args.out, f"traverse_{args.model}_ds{ds}.h5")
+                cpu, t, h = traverse_run(args.traverse, ds, out, args.model)
                 cpus.append(cpu)
             e = errors(t, h, ref)
             summary["runs"].append({
-                "code": "traverse", "disc": f"ds = {ds} ({round(1 / ds) + 1} nodes)",
+                "code": "traverse", "disc": f"{args.model}, ds = {ds} ({round(1 / ds) + 1} nodes)",
                 "dt": float(t[1] - t[0]), "steps": len(t) - 1, "cpu_all": cpus,
                 "cpu": statistics.median(cpus), "static": float(h[0]), **e})
 
@@ -153,7 +163,7 @@ def main():
 
     tr = next(r for r in summary["runs"] if r["code"] == "traverse")
     rf = summary["reference"]
-    print(f"reference: traverse ds = {rf['ds']} ({rf['steps']} steps), min h = {rf['min']:.6f} m, "
+    print(f"reference: traverse {rf.get('model', 'inextensible')} ds = {rf['ds']} ({rf['steps']} steps), min h = {rf['min']:.6f} m, "
           f"static h = {rf['static']:.6f} m")
     print("| code | discretisation | dt [s] | steps | CPU [s] (median) | static sag [mm] "
           "| min h [m] | error of the minimum | max history error | CPU ratio to traverse |")
