@@ -267,6 +267,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall).count();
   points.store(integrator.last_step(), left.position());  // the end (a no-op when the last output step stored it)
   if (estimate) setup::write_adaptive_totals(writer, integrator.totals());
+  setup::write_solve_totals(writer, integrator.last_step(), model.counts().newton);
   writer.finish();
   if (rank == 0 && !opt.quiet) print_done(model.counts(), path.planar, writer, opt.output, seconds, estimate ? &integrator : nullptr,
                                          opt.verbose);

@@ -15,6 +15,7 @@
 #include "restart.hpp"
 #include "progress.hpp"
 #include "run_observer.hpp"
+#include "traverse/setup/coupled_restart.hpp"
 #include "traverse/setup/step_control.hpp"
 #include "traverse/setup/rod_outputs.hpp"
 #include "traverse/setup/rod_setup.hpp"
@@ -34,17 +35,10 @@ namespace {
 
 /// Restart points of a coupled rod run (docs/reliability.md "Restart"): per node the node
 /// (rod::kPackedNodeValues values), its point of the centreline (3) and with time.adaptive the rod
-/// estimate's values (solver::RodErrorEstimate::kPerNode); `extra` holds the values below, then with
-/// time.adaptive the mass controller's per-node values, the count of the rod controller's
-/// scalars, those scalars and the mass controller's.
-namespace extra {
-enum : std::size_t {
-  dt, planar, sigma, speed, drive_work, dissipated, friction_work, stick, up_prev, up_time, normal,
-  tangential = normal + 3, steps, newton, coupling, written_t, event_count, event_time, event_position, event_reason,
-  body, fixed = body + 6  // body: a suspension's z, z', w, w', force, damper work
-};
-}  // namespace extra
-const char* const kEventReasons[] = {"left_rod_at_0", "left_rod_at_L", "lift_off", "stick", "time_limit"};
+/// estimate's values (solver::RodErrorEstimate::kPerNode); `extra` holds setup::pack_coupled_run's
+/// values, then with time.adaptive the mass controller's per-node values, the count of the rod
+/// controller's scalars, those scalars and the mass controller's.
+namespace extra = setup::coupled_extra;
 std::size_t coupled_restart_components(bool adaptive) {
   return rod::kPackedNodeValues + 3 + (adaptive ? solver::RodErrorEstimate::kPerNode : 0);
 }
@@ -89,34 +83,7 @@ class CoupledRecord {
 };
 
 std::vector<double> CoupledRecord::restart_extra() const {
-  std::vector<double> x(extra::fixed, 0.0);
-  const solver::ContactHistory& c = model_.contact;
-  x[extra::dt] = dt_;
-  x[extra::planar] = planar_ ? 1.0 : 0.0;
-  x[extra::sigma] = m_.sigma;
-  x[extra::speed] = m_.speed;
-  x[extra::drive_work] = m_.drive_work;
-  x[extra::dissipated] = m_.dissipated;
-  x[extra::friction_work] = m_.friction_work;
-  x[extra::stick] = m_.stick_fraction;
-  const auto body = m_.suspension_values();
-  std::copy(body.begin(), body.end(), x.begin() + extra::body);
-  x[extra::up_prev] = c.up_prev;
-  x[extra::up_time] = c.up_time;
-  for (int k = 0; k < 3; ++k) x[extra::normal + k] = c.normal(k);
-  x[extra::tangential] = c.tangential;
-  x[extra::steps] = double(model_.steps);
-  x[extra::newton] = double(model_.newton);
-  x[extra::coupling] = double(model_.coupling);
-  x[extra::written_t] = written_t_;
-  x[extra::event_count] = double(model_.events.size());
-  if (!model_.events.empty()) {
-    const solver::MassEvent& e = model_.events[0];
-    x[extra::event_time] = e.time;
-    x[extra::event_position] = e.position;
-    const auto* r = std::find(std::begin(kEventReasons), std::end(kEventReasons), e.reason);
-    x[extra::event_reason] = double(r - std::begin(kEventReasons));
-  }
+  std::vector<double> x = setup::pack_coupled_run(model_, m_, dt_, planar_, written_t_);
   if (rc_) {
     std::vector<double> mass_node(solver::RodErrorEstimate::kPerNode);
     mc_->pack_node(0, mass_node.data());
@@ -150,26 +117,7 @@ std::optional<time::ControllerState> CoupledRecord::restore(const output::Restar
   for (std::size_t j = 0; j < n; ++j)
     for (int c = 0; c < 3; ++c)
       model_.r[j](c) = point.state[comps * j + rod::kPackedNodeValues + static_cast<std::size_t>(c)];
-  m.sigma = x[extra::sigma];
-  m.speed = x[extra::speed];
-  m.drive_work = x[extra::drive_work];
-  m.dissipated = x[extra::dissipated];
-  m.friction_work = x[extra::friction_work];
-  m.stick_fraction = x[extra::stick];
-  m.set_suspension_values(&x[extra::body]);
-  solver::ContactHistory& c = model_.contact;
-  c.up_prev = x[extra::up_prev];
-  c.up_time = x[extra::up_time];
-  c.normal = Vec3(x[extra::normal], x[extra::normal + 1], x[extra::normal + 2]);
-  c.tangential = x[extra::tangential];
-  model_.steps = static_cast<long>(x[extra::steps]);
-  model_.newton = static_cast<long>(x[extra::newton]);
-  model_.coupling = static_cast<long>(x[extra::coupling]);
-  written_t_ = x[extra::written_t];
-  model_.events.clear();
-  if (x[extra::event_count] > 0.0)
-    model_.events.push_back({x[extra::event_time], x[extra::event_position],
-                             kEventReasons[static_cast<std::size_t>(x[extra::event_reason])]});
+  written_t_ = setup::unpack_coupled_run(x, model_, m);
   if (!rc_) return std::nullopt;
   constexpr std::size_t kPerNode = solver::RodErrorEstimate::kPerNode;
   std::vector<double> per_node(kPerNode * n);
@@ -319,6 +267,7 @@ void run_rod_coupled(const scene::Scene& sc, const setup::RodSetup& setup, const
   record.store();  // the end: a restart of the complete file continues nothing
   writer.write_events(events);
   if (rc) setup::write_adaptive_totals(writer, integrator.totals());
+  setup::write_solve_totals(writer, model.steps, model.newton, model.coupling);
   writer.finish();
   if (rank == 0 && !opt.quiet)
     print_done(model, events, writer.steps_written(), opt.output, wall, rc ? &integrator : nullptr, opt.verbose);

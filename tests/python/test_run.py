@@ -3,6 +3,7 @@ dataset, bit for bit, for a rod, a beam and a statics scene; repeated runs in on
 the Result's arrays as the file holds them."""
 
 import os
+import re
 
 import h5py
 import numpy as np
@@ -143,3 +144,27 @@ def test_memory_does_not_grow_over_100_runs():
     growth = resident[-1] - resident[9]
     print(f"resident memory after 10 runs {resident[9]} kB, after 100 {resident[-1]} kB")
     assert growth < 3600, f"the resident memory grew by {growth} kB over 90 runs"
+
+
+def test_events_and_solve_counts_are_the_executables(tmp_path):
+    """A coupled bead leaves the cable at its end: the Result's events and counters are the
+    ones the executable reports (its -v done line) and writes."""
+    out = tmp_path / "exe.h5"
+    r = run_exe("run", scene_path("rod", "coupled_bead_cable.yaml"), "-o", str(out), "-v")
+    assert r.returncode == 0, r.stderr
+    done = re.search(r"done: (\d+) steps, (\d+) coupling iterations, (\d+) Newton iterations; ended by the event "
+                     r"(\w+) at t = (\S+) s", r.stdout)
+    assert done, r.stdout
+    result = traverse.run(scene_path("rod", "coupled_bead_cable.yaml"))
+    steps, coupling, newton, reason, t = done.groups()
+    assert (result.attrs["time_steps"], result.attrs["coupling_iterations"], result.attrs["newton_iterations"]) == (
+        steps, coupling, newton)
+    [event] = result.events
+    assert event["reason"] == reason == "left_rod_at_L" and event["load"] == "bead"
+    assert event["position"] == 1.0  # the rod's length: the right end
+    assert abs(event["time"] - float(t)) <= 1e-8 * float(t)
+    assert traverse.read(out).events == result.events
+    # Without a coupled mass: no events, the rod's counters.
+    plain = traverse.run(scene_path("default.yaml"), output=tmp_path / "plain.h5")
+    assert plain.events == [] and int(plain.attrs["time_steps"]) == plain.steps - 1
+    assert int(plain.attrs["newton_iterations"]) >= int(plain.attrs["time_steps"])

@@ -67,6 +67,15 @@ inline void write_adaptive_totals(output::Writer& w, const StepControlTotals& t)
   w.set_attribute("dt_largest", buf);
 }
 
+/// The work of a rod run as root attributes of its output (docs/output.md): `time_steps` and
+/// `newton_iterations` (a restarted run without a coupled mass counts from its restart), and
+/// with a coupled mass `coupling_iterations` (`coupling` >= 0).
+inline void write_solve_totals(output::Writer& w, long time_steps, long newton, long coupling = -1) {
+  w.set_attribute("time_steps", std::to_string(time_steps));
+  w.set_attribute("newton_iterations", std::to_string(newton));
+  if (coupling >= 0) w.set_attribute("coupling_iterations", std::to_string(coupling));
+}
+
 /// The first time after t at which one of the prescribed moving loads (not a coupled mass)
 /// enters the rod or reaches one of its nodes (the multiples of ds in [0, length]): there the
 /// hat weights that share its force between the nodes have a kink in time. +inf if none.

@@ -66,8 +66,9 @@ class TraverseOutput:
     Attributes: path, attrs (dict of root attributes, e.g. status, model, scene, command_line,
     traverse_version, steps_written), status, steps_written, time [s] (steps,), sigma [m]
     ((steps,) for one moving load, else (steps, loads)), s [m] (nodes,), probes (dict name ->
-    array), probe_names, field_names, restart (dict name -> array, empty if none valid),
-    restart_time [s] or None.
+    array), probe_names, field_names, events (list of dicts time [s], position [m], load, reason:
+    the /events table of runs with a coupled mass, else empty), restart (dict name -> array,
+    empty if none valid), restart_time [s] or None.
     """
 
     def __init__(self, path):
@@ -99,6 +100,15 @@ class TraverseOutput:
                 d = f[f"fields/{name}"]
                 self._remember(f, f"fields/{name}", f"fields/{name}")
                 self.field_shapes[name] = (n,) + tuple(d.shape[1:])
+            self.events = []
+            g = f.get("events")
+            if g is not None and "time" in g:
+                loads = _text(g.attrs.get("loads", "")).split(",")
+                reasons = _text(g.attrs.get("reasons", "")).split(",")
+                for k, (t, p) in enumerate(zip(g["time"][...], g["position"][...])):
+                    self.events.append({"time": float(t), "position": float(p),
+                                        "load": loads[k] if k < len(loads) else "",
+                                        "reason": reasons[k] if k < len(reasons) else ""})
             self.restart, self.restart_time = {}, None
             g = f.get("restart")
             if g is not None and int(g.attrs.get("valid", 0)) == 1:
@@ -446,6 +456,12 @@ def summary(out):
         comps = ",".join(out.components(f"fields/{name}"))
         lines.append(f"  {name:<20} [{out.units(f'fields/{name}')}] shape "
                      f"{out.field_shapes[name]} ({comps})  {out.description(f'fields/{name}')}")
+    if "time_steps" in out.attrs:
+        lines.append(f"solves:        {out.attrs['time_steps']} time steps"
+                     + "".join(f", {out.attrs[k]} {k.replace('_', ' ')}" for k in ("newton_iterations", "coupling_iterations")
+                               if k in out.attrs))
+    for e in out.events:
+        lines.append(f"event:         {e['reason']} of '{e['load']}' at t = {e['time']:.9g} s, sigma = {e['position']:.6g} m")
     if out.restart_time is not None:
         lines.append(f"restart:       t = {out.restart_time:.6g} s, arrays "
                      + ", ".join(f"{k}{v.shape}" for k, v in out.restart.items()))

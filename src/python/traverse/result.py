@@ -102,7 +102,9 @@ class Result:
     read: a TraverseOutput or a ContinuationOutput), and
 
     - of a time-series run (beam, rod): `time` [s], `sigma` [m], `s` [m], `probes[name]`,
-      `fields[name]` (numpy arrays, fields read when asked for);
+      `fields[name]` (numpy arrays, fields read when asked for), `events` (a coupled mass's:
+      dicts of time, position, load, reason); a rod run's `attrs` hold its `time_steps` and
+      `newton_iterations` (and `coupling_iterations` with a coupled mass);
     - of a continuation run (statics): `continuation[name]` (the parameter, each probe,
       unstable_modes, critical_eigenvalue, branch), `parameter`, `bifurcations`, `states`.
 
@@ -139,6 +141,7 @@ class Result:
     time = property(lambda self: self._series("time"))
     sigma = property(lambda self: self._series("sigma"))
     probes = property(lambda self: self._series("probes"))
+    events = property(lambda self: self._series("events"))
     continuation = property(lambda self: self._points("continuation"))
     parameter = property(lambda self: self._points("parameter"))
     bifurcations = property(lambda self: self._points("bifurcations"))
