@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "h5_dataset.hpp"
 #include "process.hpp"
 #include "traverse/output/continuation_writer.hpp"
 #include "traverse/output/reader.hpp"
@@ -25,18 +26,8 @@ int run(const std::string& args, std::string* out = nullptr) {
   return r.code;
 }
 
-std::vector<double> dataset(const std::string& file, const std::string& name) {
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  const hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
-  const hid_t sp = H5Dget_space(d);
-  hsize_t n = 0;
-  H5Sget_simple_extent_dims(sp, &n, nullptr);
-  std::vector<double> v(n);
-  if (n) H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-  H5Sclose(sp);
-  H5Dclose(d);
-  H5Fclose(f);
-  return v;
+std::vector<double> dataset(const std::string& file, const std::string& name, hsize_t* rows = nullptr) {
+  return traverse::testing::h5_dataset(file, name, rows);
 }
 
 const fs::path kInputs = fs::path(TRAVERSE_SOURCE_DIR) / "inputs";

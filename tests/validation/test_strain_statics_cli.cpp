@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "h5_dataset.hpp"
 #include "process.hpp"
 
 namespace fs = std::filesystem;
@@ -33,23 +34,8 @@ int run(const std::string& args, std::string* out = nullptr) {
   return r.code;
 }
 
-/// A dataset's values, all of them (any rank), row-major; `rows`: its first dimension.
 std::vector<double> dataset(const std::string& file, const std::string& name, hsize_t* rows = nullptr) {
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  const hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
-  const hid_t sp = H5Dget_space(d);
-  hsize_t dims[4] = {0, 1, 1, 1};
-  const int rank = H5Sget_simple_extent_ndims(sp);
-  H5Sget_simple_extent_dims(sp, dims, nullptr);
-  hsize_t n = 1;
-  for (int i = 0; i < rank; ++i) n *= dims[i];
-  std::vector<double> v(n);
-  if (n) H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-  if (rows) *rows = dims[0];
-  H5Sclose(sp);
-  H5Dclose(d);
-  H5Fclose(f);
-  return v;
+  return traverse::testing::h5_dataset(file, name, rows);
 }
 
 const fs::path kInputs = fs::path(TRAVERSE_SOURCE_DIR) / "inputs";
