@@ -17,15 +17,15 @@ Each prints what it measured. Exit status 0 when every check passes, 1 otherwise
 """
 import math
 import os
-import subprocess
 import sys
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
 sys.path.insert(0, os.path.join(ROOT, "postprocessing"))
 import arches  # noqa: E402
 import traverse_io  # noqa: E402
+
+import cli_checks  # noqa: E402
 
 import numpy as np  # noqa: E402
 
@@ -34,32 +34,12 @@ STATICS = os.path.join(ROOT, "inputs", "statics")
 DAMPED = ["scheme.rho_inf=0.8", "solver.Max Subdivision Depth=10"]
 
 
-class Checks:
-    def __init__(self):
-        self.failed = 0
-
-    def __call__(self, ok, text):
-        print(("  ok    " if ok else "  FAIL  ") + text, flush=True)
-        if not ok:
-            self.failed += 1
-
-
 def fmt(x):
     return "none" if x is None else f"{x:.3f}"
 
 
 def run(exe, scratch, scene, name, sets):
-    out = os.path.join(scratch, name + ".h5")
-    cmd = [exe, "run", scene, "-o", out, "--overwrite", "-q"]
-    for s in sets:
-        cmd += ["--set", s]
-    t0 = time.time()
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    print(f"  run {name}: exit {p.returncode} in {time.time() - t0:.1f} s", flush=True)
-    if p.returncode != 0:
-        print(p.stdout)
-        raise SystemExit(f"test_arch_dynamics: {' '.join(cmd)} failed with exit {p.returncode}")
-    return out
+    return cli_checks.run(exe, scratch, scene, name, sets, "test_arch_dynamics")
 
 
 def shallow(exe, scratch, check):
@@ -178,18 +158,5 @@ def n2(exe, scratch, check):
           f"max |step + F.d2| = {err.max():.4f} N (allowed {0.05 * F:.3f} N)")
 
 
-def main(argv):
-    if len(argv) != 4 or argv[3] not in ("shallow", "deep", "n2"):
-        print(__doc__)
-        return 2
-    exe, scratch, which = argv[1], argv[2], argv[3]
-    os.makedirs(scratch, exist_ok=True)
-    check = Checks()
-    t0 = time.time()
-    {"shallow": shallow, "deep": deep, "n2": n2}[which](exe, scratch, check)
-    print(f"test_arch_dynamics {which}: {check.failed} failed, {time.time() - t0:.0f} s")
-    return 1 if check.failed else 0
-
-
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(cli_checks.main("test_arch_dynamics", {"shallow": shallow, "deep": deep, "n2": n2}, sys.argv, __doc__))

@@ -11,8 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "h5_dataset.hpp"
-#include "process.hpp"
+#include "cli_support.hpp"
 #include "traverse/output/continuation_writer.hpp"
 #include "traverse/output/reader.hpp"
 
@@ -20,49 +19,37 @@ namespace fs = std::filesystem;
 
 namespace {
 
-int run(const std::string& args, std::string* out = nullptr) {
-  const auto r = traverse::testing::run_command(std::string(TRAVERSE_EXE) + " " + args);
-  if (out) *out = r.out;
-  return r.code;
-}
+using traverse::testing::h5_dataset;
+using traverse::testing::run_traverse;
 
-std::vector<double> dataset(const std::string& file, const std::string& name, hsize_t* rows = nullptr) {
-  return traverse::testing::h5_dataset(file, name, rows);
-}
-
-const fs::path kInputs = fs::path(TRAVERSE_SOURCE_DIR) / "inputs";
-
-fs::path scratch() {
-  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / "scenes";
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch() { return traverse::testing::scratch_dir("scenes"); }
+const fs::path kInputs = traverse::testing::inputs_dir();
 
 }  // namespace
 
 TEST(ScenesCli, EulerBucklingSceneFindsThePitchfork) {
   const std::string out = (scratch() / "euler.h5").string();
   std::string log;
-  ASSERT_EQ(run("run " + (kInputs / "statics" / "euler_buckling.yaml").string() + " -o " + out +
+  ASSERT_EQ(run_traverse("run " + (kInputs / "statics" / "euler_buckling.yaml").string() + " -o " + out +
                     " --overwrite --set mesh.ds=0.05",
                 &log),
             0)
       << log;
-  const auto types = dataset(out, "/bifurcations/end_load");
+  const auto types = h5_dataset(out, "/bifurcations/end_load");
   ASSERT_GE(types.size(), 1u) << log;
   const double EI = 2.5e8 * M_PI * std::pow(0.005, 4) / 4.0, PE = M_PI * M_PI * EI;
   std::cout << "  pitchfork at P = " << types[0] << " N, pi^2 EI / L^2 = " << PE << " N\n";
   EXPECT_NEAR(types[0], PE, 5e-3 * PE);  // 20 cells: discretisation error ~ 2.6e-3 relative
-  const auto unstable = dataset(out, "/continuation/unstable_modes");
-  const auto P = dataset(out, "/continuation/end_load");
-  const auto branch = dataset(out, "/continuation/branch");
+  const auto unstable = h5_dataset(out, "/continuation/unstable_modes");
+  const auto P = h5_dataset(out, "/continuation/end_load");
+  const auto branch = h5_dataset(out, "/continuation/branch");
   ASSERT_EQ(P.size(), unstable.size());
   for (size_t i = 0; i < P.size(); ++i) {
     if (branch[i] != 0) continue;
     EXPECT_EQ(unstable[i], P[i] < types[0] ? 0.0 : 1.0) << "P = " << P[i];
   }
   // The switched branch is buckled and stable.
-  const auto y = dataset(out, "/continuation/mid_y");
+  const auto y = h5_dataset(out, "/continuation/mid_y");
   double lifted = 0.0;
   for (size_t i = 0; i < y.size(); ++i)
     if (branch[i] == 1) lifted = std::max(lifted, std::abs(y[i]));
@@ -74,7 +61,7 @@ TEST(ScenesCli, EulerBucklingSceneFindsThePitchfork) {
 TEST(ScenesCli, ArchSceneFormsTheArchAndRunsFromIt) {
   const std::string out = (scratch() / "arch.h5").string();
   std::string log;
-  ASSERT_EQ(run("run " + (kInputs / "arch" / "shallow_arch_v2.0.yaml").string() + " -o " + out +
+  ASSERT_EQ(run_traverse("run " + (kInputs / "arch" / "shallow_arch_v2.0.yaml").string() + " -o " + out +
                     " --overwrite --set mesh.ds=0.05 --set time.end=0.05",
                 &log),
             0)
@@ -101,7 +88,7 @@ TEST(ScenesCli, LoadedArchStartsInEquilibriumWithTheLoad) {
   for (int loaded = 0; loaded < 2; ++loaded) {
     const std::string out = (scratch() / ("arch_loaded_" + std::to_string(loaded) + ".h5")).string();
     std::string log;
-    ASSERT_EQ(run("run " + scene + " -o " + out + common +
+    ASSERT_EQ(run_traverse("run " + scene + " -o " + out + common +
                       " --set initial_state.loaded=" + (loaded ? "true" : "false"),
                   &log),
               0)
@@ -127,11 +114,11 @@ TEST(ScenesCli, LoadedArchStartsInEquilibriumWithTheLoad) {
   EXPECT_LT(std::abs(start_z[1] - start_z[0]), 0.05 * 0.02 * 2.0);
   // Not with another start, nor without exactly one load on the arch at t = 0: exit 2, the key named.
   std::string log;
-  EXPECT_EQ(run("check " + (kInputs / "default.yaml").string() + " --set initial_state.loaded=true", &log), 2);
+  EXPECT_EQ(run_traverse("check " + (kInputs / "default.yaml").string() + " --set initial_state.loaded=true", &log), 2);
   EXPECT_NE(log.find("initial_state.loaded"), std::string::npos) << log;
-  EXPECT_EQ(run("check " + scene + " --set initial_state.loaded=true --set loads.F.entry_time=1", &log), 2);
+  EXPECT_EQ(run_traverse("check " + scene + " --set initial_state.loaded=true --set loads.F.entry_time=1", &log), 2);
   EXPECT_NE(log.find("initial_state.loaded"), std::string::npos) << log;
-  EXPECT_EQ(run("check " + (kInputs / "statics" / "shallow_arch_sigma.yaml").string() +
+  EXPECT_EQ(run_traverse("check " + (kInputs / "statics" / "shallow_arch_sigma.yaml").string() +
                     " --set initial_state.loaded=true",
                 &log),
             2);
@@ -146,7 +133,7 @@ TEST(ScenesCli, LoadedArchStartSparesTheAdaptiveSteps) {
   long steps[2] = {0, 0};
   for (int loaded = 0; loaded < 2; ++loaded) {
     std::string log;
-    ASSERT_EQ(run("run " + scene + " -o " + (scratch() / "arch_adaptive_loaded.h5").string() +
+    ASSERT_EQ(run_traverse("run " + scene + " -o " + (scratch() / "arch_adaptive_loaded.h5").string() +
                       " --overwrite --set mesh.ds=0.02 --set scheme.rho_inf=1 --set time.end=0.2 --set time.dt=0.01"
                       " --set output.fields=[] --set time.adaptive.tolerance=1e-4 --set initial_state.loaded=" +
                       (loaded ? "true" : "false"),
@@ -168,7 +155,7 @@ TEST(ScenesCli, SweepOfArchScenesFormsTheArchOnce) {
   const std::string common = " --set mesh.ds=0.05 --set time.end=0.05 --set output.fields=[]";
   const fs::path dir = scratch() / "arch_sweep";
   std::string log;
-  ASSERT_EQ(run("sweep " + scene + " -o " + dir.string() + " --overwrite -q" + common + " --vary loads.F.speed=1,2",
+  ASSERT_EQ(run_traverse("sweep " + scene + " -o " + dir.string() + " --overwrite -q" + common + " --vary loads.F.speed=1,2",
                 &log),
             0)
       << log;
@@ -178,7 +165,7 @@ TEST(ScenesCli, SweepOfArchScenesFormsTheArchOnce) {
   EXPECT_EQ(first.find("reused"), std::string::npos) << first;
   EXPECT_NE(second.find("formed earlier in this process, reused"), std::string::npos) << second;
   const std::string alone = (scratch() / "arch_sweep_alone.h5").string();
-  ASSERT_EQ(run("run " + scene + " -o " + alone + " --overwrite -q" + common + " --set loads.F.speed=2", &log), 0)
+  ASSERT_EQ(run_traverse("run " + scene + " -o " + alone + " --overwrite -q" + common + " --set loads.F.speed=2", &log), 0)
       << log;
   const auto a = traverse::output::Reader((dir / "case_0001.h5").string()).probe("midpoint").values;
   const auto b = traverse::output::Reader(alone).probe("midpoint").values;
@@ -190,7 +177,7 @@ TEST(ScenesCli, DynamicsStartFromAStateSavedByAContinuationRun) {
   const std::string statics = (scratch() / "sag.h5").string();
   std::string log;
   // Gravity raised on the hanging cable by continuation; its final state starts the dynamics.
-  ASSERT_EQ(run("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " + statics +
+  ASSERT_EQ(run_traverse("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " + statics +
                     " --overwrite --set mesh.ds=0.05 --set initial_state.type=rest"
                     " --set 'continuation={parameter: gravity_factor, start: 0, stop: 1, step: 0.25, method: natural,"
                     " stability: false}'",
@@ -198,13 +185,13 @@ TEST(ScenesCli, DynamicsStartFromAStateSavedByAContinuationRun) {
             0)
       << log;
   const std::string dyn = (scratch() / "from_file.h5").string();
-  ASSERT_EQ(run("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " + dyn +
+  ASSERT_EQ(run_traverse("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " + dyn +
                     " --overwrite --set mesh.ds=0.05 --set 'initial_state={type: file, file: " + statics + "}'",
                 &log),
             0)
       << log;
   const std::string ref = (scratch() / "static_start.h5").string();
-  ASSERT_EQ(run("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " + ref +
+  ASSERT_EQ(run_traverse("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " + ref +
                     " --overwrite --set mesh.ds=0.05 --set loads.F.start=0.0 --set loads.F.entry_time=0.0",
                 &log),
             0)
@@ -215,7 +202,7 @@ TEST(ScenesCli, DynamicsStartFromAStateSavedByAContinuationRun) {
   std::cout << "  initial midspan height from the file " << a << " m, from the static start " << b << " m\n";
   EXPECT_NEAR(a, b, 1e-8);
   // A state with another node count is refused, naming the key.
-  ASSERT_EQ(run("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " +
+  ASSERT_EQ(run_traverse("run " + (kInputs / "rod" / "hanging_cable_F2_a0.5.yaml").string() + " -o " +
                     (scratch() / "bad.h5").string() + " --overwrite --set 'initial_state={type: file, file: " + statics + "}'",
                 &log),
             2)

@@ -23,9 +23,7 @@ rubber    The tip height history of the shearable rubber cantilever against the 
 Each prints what it measured. Exit status 0 when every check passes, 1 otherwise.
 """
 import os
-import subprocess
 import sys
-import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
@@ -33,33 +31,15 @@ sys.path.insert(0, os.path.join(ROOT, "postprocessing"))
 import plot_strained_rod as strained  # noqa: E402
 import traverse_io  # noqa: E402
 
+import cli_checks  # noqa: E402
+
 import numpy as np  # noqa: E402
 
 ROD = os.path.join(ROOT, "inputs", "rod")
 
 
-class Checks:
-    def __init__(self):
-        self.failed = 0
-
-    def __call__(self, ok, text):
-        print(("  ok    " if ok else "  FAIL  ") + text, flush=True)
-        if not ok:
-            self.failed += 1
-
-
 def run(exe, scratch, scene, name, sets):
-    out = os.path.join(scratch, name + ".h5")
-    cmd = [exe, "run", os.path.join(ROD, scene), "-o", out, "--overwrite", "-q"]
-    for s in sets:
-        cmd += ["--set", s]
-    t0 = time.time()
-    p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
-    print(f"  run {name}: exit {p.returncode} in {time.time() - t0:.1f} s", flush=True)
-    if p.returncode != 0:
-        print(p.stdout)
-        raise SystemExit(f"test_strain_scenes: {' '.join(cmd)} failed with exit {p.returncode}")
-    return traverse_io.load(out)
+    return traverse_io.load(cli_checks.run(exe, scratch, os.path.join(ROD, scene), name, sets, "test_strain_scenes"))
 
 
 def two_step_oscillation(field, t, after):
@@ -149,18 +129,5 @@ def rubber(exe, scratch, check):
           f"{final:+.4f} when the mass reaches the tip (more than 0.02, deflecting more)")
 
 
-def main(argv):
-    if len(argv) != 4 or argv[3] not in ("taut", "catenary", "rubber"):
-        print(__doc__)
-        return 2
-    exe, scratch, which = argv[1], argv[2], argv[3]
-    os.makedirs(scratch, exist_ok=True)
-    check = Checks()
-    t0 = time.time()
-    {"taut": taut, "catenary": catenary, "rubber": rubber}[which](exe, scratch, check)
-    print(f"test_strain_scenes {which}: {check.failed} failed, {time.time() - t0:.0f} s")
-    return 1 if check.failed else 0
-
-
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(cli_checks.main("test_strain_scenes", {"taut": taut, "catenary": catenary, "rubber": rubber}, sys.argv, __doc__))

@@ -21,30 +21,17 @@
 #include <string>
 #include <vector>
 
-#include "h5_dataset.hpp"
-#include "process.hpp"
+#include "cli_support.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-int run(const std::string& args, std::string* out = nullptr) {
-  const auto r = traverse::testing::run_command(std::string(TRAVERSE_EXE) + " " + args);
-  if (out) *out = r.out;
-  return r.code;
-}
+using traverse::testing::h5_dataset;
+using traverse::testing::run_traverse;
 
-std::vector<double> dataset(const std::string& file, const std::string& name, hsize_t* rows = nullptr) {
-  return traverse::testing::h5_dataset(file, name, rows);
-}
-
-const fs::path kInputs = fs::path(TRAVERSE_SOURCE_DIR) / "inputs";
-
-fs::path scratch() {
-  const fs::path d = fs::path(TRAVERSE_BINARY_DIR) / "test-scratch" / "strain_statics";
-  fs::create_directories(d);
-  return d;
-}
+fs::path scratch() { return traverse::testing::scratch_dir("strain_statics"); }
+const fs::path kInputs = traverse::testing::inputs_dir();
 
 // The scene rod: E = 2.5e8 Pa, solid circle r = 0.005 m, L = 1 m.
 const double kEI = 2.5e8 * M_PI * std::pow(0.005, 4) / 4.0;
@@ -61,11 +48,11 @@ double strained_pitchfork(double EA, double kGA) {
 double pitchfork(const std::string& name, const std::string& sets) {
   const std::string out = (scratch() / (name + ".h5")).string();
   std::string log;
-  EXPECT_EQ(run("run " + (kInputs / "statics" / "euler_buckling.yaml").string() + " -o " + out + " --overwrite -q " + sets,
+  EXPECT_EQ(run_traverse("run " + (kInputs / "statics" / "euler_buckling.yaml").string() + " -o " + out + " --overwrite -q " + sets,
                 &log),
             0)
       << log;
-  const auto P = dataset(out, "/bifurcations/end_load");
+  const auto P = h5_dataset(out, "/bifurcations/end_load");
   EXPECT_GE(P.size(), 1u) << log;
   return P.empty() ? NAN : P[0];
 }
@@ -78,7 +65,7 @@ std::string number(double x) {
 
 /// The largest difference of two datasets relative to the first's largest magnitude.
 double relative_difference(const std::string& a, const std::string& b, const std::string& name) {
-  const auto x = dataset(a, name), y = dataset(b, name);
+  const auto x = h5_dataset(a, name), y = h5_dataset(b, name);
   EXPECT_EQ(x.size(), y.size()) << name;
   double diff = 0.0, scale = 0.0;
   for (size_t i = 0; i < std::min(x.size(), y.size()); ++i) {
@@ -92,7 +79,7 @@ double relative_difference(const std::string& a, const std::string& b, const std
 double largest_motion(const std::string& file) {
   double m = 0.0;
   for (const char* f : {"/fields/u", "/fields/omega"})
-    for (double v : dataset(file, f)) m = std::max(m, std::abs(v));
+    for (double v : h5_dataset(file, f)) m = std::max(m, std::abs(v));
   return m;
 }
 
@@ -144,7 +131,7 @@ TEST(StrainStatics, TwoRanksLocateThePitchforkOfOne) {
                                            " -o " + out + " --overwrite -q " + sets)
                 .code,
             0);
-  const auto two = dataset(out, "/bifurcations/end_load");
+  const auto two = h5_dataset(out, "/bifurcations/end_load");
   ASSERT_GE(two.size(), 1u);
   // Round-off of the distributed solves moves the continuation's points (61 against 63 here), so
   // the pitchfork is located from other brackets: it agrees to the location's tolerance (its
@@ -152,8 +139,8 @@ TEST(StrainStatics, TwoRanksLocateThePitchforkOfOne) {
   std::printf("  shearable pitchfork: 1 rank %.12f N, 2 ranks %.12f N\n", one, two[0]);
   EXPECT_NEAR(two[0] / one, 1.0, 1e-6);
   // The buckled branch's last point, at the same load (the continuation's end, P = 2 N).
-  const auto y1 = dataset((scratch() / "ranks1.h5").string(), "/continuation/mid_y"), y2 = dataset(out, "/continuation/mid_y");
-  const auto p1 = dataset((scratch() / "ranks1.h5").string(), "/continuation/end_load"), p2 = dataset(out, "/continuation/end_load");
+  const auto y1 = h5_dataset((scratch() / "ranks1.h5").string(), "/continuation/mid_y"), y2 = h5_dataset(out, "/continuation/mid_y");
+  const auto p1 = h5_dataset((scratch() / "ranks1.h5").string(), "/continuation/end_load"), p2 = h5_dataset(out, "/continuation/end_load");
   ASSERT_EQ(p1.back(), 2.0);
   ASSERT_EQ(p2.back(), 2.0);
   std::printf("  buckled at P = 2 N: midspan y %.12f m (1 rank), %.12f m (2 ranks)\n", y1.back(), y2.back());
@@ -182,8 +169,8 @@ TEST(StrainStatics, StiffStrainIsTheInextensibleRod) {
     const std::string ref = (scratch() / (std::string(a.file) + ".h5")).string();
     const std::string str = (scratch() / (std::string(a.file) + ".strained.h5")).string();
     std::string log;
-    ASSERT_EQ(run("run " + scene + " -o " + ref + " --overwrite -q " + a.sets, &log), 0) << log;
-    ASSERT_EQ(run("run " + scene + " -o " + str + " --overwrite -q " + a.sets + " " + stiff, &log), 0) << log;
+    ASSERT_EQ(run_traverse("run " + scene + " -o " + ref + " --overwrite -q " + a.sets, &log), 0) << log;
+    ASSERT_EQ(run_traverse("run " + scene + " -o " + str + " --overwrite -q " + a.sets + " " + stiff, &log), 0) << log;
     for (const auto& name : a.datasets) {
       const double d = relative_difference(ref, str, name);
       std::printf("  %s %s: relative difference %.2e\n", a.file, name.c_str(), d);
@@ -206,9 +193,9 @@ TEST(StrainStatics, StrainedArchAndSavedStatesStartAtRest) {
   }
   const std::string arch = (scratch() / "arch_rest.h5").string();
   std::string log;
-  ASSERT_EQ(run("run " + scene + " -o " + arch + " --overwrite -q", &log), 0) << log;
+  ASSERT_EQ(run_traverse("run " + scene + " -o " + arch + " --overwrite -q", &log), 0) << log;
   hsize_t steps = 0;
-  const auto r = dataset(arch, "/fields/r", &steps);
+  const auto r = h5_dataset(arch, "/fields/r", &steps);
   const size_t nodes = r.size() / steps / 3;
   const double dz = r[3 * (nodes - 1) + 2] - r[2];
   std::printf("  formed shearable arch: end-to-end %.9f m; largest |u|, |omega| over %llu steps %.2e\n", dz,
@@ -221,15 +208,15 @@ TEST(StrainStatics, StrainedArchAndSavedStatesStartAtRest) {
   // inextensible rod is no equilibrium (its moment balance lacks the stretch), and moves.
   const double EA = 10.0 * kPE;
   const std::string saved = (scratch() / "column_saved.h5").string();
-  ASSERT_EQ(run("run " + (kInputs / "statics" / "euler_buckling.yaml").string() + " -o " + saved +
+  ASSERT_EQ(run_traverse("run " + (kInputs / "statics" / "euler_buckling.yaml").string() + " -o " + saved +
                     " --overwrite -q --set rod.model=extensible --set rod.axial_stiffness=" + number(EA) +
                     " --set continuation.stop=1.6",
                 &log),
             0)
       << log;
-  const auto branch = dataset(saved, "/continuation/branch");
-  const auto mid = dataset(saved, "/continuation/mid_y");
-  const auto load = dataset(saved, "/continuation/end_load");
+  const auto branch = h5_dataset(saved, "/continuation/branch");
+  const auto mid = h5_dataset(saved, "/continuation/mid_y");
+  const auto load = h5_dataset(saved, "/continuation/end_load");
   ASSERT_FALSE(branch.empty());
   ASSERT_EQ(branch.back(), 1.0) << "the last point is on the buckled branch";
   ASSERT_NEAR(load.back(), 1.6, 1e-12);
@@ -247,7 +234,7 @@ TEST(StrainStatics, StrainedArchAndSavedStatesStartAtRest) {
         << saved << ", state: branch_1_final}\ntime: {dt: 1.0e-3, end: 0.05}\noutput:\n  fields: [u, omega]\n";
     }
     const std::string started = (scratch() / (name + ".h5")).string();
-    EXPECT_EQ(run("run " + column + " -o " + started + " --overwrite -q", &log), 0) << log;
+    EXPECT_EQ(run_traverse("run " + column + " -o " + started + " --overwrite -q", &log), 0) << log;
     return largest_motion(started);
   };
   const double strained = start("column_rest", "  model: extensible\n  axial_stiffness: " + number(EA) + "\n");
