@@ -130,7 +130,7 @@ void run_beam(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
       {write, [&](long) { record.store_restart(); }, [&] { return sim.time(); }, {}, [&] { record.track(); }}, writer,
       opt, progress, comm);
   time::StepHookObserver hook(observer, opt.on_step.every, setup::beam_step_hook(opt.on_step, sim, sc, p, comm));
-  time::TimeIntegrator integrator(sim.schedule(), sim, opt.on_step ? static_cast<time::Observer&>(hook) : observer);
+  time::TimeIntegrator integrator(sim.schedule(), sim, hook.chosen(static_cast<bool>(opt.on_step)));
   const auto wall_start = std::chrono::steady_clock::now();
   write();
   integrator.run();

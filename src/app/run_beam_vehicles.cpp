@@ -52,7 +52,7 @@ void run_beam_vehicles(const scene::Scene& sc, const beam::BeamProblem& problem,
   auto track = [&] { extremes.take_after_step(outputs, sim); };  // the probes' extremes over every time step
   RunObserver observer({write, [](long) {}, [&] { return sim.time(); }, {}, track}, writer, opt, progress, comm);
   time::StepHookObserver hook(observer, opt.on_step.every, setup::beam_step_hook(opt.on_step, sim, sc, p, comm));
-  time::TimeIntegrator steps(sim.schedule(), sim, opt.on_step ? static_cast<time::Observer&>(hook) : observer);
+  time::TimeIntegrator steps(sim.schedule(), sim, hook.chosen(static_cast<bool>(opt.on_step)));
   const auto wall_start = std::chrono::steady_clock::now();
   write();
   steps.run();

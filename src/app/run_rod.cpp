@@ -251,9 +251,7 @@ void run_rod(const scene::Scene& sc, const RunOptions& opt, MPI_Comm comm) {
   time::StepHookObserver hooked(observer, opt.on_step.every, [&](long i) {
     return outputs.call_back(opt.on_step, i, stepper->time(), left.position());
   });
-  // a step callback's observer, or the run's
-  time::Observer& watch = opt.on_step ? static_cast<time::Observer&>(hooked) : observer;
-  time::TimeIntegrator integrator(setup::rod_schedule(sc, grid), model, watch);
+  time::TimeIntegrator integrator(setup::rod_schedule(sc, grid), model, hooked.chosen(static_cast<bool>(opt.on_step)));
   points.integrator = &integrator;
   if (controller) integrator.restore(*controller);
   if (rank == 0 && !opt.quiet) print_start(sc, grid, start.description, *stepper, path_text, opt.verbose);

@@ -244,8 +244,7 @@ void run_rod_coupled(const scene::Scene& sc, const setup::RodSetup& setup, const
   time::StepHookObserver hooked(observer, opt.on_step.every, [&](long i) {
     return setup::coupled_call_back(opt.on_step, i, state, model.r, m, mass.suspended, comm);
   });
-  time::TimeIntegrator integrator(setup::rod_schedule(sc, grid), model,
-                                  opt.on_step ? static_cast<time::Observer&>(hooked) : observer);
+  time::TimeIntegrator integrator(setup::rod_schedule(sc, grid), model, hooked.chosen(static_cast<bool>(opt.on_step)));
   record.integrator = &integrator;
   if (opt.restart) {
     output::copy_output_steps(source, writer, point.steps_written, outputs.probe_names(), outputs.field_names(),

@@ -432,4 +432,5 @@ PYBIND11_MODULE(_traverse, m) {
   m.def("finish", &finish, "ends Kokkos and, when this module started it, MPI (at the interpreter's exit)");
   m.def("mpi_started_here", [] { return mpi_state().started_here; }, "whether this module called MPI_Init_thread");
   m.attr("version") = version_string();
+  m.attr("stop_requested") = time::kStopRequested;  // the signal number of a stop by the step callback
 }

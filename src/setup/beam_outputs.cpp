@@ -229,7 +229,7 @@ BeamNodeShapes::BeamNodeShapes(const scene::Scene& sc, const beam::BeamProblem& 
 
 bool call_beam_back(const StepCallback& cb, long step, double t, const VecX& Y, const VecX& Ydot,
                     const BeamNodeShapes& shapes, MPI_Comm comm) {
-  int go = 1;
+  bool go = true;
   if (par::rank(comm) == 0) {
     BeamStepView v;
     v.t = t;
@@ -239,10 +239,9 @@ bool call_beam_back(const StepCallback& cb, long step, double t, const VecX& Y, 
     v.x = shapes.x;
     v.w.resize(shapes.x.size());
     for (std::size_t j = 0; j < v.w.size(); ++j) v.w[j] = shapes.phi[j].dot(Y);  // as BeamFields::evaluate
-    go = cb.beam(v) ? 1 : 0;
+    go = cb.beam(v);
   }
-  par::bcast(&go, 1, MPI_INT, 0, comm);
-  return go != 0;
+  return par::root_answer(go, comm);
 }
 
 }  // namespace traverse::setup

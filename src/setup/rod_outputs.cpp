@@ -152,83 +152,66 @@ void RodOutputs::write(output::Writer& w, double t, const Vec3& r0) {
 }
 
 namespace {
-// Calls cb.rod with `v` on rank 0 (the view is filled there only); its answer on every rank.
-bool rank_zero_decides(const StepCallback& cb, const RodStepView& v, MPI_Comm comm) {
-  int go = 1;
-  if (par::rank(comm) == 0) go = cb.rod(v) ? 1 : 0;
-  par::bcast(&go, 1, MPI_INT, 0, comm);
-  return go != 0;
+// A node of a step callback's view as plain numbers: r (3), the rows of R (9), y (12).
+constexpr int kViewPerNode = 24;
+void pack_view_node(double* o, const Vec3& r, const rod::RodNode& nd) {
+  for (int i = 0; i < 3; ++i) o[i] = r(i);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) o[3 + 3 * i + j] = nd.R(i, j);
+  for (int i = 0; i < 12; ++i) o[12 + i] = nd.y[i];
+}
+
+// The view of `nodes` packed nodes (pack_view_node) at step `step`, time t.
+RodStepView rod_view(const std::vector<double>& all, int nodes, long step, double t) {
+  RodStepView v;
+  v.t = t;
+  v.step = step;
+  v.nodes = nodes;
+  auto take = [&](std::vector<double>& out, int offset, int count) {
+    out.resize(static_cast<size_t>(count) * static_cast<size_t>(nodes));
+    for (int j = 0; j < nodes; ++j)
+      for (int i = 0; i < count; ++i)
+        out[static_cast<size_t>(count * j + i)] = all[static_cast<size_t>(kViewPerNode * j + offset + i)];
+  };
+  take(v.r, 0, 3);
+  take(v.directors, 3, 9);
+  take(v.u, 12, 3);
+  take(v.omega, 15, 3);
+  take(v.kappa, 18, 3);
+  take(v.n, 21, 3);
+  return v;
 }
 }  // namespace
 
 bool RodOutputs::call_back(const StepCallback& cb, long step, double t, const Vec3& r0) const {
   const int nodes = model_.num_cells + 1;
-  // Each rank's nodes in their places, zero elsewhere, summed on rank 0: 3 (r) + 9 (R) + 12 (y).
-  constexpr int kPerNode = 24;
-  std::vector<double> mine(static_cast<size_t>(kPerNode) * static_cast<size_t>(nodes), 0.0), all;
+  // Each rank's nodes in their places, zero elsewhere, summed on rank 0.
+  std::vector<double> mine(static_cast<size_t>(kViewPerNode) * static_cast<size_t>(nodes), 0.0), all;
   const std::vector<Vec3> r = owned_centreline(r0);
-  for (int k = 0; k < count_; ++k) {
-    double* o = &mine[static_cast<size_t>(kPerNode) * static_cast<size_t>(first_ + k)];
-    const rod::RodNode& nd = st_.owned_node(k);
-    for (int i = 0; i < 3; ++i) o[i] = r[static_cast<size_t>(k)][i];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) o[3 + 3 * i + j] = nd.R(i, j);
-    for (int i = 0; i < 12; ++i) o[12 + i] = nd.y[i];
-  }
+  for (int k = 0; k < count_; ++k)
+    pack_view_node(&mine[static_cast<size_t>(kViewPerNode) * static_cast<size_t>(first_ + k)], r[static_cast<size_t>(k)],
+                   st_.owned_node(k));
   const int rank = par::rank(comm_);
   if (rank == 0) all.resize(mine.size());
   if (par::alone(comm_)) all = mine;
   else MPI_Reduce(mine.data(), all.data(), static_cast<int>(mine.size()), MPI_DOUBLE, MPI_SUM, 0, comm_);
-  RodStepView v;
-  if (rank == 0) {
-    v.t = t;
-    v.step = step;
-    v.nodes = nodes;
-    auto take = [&](std::vector<double>& out, int offset, int count) {
-      out.resize(static_cast<size_t>(count) * static_cast<size_t>(nodes));
-      for (int j = 0; j < nodes; ++j)
-        for (int i = 0; i < count; ++i)
-          out[static_cast<size_t>(count * j + i)] = all[static_cast<size_t>(kPerNode * j + offset + i)];
-    };
-    take(v.r, 0, 3);
-    take(v.directors, 3, 9);
-    take(v.u, 12, 3);
-    take(v.omega, 15, 3);
-    take(v.kappa, 18, 3);
-    take(v.n, 21, 3);
-  }
-  return rank_zero_decides(cb, v, comm_);
+  return par::root_answer(rank != 0 || cb.rod(rod_view(all, nodes, step, t)), comm_);
 }
 
 bool coupled_call_back(const StepCallback& cb, long step, const rod::RodState& s, const std::vector<Vec3>& r,
                        const rod::CoupledMassState& m, bool suspended, MPI_Comm comm) {
-  RodStepView v;
-  if (par::rank(comm) == 0) {
-    const int nodes = static_cast<int>(s.nodes.size());
-    v.t = s.t;
-    v.step = step;
-    v.nodes = nodes;
-    for (auto* f : {&v.r, &v.u, &v.omega, &v.kappa, &v.n}) f->reserve(3 * static_cast<size_t>(nodes));
-    v.directors.reserve(9 * static_cast<size_t>(nodes));
-    for (int j = 0; j < nodes; ++j) {
-      const rod::RodNode& nd = s.nodes[static_cast<size_t>(j)];
-      for (int i = 0; i < 3; ++i) v.r.push_back(r[static_cast<size_t>(j)](i));
-      for (int i = 0; i < 3; ++i)
-        for (int k = 0; k < 3; ++k) v.directors.push_back(nd.R(i, k));
-      for (int i = 0; i < 3; ++i) {
-        v.u.push_back(nd.y[i]);
-        v.omega.push_back(nd.y[3 + i]);
-        v.kappa.push_back(nd.y[6 + i]);
-        v.n.push_back(nd.y[9 + i]);
-      }
-    }
-    v.has_mass = true;
-    v.sigma = m.sigma;
-    v.speed = m.speed;
-    v.has_body = suspended;
-    if (suspended) v.body = m.body, v.body_speed = m.body_speed;
-  }
-  return rank_zero_decides(cb, v, comm);
+  if (par::rank(comm) != 0) return par::root_answer(true, comm);
+  const int nodes = static_cast<int>(s.nodes.size());
+  std::vector<double> all(static_cast<size_t>(kViewPerNode) * static_cast<size_t>(nodes));
+  for (int j = 0; j < nodes; ++j)
+    pack_view_node(&all[static_cast<size_t>(kViewPerNode * j)], r[static_cast<size_t>(j)], s.nodes[static_cast<size_t>(j)]);
+  RodStepView v = rod_view(all, nodes, step, s.t);
+  v.has_mass = true;
+  v.sigma = m.sigma;
+  v.speed = m.speed;
+  v.has_body = suspended;
+  if (suspended) v.body = m.body, v.body_speed = m.body_speed;
+  return par::root_answer(cb.rod(v), comm);
 }
 
 rod::CoupledRodMass coupled_rod_mass(const scene::MovingLoadSpec& load) {

@@ -35,6 +35,12 @@ void allreduce(const T* in, T* out, int n, MPI_Datatype type, MPI_Op op, MPI_Com
 inline void bcast(void* data, int n, MPI_Datatype type, int root, MPI_Comm comm) {
   if (!alone(comm)) MPI_Bcast(data, n, type, root, comm);
 }
+/// Rank 0's `answer` on every rank of `comm` (what the others pass is ignored). Collective.
+inline bool root_answer(bool answer, MPI_Comm comm) {
+  int a = answer ? 1 : 0;
+  bcast(&a, 1, MPI_INT, 0, comm);
+  return a != 0;
+}
 inline void barrier(MPI_Comm comm) {
   if (!alone(comm)) MPI_Barrier(comm);
 }

@@ -53,16 +53,16 @@ class RodOutputs {
 /// prescribed path (a sprung_mass: the wheel's mass, the body on its spring and damper along j).
 rod::CoupledRodMass coupled_rod_mass(const scene::MovingLoadSpec& load);
 
-/// The outputs of a rod run with a coupled or sprung mass: the scene's probes and fields, the
-/// mass's probes (position, speed, fixed-frame position and velocity, contact forces; for a
-/// sprung mass the body's displacement and acceleration and the contact force along d2) and the
-/// energies, from the whole state (kept on every rank); the fields of this rank's nodes.
 /// The step callback of a coupled-mass run: the whole rod `s` and its centreline `r` (held
 /// whole on every rank) and the mass `m` (with its body when `suspended`); `cb.rod` is called
 /// on rank 0 and its answer holds on every rank of `comm`.
 bool coupled_call_back(const StepCallback& cb, long step, const rod::RodState& s, const std::vector<Vec3>& r,
                        const rod::CoupledMassState& m, bool suspended, MPI_Comm comm);
 
+/// The outputs of a rod run with a coupled or sprung mass: the scene's probes and fields, the
+/// mass's probes (position, speed, fixed-frame position and velocity, contact forces; for a
+/// sprung mass the body's displacement and acceleration and the contact force along d2) and the
+/// energies, from the whole state (kept on every rank); the fields of this rank's nodes.
 class CoupledRodOutputs {
  public:
   /// `mass`: the stepper's (coupled_rod_mass of `load`); the fields of nodes first .. first +

@@ -137,6 +137,8 @@ class StepHookObserver : public Observer {
  public:
   StepHookObserver(Observer& inner, long every, std::function<bool(long)> proceed)
       : inner_(inner), every_(std::max(1L, every)), proceed_(std::move(proceed)) {}
+  /// This observer when `hooked`, else the inner one (a run without a step hook skips it).
+  Observer& chosen(bool hooked) { return hooked ? static_cast<Observer&>(*this) : inner_; }
   void output() override { inner_.output(); }
   void store(long step) override { inner_.store(step); }
   bool store_due() override { return inner_.store_due(); }

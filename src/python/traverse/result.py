@@ -113,8 +113,8 @@ class Result:
 
     `interrupted` is True for a run its step callback stopped: `status` then says where
     ("interrupted at t = ... s (time step k of n, stopped by the step callback); ..."), the
-    arrays hold the output steps written until then, and the file continues with
-    `traverse run --restart PATH` (keep(path) a temporary one first).
+    arrays hold the output steps written until then, and traverse.run(restart=result)
+    continues it (or `traverse run --restart PATH`, keep(path) a temporary one first).
     """
 
     def __init__(self, path, temporary_dir=None, interrupted=False):
@@ -191,9 +191,6 @@ class Result:
         return f"traverse.Result({self.path!r}, status={self.status!r}, steps={self.steps})"
 
 
-_STOP_REQUESTED = 1000  # the signal number the program gives a stop by the step callback (time::kStopRequested)
-
-
 def _catches_signals():
     # The program's SIGINT/SIGTERM handlers replace the interpreter's for the length of a run
     # only in the main thread (where Python handles signals).
@@ -207,12 +204,8 @@ def _interrupted(status, sig, output, what):
         name = signal.Signals(sig).name
     except ValueError:
         name = f"signal {sig}"
-    if sig == signal.SIGINT:
-        e = KeyboardInterrupt(status)
-        e.output = output
-    else:
-        e = RunError(status)
-        e.output = output
+    e = KeyboardInterrupt(status) if sig == signal.SIGINT else RunError(status)
+    e.output = output
     e.add_note(f"{what}: stopped by {name}" + (f"; continue with traverse.run(restart={output!r})" if output else ""))
     return e
 
@@ -310,6 +303,6 @@ def run(scene=None, output=None, quiet=True, overwrite=False, verbose=False, eve
         else:  # at the last step: nothing was left to stop
             e.add_note(f"traverse.run: the step callback raised after the last step; {output} is complete")
         raise e
-    if sig and sig != _STOP_REQUESTED:
+    if sig and sig != _traverse.stop_requested:
         raise _interrupted(stopped, sig, output, "traverse.run")
     return Result(output, tmp, interrupted=bool(stopped))
