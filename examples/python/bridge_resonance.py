@@ -44,10 +44,7 @@ def main():
     ap.add_argument("--keep", help="write the sweep's files (index.csv, case_NNNN.h5) into this directory")
     args = ap.parse_args()
 
-    scene = traverse.Scene.load(args.scene)
-    for assignment in args.set:
-        key, _, value = assignment.partition("=")
-        scene.set(key, value)
+    scene = traverse.Scene.load(args.scene, overrides=args.set)  # as --set
     complete = scene.check()
     if complete["beam"]["supports"] != "simply-supported":
         ap.error("the resonance speeds marked are those of a simply supported beam")
@@ -73,7 +70,7 @@ def main():
             for ax in (top, bottom):
                 ax.axvline(v, color="0.5", lw=0.8, ls="--")
             top.annotate(f"$v_{i} = f_1 d / {i}$" if i > 1 else "$v_1 = f_1 d$", (v, top.get_ylim()[1]),
-                         textcoords="offset points", xytext=(3, -12), fontsize=8, color="0.3")
+                         textcoords="offset points", xytext=(-3, -12), ha="right", fontsize=8, color="0.3")
     for ax in (top, bottom):
         ax.grid(True, alpha=0.3)
     top.set_title(f"{complete.get('title', args.scene)}\n"

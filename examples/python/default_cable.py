@@ -29,10 +29,7 @@ def main():
     ap.add_argument("--keep", help="keep the run's HDF5 file at this path")
     args = ap.parse_args()
 
-    scene = traverse.Scene.load(args.scene)
-    for assignment in args.set:
-        key, _, value = assignment.partition("=")
-        scene.set(key, value)
+    scene = traverse.Scene.load(args.scene, overrides=args.set)  # as --set
     result = traverse.run(scene, output=args.keep)
 
     complete = scene.check()  # the scene as run, defaults filled in

@@ -47,10 +47,7 @@ def main():
     ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", help="as traverse run --set")
     args = ap.parse_args()
 
-    scene = traverse.Scene.load(args.scene)
-    for assignment in args.set:
-        key, _, value = assignment.partition("=")
-        scene.set(key, value)
+    scene = traverse.Scene.load(args.scene, overrides=args.set)  # as --set
     complete = scene.check()
     result = traverse.run(scene)
     length = complete["rod"]["length"]

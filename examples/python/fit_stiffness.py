@@ -67,10 +67,7 @@ def main():
                          "(default: mesh.ds=0.02, a coarse mesh for a fit of seconds)")
     args = ap.parse_args()
 
-    scene = traverse.Scene.load(args.scene)
-    for assignment in args.set or ["mesh.ds=0.02"]:
-        key, _, value = assignment.partition("=")
-        scene.set(key, value)
+    scene = traverse.Scene.load(args.scene, overrides=args.set or ["mesh.ds=0.02"])  # as --set
 
     start = time.perf_counter()
     t_meas, y_meas = midspan_trace(scene, args.true_modulus)

@@ -36,10 +36,7 @@ def main():
     ap.add_argument("--keep", help="write the sweep's files (index.csv, case_NNNN.h5) into this directory")
     args = ap.parse_args()
 
-    scene = traverse.Scene.load(args.scene)
-    for assignment in args.set:
-        key, _, value = assignment.partition("=")
-        scene.set(key, value)
+    scene = traverse.Scene.load(args.scene, overrides=args.set)  # as --set
     load = next(iter(scene.check()["loads"]))  # the scene's first moving load
     table = traverse.sweep(scene, vary={f"loads.{load}.speed": args.speeds}, summary=[LOWEST, HIGHEST],
                            output=args.keep, quiet=False)

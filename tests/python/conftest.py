@@ -28,6 +28,17 @@ def run_exe(*args):
     return subprocess.run([EXE, *args], capture_output=True, text=True, env=env, timeout=240)
 
 
+def exe_run(scene, out, sets=(), code=0):
+    """`traverse run SCENE -o OUT -q --set S ...` with the executable; asserts its exit code
+    `code` and returns the CompletedProcess."""
+    args = ["run", str(scene), "-o", str(out), "-q"]
+    for s in sets:
+        args += ["--set", s]
+    r = run_exe(*args)
+    assert r.returncode == code, r.stderr
+    return r
+
+
 def datasets(path):
     """Every dataset of the file outside /xdmf and the skipped bookkeeping: name -> array."""
     out = {}

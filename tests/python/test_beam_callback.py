@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import traverse
-from conftest import assert_raising_callback_stops_restartably, assert_same_datasets, run_exe, scene_path
+from conftest import assert_raising_callback_stops_restartably, assert_same_datasets, exe_run, run_exe, scene_path
 
 EVERY = 3
 # Every time step an output step (the file's /time holds each step's time), few steps.
@@ -32,11 +32,7 @@ def references(tmp_path_factory):
     refs = {}
     for kind, (name, sets) in SCENES.items():
         path = tmp_path_factory.mktemp(kind) / "exe.h5"
-        args = ["run", scene_path("beam", name), "-o", str(path), "-q"]
-        for s in sets:
-            args += ["--set", s]
-        r = run_exe(*args)
-        assert r.returncode == 0, r.stderr
+        exe_run(scene_path("beam", name), path, sets)
         with h5py.File(path, "r") as f:
             n = int(f.attrs["steps_written"])
             refs[kind] = (str(path), f["time"][:n], f["fields/deflection"][:n], f["fields/position"][:n])

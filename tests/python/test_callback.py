@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import traverse
-from conftest import assert_raising_callback_stops_restartably, assert_same_datasets, run_exe, scene_path
+from conftest import assert_raising_callback_stops_restartably, assert_same_datasets, exe_run, run_exe, scene_path
 
 # Every time step an output step (the file's /time holds each step's time), a coarse mesh.
 SETS = ["mesh.ds=0.05", "output.every=1", "output.fields=[r, kappa]"]
@@ -23,11 +23,7 @@ def scene():
 def reference(tmp_path_factory):
     """The uninterrupted run (the executable's), its step times and its fields."""
     path = tmp_path_factory.mktemp("reference") / "exe.h5"
-    args = ["run", scene_path("default.yaml"), "-o", str(path), "-q"]
-    for s in SETS:
-        args += ["--set", s]
-    r = run_exe(*args)
-    assert r.returncode == 0, r.stderr
+    exe_run(scene_path("default.yaml"), path, SETS)
     with h5py.File(path, "r") as f:
         n = int(f.attrs["steps_written"])
         return str(path), f["time"][:n], f["fields/r"][:n], f["fields/kappa"][:n]
@@ -75,7 +71,7 @@ def test_false_stops_and_restart_completes(tmp_path, reference, answer):
     out = tmp_path / "stopped.h5"
     result = traverse.run(scene(), output=out, every=EVERY, callback=lambda s: ANSWERS[answer](s.step < stop_at))
     assert result.interrupted
-    assert result.status.startswith(f"interrupted at t = ") and "stopped by the step callback" in result.status, result.status
+    assert result.status.startswith("interrupted at t = ") and "stopped by the step callback" in result.status, result.status
     assert f"traverse run --restart {out}" in result.status
     assert result.steps == stop_at + 1 and result.time[-1] == reference[1][stop_at]
     r = run_exe("run", "--restart", str(out), "-q")

@@ -1,13 +1,12 @@
 """The module's errors carry the executable's messages: a value --set refuses, a scene file
 that cannot be read, and a run whose numerics fail (RunError, the partial file readable)."""
 
-import os
 
 import h5py
 import pytest
 
 import traverse
-from conftest import run_exe, scene_path
+from conftest import exe_run, run_exe, scene_path
 
 DEFAULT = scene_path("default.yaml")
 
@@ -70,11 +69,7 @@ def test_numerical_failure_raises_run_error_with_a_readable_partial_file(tmp_pat
     path = scene_path("beam", "cantilever.yaml")
     sets = ["beam.modes=10", "time.dt=1e-3", "loads.mass.speed=5"]
     cli_out = str(tmp_path / "cli.h5")
-    args = ["run", path, "-o", cli_out, "-q"]
-    for s in sets:
-        args += ["--set", s]
-    r = run_exe(*args)
-    assert r.returncode == 3, r.stderr
+    r = exe_run(path, cli_out, sets, code=3)
 
     out = str(tmp_path / "module.h5")
     with pytest.raises(traverse.RunError) as e:

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import traverse
-from conftest import assert_same_datasets, run_exe, scene_path
+from conftest import assert_same_datasets, exe_run, run_exe, scene_path
 
 EVERY = 2
 
@@ -39,11 +39,7 @@ def references(tmp_path_factory):
     base = tmp_path_factory.mktemp("references")
     for kind, (parts, sets) in CASES.items():
         path = base / f"{kind}.h5"
-        args = ["run", scene_path(*parts), "-o", str(path), "-q"]
-        for s in sets:
-            args += ["--set", s]
-        r = run_exe(*args)
-        assert r.returncode == 0, r.stderr
+        exe_run(scene_path(*parts), path, sets)
         out[kind] = str(path)
     return out
 

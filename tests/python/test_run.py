@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import traverse
-from conftest import assert_same_datasets, run_exe, scene_path
+from conftest import assert_same_datasets, exe_run, run_exe, scene_path
 
 # (scene, --set strings). Each runs in about a second.
 CASES = {
@@ -26,11 +26,7 @@ def run_both(tmp_path, case):
     rel, sets = CASES[case]
     path = scene_path(rel)
     exe_out, py_out = str(tmp_path / "exe.h5"), str(tmp_path / "module.h5")
-    args = ["run", path, "-o", exe_out, "-q"]
-    for s in sets:
-        args += ["--set", s]
-    r = run_exe(*args)
-    assert r.returncode == 0, r.stderr
+    exe_run(path, exe_out, sets)
     result = traverse.run(traverse.Scene.load(path, overrides=sets), output=py_out)
     return exe_out, py_out, result
 
