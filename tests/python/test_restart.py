@@ -86,6 +86,18 @@ def test_restart_from_python_continues_bit_for_bit(tmp_path, references, kind):
     assert not os.path.exists(path)
 
 
+def test_a_refused_restart_leaves_the_temporary_file_with_its_result(references):
+    stopped = traverse.run(scene("rod"), every=EVERY, callback=lambda s: s.step < EVERY)
+    with pytest.raises(ValueError, match="a restart continues its own file"):
+        traverse.run(restart=stopped, output="elsewhere.h5")
+    with pytest.raises(traverse.SceneError, match="continuation .statics. runs cannot be restarted"):
+        traverse.run(scene_path("statics", "euler_buckling.yaml"), restart=stopped)
+    assert stopped._tmp is not None and os.path.exists(stopped.path)
+    done = traverse.run(restart=stopped)
+    assert stopped._tmp is None and done.status == "complete"
+    assert_same_datasets(references["rod"], done.path)
+
+
 def test_restart_takes_a_scene_file_and_refuses_what_the_program_refuses(tmp_path, references):
     out = tmp_path / "stopped.h5"
     traverse.run(scene("rod"), output=out, every=EVERY, callback=lambda s: s.step < EVERY)

@@ -244,10 +244,10 @@ def run(scene=None, output=None, quiet=True, overwrite=False, verbose=False, eve
     (its `output` is the partial file).
     """
     tmp = None
+    handed = None  # a Result whose file the restart continues: its temporary file passes on once the run ran
     if restart is not None:
         if isinstance(restart, Result):
-            tmp, restart._tmp = restart._tmp, None  # the new Result owns a temporary file now
-            restart = restart.path
+            handed, restart = restart, restart.path
         restart = os.fspath(restart)
         if output is not None and os.fspath(output) != restart:
             raise ValueError(f"traverse.run: output={os.fspath(output)!r} with restart={restart!r}: a restart "
@@ -296,6 +296,8 @@ def run(scene=None, output=None, quiet=True, overwrite=False, verbose=False, eve
         if tmp is not None and not (hasattr(e, "output") and e.output):
             shutil.rmtree(tmp, ignore_errors=True)
         raise
+    if handed is not None:
+        tmp, handed._tmp = handed._tmp, None
     if raised:
         e = raised[0]
         if stopped:
