@@ -358,9 +358,13 @@ void static_end_rows(const StaticModel& m, const StaticEnd& c, const StaticNode&
   const EndKind& k = kind_of(c.type, "statics: unknown end condition type");
   if (!k.static_rows) throw std::invalid_argument("statics: a prescribed-motion end has no static form; use clamped");
   const Vec3 th = node.x.segment<3>(svar::theta);
-  const StaticValues v{node.x.segment<3>(svar::r), node.x.segment<3>(svar::kappa), node.x.segment<3>(svar::n),
-                       node.frame(), frame_perturbation(th)};
+  StaticValues v{node.x.segment<3>(svar::r), node.x.segment<3>(svar::kappa), node.x.segment<3>(svar::n),
+                 node.frame(), frame_perturbation(th)};
+  // The point forces' share of this end node acts on the end: the rows read n - sign R F.
+  const Vec3 Fb = v.R * static_end_point_force(m, sign > 0.0);
+  v.n -= sign * Fb;
   k.static_rows(m, c, v, sign, b.residual, b.jac[0]);
+  if (Fb != Vec3::Zero()) b.jac[0].block<6, 3>(0, svar::theta) += sign * b.jac[0].block<6, 3>(0, svar::n) * hat(Fb) * v.D;
 }
 
 bool set_end_load(StaticEnd& e, double P, const Vec3& direction) {

@@ -326,8 +326,6 @@ PlanarReduction::PlanarReduction(const RodModel& model, const PlanarSymmetry& sy
   sigma_ = sym_.axis == 0 ? 1.0 : -1.0;
   if (model.loads.f_fixed || model.loads.l_fixed)
     throw std::invalid_argument("PlanarReduction: distributed loads given as functions are not planar");
-  if (model.props.B_bt(sym_.axis) != 0.0 && carried_)
-    throw std::invalid_argument("PlanarReduction: bending viscosity needs the box scheme in s (rho_inf_space 1)");
 }
 
 PlanarReduction::OldNode PlanarReduction::old_node(const RodModel& model, const StepTimes& step, int j,
@@ -341,6 +339,7 @@ PlanarReduction::OldNode PlanarReduction::old_node(const RodModel& model, const 
     o.ys(i) = old.ys(c);
     o.F(i) = F.F(c);
   }
+  o.kst = old.kst(sym_.axis);
   o.fb.setZero();
   if (model.loads.has_frame_loads()) {
     const Vec3 fb = old.R * (model.props.rhoA * model.loads.gravity);
@@ -454,22 +453,30 @@ double PlanarReduction::cell_block_into(LocalBlock& b, const RodModel& model, co
     }
     cell_scheme_jacobian<6>(b.jac[0], b.jac[1], model.alpha, carried_, model.ds(), step.dt, MmJ, Kk6_, lp.dF, lc.dF);
   }
-  add_bending_viscosity(b, model, step, op, oc, lp, lc);
+  add_bending_viscosity(b, model, step, op, oc, xp, xc, lp, lc);
   // The dropped momentum row along the normal: A_F of -fb_normal (the same at both levels).
   const double bs = model.alpha.bs;
   return std::abs((1.0 - bs) * oc.fb_normal + bs * op.fb_normal);
 }
 
 void PlanarReduction::add_bending_viscosity(LocalBlock& b, const RodModel& model, const StepTimes& step,
-                                            const OldNode& op, const OldNode& oc, const NewLevels& lp,
-                                            const NewLevels& lc) const {
+                                            const OldNode& op, const OldNode& oc, const double* xp, const double* xc,
+                                            const NewLevels& lp, const NewLevels& lc) const {
   // -(B kappa_t)_s in the spin row (2) about the normal, as the 3D cell (rod_kernels.cpp).
   const double B = model.props.B_bt(sym_.axis);
   if (B == 0.0) return;
   const AlphaParameters& a = model.alpha;
-  const double ds = model.ds();
+  const double ds = model.ds(), rate = 1.0 / (a.gt * step.dt);
+  if (carried_) {  // the carried kappa_s (unknown 6 + 3) and its rate
+    auto kst = [&](const OldNode& o, const double* x) { return (x[9] - o.ys(3)) * rate - (1.0 - a.gt) / a.gt * o.kst; };
+    b.residual(2) -= B * ((1.0 - a.bt) * ((1.0 - a.bs) * kst(oc, xc) + a.bs * kst(op, xp)) +
+                          a.bt * ((1.0 - a.bs) * oc.kst + a.bs * op.kst));
+    b.jac[1](2, 9) -= (1.0 - a.bt) * (1.0 - a.bs) * rate * B;
+    b.jac[0](2, 9) -= (1.0 - a.bt) * a.bs * rate * B;
+    return;
+  }
   b.residual(2) -= B * ((1.0 - a.bt) * (lc.yt(3) - lp.yt(3)) + a.bt * (oc.yt(3) - op.yt(3))) / ds;
-  const double D = (1.0 - a.bt) / (ds * a.gt * step.dt) * B;
+  const double D = (1.0 - a.bt) / ds * rate * B;
   b.jac[1](2, 3) -= D;
   b.jac[0](2, 3) += D;
 }

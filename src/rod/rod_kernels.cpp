@@ -48,25 +48,45 @@ Mat12 Mm_jacobian(const RodProperties& p, double c) {
   return M;
 }
 
-/// The viscous part of the bending moment's derivative, -(B_bt kappa_t)_s, in the angular
-/// momentum rows of cell (j-1, j) (box scheme in s): the kappa slots of y_t differenced between
-/// the nodes and averaged in time like Kk y_s.
-Vec3 bending_viscosity(const RodModel& model, const RodNode& old_prev, const RodNode& old_this, const NodeLevels& prev,
-                       const NodeLevels& cur) {
+/// The time-derivative history of a node's carried kappa_s at the new level (generalised
+/// alpha, as y_t from y): (ys_new - ys_old) / (gt dt) - (1 - gt) / gt kst_old, kappa slots.
+Vec3 carried_kappa_rate(const RodModel& model, const RodNode& old_node, const VecX& new_node, double dt) {
   const AlphaParameters& a = model.alpha;
-  if (model.carries_ys())
-    throw std::invalid_argument("rod kernels: bending and torsion viscosity needs the box scheme in s (rho_inf_space 1)");
-  const Vec3 d_new = cur.nn.yt.segment<3>(var::kappa) - prev.nn.yt.segment<3>(var::kappa);
-  const Vec3 d_old = old_this.yt.segment<3>(var::kappa) - old_prev.yt.segment<3>(var::kappa);
-  return -model.props.B_bt.cwiseProduct((1.0 - a.bt) * d_new + a.bt * d_old) / model.ds();
+  return (new_node.tail<12>().segment<3>(var::kappa) - old_node.ys.segment<3>(var::kappa)) / (a.gt * dt) -
+         (1.0 - a.gt) / a.gt * old_node.kst;
 }
 
-/// Its Jacobian with respect to the kappa of nodes j-1 (Jp) and j (Jc).
+/// The viscous part of the bending moment's derivative, -(B_bt kappa_t)_s, in the angular
+/// momentum rows of cell (j-1, j), averaged in time like Kk y_s. Box scheme in s: the kappa
+/// slots of y_t differenced between the nodes. Carried ys: (B kappa_t)_s = B (kappa_s)_t, the
+/// rates of the carried kappa_s averaged with the cell's spatial weights, as Kk ys is.
+Vec3 bending_viscosity(const RodModel& model, double dt, const RodNode& old_prev, const RodNode& old_this,
+                       const VecX& new_prev, const VecX& new_this, const NodeLevels& prev, const NodeLevels& cur) {
+  const AlphaParameters& a = model.alpha;
+  Vec3 A;
+  if (model.carries_ys()) {
+    const Vec3 kp = carried_kappa_rate(model, old_prev, new_prev, dt), kc = carried_kappa_rate(model, old_this, new_this, dt);
+    A = (1.0 - a.bt) * ((1.0 - a.bs) * kc + a.bs * kp) + a.bt * ((1.0 - a.bs) * old_this.kst + a.bs * old_prev.kst);
+  } else {
+    const Vec3 d_new = cur.nn.yt.segment<3>(var::kappa) - prev.nn.yt.segment<3>(var::kappa);
+    const Vec3 d_old = old_this.yt.segment<3>(var::kappa) - old_prev.yt.segment<3>(var::kappa);
+    A = ((1.0 - a.bt) * d_new + a.bt * d_old) / model.ds();
+  }
+  return -model.props.B_bt.cwiseProduct(A);
+}
+
+/// Its Jacobian with respect to node j-1 (Jp) and j (Jc): their kappa (box scheme) or their
+/// carried kappa_s (columns 12 + kappa).
 void add_bending_viscosity_jacobian(MatX& Jp, MatX& Jc, const RodModel& model, double dt) {
   const AlphaParameters& a = model.alpha;
-  const Mat3 D = ((1.0 - a.bt) / (model.ds() * a.gt * dt)) * Mat3(model.props.B_bt.asDiagonal());
-  Jc.block<3, 3>(3, var::kappa) -= D;
-  Jp.block<3, 3>(3, var::kappa) += D;
+  const Mat3 B = Mat3(model.props.B_bt.asDiagonal()) * ((1.0 - a.bt) / (a.gt * dt));
+  if (model.carries_ys()) {
+    Jc.block<3, 3>(3, 12 + var::kappa) -= (1.0 - a.bs) * B;
+    Jp.block<3, 3>(3, 12 + var::kappa) -= a.bs * B;
+  } else {
+    Jc.block<3, 3>(3, var::kappa) -= B / model.ds();
+    Jp.block<3, 3>(3, var::kappa) += B / model.ds();
+  }
 }
 
 Mat12 Kk_matrix(const RodProperties& p) {
@@ -86,11 +106,23 @@ Mat12 new_level_flux_jacobian(const NodeFlux& f, const Mat3& G) {
   return J;
 }
 
-double weight_at(const PointLoadWeights& w, int node) {
-  double s = 0.0;
-  for (int k = 0; k < w.count; ++k)
-    if (w.node[k] == node) s += w.weight[k];
-  return s;
+/// The fixed-frame force [N] the point loads and the masses' weights put on end node `node`
+/// (0 or N) at time t: their end shares (PointLoadWeights), which the end's rows take.
+Vec3 end_point_force(const RodModel& model, int node, double t) {
+  const auto& loads = model.loads;
+  const int N = model.num_cells;
+  const double ds = model.ds();
+  auto share = [&](double sigma) {
+    const PointLoadWeights W = point_load_weights(sigma, N, ds);
+    return node == 0 ? W.left : W.right;
+  };
+  Vec3 F = Vec3::Zero();
+  for (const PointForce& P : loads.point_forces)
+    if (const double w = share(P.sigma(t)); w != 0.0) F += w * P.force_fixed(t);
+  if (loads.has_gravity())
+    for (const MovingMass& M : loads.masses)
+      if (const double w = share(M.sigma(t)); w != 0.0) F += w * (M.mass - M.carried) * loads.gravity;
+  return F;
 }
 
 /// The inertia -M p'' of a moving mass, the part that cell j's rows receive (momentum rows
@@ -263,18 +295,15 @@ void prepare_block(LocalBlock& b, Eigen::Index row, int rows, int p, Eigen::Inde
 bool loads_touch_cell(const RodModel& model, const StepTimes& step, int j) {
   const auto& loads = model.loads;
   if (loads.point_forces.empty() && loads.masses.empty()) return false;
-  const AlphaParameters& a = model.alpha;
   const int N = model.num_cells;
   const double ds = model.ds();
   const double tl0[2] = {step.t_new(), step.t_old};
-  auto touches = [&](const PointLoadWeights& W) {
-    return weight_at(W, j - 1) != 0.0 || weight_at(W, j) != 0.0;
-  };
+  auto touches = [&](const PointLoadWeights& W) { return W.at(j - 1) != 0.0 || W.at(j) != 0.0; };
   bool any = false;
   for (const PointForce& P : loads.point_forces)
-    for (int lev = 0; lev < 2 && !any; ++lev) any = touches(point_load_weights(P.sigma(tl0[lev]), N, ds, a.bs));
+    for (int lev = 0; lev < 2 && !any; ++lev) any = touches(point_load_weights(P.sigma(tl0[lev]), N, ds));
   for (const MovingMass& M : loads.masses) {
-    for (int lev = 0; lev < 2 && !any; ++lev) any = touches(point_load_weights(M.sigma(tl0[lev]), N, ds, a.bs));
+    for (int lev = 0; lev < 2 && !any; ++lev) any = touches(point_load_weights(M.sigma(tl0[lev]), N, ds));
     // The inertia: the mass's path through cells j-1, j, j+1 (its line mass reaches cell j).
     for (int c = std::max(1, j - 1); c <= std::min(N, j + 1) && !any && M.inertia; ++c)
       any = mass_path_in_cell(M.sigma(step.t_old), M.sigma(step.t_new()), c, N, ds).valid;
@@ -440,11 +469,11 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
 
   for (const PointForce& P : loads.point_forces) {
     for (int lev = 0; lev < 2; ++lev) {
-      const PointLoadWeights W = point_load_weights(P.sigma(tl[lev]), N, ds, a.bs);
+      const PointLoadWeights W = point_load_weights(P.sigma(tl[lev]), N, ds);
       if (W.count == 0) continue;
       const Vec3 F = P.force_fixed(tl[lev]);
       for (int q = 0; q < 2; ++q) {
-        const double w = weight_at(W, node[q]);
+        const double w = W.at(node[q]);
         if (w == 0.0) continue;
         const double c = tw_b[lev] * sw_b[q] * w / ds;
         const Mat3& R = lev == 0 ? nn[q].R : old[q]->R;
@@ -461,10 +490,10 @@ LocalBlock load_block(const RodModel& model, const StepTimes& step, int j,
     // inertia). Without gravity there is none.
     if (gravity) {
       for (int lev = 0; lev < 2; ++lev) {
-        const PointLoadWeights W = point_load_weights(M.sigma(tl[lev]), N, ds, a.bs);
+        const PointLoadWeights W = point_load_weights(M.sigma(tl[lev]), N, ds);
         if (W.count == 0) continue;
         for (int q = 0; q < 2; ++q) {
-          const double w = weight_at(W, node[q]);
+          const double w = W.at(node[q]);
           if (w == 0.0) continue;
           const double c = tw_b[lev] * sw_b[q] * w / ds * (M.mass - M.carried);
           const Mat3& R = lev == 0 ? nn[q].R : old[q]->R;
@@ -519,12 +548,13 @@ CellNode<12> cell_node(const RodModel& model, const RodNode& old_node, const Vec
 }
 }  // namespace
 
-void cell_residual_into(VecX& r, const RodModel& model, const Mat12& Mm, const Mat12& Kk, const RodNode& old_prev,
-                        const RodNode& old_this, const VecX& new_prev, const VecX& new_this, const NodeLevels& prev,
-                        const NodeLevels& cur) {
+void cell_residual_into(VecX& r, const RodModel& model, const StepTimes& step, const Mat12& Mm, const Mat12& Kk,
+                        const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev, const VecX& new_this,
+                        const NodeLevels& prev, const NodeLevels& cur) {
   cell_scheme_residual<12>(r, model.alpha, model.carries_ys(), model.ds(), Mm, Kk,
                            cell_node(model, old_prev, new_prev, prev), cell_node(model, old_this, new_this, cur));
-  if (model.props.B_bt != Vec3::Zero()) r.segment<3>(3) += bending_viscosity(model, old_prev, old_this, prev, cur);
+  if (model.props.B_bt != Vec3::Zero())
+    r.segment<3>(3) += bending_viscosity(model, step.dt, old_prev, old_this, new_prev, new_this, prev, cur);
 }
 
 void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step, int j,
@@ -539,7 +569,7 @@ void cell_block_into(LocalBlock& b, const RodModel& model, const StepTimes& step
   const Mat12 Mm = Mm_matrix(P), Kk = Kk_matrix(P);
 
   prepare_block(b, model.cell_row(j), model.cell_rows(), p, model.node_col(j - 1), model.node_col(j));
-  cell_residual_into(b.residual, model, Mm, Kk, old_prev, old_this, new_prev, new_this, prev, cur);
+  cell_residual_into(b.residual, model, step, Mm, Kk, old_prev, old_this, new_prev, new_this, prev, cur);
   if (!jacobian) {
     if (loads_touch) b.residual.head<12>() += load_block(model, step, j, old_prev, old_this, new_prev, new_this).residual;
     return;
@@ -572,11 +602,20 @@ LocalBlock end_block(const RodModel& model, const StepTimes& step, const EndCond
   const double rate = 1.0 / (a.gt * step.dt);  // d y_t / d y_new
   Vec6 r;
   Eigen::Matrix<double, 6, 12> J;
-  end_condition_rows(c, model.props, step.t_new(), y, nn.R, nn.G, r, J, nn.yt.segment<3>(var::kappa), rate);
+  // The loads' end share F (fixed frame) acts on the end: the rows read the contact force
+  // less the external one, n - sign R F (n(L) = F at the right end, n(0) = -F at the left),
+  // so a free or sliding end carries it and a support's rows, which read no force, absorb it.
+  const double sign = node == 0 ? -1.0 : 1.0;
+  const Vec3 Fb = nn.R * end_point_force(model, node, step.t_new());
+  Vec12 y_rows = y;
+  y_rows.segment<3>(var::n) -= sign * Fb;
+  end_condition_rows(c, model.props, step.t_new(), y_rows, nn.R, nn.G, r, J, nn.yt.segment<3>(var::kappa), rate);
+  if (Fb != Vec3::Zero()) J.block<6, 3>(0, var::omega) -= sign * J.block<6, 3>(0, var::n) * hat(Fb) * nn.G;
   b.residual.head<6>() = r;
   b.jac[0].block<6, 12>(0, 0) = J;
   if (collocate) {
-    // PDE collocated at the node (closes the carried-ys system); point loads excluded.
+    // PDE collocated at the node (closes the carried-ys system); a point load's share of the
+    // end node is in the end rows above.
     const RodProperties& P = model.props;
     const Mat12 Mm = Mm_matrix(P), Kk = Kk_matrix(P);
     const double s = node * model.ds();
@@ -589,6 +628,11 @@ LocalBlock end_block(const RodModel& model, const StepTimes& step, const EndCond
     b.jac[0].block<12, 12>(6, 0) = (1.0 - a.at) / (a.gt * step.dt) * (P.compliant() ? Mm_jacobian(P, rate) : Mm) +
                                    (1.0 - a.bt) * new_level_flux_jacobian(Fn, nn.G);
     b.jac[0].block<12, 12>(6, 12) = (1.0 - a.bt) * Kk;
+    if (P.B_bt != Vec3::Zero()) {  // -(B kappa_t)_s = -B (kappa_s)_t
+      b.residual.segment<3>(6 + 3) -= P.B_bt.cwiseProduct((1.0 - a.bt) * carried_kappa_rate(model, old_node, new_node, step.dt) +
+                                                          a.bt * old_node.kst);
+      b.jac[0].block<3, 3>(6 + 3, 12 + var::kappa) -= Mat3(P.B_bt.asDiagonal()) * ((1.0 - a.bt) * rate);
+    }
   }
   return b;
 }
@@ -652,6 +696,8 @@ RodNode advance_node(const RodModel& model, const RodNode& old_node, const VecX&
     n.yg(i) = std::abs(d - dt * old_node.yv(i)) < 0.5 * std::abs(d) ? n.yv(i) : 0.0;
   }
   n.ys = model.carries_ys() ? Vec12(new_unknowns.tail<12>()) : Vec12::Zero();
+  n.kst = model.carries_ys() && model.props.B_bt != Vec3::Zero() ? carried_kappa_rate(model, old_node, new_unknowns, dt)
+                                                                : Vec3::Zero();
   return n;
 }
 

@@ -5,25 +5,47 @@
 
 namespace traverse::rod {
 
-PointLoadWeights point_load_weights(double sigma, int num_cells, double ds, double beta) {
+PointLoadWeights point_load_weights(double sigma, int num_cells, double ds) {
   PointLoadWeights w;
   const int N = num_cells;
   const double L = N * ds;
   const double tol = 1e-12 * L;
   if (!(sigma >= -tol && sigma <= L + tol)) return w;  // off the rod (or NaN)
+  w.on_rod = true;
   const double x = std::clamp(sigma / ds, 0.0, static_cast<double>(N));
-  int k = static_cast<int>(std::floor(x)) + 1;
-  k = std::clamp(k, 1, N);
+  const int k = std::clamp(static_cast<int>(std::floor(x)) + 1, 1, N);
   const double xi = std::clamp(x - (k - 1), 0.0, 1.0);
-  auto E = [&](int j) { return j == 0 ? beta : (j == N ? 1.0 - beta : 1.0); };
-  const double e0 = E(k - 1), e1 = E(k);
-  double w0 = 1.0 - xi, w1 = xi;
-  if (e0 == 0.0) { w0 = 0.0; w1 = 1.0; }
-  if (e1 == 0.0) { w1 = 0.0; w0 = 1.0; }
-  w.count = 2;
-  w.node = {k - 1, k};
-  w.weight = {e0 == 0.0 ? 0.0 : w0 / e0, e1 == 0.0 ? 0.0 : w1 / e1};
+  auto share = [&](int node, double v) {
+    if (v == 0.0) return;
+    if (node == 0) w.left += v;
+    else if (node == N) w.right += v;
+    else {
+      w.node[static_cast<size_t>(w.count)] = node;
+      w.weight[static_cast<size_t>(w.count)] = v;
+      ++w.count;
+    }
+  };
+  share(k - 1, 1.0 - xi);
+  share(k, xi);
   return w;
+}
+
+double point_load_slope(double sigma, int node, int num_cells, double ds) {
+  const int N = num_cells;
+  const double L = N * ds;
+  if (!(sigma >= -1e-12 * L && sigma <= L * (1.0 + 1e-12))) return 0.0;
+  auto cell_slope = [&](int k) {
+    if (node == k - 1) return -1.0 / ds;
+    if (node == k) return 1.0 / ds;
+    return 0.0;
+  };
+  const double x = std::clamp(sigma / ds, 0.0, static_cast<double>(N));
+  const double on = std::round(x);
+  if (std::abs(x - on) <= 1e-9 * std::max(1.0, x) && on > 0.0 && on < N) {
+    const int k = static_cast<int>(on);
+    return 0.5 * (cell_slope(k) + cell_slope(k + 1));
+  }
+  return cell_slope(std::clamp(static_cast<int>(std::floor(x)) + 1, 1, N));
 }
 
 MassPathSegment mass_path_in_cell(double sigma_old, double sigma_new, int cell, int num_cells, double ds) {

@@ -17,6 +17,7 @@ void pack_node(const RodNode& nd, double* o) {
   for (int i = 0; i < 12; ++i) o[33 + i] = nd.ys(i);
   for (int i = 0; i < 12; ++i) o[45 + i] = nd.yv(i);
   for (int i = 0; i < 12; ++i) o[57 + i] = nd.yg(i);
+  for (int i = 0; i < 3; ++i) o[69 + i] = nd.kst(i);
 }
 
 RodNode unpack_node(const double* o) {
@@ -28,6 +29,7 @@ RodNode unpack_node(const double* o) {
   for (int i = 0; i < 12; ++i) nd.ys(i) = o[33 + i];
   for (int i = 0; i < 12; ++i) nd.yv(i) = o[45 + i];
   for (int i = 0; i < 12; ++i) nd.yg(i) = o[57 + i];
+  for (int i = 0; i < 3; ++i) nd.kst(i) = o[69 + i];
   return nd;
 }
 

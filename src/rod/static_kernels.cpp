@@ -21,13 +21,6 @@ LocalBlock block(Eigen::Index row, std::vector<Eigen::Index> cols, int rows) {
   return b;
 }
 
-double weight_at(const PointLoadWeights& w, int node) {
-  double s = 0.0;
-  for (int k = 0; k < w.count; ++k)
-    if (w.node[k] == node) s += w.weight[k];
-  return s;
-}
-
 }  // namespace
 
 Mat3 frame_perturbation(const Vec3& theta) { return -so3::left_jacobian(-theta); }
@@ -94,11 +87,12 @@ LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev
   res.segment<3>(6) += phi / ds;
   b.jac[1].block<3, 3>(6, svar::theta) += Jinv * D[1] / ds;
   b.jac[0].block<3, 3>(6, svar::theta) += -Jinv * Q * D[0] / ds;
-  // Point forces with the box-scheme weights (bs = 1/2), as the dynamic cell applies them.
+  // Point forces: the interior nodes' shares as load densities (PointLoadWeights), as the
+  // dynamic cell applies them; the end nodes' shares are in the end rows.
   for (const auto& P : m.point_forces) {
-    const PointLoadWeights W = point_load_weights(P.sigma, m.num_cells, ds, 0.5);
+    const PointLoadWeights W = point_load_weights(P.sigma, m.num_cells, ds);
     for (int q = 0; q < 2; ++q) {
-      const double w = weight_at(W, j - 1 + q);
+      const double w = W.at(j - 1 + q);
       if (w == 0.0) continue;
       const Vec3 Fb = R[q] * P.force;
       res.segment<3>(0) -= 0.5 * w / ds * Fb;
@@ -118,6 +112,15 @@ LocalBlock static_mass_block(const StaticModel& m, int j, const StaticNode& prev
         -0.5 * Mat3(m.props.rhoI.asDiagonal()) * frame_perturbation(nd[q]->x.segment<3>(svar::theta));
   }
   return b;
+}
+
+Vec3 static_end_point_force(const StaticModel& m, bool right) {
+  Vec3 F = Vec3::Zero();
+  for (const auto& P : m.point_forces) {
+    const PointLoadWeights W = point_load_weights(P.sigma, m.num_cells, m.ds());
+    F += (right ? W.right : W.left) * P.force;
+  }
+  return F;
 }
 
 LocalBlock static_left_block(const StaticModel& m, const StaticNode& node) {

@@ -65,26 +65,16 @@ Vec3 position_at(const StaticModel& m, const std::vector<StaticNode>& nodes, dou
 
 namespace {
 
-// d w_node / d sigma [1/m] of the load weights (point_load_weights, beta = 1/2): in the cell
-// (k-1, k) holding sigma, -1 / (ds E_{k-1}) at node k-1 and 1 / (ds E_k) at node k. The
-// weights are continuous and kinked at a node: on an interior node the mean of its two cells'
-// slopes (what a central difference gives), at the rod's ends the one cell's.
-double load_weight_slope(double sigma, int node, int N, double ds) {
-  const double L = N * ds;
-  if (!(sigma >= -1e-12 * L && sigma <= L * (1.0 + 1e-12))) return 0.0;
-  auto E = [&](int j) { return j == 0 ? 0.5 : (j == N ? 0.5 : 1.0); };
-  auto cell_slope = [&](int k) {
-    if (node == k - 1) return -1.0 / (ds * E(k - 1));
-    if (node == k) return 1.0 / (ds * E(k));
-    return 0.0;
-  };
-  const double x = std::clamp(sigma / ds, 0.0, static_cast<double>(N));
-  const double on = std::round(x);
-  if (std::abs(x - on) <= 1e-9 * std::max(1.0, x) && on > 0.0 && on < N) {
-    const int k = static_cast<int>(on);
-    return 0.5 * (cell_slope(k) + cell_slope(k + 1));
-  }
-  return cell_slope(std::clamp(static_cast<int>(std::floor(x)) + 1, 1, N));
+// d (share F) / dp of `node` (0..N) for the load magnitude (the share) or the load position
+// (F times the share's slope, point_load_slope).
+double load_share_derivative(const StaticProblem& pr, const std::array<double, num_static_parameters>& v,
+                             StaticParameter ip, int node) {
+  const StaticModel& m = pr.base;
+  const double sigma = v[static_cast<size_t>(StaticParameter::load_position)];
+  if (ip == StaticParameter::load_position)
+    return v[static_cast<size_t>(StaticParameter::load_magnitude)] * point_load_slope(sigma, node, m.num_cells, m.ds());
+  const PointLoadWeights W = point_load_weights(sigma, m.num_cells, m.ds());
+  return node == 0 ? W.left : node == m.num_cells ? W.right : W.at(node);
 }
 
 }  // namespace
@@ -102,19 +92,10 @@ Vec12 static_cell_dfdp(const StaticProblem& pr, const std::array<double, num_sta
     case StaticParameter::load_magnitude:
     case StaticParameter::load_position: {  // force rows: -1/2 w_k / ds R_k F
       if (!pr.has_point_load) return d;
-      const double sigma = v[static_cast<size_t>(StaticParameter::load_position)];
-      const double F = v[static_cast<size_t>(StaticParameter::load_magnitude)];
-      const bool magnitude = ip == StaticParameter::load_magnitude;
-      const PointLoadWeights W = point_load_weights(sigma, m.num_cells, ds, 0.5);
       for (int q = 0; q < 2; ++q) {
         const int node = j - 1 + q;
-        double w = 0.0;  // d (weight F) / dp
-        if (magnitude) {
-          for (int k = 0; k < W.count; ++k)
-            if (W.node[k] == node) w += W.weight[k];
-        } else {
-          w = F * load_weight_slope(sigma, node, m.num_cells, ds);
-        }
+        if (node == 0 || node == m.num_cells) continue;  // an end node's share acts in the end's rows
+        const double w = load_share_derivative(pr, v, ip, node);  // d (share F) / dp
         if (w != 0.0) d.head<3>() -= 0.5 * w / ds * (nd[q]->frame() * pr.load_direction);
       }
       return d;
@@ -125,8 +106,21 @@ Vec12 static_cell_dfdp(const StaticProblem& pr, const std::array<double, num_sta
   }
 }
 
-Vec6 static_right_dfdp(const StaticProblem& pr, StaticParameter ip, const StaticNode& node) {
+Vec6 static_end_dfdp(const StaticProblem& pr, const std::array<double, num_static_parameters>& v,
+                     StaticParameter ip, const StaticNode& node, bool right) {
   Vec6 d = Vec6::Zero();
+  if (ip == StaticParameter::load_magnitude || ip == StaticParameter::load_position) {
+    // The rows read n - sign R F_end (static_end_rows), F_end the load's end share.
+    const double w = pr.has_point_load ? load_share_derivative(pr, v, ip, right ? pr.base.num_cells : 0) : 0.0;
+    if (w == 0.0) return d;
+    const StaticModel m = pr.model(v);
+    LocalBlock b;
+    b.residual = VecX::Zero(6);
+    b.jac.assign(1, MatX::Zero(6, 12));
+    static_end_rows(m, right ? m.right : m.left, node, right ? 1.0 : -1.0, b);
+    return -(right ? 1.0 : -1.0) * w * (b.jac[0].block<6, 3>(0, svar::n) * (node.frame() * pr.load_direction));
+  }
+  if (!right) return d;
   const StaticEnd& e = pr.base.right;
   if (ip == StaticParameter::end_load)  // the end's external force P * end_load_direction
     d = end_load_derivative(e, node, pr.end_load_direction);

@@ -585,8 +585,9 @@ Param build_schema() {
   init.add(real("end_to_end", "type arch: distance between the pinned ends along k", "m").positive());
   init.add(boolean("loaded", "type arch: start in equilibrium with the prescribed load on the arch at t = 0 (one "
                              "moving force or mass; one Newton solve after the formation). false: the formed arch "
-                             "without it, the load entering as a step (the published setup); a load entering at a "
-                             "pinned end then excites grid-scale waves that the undamped scheme keeps")
+                             "without it; a load starting inside the arch then appears as a step, which excites "
+                             "grid-scale waves that the undamped scheme keeps (a load entering at a pin weighs on the "
+                             "support alone: the same start either way)")
                .def("false"));
   init.check([](const ParameterList& s, const CheckContext& ctx) {
     const auto type = s.get<std::string>("type");

@@ -33,17 +33,6 @@ std::string summary(const scene::Scene& sc, const TimePlan* time, const MemoryPl
   return s;
 }
 
-// What the viscosities (rod.damping) do not have yet, refused where the scene chooses it
-// rather than run without them: the bending viscosity with a carried spatial history.
-void check_rod_model(const scene::Scene& sc, const rod::RodModel& model) {
-  const rod::RodProperties& p = model.props;
-  if (p.B_bt != Vec3::Zero() && model.carries_ys())
-    scene::fail_at(sc, sc.rod.damping_bending > 0.0 ? "rod.damping.bending" : "rod.damping.torsion",
-                   "the box scheme in s (scheme.rho_inf_space 1) with a bending or torsion viscosity",
-                   "a carried spatial history (as = " + scene::format_number(model.alpha.as) + ", bs = " +
-                       scene::format_number(model.alpha.bs) + ", gs = " + scene::format_number(model.alpha.gs) + ")");
-}
-
 constexpr int kMaxCoupledNodes = 20001;  // the whole state is kept (and gathered each step) on every rank
 
 }  // namespace
@@ -83,7 +72,6 @@ CheckedRun check_beam_run(const scene::Scene& sc, const RunLimits& limits, MPI_C
 CheckedRun check_rod_run(const scene::Scene& sc, const rod::RodModel& model, const RunLimits& limits, MPI_Comm comm) {
   CheckedRun out;
   check_properties(sc);
-  check_rod_model(sc, model);
   check_load_ratio(sc);
   const RodPathGuess path{expect_planar(sc, model), par::size(comm)};
   const MemoryPlan memory = rod_memory(sc, path);

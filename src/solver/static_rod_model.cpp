@@ -154,9 +154,14 @@ void StaticRodModel::fill_dfdp(const Vector& x, const Params& p, rod::StaticPara
     b.residual = rod::static_cell_dfdp(problem_, p, ip, j, X(j - 1), X(j));
     scatter.add(b);
   }
+  if (first == 0) {
+    b.row = 0;
+    b.residual = rod::static_end_dfdp(problem_, p, ip, X(0), false);
+    scatter.add(b);
+  }
   if (last == N) {
     b.row = 12 * static_cast<Eigen::Index>(N) + 6;
-    b.residual = rod::static_right_dfdp(problem_, ip, X(N));
+    b.residual = rod::static_end_dfdp(problem_, p, ip, X(N), true);
     scatter.add(b);
   }
   scatter.finish();

@@ -230,6 +230,38 @@ TEST(AdaptiveCli, UndampedSnapThroughIsPassedWithRejectedSteps) {
   EXPECT_GT(turned, std::abs(a0));
 }
 
+// The undamped shallow arch under the slow load (0.02 m/s, ds = 0.01, rho_inf 1), outputs every
+// ds / (64 v) = 7.8 ms (0.16 mm of load travel): the snap, the load position at the first output
+// where the right end's tangent points up (d3 . j > 0), at tolerance 1e-3 within 5 mm of the
+// fixed step ds / (256 v)'s (the converged value at this output spacing: ds / (1024 v) gives the
+// same 0.3144 m), and in fewer steps than twice the fixed ds / (64 v) run's 2 176 (docs/adaptive.md).
+TEST(AdaptiveCli, UndampedSlowArchSnapsWhereFixedStepsConverge) {
+  const fs::path d = scratch("adaptive-slow-snap");
+  const std::string base = kExe + " run " + std::string(TRAVERSE_SOURCE_DIR) +
+                           "/inputs/arch/shallow_arch_v0.02.yaml --overwrite -q --set mesh.ds=0.01 "
+                           "--set scheme.rho_inf=1 --set time.end=17 --set output.fields=[] ";
+  auto snap = [](const std::string& file) {
+    const Reader r(file);
+    const auto d3 = r.probe("end_tangent");
+    const auto sigma = r.sigma();
+    for (size_t i = 0; i < d3.rows; ++i)
+      if (d3.values[3 * i + 1] > 0.0) return sigma.values[i];
+    return std::nan("");
+  };
+  const std::string fixed = (d / "fixed.h5").string(), adaptive = (d / "adaptive.h5").string();
+  ASSERT_EQ(run_command(base + "-o " + fixed + " --set time.dt=" + std::to_string(0.5 / 256) + " --set output.every=4").code,
+            0);
+  const RunResult r = run_command(base + "-o " + adaptive + " --set time.dt=" + std::to_string(0.5 / 64) +
+                                  " --set output.every=1 --set time.adaptive.tolerance=1e-3");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const Counts c = counts(adaptive);
+  const double sf = snap(fixed), sa = snap(adaptive);
+  std::cout << "  snap: fixed ds / (256 v) " << sf << " m, adaptive 1e-3 " << sa << " m (" << c.accepted << " accepted, "
+            << c.rejected << " rejected)\n";
+  EXPECT_LT(std::abs(sa - sf), 0.005);
+  EXPECT_LT(c.accepted + c.rejected, 2 * 2176);
+}
+
 // The cantilever beam (3 modes, outputs every 1e-4 s): with Newmark the error of the tip
 // trace against a fixed-dt RK4 run at dt = 1e-6 s falls with the tolerance; with RK4 it stays
 // at the fixed run's level.

@@ -146,13 +146,16 @@ TEST(InterruptRestart, RodSecantGuessSigintThenRestartBitForBit) {
 
 // A shearable rod with Kelvin-Voigt viscosity (docs/rod.md): the strain rate's history (the n
 // slot of yt) and kappa_t are part of the restart point, so the restarted run is the
-// uninterrupted one bit for bit, on the 3D and the planar path.
+// uninterrupted one bit for bit, on the 3D and the planar path, and with a carried ys.
 TEST(InterruptRestart, ShearableDampedRodSigintThenRestartBitForBit) {
   const std::string strain = " --set rod.model=shearable --set 'rod.damping={axial: 5, shear: 5, bending: 1.0e-5, "
                              "torsion: 1.0e-5}' --set output.fields=[r,R,u,omega,kappa,n,m,v]";
   stop_and_restart("rod-shearable-3d-sigint", 1, kCable, kRodArgs + strain + " --set scheme.planar=off", 3, 40,
                    Stop::sigint_process, 0.0);
   stop_and_restart("rod-shearable-planar-sigint", 1, kCable, kRodArgs + strain, 3, 40, Stop::sigint_process, 0.0);
+  // With a carried spatial history the carried kappa_s's rate is part of the point too.
+  stop_and_restart("rod-shearable-carried-sigint", 1, kCable, kRodArgs + strain + " --set scheme.rho_inf_space=0.8", 3,
+                   40, Stop::sigint_process, 0.0);
 }
 
 // Adaptive steps on a damped shearable rod: the controller and the strain rate's history.
@@ -272,7 +275,7 @@ TEST(InterruptRestart, BadRestartsExitWithCode2AndKeepTheFile) {
       {"run --restart " + out + " --overwrite", "not allowed with --restart"},
       {"run --restart " + out + " --set output.fields=[r]", "a restart must keep output.fields"},
       {"run --restart " + out + " --set time.dt=1e-3", "a restart keeps the time step"},
-      {"run --restart " + out + " --set mesh.ds=0.05", "the scene needs 21 x 69"},
+      {"run --restart " + out + " --set mesh.ds=0.05", "the scene needs 21 x 72"},
       {"run --restart " + out + " --set loads.F.speed=-3", "loads.F.speed"},
       {"run " + kCable + " --restart-interval -1", "--restart-interval: expected a number of seconds"},
   };

@@ -87,11 +87,15 @@ TEST(PlanarCli, CablePlanarEquals3D) {
 
 // The rods that strain and the viscosities on the planar path (docs/rod.md): the cable made
 // shearable and damped, from its static equilibrium (the static kernels' compliance): the same
-// output to 1e-10, on 1 and 2 ranks.
+// output to 1e-10, on 1 and 2 ranks; and with a carried spatial history (rho_inf_space 0.8),
+// where the bending viscosity reads the carried kappa_s's rate.
 TEST(PlanarCli, ShearableDampedCablePlanarEquals3D) {
   const std::string strain = " --set rod.model=shearable --set 'rod.damping={axial: 5, shear: 5, bending: 1.0e-5, "
                              "torsion: 1.0e-5}' --set output.fields=[r,R,u,omega,kappa,n,m,v]";
   for (int ranks : {1, 2}) EXPECT_LE(cable_planar_against_3d("planar_shearable", ranks, strain), 1e-10);
+  for (int ranks : {1, 2})
+    EXPECT_LE(cable_planar_against_3d("planar_shearable_carried", ranks, strain + " --set scheme.rho_inf_space=0.8"),
+              1e-10);
 }
 
 // The arches: the shallow arch is planar (and equal to its 3D run), the deep arch with its

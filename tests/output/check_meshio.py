@@ -66,7 +66,7 @@ def check_file(xmf, want_arrays):
         return f, r
 
 
-check_file(sys.argv[1], ["s", "r", "d1", "d2", "d3", "kappa"])
+check_file(sys.argv[1], ["s", "r", "d1", "d2", "d3", "kappa", "stretch"])
 check_file(sys.argv[2], ["s", "position"])
 # The rod's directors are R's rows and the beam's shape is (x, w, 0) from its deflection.
 with h5py.File(os.path.splitext(sys.argv[1])[0] + ".h5", "r") as f, meshio.xdmf.TimeSeriesReader(sys.argv[1]) as r:

@@ -1,11 +1,13 @@
 # ctest fixture of the real-client tests: a rod run and a beam run of the traverse program,
 # small but with every kind of array (the rod's centreline r, directors R -> d1 d2 d3,
-# curvature; the beam's default output), in OUT (a folder, recreated).
+# curvature, stretch; the beam's default output), in OUT (a folder, recreated). The rod is
+# extensible and soft (E A = 200 N, strains of about 1 %), so the clients see a stretched rod.
 # Variables: EXE, SOURCE (the source tree), OUT.
 file(REMOVE_RECURSE ${OUT})
 file(MAKE_DIRECTORY ${OUT})
 execute_process(COMMAND ${EXE} run ${SOURCE}/inputs/default.yaml -o ${OUT}/rod.h5 -q
-                        --set mesh.ds=0.05 --set "output.fields=[r,R,kappa]" RESULT_VARIABLE rc)
+                        --set mesh.ds=0.05 --set rod.model=extensible --set rod.axial_stiffness=200
+                        --set "output.fields=[r,R,kappa,stretch]" RESULT_VARIABLE rc)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "traverse run (rod) failed (${rc})")
 endif()

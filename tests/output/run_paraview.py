@@ -138,6 +138,22 @@ def require_pvbatch(pvbatch):
         fail(f"pvbatch not found ({pvbatch}); install the Debian packages paraview and python3-paraview")
 
 
+def check_stretched(run):
+    """A rod with a stretch array: the polyline of the points ParaView reads (check_paraview
+    asserts they are the file's) is as long as the integral of the stretch over s, longer than
+    the rod at rest. Returns an exit status."""
+    if "stretch" not in run["arrays"]:
+        return 0
+    p, s = np.asarray(run["points"]), np.asarray(run["arrays"]["s"])
+    st = np.asarray(run["arrays"]["stretch"])
+    length = float(np.linalg.norm(np.diff(p, axis=0), axis=1).sum())
+    integral = float(np.sum(0.5 * (st[1:] + st[:-1]) * np.diff(s)))
+    ok = abs(length / integral - 1.0) < 1e-3 and length > 1.001 * s[-1]
+    print(f"{'' if ok else 'FAILED: '}stretched rod: polyline length {length:.6f} m, integral of the stretch "
+          f"{integral:.6f} m, unstretched {s[-1]:g} m")
+    return 0 if ok else 1
+
+
 def main():
     pvbatch, rod, beam, out = sys.argv[1:5]
     require_pvbatch(pvbatch)
@@ -148,6 +164,7 @@ def main():
         json.dump({"runs": runs, "out": os.path.abspath(out)}, fh)
     here = os.path.dirname(os.path.abspath(__file__))
     codes = [run_pvbatch(pvbatch, [os.path.join(here, "check_paraview.py"), os.path.abspath(spec)]).returncode]
+    codes.append(check_stretched(runs[0]))
     for run in runs:
         folder, name = os.path.split(run["xmf"])
         bare = os.path.abspath(os.path.join(out, "bare_" + os.path.splitext(name)[0]))

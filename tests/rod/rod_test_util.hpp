@@ -37,6 +37,7 @@ struct Rng {
     n.R = rotation();
     n.yt = y(3.0, 20.0, 30.0, 50.0);
     n.ys = y(3.0, 20.0, 30.0, 50.0);
+    n.kst = vec3(30.0);
     return n;
   }
   VecX unknowns(const RodModel& m, const RodNode& old) {

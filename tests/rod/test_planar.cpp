@@ -61,6 +61,7 @@ RodNode symmetric_node(const Vec3& n, int axis, test::Rng& rng) {
   nd.y = symmetric(axis, rng, 1.0);
   nd.yt = symmetric(axis, rng, 10.0);
   nd.ys = symmetric(axis, rng, 10.0);
+  nd.kst(axis) = 30.0 * rng.uniform();  // the carried kappa_s's rate about the normal
   return nd;
 }
 
@@ -126,9 +127,8 @@ Parity parity_of(const LocalBlock& b, const std::vector<bool>& even_rows, const 
 }
 
 // The rod models the planar path takes (docs/rod.md): the inextensible rod, the rods that
-// strain and the viscosities (compliances and retardation times large enough to show; the
-// bending viscosity with the box scheme in s only).
-std::vector<std::pair<std::string, RodProperties>> strain_variants(const RodProperties& base, bool box) {
+// strain and the viscosities (compliances and retardation times large enough to show).
+std::vector<std::pair<std::string, RodProperties>> strain_variants(const RodProperties& base) {
   std::vector<std::pair<std::string, RodProperties>> v{{"", base}};
   RodProperties ext = base, shear = base;
   ext.C = RodProperties::compliance(RodStrain::extensible, 200.0, 0.0);
@@ -136,10 +136,8 @@ std::vector<std::pair<std::string, RodProperties>> strain_variants(const RodProp
   shear.B_se = Vec3(0.3, 0.2, 0.5);
   v.push_back({" extensible", ext});
   v.push_back({" shearable B_se", shear});
-  if (box) {
-    shear.B_bt = Vec3(1e-3, 2e-3, 3e-3);
-    v.push_back({" shearable B_se B_bt", shear});
-  }
+  shear.B_bt = Vec3(1e-3, 2e-3, 3e-3);
+  v.push_back({" shearable B_se B_bt", shear});
   return v;
 }
 
@@ -154,7 +152,7 @@ TEST(Planar, CellKernelDecouplesAtSymmetricStates) {
       const Vec3 n = rng.vec3(1.0).normalized();
       const int j = 4;
       const RodModel base = planar_model(pc.alpha, n, axis, j, st, rng);
-      for (const auto& [variant, props] : strain_variants(base.props, pc.alpha.box_in_space())) {
+      for (const auto& [variant, props] : strain_variants(base.props)) {
         RodModel m = base;
         m.props = props;
         const int p = m.unknowns_per_node();
@@ -201,7 +199,7 @@ TEST(Planar, InPlaneCellKernelEqualsRestrictedFullKernel) {
     for (int axis = 0; axis < 2; ++axis) {
       const Vec3 n = rng.vec3(1.0).normalized();
       const RodModel base = planar_model(pc.alpha, n, axis, 4, st, rng);
-      for (const auto& [variant, props] : strain_variants(base.props, pc.alpha.box_in_space())) {
+      for (const auto& [variant, props] : strain_variants(base.props)) {
         RodModel m = base;
         m.props = props;
         PlanarSymmetry sym;  // the end rows do not matter for a cell

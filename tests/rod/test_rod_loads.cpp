@@ -11,28 +11,35 @@
 namespace traverse::rod {
 namespace {
 
-TEST(RodLoads, WeightsGiveExactlyTheTotalForce) {
+TEST(RodLoads, SharesGiveExactlyTheTotalForce) {
+  // The interior nodes' shares through the scheme's spatial average (1 - beta) w_j +
+  // beta w_{j-1}, summed over the cells, plus the end nodes' shares: exactly the load; the
+  // shares are the hat functions (linear interpolation), the ends' only in the end cells.
   const int N = 10;
   const double ds = 0.1;
-  double worst = 0.0;
+  double worst = 0.0, interpolation = 0.0;
   for (double beta : {0.5, 0.3889, 0.1667, 0.7}) {
     for (double sigma : {0.0, 1e-17, 0.05, 0.1, 0.2999999999, 0.3, 0.55, 0.9, 0.95, 1.0 - 1e-16, 1.0}) {
-      const PointLoadWeights w = point_load_weights(sigma, N, ds, beta);
-      ASSERT_GT(w.count, 0);
-      // Sum over cells j of (1 - beta) w_j + beta w_{j-1}.
-      double total = 0.0;
-      for (int j = 1; j <= N; ++j)
-        for (int k = 0; k < w.count; ++k) {
-          if (w.node[k] == j) total += (1.0 - beta) * w.weight[k];
-          if (w.node[k] == j - 1) total += beta * w.weight[k];
-        }
-      worst = std::max(worst, std::abs(total - 1.0));
+      const PointLoadWeights w = point_load_weights(sigma, N, ds);
+      ASSERT_TRUE(w.on_rod);
+      double total = w.left + w.right, first = 0.0;
+      for (int j = 1; j <= N; ++j) total += (1.0 - beta) * w.at(j) + beta * w.at(j - 1);
+      for (int j = 0; j <= N; ++j) {
+        const double share = j == 0 ? w.left : j == N ? w.right : w.at(j);
+        first += share * j * ds;  // the shares' centroid is sigma
+        interpolation = std::max(interpolation, std::abs(share - std::max(0.0, 1.0 - std::abs(sigma / ds - j))));
+      }
+      worst = std::max({worst, std::abs(total - 1.0), std::abs(first - sigma)});
     }
   }
-  std::printf("max |sum of weighted contributions - 1| over beta and sigma: %.2e\n", worst);
+  std::printf("max |sum of weighted contributions - 1|, |centroid - sigma|: %.2e; shares vs hats %.2e\n", worst,
+              interpolation);
   EXPECT_LT(worst, 1e-14);
-  EXPECT_EQ(point_load_weights(-0.01, N, ds, 0.5).count, 0);
-  EXPECT_EQ(point_load_weights(1.01, N, ds, 0.5).count, 0);
+  EXPECT_LT(interpolation, 1e-14);
+  EXPECT_NEAR(point_load_weights(0.07, N, ds).left, 0.3, 1e-15);
+  EXPECT_EQ(point_load_weights(0.07, N, ds).at(0), 0.0);  // an end node takes no load density
+  EXPECT_FALSE(point_load_weights(-0.01, N, ds).on_rod);
+  EXPECT_FALSE(point_load_weights(1.01, N, ds).on_rod);
 }
 
 /// Sum over all cells of ds * (point-load part of the momentum rows) at R = I.
@@ -59,7 +66,13 @@ TEST(RodLoads, ResidualCarriesExactlyTheAppliedForceAtEveryStep) {
       P.force_fixed = [](double t) { return Vec3(0.1, -2.0 - 10.0 * t, 0.3); };
       P.sigma = [=, t0 = st.t_old, dt = st.dt](double t) { return s0 + (s1 - s0) * (t - t0) / dt; };
       m.loads.point_forces = {P};
-      const Vec3 applied = (1.0 - a.bt) * P.force_fixed(st.t_new()) + a.bt * P.force_fixed(st.t_old);
+      // The cells carry the interior nodes' shares (the ends' shares act in the end rows).
+      auto interior = [&](double t) {
+        const PointLoadWeights W = point_load_weights(P.sigma(t), m.num_cells, m.ds());
+        return 1.0 - W.left - W.right;
+      };
+      const Vec3 applied = (1.0 - a.bt) * interior(st.t_new()) * P.force_fixed(st.t_new()) +
+                           a.bt * interior(st.t_old) * P.force_fixed(st.t_old);
       const Vec3 total = summed_load_rows(m, st);
       const double e = (total + applied).norm() / applied.norm();
       worst = std::max(worst, e);
@@ -67,6 +80,48 @@ TEST(RodLoads, ResidualCarriesExactlyTheAppliedForceAtEveryStep) {
   }
   std::printf("max relative |sum_cells ds * load rows + time-averaged F| = %.2e\n", worst);
   EXPECT_LT(worst, 1e-10);
+}
+
+TEST(RodLoads, AnEndShareActsInTheEndRows) {
+  // A free end's force rows read n - sign R F_end: at n = 0 the residual is -sign R F_end,
+  // F_end the end node's share of the load at the new level; a clamped end's rows read no
+  // force (its reaction absorbs the share). The Jacobian against differences in omega.
+  const StepTimes st{0.3, 0.01};
+  RodModel m = test::scene_model(10);
+  m.left = EndCondition::make_free();
+  m.right = EndCondition::make_free();
+  PointForce P;
+  P.force_fixed = [](double t) { return Vec3(0.1, -2.0 - 10.0 * t, 0.3); };
+  test::Rng rng;
+  for (double sigma : {0.03, 0.0, 0.96, 1.0, 0.5}) {
+    P.sigma = [sigma](double) { return sigma; };
+    m.loads.point_forces = {P};
+    const PointLoadWeights W = point_load_weights(sigma, m.num_cells, m.ds());
+    for (int end = 0; end < 2; ++end) {
+      const RodNode o = rng.node();
+      VecX x = node_unknowns(m, o);
+      x.segment<3>(var::n).setZero();
+      x.segment<3>(var::kappa) = m.props.kappa0;
+      const LocalBlock b = end == 0 ? left_block(m, st, o, x) : right_block(m, st, o, x);
+      const Mat3 R = new_level_node(m, o, x.head<12>(), st.dt).R;
+      const double share = end == 0 ? W.left : W.right, sign = end == 0 ? -1.0 : 1.0;
+      const Vec3 expected = -sign * share * (R * P.force_fixed(st.t_new()));
+      EXPECT_LT((b.residual.head<3>() - expected).norm(), 1e-13) << sigma << " end " << end;
+      for (int i = 0; i < 3; ++i) {  // d rows / d omega_i
+        const double h = 1e-6;
+        VecX xp = x, xm = x;
+        xp(var::omega + i) += h;
+        xm(var::omega + i) -= h;
+        const VecX fd = ((end == 0 ? left_block(m, st, o, xp) : right_block(m, st, o, xp)).residual -
+                         (end == 0 ? left_block(m, st, o, xm) : right_block(m, st, o, xm)).residual) / (2.0 * h);
+        EXPECT_LT((fd - b.jac[0].col(var::omega + i)).cwiseAbs().maxCoeff(), 1e-7) << sigma << " end " << end;
+      }
+      RodModel held = m;
+      held.left = held.right = EndCondition::make_clamped();
+      const LocalBlock c = end == 0 ? left_block(held, st, o, x) : right_block(held, st, o, x);
+      EXPECT_EQ((c.residual.head<3>() - x.segment<3>(var::u)).norm(), 0.0) << "a clamped end reads no force";
+    }
+  }
 }
 
 TEST(RodLoads, MassWithoutInertiaEqualsItsWeightAsAPointForce) {
@@ -156,14 +211,13 @@ TEST(RodLoads, LineMassPartsTileItAndShareLikeAPointForce) {
   const double ds = 0.1, L = 1.0;
   double worst = 0.0, alternating = 0.0;
   for (double sigma : {0.0, 1e-17, 0.05, 0.1, 0.2999999999, 0.3, 0.37, 0.55, 0.9, 0.95, 1.0 - 1e-16, 1.0}) {
-    const PointLoadWeights w = point_load_weights(sigma, N, ds, 0.5);
+    const PointLoadWeights w = point_load_weights(sigma, N, ds);
     double covered = 0.0, alt = 0.0, last_r = std::max(sigma - ds, 0.0);
     for (int j = 1; j <= N; ++j) {
       double l = 0.0, r = 0.0;
       const bool in = line_mass_part(sigma, j, N, ds, l, r);
       double share = 0.0;  // a point force's share of cell j: (1 - bs) w_j + bs w_{j-1}
-      for (int k = 0; k < w.count; ++k)
-        if (w.node[k] == j || w.node[k] == j - 1) share += 0.5 * w.weight[k];
+      share += 0.5 * (w.at(j) + w.at(j - 1));
       if (!in) {
         EXPECT_EQ(share, 0.0) << sigma << " cell " << j;
         continue;
@@ -172,7 +226,7 @@ TEST(RodLoads, LineMassPartsTileItAndShareLikeAPointForce) {
       last_r = r;
       covered += r - l;
       // Away from the ends the part is the point force's share of the mass; at the ends the
-      // line mass's part beyond the rod is missing, the point force's is folded in.
+      // line mass's part beyond the rod is missing, the point force's end share acts in the end rows.
       if (sigma >= ds && sigma <= L - ds) worst = std::max(worst, std::abs((r - l) / (2.0 * ds) - share));
       alt += (j % 2 == 0 ? 1.0 : -1.0) * (r - l);
     }
@@ -266,7 +320,9 @@ TEST(RodLoads, MassImpulsesTelescopeToTheChangeOfItsMomentum) {
 TEST(RodLoads, AxialPointLoadBetweenNodesJumpsNByTheForce) {
   // Straight cantilever (clamped at 0, free at L), axial load F k at sigma, switched on
   // after t = 0 (so that the old level of the first step is consistent): n3 = F left of the
-  // load's cell, 0 right of it, at every step (exact discrete solution).
+  // load's cell, 0 right of it, at every step (exact discrete solution). A load at the clamp
+  // goes into its reaction (n3 = 0 all along); one at the free end is its end force (n3 = F
+  // all along).
   for (double sigma : {0.43, 0.5, 0.0, 1.0}) {
     RodModel m = test::scene_model(10);
     m.right = EndCondition::make_free();
@@ -283,8 +339,9 @@ TEST(RodLoads, AxialPointLoadBetweenNodesJumpsNByTheForce) {
       const double n_left = s.nodes[0].y(var::n + 2), n_right = s.nodes[10].y(var::n + 2);
       std::printf("sigma = %.2f, step %d: n3(0) = %.15f, n3(L) = %.3e, jump %.15f (F = %.1f)\n",
                   sigma, i + 1, n_left, n_right, n_right - n_left, F);
-      EXPECT_NEAR(n_right - n_left, -F, 1e-10);
-      EXPECT_NEAR(n_left, F, 1e-10);
+      const double left = sigma > 0.0 ? F : 0.0, right = sigma == 1.0 ? F : 0.0;
+      EXPECT_NEAR(n_left, left, 1e-10);
+      EXPECT_NEAR(n_right, right, 1e-10);
     }
   }
 }

@@ -55,7 +55,9 @@ def shallow(exe, scratch, check):
         return
     scene = os.path.join(ARCH, "shallow_arch_v1.0.yaml")
     res = {}
-    for v, extra in ((0.02, DAMPED), (0.5, []), (5.0, []), (20.0, [])):
+    # The slow load to t = 20 s (sigma = 0.4 m), past its snap: its steps of ds / v = 0.5 s do not
+    # resolve the motion after the snap, which Newton may then fail to follow.
+    for v, extra in ((0.02, DAMPED + ["time.end=20"]), (0.5, []), (5.0, []), (20.0, [])):
         out = run(exe, scratch, scene, f"shallow_v{v}",
                   [f"loads.F.speed={v}", f"mesh.ds={ds}", "output.fields=[]"] + extra)
         res[v] = arches.collapse(traverse_io.load(out))

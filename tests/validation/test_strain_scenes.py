@@ -4,7 +4,7 @@ elastic_catenary_load.yaml, rubber_cantilever_mass.yaml; docs/results.md) run th
 traverse executable on coarser meshes (--set), checked against closed forms and against each
 other with postprocessing/plot_strained_rod.py (the code their figures use).
 
-    test_strain_scenes.py TRAVERSE_EXE SCRATCH_DIR {taut,catenary,rubber}
+    test_strain_scenes.py TRAVERSE_EXE SCRATCH_DIR {taut,catenary,rubber,stiff}
 
 taut      The static start's midspan sag is the taut elastic string's
           s^3 = 3 w L^4 / (64 E A) within 1 %; with E A x 8 it halves (within 1 %): the sag
@@ -17,6 +17,9 @@ catenary  The static start is Irvine's elastic catenary: midspan sag within 1e-3
           is of order 2 in ds), where the taut string's parabola misses the sag by more than
           2 %; the force crosses (the run completes at t = 10.5 s) and lowers the midspan by
           more than 0.4 m.
+stiff     The hanging cable (inputs/default.yaml) and the coupled bead on it, as shearable rods
+          with E A and k G A x 1e8: r and n within 1e-6 of the inextensible runs' largest
+          values, the bead's position within 1e-6 m.
 rubber    The tip height history of the shearable rubber cantilever against the same scene
           inextensible: E A, k G A x 1e6 differs from it by less than 1e-5 of the largest tip
           deflection, the rubber by more than 2 % (deflecting more).
@@ -129,5 +132,32 @@ def rubber(exe, scratch, check):
           f"{final:+.4f} when the mass reaches the tip (more than 0.02, deflecting more)")
 
 
+def stiff(exe, scratch, check):
+    # The shipped inextensible scenes as shearable rods with E A and k G A x 1e8: the hanging
+    # cable (a moving force) and the bead on it (a coupled mass, its position an unknown).
+    for scene, name, sets in ((os.path.join(ROOT, "inputs", "default.yaml"), "cable", ["mesh.ds=0.02"]),
+                              (os.path.join(ROD, "coupled_bead_cable.yaml"), "bead", ["time.end=0.3"])):
+        fields = ["output.fields=[r,n]"]
+        ie = traverse_io.load(cli_checks.run(exe, scratch, scene, name + "_inextensible", sets + fields,
+                                             "test_strain_scenes"))
+        p = strained.rod_properties(ie)
+        EA, kGA = p["EA"], 0.4 * p["EA"]
+        st = traverse_io.load(cli_checks.run(
+            exe, scratch, scene, name + "_stiff",
+            sets + fields + ["rod.model=shearable", f"rod.axial_stiffness={1e8 * EA!r}",
+                             f"rod.shear_stiffness={1e8 * kGA!r}"], "test_strain_scenes"))
+        check(len(ie.time) == len(st.time), f"{name}: {len(ie.time)} and {len(st.time)} output steps")
+        for f in ("r", "n"):
+            a, b = ie.field(f), st.field(f)
+            d = float(np.abs(a - b).max() / np.abs(a).max())
+            check(d < 1e-6, f"{name}: E A, k G A x 1e8 against the inextensible rod: {f} {d:.2e} of its largest "
+                  "(allowed 1e-6)")
+        if name == "bead":
+            a, b = ie.sigma, st.sigma
+            d = float(np.abs(a - b).max())
+            check(d < 1e-6, f"bead: its position differs by {d:.2e} m (allowed 1e-6)")
+
+
 if __name__ == "__main__":
-    sys.exit(cli_checks.main("test_strain_scenes", {"taut": taut, "catenary": catenary, "rubber": rubber}, sys.argv, __doc__))
+    sys.exit(cli_checks.main("test_strain_scenes", {"taut": taut, "catenary": catenary, "rubber": rubber,
+                                                    "stiff": stiff}, sys.argv, __doc__))

@@ -124,6 +124,7 @@ class PlanarReduction {
   /// the new level once per Newton iteration (new_levels), shared by the node's two cells.
   struct OldNode {
     Vec6 y, yt, ys;          ///< in-plane components of the old level's y, yt, ys
+    double kst = 0.0;        ///< the old level's rate of the carried kappa_s about the normal
     Vec6 F;                  ///< in-plane components of the old-level flux
     Eigen::Vector2d fb;      ///< the rod's weight per length rho A g in old body components (in-plane)
     double fb_normal = 0.0;  ///< its component along the normal (zero when the problem is planar)
@@ -164,9 +165,11 @@ class PlanarReduction {
   /// and dv/dn (diagonal) at the new level of a node whose in-plane force is n.
   void strain_levels(const RodModel& model, const StepTimes& step, const OldNode& o, const Eigen::Vector2d& n,
                      NewLevels& L, Eigen::Vector2d& v, Eigen::Vector2d& dv) const;
-  /// The bending viscosity's -(B kappa_t)_s about the normal in a cell's spin row (box scheme).
+  /// The bending viscosity's -(B kappa_t)_s about the normal in a cell's spin row (box scheme:
+  /// the nodes' kappa rates differenced; carried ys: the carried kappa_s's rates averaged).
   void add_bending_viscosity(LocalBlock& b, const RodModel& model, const StepTimes& step, const OldNode& op,
-                             const OldNode& oc, const NewLevels& lp, const NewLevels& lc) const;
+                             const OldNode& oc, const double* xp, const double* xc, const NewLevels& lp,
+                             const NewLevels& lc) const;
 };
 
 /// The same symmetry for a static problem (static_kernels.hpp) started from the straight state

@@ -118,12 +118,12 @@ void cell_block_into(LocalBlock& out, const RodModel& model, const StepTimes& st
 
 /// The residual rows of cell (j-1, j) without the point loads, written into r (12 rows, or 24
 /// with carried ys: the recursion rows): Mm A_t + Kk A_s + A_F with the generalised-alpha
-/// averages of the node levels. The one formula of the cell residual, shared by
-/// cell_block_into and the planar cell (PlanarReduction::cell_block_into). Mm, Kk: Mm_matrix
-/// and Kk_matrix of the model's properties.
-void cell_residual_into(VecX& r, const RodModel& model, const Mat12& Mm, const Mat12& Kk, const RodNode& old_prev,
-                        const RodNode& old_this, const VecX& new_prev, const VecX& new_this, const NodeLevels& prev,
-                        const NodeLevels& cur);
+/// averages of the node levels (cell_scheme.hpp, which the planar cell evaluates on its
+/// in-plane components), and the bending and torsion viscosity. Mm, Kk: Mm_matrix and
+/// Kk_matrix of the model's properties.
+void cell_residual_into(VecX& r, const RodModel& model, const StepTimes& step, const Mat12& Mm, const Mat12& Kk,
+                        const RodNode& old_prev, const RodNode& old_this, const VecX& new_prev, const VecX& new_this,
+                        const NodeLevels& prev, const NodeLevels& cur);
 
 /// Whether a point force or moving mass acts on cell j at either level of the step (when not,
 /// load_block is zero).

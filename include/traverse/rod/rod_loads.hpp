@@ -57,29 +57,44 @@ struct RodLoads {
   bool has_frame_loads() const { return has_gravity() || static_cast<bool>(f_fixed) || static_cast<bool>(l_fixed); }
 };
 
-/// Nodal weights of a point load at sigma on nodes 0..N at spacing ds (at most two nodes).
+/// How a point load at sigma is shared by nodes 0..N at spacing ds: the hat functions of
+/// the cell (k-1, k) holding it, xi = (sigma - s_{k-1}) / ds, 1 - xi at node k-1 and xi at
+/// node k. An interior node's share w F enters the cells' force rows as the nodal load
+/// density w F / ds (the scheme's spatial average splits it between the node's two cells,
+/// so the rows add up to w F). An end node's share is not a load density but a force on the
+/// end itself: the end's rows take it (a free, sliding or roller end carries it in its force
+/// rows, a support's reaction absorbs it), as a load at s = 0 or L acts on the continuum.
+/// Sharing it into the end cell instead would apply it at the cell's centre, an error of
+/// order ds in the moment the rod carries.
 struct PointLoadWeights {
-  int count = 0;                   ///< 0 (off the rod), 1 or 2
+  int count = 0;                   ///< interior nodes with a share: 0, 1 or 2
   std::array<int, 2> node{{0, 0}};
   std::array<double, 2> weight{{0.0, 0.0}};
+  bool on_rod = false;             ///< sigma in [0, L] (a finite position)
+  double left = 0.0, right = 0.0;  ///< the shares of end nodes 0 and N
+  /// The share of interior node `node` (0 for the others).
+  double at(int node) const {
+    double s = 0.0;
+    for (int k = 0; k < count; ++k)
+      if (this->node[static_cast<size_t>(k)] == node) s += weight[static_cast<size_t>(k)];
+    return s;
+  }
 };
 
-/// Weights w such that a nodal load value w_k F / ds at the nodes k of the cell holding
-/// sigma gives, through the scheme's spatial cell average (1 - beta) f(j) + beta f(j-1)
-/// summed over all cells with factor ds, exactly F. Each node's total spatial weight is
-/// E_j = 1 (interior), E_0 = beta, E_N = 1 - beta; with xi = (sigma - s_{k-1}) / ds in the
-/// cell (k-1, k): w_{k-1} = (1 - xi) / E_{k-1}, w_k = xi / E_k (linear interpolation
-/// corrected at the end nodes; a node with E = 0 takes no load and its neighbour takes all).
-/// beta is bs (point forces and the weights of moving masses).
-PointLoadWeights point_load_weights(double sigma, int num_cells, double ds, double beta);
+/// The shares of a point load at sigma (PointLoadWeights); none off the rod.
+PointLoadWeights point_load_weights(double sigma, int num_cells, double ds);
+
+/// d(share)/d sigma [1/m] of `node` (0..N) for a load at sigma: -1/ds at node k-1 and 1/ds at
+/// node k of the cell holding it; at an interior node, where the shares kink, the mean of its
+/// two cells' slopes (what a central difference gives).
+double point_load_slope(double sigma, int node, int num_cells, double ds);
 
 /// The part of a moving mass's path during one time step that lies in cell `cell` (nodes
 /// cell - 1, cell): the path is sigma(tau) = sigma_old + tau (sigma_new - sigma_old),
 /// tau = (t - t_old) / dt in [0, 1], clipped to the rod [0, L], L = num_cells ds. The
 /// segment runs from (s_a, tau_a) to (s_b, tau_b), tau_a < tau_b, both points on the
 /// boundary of the space-time box of the cell and the step (or the path's ends). A mass at
-/// rest on a node belongs to the cell on its right (cell N at s = L), as for
-/// point_load_weights. Segments of all cells tile the on-rod path, sharing their end points.
+/// rest on a node belongs to the cell on its right (cell N at s = L). Segments of all cells tile the on-rod path, sharing their end points.
 struct MassPathSegment {
   bool valid = false;  ///< whether the path spends time in the cell
   double tau_a = 0.0, tau_b = 0.0;

@@ -24,7 +24,7 @@ struct RodNode {
   /// A node whose members are all about to be assigned (no zeroing first).
   struct NoInit {};
   RodNode() = default;
-  explicit RodNode(NoInit) : y(), R(), yt(), ys(), yv(), yg() {}
+  explicit RodNode(NoInit) : y(), R(), yt(), ys(), yv(), yg(), kst() {}
 
   Vec12 y = Vec12::Zero();    ///< (u, omega, kappa, n), body components
   Mat3 R = Mat3::Identity();  ///< fixed -> body components; rows are d1, d2, d3 (fixed comps)
@@ -38,11 +38,15 @@ struct RodNode {
   /// to within half of the change, else zero (advance_node); zero at a start, and everywhere
   /// after a step that Newton solved only from the old level (solver::RodStepper::attempt).
   Vec12 yg = Vec12::Zero();
+  /// The time-derivative history (generalised alpha) of the carried kappa_s, which the bending
+  /// and torsion viscosity reads with rho_inf_space < 1 ((B kappa_t)_s = B (kappa_s)_t); zero
+  /// otherwise.
+  Vec3 kst = Vec3::Zero();
 };
 
 /// A node as plain numbers (restart points, gathers over ranks): y (12), R row-major (9),
-/// yt (12), ys (12), yv (12), yg (12).
-inline constexpr std::size_t kPackedNodeValues = 69;
+/// yt (12), ys (12), yv (12), yg (12), kst (3).
+inline constexpr std::size_t kPackedNodeValues = 72;
 void pack_node(const RodNode& nd, double* o);
 RodNode unpack_node(const double* o);
 

@@ -8,6 +8,7 @@
 //   rows [0, 6): left end; 6 + 12 (j-1) + (0..11): cell (j-1, j); last 6: right end.
 // Cell rows (the dynamic box-scheme rows at rest, plus the frame and centreline):
 //   0-2   -(n_j - n_{j-1})/ds + avg(-kappa x n - R f) - point forces         (force balance)
+//         (a point force's share of an end node acts in that end's rows instead)
 //   3-5   -K (kappa_j - kappa_{j-1})/ds + avg(-kappa x m - v x n - R l)      (moment balance)
 //   6-8   (log(R_j R_{j-1}^T) + ds avg(kappa)) / ds                           (frame follows kappa)
 //   9-11  (r_j - r_{j-1})/ds - avg(R^T v)                                      (centreline, trapezoidal)
@@ -85,6 +86,11 @@ Mat3 frame_perturbation(const Vec3& theta);
 /// The 6 rows of an end (the static rows of its type's table entry, end_condition.cpp) into
 /// b (rows 0..5, Jacobian b.jac[0]); `sign` of external forces: +1 right end, -1 left end.
 void static_end_rows(const StaticModel& m, const StaticEnd& c, const StaticNode& node, double sign, LocalBlock& b);
+
+/// The point forces' shares of end node 0 (left) or N (right), fixed frame [N]
+/// (PointLoadWeights): the end rows read n - sign R F, so a free, sliding or roller end
+/// carries it and a held position absorbs it.
+Vec3 static_end_point_force(const StaticModel& m, bool right);
 
 /// The end load P along `direction` (fixed frame) of a continuation on this end, set in e
 /// (free: the end force; sliding, roller: the force along the sliding axis; clamped, pinned:

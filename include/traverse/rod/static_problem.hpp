@@ -64,11 +64,12 @@ struct StaticProblem {
 /// gravity factor and the load magnitude, and piecewise linear in the load position (the
 /// weights are kinked at the nodes: on an interior node the mean of the two cells' slopes, as
 /// a central difference gives it).
-/// Cell j's 12 rows (rows 6 + 12 (j - 1) ...) and the right end's 6 rows (rows 12 N + 6 ...);
-/// the left end's rows do not depend on any parameter.
+/// Cell j's 12 rows (rows 6 + 12 (j - 1) ...) and an end's 6 rows (left: rows 0 ..., right:
+/// rows 12 N + 6 ...; the left end's depend only on the point load, through its end share).
 Vec12 static_cell_dfdp(const StaticProblem& pr, const std::array<double, num_static_parameters>& v,
                        StaticParameter ip, int j, const StaticNode& prev, const StaticNode& self);
-Vec6 static_right_dfdp(const StaticProblem& pr, StaticParameter ip, const StaticNode& node);
+Vec6 static_end_dfdp(const StaticProblem& pr, const std::array<double, num_static_parameters>& v,
+                     StaticParameter ip, const StaticNode& node, bool right);
 
 /// The hinged rod of the arch scenes before forming: length L along k, pinned at s = 0 and on
 /// a roller at s = L (pin axes i, sliding along k), compressed by the end load along -k,

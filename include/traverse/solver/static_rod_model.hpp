@@ -59,7 +59,7 @@ class StaticRodModel : public BlockAssemblyModel {
   void fill_mass(const Vector& x, Matrix& M) const;
   /// Residual at x with parameters p.
   void fill_residual(const Vector& x, const std::array<double, rod::num_static_parameters>& p, Vector& f) const;
-  /// dF/dp_ip at x with parameters p (analytic, rod::static_cell_dfdp / static_right_dfdp).
+  /// dF/dp_ip at x with parameters p (analytic, rod::static_cell_dfdp / static_end_dfdp).
   /// Also what the model evaluator's DfDp (parameter vector 0, by columns) returns.
   void fill_dfdp(const Vector& x, const std::array<double, rod::num_static_parameters>& p, rod::StaticParameter ip,
                  Vector& dfdp) const;
