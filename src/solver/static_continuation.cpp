@@ -387,7 +387,8 @@ struct Run {
   }
 
   /// Acceptance test of a converged continuation step (size h) from the last recorded point to
-  /// (xb, pb): the eigenvalue-change test of ContinuationOptions::eigenvalue_change.
+  /// (xb, pb): the parameter's change within twice max_step, and the eigenvalue-change test of
+  /// ContinuationOptions::eigenvalue_change.
   bool accept(const Vector& xb, double pb, double h) {
     if (xs.empty()) return true;
     const double pa = ps.back()[ip()];
@@ -396,7 +397,14 @@ struct Run {
     Params p = ps.back();
     p[ip()] = pb;
     pending_x = Teuchos::null;
-    if (opt.stability.enabled && opt.eigenvalue_change > 0.0 && stab.back().converged) {
+    // The corrector can slide along the arclength hyperplane where the branch's tangent is
+    // almost all x (a load entering the rod over its first cell): a converged step that moved
+    // the parameter by more than twice the largest step is refused, and LOCA halves the step.
+    if (std::abs(pb - pa) > 2.0 * std::abs(opt.max_step)) {
+      ok = false;
+      why = "the parameter moved by " + std::to_string(pb - pa) + ", more than twice max_step";
+    }
+    if (ok && opt.stability.enabled && opt.eigenvalue_change > 0.0 && stab.back().converged) {
       Stability s = compute_stability(ctx, xb, p, opt.stability);
       if (s.converged) {
         const auto& la = stab.back().eigenvalues;

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Arch dynamics at reduced resolution (issue: arch dynamics; docs/results.md, "Hinged arches
+"""Arch dynamics at reduced resolution (docs/results.md, "Hinged arches
 under a travelling load"). Runs the traverse executable on inputs/arch and inputs/statics
 scenes with --set overrides and checks the outputs with the analysis of
 postprocessing/arches.py (the same code the figures and collapse_speed.py use).
@@ -11,7 +11,8 @@ shallow  The slow load (v = 0.02 m/s) snaps the shallow arch close to the static
          snap; the collapse criterion separates snap from no snap by a wide margin.
 deep     With the lateral trigger (1e-6 F), the slowest load (v = 0.005 m/s) flops the deep
          arch sideways to the size of the static out-of-plane branch at the same ds (0.01);
-         the lateral amplitude falls as the speed rises to 0.05 and 0.1 m/s.
+         the lateral amplitude falls as the speed rises to 0.05 and 0.1 m/s; the static
+         continuation from the pin finds the pitchfork pair at ds = 0.005 too.
 n2       The step of n2 = n . d2 at the load equals -F . d2 at every output step.
 Each prints what it measured. Exit status 0 when every check passes, 1 otherwise.
 """
@@ -90,6 +91,14 @@ def deep(exe, scratch, check):
     ds = 0.01
     st = run(exe, scratch, os.path.join(STATICS, "deep_arch_sigma.yaml"), "deep_static", [f"mesh.ds={ds}"])
     s = arches.static_out_of_plane(st)
+    # From the pin the load enters the rod over the first cell, where the branch's tangent is
+    # almost all state and the arclength corrector can slide to the far end (where the load has
+    # left and the state is the same): at ds = 0.005 too the continuation finds the pitchfork
+    # pair, symmetric about L / 2.
+    fine = arches.static_out_of_plane(run(exe, scratch, os.path.join(STATICS, "deep_arch_sigma.yaml"),
+                                          "deep_static_fine", ["mesh.ds=0.005"]))
+    check(abs(fine["sigma1"] + fine["sigma2"] - 1.0) < 1e-6 and 0.4 < fine["sigma1"] < 0.45,
+          f"ds = 0.005: pitchforks at sigma = {fine['sigma1']:.4f}, {fine['sigma2']:.4f} m (sum L to 1e-6)")
     print(f"  static (ds = {ds}): pitchforks at sigma = {s['sigma1']:.4f}, {s['sigma2']:.4f} m; "
           f"largest |x(L/2)| on the stable out-of-plane branch {s['amplitude']:.4f} m ({len(s['x']) - 2} states)")
     check(len(s["x"]) >= 5, "the static out-of-plane branch has at least 3 stable states between the pitchforks")
