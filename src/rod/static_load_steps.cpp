@@ -55,7 +55,7 @@ StaticReport solve_with_load_steps(const StaticModel& m, const StaticNewton& new
       ++total.load_steps;
       total.residual_norm = r.residual_norm;
       total.load_scale = r.load_scale;
-      if (r.iterations <= 4) step *= 2.0;
+      if (r.iterations <= 6) step *= 2.0;
     } else {
       total.failed_factor = next;
       total.failed_residual = r.residual_norm;

@@ -7,6 +7,7 @@
 #include <NOX_Solver_Generic.H>
 #include <NOX_SolverStats.hpp>
 #include <NOX_StatusTest_Combo.H>
+#include <NOX_StatusTest_Divergence.H>
 #include <NOX_StatusTest_FiniteValue.H>
 #include <NOX_StatusTest_MaxIters.H>
 #include <NOX_StatusTest_NormF.H>
@@ -125,6 +126,16 @@ StaticSolveReport nox_static_solve(const Teuchos::RCP<StaticRodModel>& model, Ve
                                                   W_op, model->get_W_factory(),
                                                   model->create_W_prec(),
                                                   Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>>()));
+  Teuchos::RCP<NOX::StatusTest::Divergence> diverged;
+  double threshold = 0.0;
+  if (t.divergence > 0.0) {
+    group->computeF();
+    threshold = t.divergence * group->getNormF();
+    if (threshold > 0.0 && std::isfinite(threshold)) {
+      diverged = Teuchos::rcp(new NOX::StatusTest::Divergence(threshold, 2));
+      tests->addStatusTest(diverged);
+    }
+  }
   auto solver = NOX::Solver::buildSolver(group, tests, nox_parameters());
   StaticSolveReport r;
   NOX::StatusTest::StatusType status = NOX::StatusTest::Unevaluated;
@@ -146,6 +157,9 @@ StaticSolveReport nox_static_solve(const Teuchos::RCP<StaticRodModel>& model, Ve
     r.message = "Newton (NOX) stopped by an exception in iteration " + std::to_string(r.iterations + 1) + ": " + error;
   } else if (finite->getStatus() == NOX::StatusTest::Failed || !std::isfinite(r.residual_norm)) {
     r.message = "Newton diverged (the residual is not finite) in iteration " + std::to_string(r.iterations);
+  } else if (!diverged.is_null() && diverged->getStatus() == NOX::StatusTest::Failed) {
+    r.message = "Newton diverged (the residual's norm above " + fmt(t.divergence) + " times the initial one in two "
+                "iterations) in iteration " + std::to_string(r.iterations);
   } else {
     const bool residual_held = r.residual_norm <= t.residual;
     r.message = "Newton did not converge in " + std::to_string(r.iterations) + " iterations: max |f| " +

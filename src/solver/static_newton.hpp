@@ -23,6 +23,10 @@ struct StaticNewtonTests {
   /// The rod's compliance C (rod::scaled_update): zero, the force updates measured by the scale only.
   Vec3 compliance = Vec3::Zero();
   int max_iterations = 40;
+  /// > 0: a residual 2-norm above `divergence` times the initial guess's in two consecutive
+  /// iterations ends the solve as diverged (NOX::StatusTest::Divergence) instead of using up
+  /// the iterations; 0: no such test.
+  double divergence = 0.0;
 };
 
 /// Newton on `model` (its problem's parameter values, or its fixed model) from x. x in: the

@@ -43,8 +43,9 @@ using StaticNewton = std::function<StaticReport(const StaticModel& m)>;
 
 /// Equilibrium under `m`'s loads from the state `newton` works on (equilibrium under no load):
 /// the load factor goes from 0 to 1, first in one step, halving the increment after a failed
-/// solve and doubling it after a solve of at most 4 iterations. Fails after max_load_steps
-/// accepted steps or when the increment falls below 1e-8.
+/// solve and doubling it after a solve of at most 6 iterations (quadratic convergence to the
+/// tight tolerances from a near guess). Fails after max_load_steps accepted steps or when the
+/// increment falls below 1e-8.
 StaticReport solve_with_load_steps(const StaticModel& m, const StaticNewton& newton,
                                    const StaticTolerances& tol = {});
 
