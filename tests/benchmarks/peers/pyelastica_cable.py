@@ -23,7 +23,7 @@ import numpy as np
 
 import elastica as ea
 
-from pyelastica_common import (Simulator, add_arguments, add_loads,
+from pyelastica_common import (Simulator, add_arguments, add_loads, straight_rod,
                                crossing_steps, report, run)
 
 # --- the scene (inputs/default.yaml) ---------------------------------------------------
@@ -53,17 +53,7 @@ def dt_limit(ds):
 
 def build(n_elem, dt, damping):
     sim = Simulator()
-    rod = ea.CosseratRod.straight_rod(
-        n_elem,
-        np.zeros(3),
-        np.array([0.0, 0.0, 1.0]),  # direction (k)
-        np.array([0.0, 1.0, 0.0]),  # normal (j)
-        LENGTH,
-        RADIUS,
-        DENSITY,
-        youngs_modulus=YOUNGS,
-        shear_modulus=YOUNGS / (2.0 * (1.0 + POISSON)),
-    )
+    rod = straight_rod(n_elem, LENGTH, RADIUS, DENSITY, YOUNGS, YOUNGS / (2.0 * (1.0 + POISSON)))
     sim.append(rod)
     sim.constrain(rod).using(
         ea.GeneralConstraint,

@@ -62,6 +62,12 @@ class MovingPointForce(ea.NoForces):
         system.external_forces[1, i + 1] -= w * self.force
 
 
+def straight_rod(n_elem, length, radius, density, youngs, shear_modulus):
+    """PyElastica's straight rod from the origin along k, normal j."""
+    return ea.CosseratRod.straight_rod(n_elem, np.zeros(3), np.array([0.0, 0.0, 1.0]), np.array([0.0, 1.0, 0.0]),
+                                       length, radius, density, youngs_modulus=youngs, shear_modulus=shear_modulus)
+
+
 def add_loads(sim, rod, gravity, force, speed, length, n_elem, damping, dt):
     """Gravity along -j, the moving force and the switchable damper on `rod`; finalizes `sim`."""
     sim.add_forcing_to(rod).using(ea.GravityForces, acc_gravity=np.array([0.0, -gravity, 0.0]))

@@ -33,7 +33,7 @@ import numpy as np
 
 import elastica as ea
 
-from pyelastica_common import (Simulator, add_arguments, add_loads,
+from pyelastica_common import (Simulator, add_arguments, add_loads, straight_rod,
                                crossing_steps, report, run)
 
 # --- the scene (traverse_taut.yaml) --------------------------------------------------------
@@ -94,17 +94,7 @@ def parabola_start(n_elem):
 
 def build(n_elem, dt, damping, start="parabola", speed=SPEED, i_rot=I_SOLID):
     sim = Simulator()
-    rod = ea.CosseratRod.straight_rod(
-        n_elem,
-        np.zeros(3),
-        np.array([0.0, 0.0, 1.0]),  # direction (k)
-        np.array([0.0, 1.0, 0.0]),  # normal (j)
-        LENGTH,
-        RADIUS,
-        DENSITY,
-        youngs_modulus=YOUNGS,
-        shear_modulus=SHEAR_MODULUS,
-    )
+    rod = straight_rod(n_elem, LENGTH, RADIUS, DENSITY, YOUNGS, SHEAR_MODULUS)
     # E I and G J of the scene: a tenth of the solid bar's (rotary inertia left as it is)
     rod.bend_matrix[...] *= SECOND_MOMENT / I_SOLID
     rod.mass_second_moment_of_inertia[...] *= i_rot / I_SOLID
