@@ -65,7 +65,7 @@ struct StaticModel {
   double length = 1.0;
   StaticEnd left, right;
   Vec3 gravity = Vec3::Zero();                 ///< fixed frame [m/s^2]
-  std::vector<StaticPointForce> point_forces;  ///< with the box-scheme weights (bs = 1/2)
+  std::vector<StaticPointForce> point_forces;  ///< shared by the nodes as PointLoadWeights
   double ds() const { return length / num_cells; }
   Eigen::Index num_unknowns() const { return 12 * static_cast<Eigen::Index>(num_cells + 1); }
 };
