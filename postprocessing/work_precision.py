@@ -10,6 +10,8 @@ point for point.
 Studies (--study):
   cable    hanging cable (inputs/default.yaml, ds = 0.01): midspan trace, the whole crossing;
            reference: fixed dt = ds / (64 v).
+  cable-20 the same cable under 20 N (inputs/rod/hanging_cable_F20_a0.5.yaml, ds = 0.01): the
+           deep V that travels with the load; reference as for cable.
   arch     shallow arch at v = 0.02 m/s (inputs/arch/shallow_arch_v0.02.yaml at ds = 0.01, the
            scene's rho_inf = 0.8), to t = 16.5 s: the snap position (the load position where the
            right end has turned through half its initial inclination, interpolated between output
@@ -20,7 +22,7 @@ Studies (--study):
   arch-undamped-snap  the same scene to t = 1.2 s: the snap position (as in arch, outputs every
            0.0025 s = 1.25 mm of load travel); reference: fixed dt = ds / (256 v), output every step.
 
-Usage: work_precision.py --traverse BUILD/traverse --study cable|arch|arch-undamped|arch-undamped-snap [--out DIR]
+Usage: work_precision.py --traverse BUILD/traverse --study cable|cable-20|arch|arch-undamped|arch-undamped-snap [--out DIR]
        [--loaded] [--plot-only]
 Writes DIR/<study>.csv (method, parameter, cpu_s, steps, error) and DIR/<study>.png.
 """
@@ -42,6 +44,15 @@ INPUTS = os.path.join(HERE, "..", "inputs")
 STUDIES = {
     "cable": {
         "scene": os.path.join(INPUTS, "default.yaml"),
+        "sets": [],
+        "dt": 0.01 / 3.63418,
+        "probe": "midspan",
+        "refine": [1, 2, 4, 8],
+        "tolerances": [1e-2, 1e-3, 1e-4, 1e-5],
+        "reference": ("fixed", 64),
+    },
+    "cable-20": {
+        "scene": os.path.join(INPUTS, "rod", "hanging_cable_F20_a0.5.yaml"),
         "sets": [],
         "dt": 0.01 / 3.63418,
         "probe": "midspan",
