@@ -112,10 +112,7 @@ Vec3 end_point_force(const RodModel& model, int node, double t) {
   const auto& loads = model.loads;
   const int N = model.num_cells;
   const double ds = model.ds();
-  auto share = [&](double sigma) {
-    const PointLoadWeights W = point_load_weights(sigma, N, ds);
-    return node == 0 ? W.left : W.right;
-  };
+  auto share = [&](double sigma) { return point_load_weights(sigma, N, ds).share(node); };
   Vec3 F = Vec3::Zero();
   for (const PointForce& P : loads.point_forces)
     if (const double w = share(P.sigma(t)); w != 0.0) F += w * P.force_fixed(t);

@@ -8,6 +8,7 @@ namespace traverse::rod {
 PointLoadWeights point_load_weights(double sigma, int num_cells, double ds) {
   PointLoadWeights w;
   const int N = num_cells;
+  w.last = N;
   const double L = N * ds;
   const double tol = 1e-12 * L;
   if (!(sigma >= -tol && sigma <= L + tol)) return w;  // off the rod (or NaN)

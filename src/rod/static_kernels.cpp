@@ -116,10 +116,8 @@ LocalBlock static_mass_block(const StaticModel& m, int j, const StaticNode& prev
 
 Vec3 static_end_point_force(const StaticModel& m, bool right) {
   Vec3 F = Vec3::Zero();
-  for (const auto& P : m.point_forces) {
-    const PointLoadWeights W = point_load_weights(P.sigma, m.num_cells, m.ds());
-    F += (right ? W.right : W.left) * P.force;
-  }
+  for (const auto& P : m.point_forces)
+    F += point_load_weights(P.sigma, m.num_cells, m.ds()).share(right ? m.num_cells : 0) * P.force;
   return F;
 }
 

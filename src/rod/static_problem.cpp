@@ -73,8 +73,7 @@ double load_share_derivative(const StaticProblem& pr, const std::array<double, n
   const double sigma = v[static_cast<size_t>(StaticParameter::load_position)];
   if (ip == StaticParameter::load_position)
     return v[static_cast<size_t>(StaticParameter::load_magnitude)] * point_load_slope(sigma, node, m.num_cells, m.ds());
-  const PointLoadWeights W = point_load_weights(sigma, m.num_cells, m.ds());
-  return node == 0 ? W.left : node == m.num_cells ? W.right : W.at(node);
+  return point_load_weights(sigma, m.num_cells, m.ds()).share(node);
 }
 
 }  // namespace

@@ -127,10 +127,9 @@ StaticSolveReport nox_static_solve(const Teuchos::RCP<StaticRodModel>& model, Ve
                                                   model->create_W_prec(),
                                                   Teuchos::RCP<Thyra::PreconditionerFactoryBase<double>>()));
   Teuchos::RCP<NOX::StatusTest::Divergence> diverged;
-  double threshold = 0.0;
   if (t.divergence > 0.0) {
-    group->computeF();
-    threshold = t.divergence * group->getNormF();
+    group->computeF();  // the solver starts from this F (the group keeps it)
+    const double threshold = t.divergence * group->getNormF();
     if (threshold > 0.0 && std::isfinite(threshold)) {
       diverged = Teuchos::rcp(new NOX::StatusTest::Divergence(threshold, 2));
       tests->addStatusTest(diverged);

@@ -25,7 +25,7 @@ TEST(RodLoads, SharesGiveExactlyTheTotalForce) {
       double total = w.left + w.right, first = 0.0;
       for (int j = 1; j <= N; ++j) total += (1.0 - beta) * w.at(j) + beta * w.at(j - 1);
       for (int j = 0; j <= N; ++j) {
-        const double share = j == 0 ? w.left : j == N ? w.right : w.at(j);
+        const double share = w.share(j);
         first += share * j * ds;  // the shares' centroid is sigma
         interpolation = std::max(interpolation, std::abs(share - std::max(0.0, 1.0 - std::abs(sigma / ds - j))));
       }

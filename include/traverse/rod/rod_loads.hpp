@@ -72,6 +72,9 @@ struct PointLoadWeights {
   std::array<double, 2> weight{{0.0, 0.0}};
   bool on_rod = false;             ///< sigma in [0, L] (a finite position)
   double left = 0.0, right = 0.0;  ///< the shares of end nodes 0 and N
+  int last = 0;                    ///< N, the right end's node
+  /// The share of node `node` (0..N), ends included.
+  double share(int node) const { return node == 0 ? left : node == last ? right : at(node); }
   /// The share of interior node `node` (0 for the others).
   double at(int node) const {
     double s = 0.0;
