@@ -11,6 +11,8 @@
 #include <cstdio>
 #include <iostream>
 #include <regex>
+#include <tuple>
+#include <vector>
 
 #include "process.hpp"
 #include "traverse/setup/step_control.hpp"
@@ -53,6 +55,33 @@ double midspan_difference(const std::string& a, const std::string& b) {
   double d = 0.0;
   for (size_t i = 0; i < std::min(pa.rows, pb.rows); ++i) d = std::max(d, std::abs(pa.values[3 * i + 1] - pb.values[3 * i + 1]));
   return d;
+}
+
+// `traverse check` warns where the measured work-precision found fixed steps cheaper at equal
+// error (docs/adaptive.md "Work and precision"): loads at constant speed on an unformed rod (the
+// cable), a coupled mass without friction (the robot); not on an arch (a snap to follow), not
+// with friction (a mass that can stick), not without time.adaptive. The scene stays valid (exit 0).
+TEST(AdaptiveCli, CheckWarnsWhereFixedStepsAreCheaper) {
+  const std::string src = std::string(TRAVERSE_SOURCE_DIR) + "/inputs/";
+  const std::string adaptive = " --set time.adaptive.tolerance=1e-3";
+  const std::vector<std::tuple<std::string, std::string>> cases = {
+      {kCable + adaptive, "loads at constant speed"},
+      {src + "rod/coupled_inspection_robot.yaml" + adaptive, "a coupled mass without friction"},
+      {kArch + adaptive, ""},
+      {src + "rod/coupled_inspection_robot.yaml --set loads.robot.friction=0.2" + adaptive, ""},
+      {kCable, ""},
+  };
+  for (const auto& [args, warning] : cases) {
+    const RunResult r = run_command(kExe + " check " + args);
+    EXPECT_EQ(r.code, 0) << args << "\n" << r.out;
+    if (warning.empty()) {
+      EXPECT_EQ(r.out.find("time.adaptive:"), std::string::npos) << args << ": no warning expected\n" << r.out;
+    } else {
+      EXPECT_NE(r.out.find("warning: "), std::string::npos) << args << "\n" << r.out;
+      EXPECT_NE(r.out.find(warning), std::string::npos) << args << "\n" << r.out;
+      EXPECT_NE(r.out.find("docs/adaptive.md"), std::string::npos) << args << "\n" << r.out;
+    }
+  }
 }
 
 TEST(AdaptiveCli, BadControlsExitWith2NamingTheKey) {

@@ -179,6 +179,13 @@ std::vector<std::string> idle_load_warnings(const scene::Scene& sc);
 /// converges as dt falls). One line per load naming its keys.
 std::vector<std::string> under_resolved_load_warnings(const scene::Scene& sc, const TimeGrid& g);
 
+/// `traverse check`'s warnings for a rod scene with time.adaptive where measured runs of its
+/// kind found fixed steps cheaper at equal error (docs/adaptive.md "Work and precision"): loads
+/// at constant speed on a rod that is not formed into an arch (the hanging cables), a coupled
+/// mass without friction (the bead, the inspection robot). Empty when adaptive steps pay or
+/// nothing was measured.
+std::vector<std::string> adaptive_warnings(const scene::Scene& sc);
+
 /// Bytes as "512 MiB", "3.2 GiB".
 std::string format_bytes(double bytes);
 /// "4G", "512M", "1.5T", "1000000" -> bytes (K, M, G, T: powers of 1024; a trailing B or iB is
