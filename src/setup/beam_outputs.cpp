@@ -11,7 +11,7 @@ namespace traverse::setup {
 
 namespace {
 
-const char* const kEnergyProbes[] = {"energy_beam_kinetic", "energy_beam_elastic", "energy_beam_gravity",
+const char* const kBeamEnergyProbes[] = {"energy_beam_kinetic", "energy_beam_elastic", "energy_beam_gravity",
                                       "energy_mass_kinetic", "energy_mass_gravity", "work_drive",
                                       "work_dissipated", "work_friction", "energy_balance"};
 
@@ -102,7 +102,7 @@ std::vector<std::string> CoupledBeamOutputs::probe_names() const {
   for (const char* q : {"_position", "_speed", "_deflection", "_fixed_position", "_fixed_velocity", "_normal_force",
                         "_tangential_force"})
     names.push_back(load_.name + q);
-  for (const char* e : kEnergyProbes) names.push_back(e);
+  for (const char* e : kBeamEnergyProbes) names.push_back(e);
   return names;
 }
 

@@ -30,7 +30,7 @@ void evaluate_rod_fields(const std::vector<scene::Field>& fields, int count, con
 
 const char* const kMassProbes[] = {"_position", "_speed", "_fixed_position", "_fixed_velocity", "_normal_force",
                                     "_tangential_force"};
-const char* const kEnergyProbes[] = {"energy_rod", "energy_rod_gravity", "energy_mass_kinetic", "energy_mass_gravity",
+const char* const kRodEnergyProbes[] = {"energy_rod", "energy_rod_gravity", "energy_mass_kinetic", "energy_mass_gravity",
                                      "work_drive", "work_dissipated", "work_friction", "energy_balance"};
 const char* const kBodyProbes[] = {"_body_displacement", "_body_acceleration", "_contact_force"};
 const char* const kBodyEnergyProbes[] = {"energy_body", "work_damper"};
@@ -233,7 +233,7 @@ std::vector<std::string> CoupledRodOutputs::probe_names() const {
   for (const char* q : kMassProbes) names.push_back(load_.name + q);
   if (mass_.suspended)
     for (const char* q : kBodyProbes) names.push_back(load_.name + q);
-  for (const char* e : kEnergyProbes) names.push_back(e);
+  for (const char* e : kRodEnergyProbes) names.push_back(e);
   if (mass_.suspended)
     for (const char* e : kBodyEnergyProbes) names.push_back(e);
   return names;

@@ -68,7 +68,7 @@ rod::RodLoads rod_loads(const scene::Scene& sc) {
   return loads;
 }
 
-std::string fmt(double v) {
+std::string fmt4(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.4g", v);
   return buf;
@@ -79,8 +79,8 @@ std::string fmt(double v) {
 std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, const rod::StaticReport& rep) {
   std::string msg = "initial static state: no equilibrium found under the load: " + rep.message;
   if (rep.failed_factor > 0.0)
-    msg += "; the last Newton solve, at load factor " + fmt(rep.failed_factor) + ", stopped with max |residual| " +
-           fmt(rep.failed_residual) + " (the test is " + fmt(rod::StaticTolerances().ftol * rep.failed_scale) +
+    msg += "; the last Newton solve, at load factor " + fmt4(rep.failed_factor) + ", stopped with max |residual| " +
+           fmt4(rep.failed_residual) + " (the test is " + fmt4(rod::StaticTolerances().ftol * rep.failed_scale) +
            "): " + rep.failed_reason;
   msg += "; " + std::to_string(rep.iterations) + " Newton iterations in all. The load: ";
   std::string loads;
@@ -88,19 +88,19 @@ std::string static_failure(const scene::Scene& sc, const rod::StaticModel& sm, c
   for (const auto& l : sc.loads) {
     const double s0 = l.sigma(0.0);
     if (!(std::isfinite(s0) && s0 >= 0.0 && s0 <= sc.rod.length)) continue;
-    loads += load_magnitude_key(sc, l) + " (" + fmt(l.force.norm()) + " N), ";
+    loads += load_magnitude_key(sc, l) + " (" + fmt4(l.force.norm()) + " N), ";
     W = std::max(W, l.force.norm());
   }
   for (const auto* e : {&sc.left, &sc.right})
     if (e->type == scene::EndType::roller && e->axial_force != 0.0) {
-      loads += std::string("ends.") + (e == &sc.left ? "left" : "right") + ".force (" + fmt(e->axial_force) + " N), ";
+      loads += std::string("ends.") + (e == &sc.left ? "left" : "right") + ".force (" + fmt4(e->axial_force) + " N), ";
       W = std::max(W, std::abs(e->axial_force));
     }
   const double EI = std::min(sm.props.K.x(), sm.props.K.y());
-  msg += loads + "gravity = " + fmt(sc.gravity) + " m/s^2 on rod.density and rod.section (a weight of " +
-         fmt(sm.props.rhoA * sc.gravity * sc.rod.length) + " N); the stiffness: rod.youngs_modulus = " +
-         fmt(sc.rod.youngs_modulus) + " Pa and rod.section (E I = " + fmt(EI) + " N m^2, W L^2 / (E I) = " +
-         fmt(W / EI * sc.rod.length * sc.rod.length) +
+  msg += loads + "gravity = " + fmt4(sc.gravity) + " m/s^2 on rod.density and rod.section (a weight of " +
+         fmt4(sm.props.rhoA * sc.gravity * sc.rod.length) + " N); the stiffness: rod.youngs_modulus = " +
+         fmt4(sc.rod.youngs_modulus) + " Pa and rod.section (E I = " + fmt4(EI) + " N m^2, W L^2 / (E I) = " +
+         fmt4(W / EI * sc.rod.length * sc.rod.length) +
          "). Try a smaller load, a stiffer rod, or initial_state: {type: rest} (the rod starts straight and at rest; "
          "the loads act from t = 0)";
   return msg;

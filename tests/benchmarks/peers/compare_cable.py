@@ -164,7 +164,10 @@ def main():
     ap.add_argument("--scene", choices=sorted(SCENES), default="cable")
     ap.add_argument("--traverse", default=os.path.join(REPO, "build", "traverse"))
     ap.add_argument("--ds", help="traverse mesh sizes; the first is the one the ratios refer to "
-                                 "(default: cable 0.02,0.04,0.01; taut 0.1,0.4,0.2,0.05,0.025,0.0125)")
+                                 "(default: cable 0.02,0.04,0.01; taut 0.1,0.4,0.2,0.05,0.025,0.0125); "
+                                 "taut: DS:RATIO gives that run dt = DS / (RATIO v)")
+    ap.add_argument("--ref-dt-ratio", type=float, help="taut: the reference's dt = ref-ds / (ratio v) "
+                                                        "(default: --dt-ratio)")
     ap.add_argument("--ref-ds", type=float, help="the reference's ds (cable 0.00125, taut 0.00625)")
     ap.add_argument("--n-elem", help="PyElastica element counts (default 200,100 / 100,200; "
                                      "with --skip-traverse, \"\" reprints the table)")
@@ -187,22 +190,23 @@ def main():
     model = args.model or sc["model"]
     if model not in sc["model_sets"]:
         ap.error(f"--model for --scene {args.scene}: one of {sorted(sc['model_sets'])}")
-    if sc["speed"] is None and (args.speed is not None or args.dt_ratio is not None):
+    if sc["speed"] is None and (args.speed is not None or args.dt_ratio is not None or args.ref_dt_ratio is not None):
         ap.error("--speed and --dt-ratio are for --scene taut")
     speed = args.speed or sc["speed"]
     dt_ratio = args.dt_ratio or sc["dt_ratio"]
+    ref_ratio = args.ref_dt_ratio or dt_ratio
     os.makedirs(out_dir, exist_ok=True)
     summary_path = os.path.join(out_dir, "summary.json")
     stem = os.path.join(out_dir, f"traverse_{sc['prefix']}{model}")
 
-    ref_file = f"{stem}_ref_ds{ref_ds}.h5"
+    ref_file = f"{stem}_ref_ds{ref_ds}" + (f"_r{ref_ratio:g}" if ref_ratio != dt_ratio else "") + ".h5"
     if args.skip_traverse and os.path.exists(summary_path):
         summary = json.load(open(summary_path))
         with h5py.File(ref_file, "r") as f:
             t_ref, h_ref = f["time"][:], f["probes/midspan"][:, 1]
     else:
         summary = {"runs": []}
-        cpu, t_ref, h_ref = traverse_run(args.traverse, sc, ref_ds, ref_file, model, speed, dt_ratio)
+        cpu, t_ref, h_ref = traverse_run(args.traverse, sc, ref_ds, ref_file, model, speed, ref_ratio)
         summary["reference"] = {"scene": args.scene, "model": model, "ds": ref_ds,
                                 "steps": len(t_ref) - 1, "dt": float(t_ref[1] - t_ref[0]), "cpu": cpu,
                                 "min": spline_min(t_ref, h_ref), "static": float(h_ref[0])}
@@ -210,15 +214,22 @@ def main():
     summary["reference"]["scale"] = ref[3]
 
     if not args.skip_traverse:
-        for ds in [float(x) for x in ds_list.split(",") if x]:
+        for item in [x for x in ds_list.split(",") if x]:
+            # "ds" or "ds:ratio" (taut: this run's dt = ds / (ratio v))
+            ds, ratio = (float(item.split(":")[0]), float(item.split(":")[1])) if ":" in item else (float(item), dt_ratio)
+            if ratio != dt_ratio and sc["speed"] is None:
+                ap.error("--ds DS:RATIO is for --scene taut")
             cpus = []
             for k in range(args.repeat):
-                out = f"{stem}_ds{ds}.h5"
-                cpu, t, h = traverse_run(args.traverse, sc, ds, out, model, speed, dt_ratio)
+                out = f"{stem}_ds{ds}_r{ratio:g}.h5"
+                cpu, t, h = traverse_run(args.traverse, sc, ds, out, model, speed, ratio)
                 cpus.append(cpu)
             e = errors(t, h, ref, sc["grid"])
+            disc = f"{model}, ds = {ds} ({round(sc['length'] / ds) + 1} nodes)"
+            if ratio != dt_ratio:
+                disc += f", dt = ds / ({ratio:g} v)"
             summary["runs"].append({
-                "code": "traverse", "disc": f"{model}, ds = {ds} ({round(sc['length'] / ds) + 1} nodes)",
+                "code": "traverse", "disc": disc,
                 "dt": float(t[1] - t[0]), "steps": len(t) - 1, "cpu_all": cpus,
                 "cpu": statistics.median(cpus), "static": float(h[0]), **e})
 
