@@ -50,7 +50,8 @@ int execute(const app::CommandLine& cl, int rank, MPI_Comm comm) {
       if (sc.model == scene::Model::Rod) app::check_rod(sc);
       const std::string plan = setup::check_run(sc, cl.limits, comm);
       if (rank == 0) {
-        for (const std::string& w : setup::adaptive_warnings(sc)) std::fprintf(stderr, "traverse: warning: %s\n", w.c_str());
+        for (const std::string& w : setup::adaptive_warnings(sc))
+          std::fprintf(stderr, "traverse: warning: %s\n", w.c_str());
         std::cout << "# " << cl.scene << ": valid (" << plan << "). The complete scene, every default filled in:\n"
                   << scene::describe_scene(sc);
         if (cl.types) std::cout << "\n" << scene::describe_types();

@@ -12,8 +12,8 @@ namespace traverse::setup {
 namespace {
 
 const char* const kBeamEnergyProbes[] = {"energy_beam_kinetic", "energy_beam_elastic", "energy_beam_gravity",
-                                      "energy_mass_kinetic", "energy_mass_gravity", "work_drive",
-                                      "work_dissipated", "work_friction", "energy_balance"};
+                                         "energy_mass_kinetic", "energy_mass_gravity", "work_drive",
+                                         "work_dissipated", "work_friction", "energy_balance"};
 
 }  // namespace
 

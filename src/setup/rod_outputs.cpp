@@ -31,7 +31,7 @@ void evaluate_rod_fields(const std::vector<scene::Field>& fields, int count, con
 const char* const kMassProbes[] = {"_position", "_speed", "_fixed_position", "_fixed_velocity", "_normal_force",
                                     "_tangential_force"};
 const char* const kRodEnergyProbes[] = {"energy_rod", "energy_rod_gravity", "energy_mass_kinetic", "energy_mass_gravity",
-                                     "work_drive", "work_dissipated", "work_friction", "energy_balance"};
+                                        "work_drive", "work_dissipated", "work_friction", "energy_balance"};
 const char* const kBodyProbes[] = {"_body_displacement", "_body_acceleration", "_contact_force"};
 const char* const kBodyEnergyProbes[] = {"energy_body", "work_damper"};
 
