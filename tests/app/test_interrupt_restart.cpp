@@ -205,15 +205,15 @@ TEST(InterruptRestart, RodTwoRanksSigintToOneRankThenRestart) {
 }
 
 // SIGINT to mpiexec: Open MPI's mpirun forwards it to the ranks as SIGTERM. On a loaded
-// machine the forwarding took longer than a short run had left (with 50 and with 500 time
-// steps), so this run has 10000 (dt = ds / (200 v), 100 output steps), flushed after every
-// output step (output.flush_interval = 0): the signal, sent at output step 3 .. 40, finds
-// more than half of the run left.
+// machine the forwarding took longer than a short run had left (with 50, 500 and, beside a
+// second test suite, 10000 time steps with 60 % left), so this run has 20000 (dt = ds / (400 v),
+// 100 output steps), flushed after every output step (output.flush_interval = 0): the signal,
+// sent at output step 3 .. 25, finds three quarters of the run left.
 TEST(InterruptRestart, RodTwoRanksSigintToMpiexecThenRestart) {
   stop_and_restart("rod-np2-mpiexec", 2, kCable,
-                   " --set mesh.ds=0.02 --set time.dt=2.75e-5 --set output.every=100 --set output.fields=[r,n]"
+                   " --set mesh.ds=0.02 --set time.dt=1.375e-5 --set output.every=200 --set output.fields=[r,n]"
                    " --set output.flush_interval=0 --restart-interval 0 -q",
-                   3, 40, Stop::sigint_mpiexec);
+                   3, 25, Stop::sigint_mpiexec);
 }
 
 // The default restart cadence (output.restart_interval = 60 s): a run of a few seconds (27500
