@@ -101,8 +101,15 @@ STUDIES["arch-slow-undamped"] = {**STUDIES["arch"], "sets": ["mesh.ds=0.01", "ti
                                                             "scheme.rho_inf=1"],
                                 "output_interval": 0.5 / 64, "refine": [4, 16, 64],
                                 "tolerances": [1e-2, 1e-3, 1e-4, 1e-5]}
-STUDIES["arch-damped-snap"] = {**STUDIES["arch-undamped-snap"],
-                               "sets": ["scheme.rho_inf=0.8", "output.fields=[]", "time.end=1.2"]}
+
+
+def damped(study, rho_inf=0.8):
+    """The study at scheme.rho_inf = rho_inf instead of its own."""
+    s = STUDIES[study]
+    return {**s, "sets": [kv for kv in s["sets"] if not kv.startswith("scheme.rho_inf=")] + [f"scheme.rho_inf={rho_inf:g}"]}
+
+
+STUDIES["arch-damped-snap"] = damped("arch-undamped-snap")
 STUDIES["arch-2-snap"] = {
     "scene": os.path.join(INPUTS, "arch", "shallow_arch_v2.0.yaml"),
     "sets": ["scheme.rho_inf=1", "output.fields=[]", "time.end=0.5"],
@@ -113,8 +120,7 @@ STUDIES["arch-2-snap"] = {
     "tolerances": [1e-2, 1e-3, 1e-4, 1e-5],
     "reference": ("fixed", 1024),
 }
-STUDIES["arch-2-damped-snap"] = {**STUDIES["arch-2-snap"],
-                                 "sets": ["scheme.rho_inf=0.8", "output.fields=[]", "time.end=0.5"]}
+STUDIES["arch-2-damped-snap"] = damped("arch-2-snap")
 STUDIES["deep-arch"] = {
     "scene": os.path.join(INPUTS, "arch", "deep_arch_v0.01.yaml"),
     "sets": ["mesh.ds=0.01", "time.end=60", "output.fields=[]"],
@@ -194,53 +200,50 @@ def at_times(out, times):
     return k
 
 
-def snap_position(path, times=None):
+def snap_position(out, times=None):
     """The load position sigma [m] where the right end of the shallow arch has turned through
     half its initial inclination (the middle of the snap), interpolated between output steps
-    (those at `times` only, when given)."""
+    (those at `times` only, when given); no second value."""
     import arches
-    out = traverse_io.load(path)
     theta, alpha0 = arches.right_end_rotation(out)
     sel = at_times(out, times)
     theta, sig = theta[sel], traverse_io.first_load_sigma(out)[sel]
     k = np.nonzero(theta >= 0.5 * alpha0)[0]
     if not k.size:
-        raise NoEvent(f"work_precision.py: {path}: the arch did not snap")
+        raise NoEvent(f"work_precision.py: {out.path}: the arch did not snap")
     k = int(k[0])
     f = (0.5 * alpha0 - theta[k - 1]) / (theta[k] - theta[k - 1])
-    return float(sig[k - 1] + f * (sig[k] - sig[k - 1]))
+    return float(sig[k - 1] + f * (sig[k] - sig[k - 1])), None
 
 
-def flop(path, times=None):
+def flop(out, times=None):
     """The deep arch: the load position [m] where the lateral midpoint displacement |x| first
     passes 1 cm (interpolated between outputs), and the first peak of |x| after it [m] (outputs
     at `times` only, when given)."""
-    out = traverse_io.load(path)
     sel = at_times(out, times)
     x = np.abs(np.asarray(out.probes["midpoint"], dtype=float)[sel, 0])
     sig = traverse_io.first_load_sigma(out)[sel]
     k = np.nonzero(x > 0.01)[0]
     if not k.size:
-        raise NoEvent(f"work_precision.py: {path}: the arch did not flop (|x| <= 1 cm)")
+        raise NoEvent(f"work_precision.py: {out.path}: the arch did not flop (|x| <= 1 cm)")
     k = int(k[0])
     f = (0.01 - x[k - 1]) / (x[k] - x[k - 1])
     falls = np.nonzero(np.diff(x[k:]) < 0.0)[0]
     if not falls.size:
-        raise NoEvent(f"work_precision.py: {path}: |x| has no peak after the flop before time.end")
+        raise NoEvent(f"work_precision.py: {out.path}: |x| has no peak after the flop before time.end")
     return float(sig[k - 1] + f * (sig[k] - sig[k - 1])), float(x[k + int(falls[0])])
 
 
-def leaving_time(path, times=None):
-    """The coupled mass: the time [s] of its first event (leaving the rod), located inside its step."""
-    import h5py
-    with h5py.File(path, "r") as f:
-        if "events/time" not in f or not len(f["events/time"]):
-            raise NoEvent(f"work_precision.py: {path}: no event (the mass did not leave the rod)")
-        return float(f["events/time"][0]), None
+def leaving_time(out, times=None):
+    """The coupled mass: the time [s] of its first event (leaving the rod), located inside its
+    step (independent of the outputs); no second value."""
+    if not out.events:
+        raise NoEvent(f"work_precision.py: {out.path}: no event (the mass did not leave the rod)")
+    return out.events[0]["time"], None
 
 
-METRICS = {  # metric: (function of the output file -> (value, second value or None), what it is)
-    "snap": (lambda path, times=None: (snap_position(path, times), None), "snap position sigma [m]"),
+METRICS = {  # metric: (function of a loaded output [, output times] -> (value, second value or None), what it is)
+    "snap": (snap_position, "snap position sigma [m]"),
     "flop": (flop, "flop onset sigma [m]"),
     "leave": (leaving_time, "leaving time [s]"),
 }
@@ -252,7 +255,8 @@ def study_rows(exe, study, out_dir):
     ref_path, _, _ = run(exe, study, kind, p, out_dir)
     metric = s.get("metric")
     if metric:
-        ref, ref_2 = METRICS[metric][0](ref_path)
+        ref_out = traverse_io.load(ref_path)
+        ref, ref_2 = METRICS[metric][0](ref_out)
         print(f"{study}: reference {METRICS[metric][1]} = {ref:.9g}" +
               (f", second value {ref_2:.9g}" if ref_2 is not None else ""), flush=True)
     else:
@@ -267,11 +271,12 @@ def study_rows(exe, study, out_dir):
             # outputs is then common to both, and the error is the time stepping's.
             # A reference that passes the event between this run's outputs (a short first flip)
             # is read in full.
-            value, value_2 = METRICS[metric][0](path)
+            out = traverse_io.load(path)
+            value, value_2 = METRICS[metric][0](out)
             try:
-                ref, ref_2 = METRICS[metric][0](ref_path, traverse_io.load(path).time)
+                ref, ref_2 = METRICS[metric][0](ref_out, out.time)
             except NoEvent:
-                ref, ref_2 = METRICS[metric][0](ref_path)
+                ref, ref_2 = METRICS[metric][0](ref_out)
             err = abs(value - ref)
             if value_2 is not None:
                 err_2 = abs(value_2 - ref_2)
@@ -302,17 +307,22 @@ def read_csv(path):
                  "error_2": float(r["error_2"]) if r.get("error_2") else ""} for r in csv.DictReader(f)]
 
 
+def draw_work_precision(ax, rows, fontsize=7, ms=None):
+    """Error against CPU, fixed steps (labelled /k) and adaptive ones (labelled by the tolerance)."""
+    for method, style, label in [("fixed", "o-", "fixed dt (ds/v, /2, /4, ...)"), ("adaptive", "s-", "adaptive")]:
+        rs = [r for r in rows if r["method"] == method]
+        ax.loglog([r["cpu_s"] for r in rs], [r["error"] for r in rs], style, ms=ms, label=label)
+        for r in rs:
+            txt = f"/{int(r['parameter'])}" if method == "fixed" else f"{r['parameter']:.0e}"
+            ax.annotate(txt, (r["cpu_s"], r["error"]), textcoords="offset points", xytext=(3, 3), fontsize=fontsize)
+
+
 def plot(rows, study, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(6, 4.2))
-    for method, style, label in [("fixed", "o-", "fixed dt (ds/v, /2, /4, ...)"), ("adaptive", "s-", "adaptive")]:
-        rs = [r for r in rows if r["method"] == method]
-        ax.loglog([r["cpu_s"] for r in rs], [r["error"] for r in rs], style, label=label)
-        for r in rs:
-            txt = f"/{int(r['parameter'])}" if method == "fixed" else f"{r['parameter']:g}"
-            ax.annotate(txt, (r["cpu_s"], r["error"]), textcoords="offset points", xytext=(4, 4), fontsize=7)
+    draw_work_precision(ax, rows)
     ax.set_xlabel("CPU time of the whole process [s]")
     metric = STUDIES[study].get("metric")
     ax.set_ylabel(f"|error| of the {METRICS[metric][1]}" if metric
@@ -355,12 +365,7 @@ def plot_summary(out_dir, fig_dir):
     fig, axes = plt.subplots(rows_n, cols, figsize=(3.4 * cols, 2.9 * rows_n), squeeze=False)
     for ax, (st, title) in zip(axes.flat, found):
         rows = read_csv(os.path.join(out_dir, st + ".csv"))
-        for method, style in [("fixed", "o-"), ("adaptive", "s-")]:
-            rs = [r for r in rows if r["method"] == method]
-            ax.loglog([r["cpu_s"] for r in rs], [r["error"] for r in rs], style, ms=4, label=method)
-            for r in rs:
-                txt = f"/{int(r['parameter'])}" if method == "fixed" else f"{r['parameter']:.0e}"
-                ax.annotate(txt, (r["cpu_s"], r["error"]), textcoords="offset points", xytext=(3, 3), fontsize=6)
+        draw_work_precision(ax, rows, fontsize=6, ms=4)
         metric = STUDIES[st].get("metric")
         ax.set_title(title, fontsize=8)
         ax.set_ylabel("error [s]" if metric == "leave" else "error [m]", fontsize=7)

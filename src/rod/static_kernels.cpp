@@ -10,8 +10,6 @@ using so3::hat;
 
 namespace {
 
-const Vec3 e3_body = Vec3::UnitZ();
-
 LocalBlock block(Eigen::Index row, std::vector<Eigen::Index> cols, int rows) {
   LocalBlock b;
   b.row = row;
@@ -52,9 +50,9 @@ LocalBlock static_cell_block(const StaticModel& m, int j, const StaticNode& prev
     auto& J = b.jac[q];
     const Vec3 k = x.segment<3>(svar::kappa), n = x.segment<3>(svar::n);
     const Vec3 mm = m.props.K.cwiseProduct(k - m.props.kappa0);
-    // The strain v = e3_body + C n of a rod that strains (at rest: no strain rate), e3_body otherwise.
+    // The strain v = e3 + C n of a rod that strains (at rest: no strain rate), e3 otherwise.
     const bool compliant = m.props.compliant();
-    const Vec3 v = compliant ? m.props.strain(n, Vec3::Zero()) : e3_body;
+    const Vec3 v = compliant ? m.props.strain(n, Vec3::Zero()) : Vec3::UnitZ();
     const Vec3 t = R[q].transpose() * v;
     // Force balance.
     if (gravity) {
@@ -142,7 +140,7 @@ std::vector<StaticNode> straight_static_nodes(const StaticModel& m, int first, i
   if (first < 0 || count < 0 || first + count > m.num_cells + 1)
     throw std::invalid_argument("straight_static_nodes: nodes outside 0.." + std::to_string(m.num_cells));
   std::vector<StaticNode> nodes(static_cast<size_t>(count));
-  const Vec3 t = R0.transpose() * e3_body;
+  const Vec3 t = R0.transpose() * Vec3::UnitZ();
   for (int k = 0; k < count; ++k) {
     auto& nd = nodes[static_cast<size_t>(k)];
     nd.Rbar = R0;

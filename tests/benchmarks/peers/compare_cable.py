@@ -195,6 +195,11 @@ def main():
     speed = args.speed or sc["speed"]
     dt_ratio = args.dt_ratio or sc["dt_ratio"]
     ref_ratio = args.ref_dt_ratio or dt_ratio
+    # "ds" or "ds:ratio" (taut: that run's dt = ds / (ratio v))
+    runs = [(float(x.split(":")[0]), float(x.split(":")[1])) if ":" in x else (float(x), dt_ratio)
+            for x in ds_list.split(",") if x]
+    if sc["speed"] is None and any(ratio != dt_ratio for _, ratio in runs):
+        ap.error("--ds DS:RATIO is for --scene taut")
     os.makedirs(out_dir, exist_ok=True)
     summary_path = os.path.join(out_dir, "summary.json")
     stem = os.path.join(out_dir, f"traverse_{sc['prefix']}{model}")
@@ -214,11 +219,7 @@ def main():
     summary["reference"]["scale"] = ref[3]
 
     if not args.skip_traverse:
-        for item in [x for x in ds_list.split(",") if x]:
-            # "ds" or "ds:ratio" (taut: this run's dt = ds / (ratio v))
-            ds, ratio = (float(item.split(":")[0]), float(item.split(":")[1])) if ":" in item else (float(item), dt_ratio)
-            if ratio != dt_ratio and sc["speed"] is None:
-                ap.error("--ds DS:RATIO is for --scene taut")
+        for ds, ratio in runs:
             cpus = []
             for k in range(args.repeat):
                 out = f"{stem}_ds{ds}_r{ratio:g}.h5"
