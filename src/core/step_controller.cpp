@@ -7,6 +7,8 @@
 
 namespace traverse {
 
+double tolerance_scale(double tolerance, int order) { return std::pow(tolerance / 1e-3, 1.0 / order); }
+
 double StepController::landing_step(double proposed, double remaining) {
   if (proposed >= remaining * (1.0 - 1e-12)) return remaining;
   if (proposed > 0.5 * remaining) return 0.5 * remaining;

@@ -377,10 +377,11 @@ Param adaptive_section() {
                                 "time.dt is the first step; the output times stay those of the fixed-dt run "
                                 "(every output.every steps of time.dt), where the steps land");
   a.only_if_given();
-  a.add(real("tolerance", "Relative tolerance on each step's local error (rod: in the quantities 'on'; beam: in "
-                          "the modal state): the largest over the structure, relative to the largest value of the "
-                          "quantity in the run so far (position, orientation: the displacement and rotation since "
-                          "the start)", "").positive().below(1.0).required());
+  a.add(real("tolerance", "Relative error asked of the run (rod: in the quantities 'on'; beam: in the modal "
+                          "state), relative to the largest value of the quantity in the run so far (position, "
+                          "orientation: the displacement and rotation since the start); each step's local error "
+                          "is held at tolerance * (tolerance / 1e-3)^(1/p) for a scheme of order p, so the error "
+                          "falls in proportion to the tolerance", "").positive().at_most(0.1).required());
   a.add(word_list("on", "Rod: the quantities whose local error is controlled: position and orientation of the "
                         "nodes (displacement-type: a fast mode counts by how far it moves the rod), u, omega, kappa "
                         "(the state; the grid's bending waves then force short steps)",

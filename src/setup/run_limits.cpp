@@ -751,7 +751,7 @@ std::vector<std::string> adaptive_warnings(const scene::Scene& sc) {
   else if (std::all_of(sc.loads.begin(), sc.loads.end(), free_coupled))
     out.push_back(head +
                   "a coupled mass without friction (it cannot stick, no short violent phase for the steps to follow): "
-                  "on the bead and the inspection robot fixed steps reach the same error for 2 to 5 times less CPU; "
+                  "on the bead and the inspection robot fixed steps reach the same error for 1.3 to 2.3 times less CPU; "
                   "consider a fixed time.dt (docs/adaptive.md, \"Work and precision\")");
   return out;
 }

@@ -3,8 +3,9 @@
 hanging cable (a coupled mass; the error of its leaving time against fixed dt / 1024):
   - the CSV has the four fixed and the four adaptive runs, each with its steps and CPU;
   - the fixed errors fall at second order in dt (at least 8 times per refinement by 4 from dt / 4,
-    where the scheme is in its asymptotic range), the adaptive ones with the tolerance (at least
-    100 times over its three decades), and the adaptive steps grow as the tolerance falls;
+    where the scheme is in its asymptotic range), the adaptive ones at least in proportion to the
+    tolerance (at least 5 times per decade, at least 50 times from 1e-3 to 1e-5), and the adaptive
+    steps grow as the tolerance falls;
   - the reference is read at each run's output times (the leaving time is an event, independent
     of the outputs, so the same reference serves all);
   - --summary draws the work-precision panels and the tolerance-proportionality figure.
@@ -39,8 +40,9 @@ def main():
     print("fixed errors", ef, "adaptive errors", ea)
     check(all(ef[k] / ef[k + 1] > 8.0 for k in (1, 2)), f"fixed: second order from dt / 4 (ratios {ef[1] / ef[2]:.1f}, "
           f"{ef[2] / ef[3]:.1f} per refinement by 4)")
-    check(all(ea[k] > ea[k + 1] for k in range(3)) and ea[0] / ea[3] > 100.0,
-          f"adaptive: the error falls with the tolerance ({ea[0] / ea[3]:.0f} times over three decades)")
+    check(all(ea[k] / ea[k + 1] > 5.0 for k in range(3)) and ea[1] / ea[3] > 50.0,
+          "adaptive: the error falls at least in proportion to the tolerance (" +
+          ", ".join(f"{ea[k] / ea[k + 1]:.1f}" for k in range(3)) + " times per decade)")
     steps = [int(r["steps"]) for r in adaptive]
     check(steps == sorted(steps), f"adaptive: more steps at tighter tolerances ({steps})")
     figs = os.path.join(out, "figures")

@@ -11,7 +11,7 @@ namespace traverse {
 
 /// The user's controls (scene section time.adaptive).
 struct StepControlParameters {
-  double relative = 1e-3;   ///< tolerance on the weighted local error (the error norm is 1 there)
+  double relative = 1e-3;   ///< local error per step, relative (the error norm is 1 there): see tolerance_scale
   double dt_min = 0.0;      ///< [s] smallest step: a step that must be shorter fails the run
   double dt_max = 0.0;      ///< [s] largest step (0: none)
   double growth = 2.0;      ///< largest factor between successive steps (> 1)
@@ -20,6 +20,13 @@ struct StepControlParameters {
   int newton_target = 6;    ///< above this many Newton iterations the step does not grow
   int order = 2;            ///< order p of the scheme: the local error is O(dt^(p+1))
 };
+
+/// The tolerance a user gives is the relative error asked of the run; the local error allowed
+/// per step is that tolerance times this factor, (tol / 1e-3)^(1/p) for a scheme of order p
+/// (tolerance proportionality, docs/adaptive.md). The global error of a smooth run goes like
+/// the local target^(p/(p+1)), so with the factor it falls in proportion to the tolerance;
+/// at 1e-3 the local target is the tolerance itself.
+double tolerance_scale(double tolerance, int order);
 
 /// What the controller decided about one attempted step.
 struct StepDecision {

@@ -24,7 +24,7 @@ namespace traverse::setup {
 /// dt_min defaults to 1e-6 time.dt; `order` is the scheme's (2 for the rod).
 inline StepControlParameters step_control_parameters(const scene::AdaptiveSpec& a, double dt, int order = 2) {
   StepControlParameters p;
-  p.relative = a.tolerance;
+  p.relative = a.tolerance * tolerance_scale(a.tolerance, order);
   p.dt_min = a.dt_min > 0.0 ? a.dt_min : 1e-6 * dt;
   p.dt_max = a.dt_max;
   p.growth = a.growth;
@@ -43,11 +43,13 @@ inline time::Schedule rod_schedule(const scene::Scene& sc, const TimeGrid& grid)
 }
 
 /// The rod's error weights (rod/time_error.hpp): the tolerances and controlled groups of
-/// time.adaptive, the position floor from the rod's length.
+/// time.adaptive scaled for the rod's second-order scheme (tolerance_scale), the position
+/// floor from the rod's length.
 inline rod::ErrorWeights error_weights(const scene::AdaptiveSpec& a, double length) {
   rod::ErrorWeights w;
-  w.relative = a.tolerance;
-  w.absolute = a.absolute;
+  const double f = tolerance_scale(a.tolerance, 2);
+  w.relative = a.tolerance * f;
+  for (int g = 0; g < rod::kErrorGroups; ++g) w.absolute[g] = a.absolute[g] * f;
   w.floor = rod::scale_floors(length);
   w.controlled = a.controlled;
   return w;
