@@ -10,6 +10,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <sstream>
+#include <stdexcept>
 #include <algorithm>
 #include <functional>
 #include <string>
@@ -283,17 +285,60 @@ class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<
 
 }  // namespace
 
-LinearSolverObjects build_linear_solver(const LinearSolverChoice& choice, std::function<long()> jacobian_version,
-                                        std::shared_ptr<DirectSolverStats> stats) {
-  Stratimikos::DefaultLinearSolverBuilder builder;
+namespace {
+
+void register_factories(Stratimikos::DefaultLinearSolverBuilder& builder) {
   builder.setPreconditioningStrategyFactory(
       Teuchos::abstractFactoryStd<Thyra::PreconditionerFactoryBase<double>, ReusableIfpack2Factory>(),
       "Ifpack2");
   builder.setLinearSolveStrategyFactory(
       Teuchos::abstractFactoryStd<Thyra::LinearOpWithSolveFactoryBase<double>, BlockTridiagonalSolveFactory>(),
       kBlockTridiagonalLu);
-  builder.setParameterList(Teuchos::rcp(new Teuchos::ParameterList(choice.stratimikos)));
-  Teuchos::RCP<Thyra::LinearOpWithSolveFactoryBase<double>> lows = builder.createLinearSolveStrategy("");
+}
+
+// A Trilinos exception's message without the lines that locate the throw in Trilinos' sources
+// ("file.cpp:64:", "Throw number = 1", "Throw test that evaluated to true: ...").
+std::string trilinos_message(const std::exception& e) {
+  std::istringstream in(e.what());
+  std::string line, out;
+  while (std::getline(in, line)) {
+    const auto first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line.rfind("Throw ", 0) == 0) continue;
+    const auto colon = line.find_last_not_of(" \t");
+    if (line[colon] == ':' && (line.find(".cpp:") != std::string::npos || line.find(".hpp:") != std::string::npos))
+      continue;
+    out += (out.empty() ? "" : " ") + line.substr(first);
+  }
+  return out.empty() ? e.what() : out;
+}
+
+// The builder's strategies for `list`; Trilinos' refusal of a name as std::invalid_argument.
+Teuchos::RCP<Thyra::LinearOpWithSolveFactoryBase<double>> linear_solve_strategy(
+    Stratimikos::DefaultLinearSolverBuilder& builder, const Teuchos::ParameterList& list) {
+  try {
+    builder.setParameterList(Teuchos::rcp(new Teuchos::ParameterList(list)));
+    (void)builder.createPreconditioningStrategy("");
+    return builder.createLinearSolveStrategy("");
+  } catch (const std::invalid_argument&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw std::invalid_argument(trilinos_message(e));
+  }
+}
+
+}  // namespace
+
+void check_stratimikos_list(const Teuchos::ParameterList& list) {
+  Stratimikos::DefaultLinearSolverBuilder builder;
+  register_factories(builder);
+  (void)linear_solve_strategy(builder, list);
+}
+
+LinearSolverObjects build_linear_solver(const LinearSolverChoice& choice, std::function<long()> jacobian_version,
+                                        std::shared_ptr<DirectSolverStats> stats) {
+  Stratimikos::DefaultLinearSolverBuilder builder;
+  register_factories(builder);
+  Teuchos::RCP<Thyra::LinearOpWithSolveFactoryBase<double>> lows = linear_solve_strategy(builder, choice.stratimikos);
   LinearSolverObjects out;
   if (lows->acceptsPreconditionerFactory()) {
     out.prec = lows->getPreconditionerFactory();

@@ -110,6 +110,13 @@ Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList&
     const auto pass = std::find(std::begin(kPassThrough), std::end(kPassThrough), name) != std::end(kPassThrough);
     if (pass) {
       if (!e.isList()) refuse("'" + name + "' must be a sublist (handed to Trilinos), found " + with_article(type_name(e)));
+      if (name == "Stratimikos" && e.getValue<Teuchos::ParameterList>(nullptr).numParams() > 0) {
+        try {
+          check_stratimikos_list(e.getValue<Teuchos::ParameterList>(nullptr));
+        } catch (const std::invalid_argument& x) {
+          refuse("'Stratimikos': " + std::string(x.what()));
+        }
+      }
       continue;
     }
     const auto& keys = solver_keys();

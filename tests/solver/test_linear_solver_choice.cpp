@@ -41,10 +41,35 @@ TEST(SolverParameters, DefaultsAndErrors) {
     std::printf("negative depth: %s\n", e.what());
     EXPECT_NE(std::string(e.what()).find("Max Subdivision Depth"), std::string::npos);
   }
-  // Pass-through sublists are not validated here.
+  // NOX's pass-through sublist is NOX's to read; the Stratimikos one is handed to a builder
+  // with traverse's factories, which refuses a name this Trilinos lacks before any run starts:
+  // a solver type, an Amesos2 solver (Debian's has KLU2 only; SuperLU's refusal is Teuchos'
+  // StringToIntMap message, passed on without Trilinos' source locations).
   Teuchos::ParameterList nox;
   nox.sublist("NOX").sublist("Anything").set("goes", 1);
   EXPECT_NO_THROW(validated_solver_parameters(nox));
+  Teuchos::ParameterList block_lu;
+  block_lu.sublist("Stratimikos").set("Linear Solver Type", "Block Tridiagonal LU");
+  block_lu.sublist("Stratimikos").set("Preconditioner Type", "None");
+  EXPECT_NO_THROW(validated_solver_parameters(block_lu));
+  for (const char* which : {"type", "amesos2"}) {
+    Teuchos::ParameterList strat;
+    Teuchos::ParameterList& st = strat.sublist("Stratimikos");
+    st.set("Linear Solver Type", std::string(which) == "type" ? "Foo" : "Amesos2");
+    st.sublist("Linear Solver Types").sublist("Amesos2").set("Solver Type", "SuperLU");
+    st.set("Preconditioner Type", "None");
+    try {
+      validated_solver_parameters(strat);
+      ADD_FAILURE() << "an unknown Stratimikos name was accepted (" << which << ")";
+    } catch (const std::invalid_argument& e) {
+      std::printf("Stratimikos %s: %s\n", which, e.what());
+      const std::string m = e.what();
+      EXPECT_NE(m.find("'Stratimikos'"), std::string::npos) << m;
+      EXPECT_NE(m.find(std::string(which) == "type" ? "\"Foo\"" : "\"SuperLU\""), std::string::npos) << m;
+      EXPECT_EQ(m.find("Throw number"), std::string::npos) << m;
+      EXPECT_EQ(m.find(".cpp:"), std::string::npos) << m;
+    }
+  }
   // An integer is accepted for a real key (YAML's "Residual Tolerance: 1"), not the reverse.
   Teuchos::ParameterList whole;
   whole.set("Residual Tolerance", 1);
