@@ -4,6 +4,8 @@
 
 #include <Teuchos_CommHelpers.hpp>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -38,6 +40,15 @@ struct BlockTridiagonalPreconditioner::Impl {
   const double* values() const { return op.is_null() ? blocks.data() : held->data(); }
   std::unique_ptr<BlockTridiagonalFactors> factors;
   mutable std::vector<double> tmp;
+  /// set_left_end_clamp: the rows replaced (b/2, or 0: none); on the rank holding the first
+  /// node, D = (clamp - original) rows over its unknowns and the LU of I - D Z; on every rank
+  /// Z_i = (clamped matrix)^-1 e_i, i < rows.
+  bool clamp = false;
+  int clamp_rows = 0;
+  Eigen::MatrixXd D;
+  Eigen::PartialPivLU<Eigen::MatrixXd> K;
+  std::vector<std::vector<double>> Z;
+  bool holds_first() const { return comm->getRank() == 0 && n > 0; }
 
   int rank() const { return exact ? comm->getRank() : 0; }
   int ranks() const { return exact ? comm->getSize() : 1; }
@@ -240,11 +251,54 @@ void BlockTridiagonalPreconditioner::compute() {
       for (size_t k = lcl.graph.row_map(r); k < lcl.graph.row_map(r + 1); ++k)
         if (I.dest[k] >= 0) row_blocks[static_cast<size_t>(I.dest[k])] += vals(k);
     }
+    I.clamp_rows = 0;
+    if (I.clamp && (I.exact || I.comm->getSize() == 1)) {
+      // The first node's first b/2 rows become the clamp [I 0] (they must not couple to the
+      // next node); D keeps what the Woodbury correction in apply() needs.
+      const int h = I.b / 2;
+      const size_t bb = static_cast<size_t>(I.b) * static_cast<size_t>(I.b);
+      bool ok = true;
+      if (I.holds_first()) {
+        double* d0 = I.blocks.data() + bb;
+        const double* u0 = I.blocks.data() + 2 * bb;
+        I.D.setZero(h, I.b);
+        for (int r = 0; r < h; ++r)
+          for (int c = 0; c < I.b; ++c) {
+            ok = ok && u0[static_cast<size_t>(c * I.b + r)] == 0.0;
+            double& a = d0[static_cast<size_t>(c * I.b + r)];
+            I.D(r, c) = (r == c ? 1.0 : 0.0) - a;
+            a = r == c ? 1.0 : 0.0;
+          }
+      }
+      if (!all_ranks(*I.comm, ok))
+        throw std::invalid_argument("block-tridiagonal LU: the left end's rows couple to the next node");
+      I.clamp_rows = h;
+    }
     I.half = half_coupled(I.blocks.data(), I.n, I.b);
   }
-  I.factors->factor(I.values(), I.n, I.b, I.rank(), I.ranks(),
-                    [&I](const std::vector<double>& v) { return I.gather(v); }, I.half);
+  const auto gather = [&I](const std::vector<double>& v) { return I.gather(v); };
+  I.factors->factor(I.values(), I.n, I.b, I.rank(), I.ranks(), gather, I.half);
+  if (I.clamp_rows > 0) {
+    const size_t len = static_cast<size_t>(I.n) * static_cast<size_t>(I.b);
+    I.Z.assign(static_cast<size_t>(I.clamp_rows), std::vector<double>(len));
+    std::vector<double> e(len, 0.0);
+    for (int i = 0; i < I.clamp_rows; ++i) {
+      if (I.holds_first()) {
+        std::fill(e.begin(), e.end(), 0.0);
+        e[static_cast<size_t>(i)] = 1.0;
+      }
+      I.factors->solve(e.data(), I.Z[static_cast<size_t>(i)].data(), I.values(), gather);
+    }
+    if (I.holds_first()) {
+      Eigen::MatrixXd Z0(I.b, I.clamp_rows);
+      for (int i = 0; i < I.clamp_rows; ++i)
+        for (int c = 0; c < I.b; ++c) Z0(c, i) = I.Z[static_cast<size_t>(i)][static_cast<size_t>(c)];
+      I.K.compute(Eigen::MatrixXd::Identity(I.clamp_rows, I.clamp_rows) - I.D * Z0);
+    }
+  }
 }
+
+void BlockTridiagonalPreconditioner::set_left_end_clamp(bool on) { impl_->clamp = on && impl_->op.is_null(); }
 
 int BlockTridiagonalPreconditioner::block_size() const { return impl_->b; }
 bool BlockTridiagonalPreconditioner::exact() const { return impl_->exact; }
@@ -278,6 +332,18 @@ void BlockTridiagonalPreconditioner::apply(const MV& X, MV& Y, Teuchos::ETransp 
     auto y = Y.getDataNonConst(j);
     I.factors->solve(x.getRawPtr(), I.tmp.data(), I.values(),
                      [&I](const std::vector<double>& v) { return I.gather(v); });
+    if (I.clamp_rows > 0) {  // x = y + Z (I - D Z)^-1 D y, y the clamped matrix's solution
+      std::vector<double> c(static_cast<size_t>(I.clamp_rows), 0.0);
+      if (I.holds_first()) {
+        const Eigen::VectorXd w = I.K.solve(I.D * Eigen::Map<const Eigen::VectorXd>(I.tmp.data(), I.b));
+        std::copy(w.data(), w.data() + w.size(), c.begin());
+      }
+      Teuchos::broadcast<int, double>(*I.comm, 0, I.clamp_rows, c.data());
+      for (size_t i = 0; i < c.size(); ++i) {
+        const std::vector<double>& z = I.Z[i];
+        for (size_t k = 0; k < I.tmp.size(); ++k) I.tmp[k] += c[i] * z[k];
+      }
+    }
     for (size_t i = 0; i < I.tmp.size(); ++i)
       y[i] = beta == 0.0 ? alpha * I.tmp[i] : beta * y[i] + alpha * I.tmp[i];
   }

@@ -66,6 +66,14 @@ class BlockTridiagonalPreconditioner : public Tpetra::Operator<double> {
   /// the values themselves in block storage) and factorises.
   void compute();
 
+  /// Factorise with the first b/2 rows of the first node (a static rod's left-end rows)
+  /// replaced by a clamp on its first b/2 unknowns (the position and rotation), and correct every
+  /// solve exactly for the rows replaced (Woodbury, rank b/2: b/2 more solves per
+  /// factorisation, b/2 vector updates per solve). For a static rod whose left end is not
+  /// clamped: every piece of the chain from that end would be a mechanism, and the elimination
+  /// from the left singular. A CrsMatrix input on one rank or with the couplings kept across
+  /// ranks, whose left-end rows couple to the first node only; from the next compute().
+  void set_left_end_clamp(bool on);
   int block_size() const;
   /// True when the solve is exact across ranks (always on one rank); otherwise the
   /// couplings between ranks are dropped and why_not_exact() says why.

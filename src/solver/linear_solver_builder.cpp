@@ -212,6 +212,7 @@ class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<
     if (lu_.is_null() || lu_->source() != source) {
       lu_ = blocks.is_null() ? Teuchos::rcp(new BlockTridiagonalPreconditioner(A))
                              : BlockTridiagonalPreconditioner::on_blocks(blocks);
+      lu_->set_left_end_clamp(clamp_left_end_);
       TEUCHOS_TEST_FOR_EXCEPTION(!lu_->exact(), std::runtime_error,
                                  "block-tridiagonal LU as a direct solver: the couplings between ranks "
                                  "cannot be kept ("
@@ -251,12 +252,15 @@ class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<
   void setParameterList(const Teuchos::RCP<Teuchos::ParameterList>& pl) override {
     pl->validateParametersAndSetDefaults(*getValidParameters());
     tolerance_ = pl->get<double>("Tolerance");
+    clamp_left_end_ = pl->get<bool>("Clamp Left End");
     params_ = pl;
   }
   Teuchos::RCP<const Teuchos::ParameterList> getValidParameters() const override {
     auto valid = Teuchos::rcp(new Teuchos::ParameterList(kBlockTridiagonalLu));
     valid->set("Tolerance", 1e-12, "relative residual max|b - A x| / max|b| each solve must reach "
                                    "(after at most two steps of iterative refinement)");
+    valid->set("Clamp Left End", false, "factorise a static rod with its left end clamped and correct each solve "
+                                        "exactly for the end's own rows (an end that is not clamped)");
     return valid;
   }
   Teuchos::RCP<Teuchos::ParameterList> getNonconstParameterList() override { return params_; }
@@ -278,6 +282,7 @@ class BlockTridiagonalSolveFactory : public Thyra::LinearOpWithSolveFactoryBase<
   std::function<long()> version_;
   std::shared_ptr<DirectSolverStats> stats_ = std::make_shared<DirectSolverStats>();
   double tolerance_ = 1e-12;
+  bool clamp_left_end_ = false;
   Teuchos::RCP<Teuchos::ParameterList> params_;
   mutable Teuchos::RCP<BlockTridiagonalPreconditioner> lu_;
   mutable long factored_version_ = -2;

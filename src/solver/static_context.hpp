@@ -24,8 +24,10 @@ class StaticLinearSolver {
   /// "Preconditioner", GMRES + ILUT (see the .cpp file for why).
   StaticLinearSolver(const Teuchos::ParameterList& solver, const Comm& comm);
   /// The block-tridiagonal LU as a direct solver (exact across ranks, residual-checked, no
-  /// Krylov basis), factorised again only when jacobian_version() has changed.
-  StaticLinearSolver(std::function<long()> jacobian_version, const Comm& comm);
+  /// Krylov basis), factorised again only when jacobian_version() has changed; with
+  /// `clamp_left_end` factorised with the left end clamped and each solve corrected for the
+  /// end's own rows (BlockTridiagonalPreconditioner::set_left_end_clamp).
+  StaticLinearSolver(std::function<long()> jacobian_version, const Comm& comm, bool clamp_left_end = false);
   /// Factorisation or preconditioner set-up for W (kept for solve); false on every rank when
   /// it fails on any.
   bool set_up(const Teuchos::RCP<const Thyra::VectorSpaceBase<double>>& space, const StaticRodModel::Matrix& W) const;

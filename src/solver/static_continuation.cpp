@@ -82,9 +82,14 @@ StaticLinearSolver::StaticLinearSolver(const Teuchos::ParameterList& solver, con
   lows_ = objs.lows;
 }
 
-StaticLinearSolver::StaticLinearSolver(std::function<long()> jacobian_version, const Comm& comm) : comm_(comm) {
+StaticLinearSolver::StaticLinearSolver(std::function<long()> jacobian_version, const Comm& comm, bool clamp_left_end)
+    : comm_(comm) {
   choice_ = LinearSolverChoice::resolve(validated_solver_parameters(Teuchos::ParameterList()), comm->getSize(),
                                         LinearSolverChoice::Use::time_step);
+  if (clamp_left_end) {
+    choice_.stratimikos.sublist("Linear Solver Types").sublist(kBlockTridiagonalLu).set("Clamp Left End", true);
+    choice_.resolved += ", the left end clamped and corrected";
+  }
   lows_ = build_linear_solver(choice_, std::move(jacobian_version)).lows;
 }
 

@@ -20,10 +20,13 @@ using Vector = StaticRodModel::Vector;
 /// (frames in the model, unknowns in x), solved at each load factor by NOX.
 class LoadSteppedStart {
  public:
-  /// `solver` null: the block-tridiagonal LU.
+  /// `solver` null: the block-tridiagonal LU (the left end clamped and corrected when it is not
+  /// clamped).
   LoadSteppedStart(const rod::StaticModel& m, const Comm& comm, const Teuchos::ParameterList* solver)
       : comm_(comm),
-        linear_(solver ? StaticLinearSolver(*solver, comm) : StaticLinearSolver(std::function<long()>(), comm)) {
+        linear_(solver ? StaticLinearSolver(*solver, comm)
+                       : StaticLinearSolver(std::function<long()>(), comm,
+                                            m.left.type != rod::EndCondition::Type::clamped)) {
     mesh_ = Teuchos::rcp(new mesh::DistributedMesh(mesh::Mesh1D(m.length, m.num_cells + 1), comm, 12));
     rod::StaticProblem pb;  // its parameters are not used: each solve fixes the (scaled) model
     pb.base = m;
@@ -113,11 +116,11 @@ std::vector<rod::StaticNode> LoadSteppedStart::nodes_with_halo(int halo, int& fi
 
 StaticStart solve_static_start(const rod::StaticModel& m, const Teuchos::RCP<const Teuchos::Comm<int>>& comm,
                                const Teuchos::ParameterList& solver, int halo) {
-  // The block LU eliminates from the left end; the pieces of the rod left of each node are
-  // then cantilevers (their cut end is free), well posed only when the left end is clamped.
-  const bool clamped = m.left.type == rod::EndCondition::Type::clamped;
+  // The block LU first (it eliminates from the left end; with a left end that is not clamped
+  // it factorises the rod clamped there and corrects each solve for the end's rows), then the
+  // scene's solver when it fails.
   StaticStart out;
-  for (int attempt = clamped ? 0 : 1; attempt < 2; ++attempt) {
+  for (int attempt = 0; attempt < 2; ++attempt) {
     LoadSteppedStart sys(m, comm, attempt == 0 ? nullptr : &solver);
     out.linear_solver = sys.choice().resolved;
     out.report = rod::solve_with_load_steps(m, [&sys](const rod::StaticModel& s) { return sys.newton(s); });
