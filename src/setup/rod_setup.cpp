@@ -173,7 +173,7 @@ InitialState static_equilibrium(const scene::Scene& sc, const RodSetup& setup, M
 RodSetup build_rod_model(const scene::Scene& sc) {
   RodSetup out;
   try {
-    out.solver = solver::validated_solver_parameters(sc.solver_parameters());
+    out.solver = solver::checked_solver_parameters(sc.solver_parameters());
   } catch (const std::invalid_argument& e) {
     scene::fail_at(sc, "solver", "valid solver parameters (see docs/solver.md)", e.what());
   }

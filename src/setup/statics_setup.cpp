@@ -51,7 +51,7 @@ rod::StaticParameter static_parameter(scene::ContinuationParameter p) {
 Teuchos::ParameterList statics_solver_parameters(const scene::Scene& sc) {
   const Teuchos::ParameterList solver_params = sc.solver_parameters();
   try {
-    (void)solver::validated_solver_parameters(solver_params);
+    (void)solver::checked_solver_parameters(solver_params);
   } catch (const std::invalid_argument& e) {
     scene::fail_at(sc, "solver", "valid solver parameters (see docs/solver.md)", e.what());
   }

@@ -280,7 +280,8 @@ void BlockTridiagonalPreconditioner::compute() {
   I.factors->factor(I.values(), I.n, I.b, I.rank(), I.ranks(), gather, I.half);
   if (I.clamp_rows > 0) {
     const size_t len = static_cast<size_t>(I.n) * static_cast<size_t>(I.b);
-    I.Z.assign(static_cast<size_t>(I.clamp_rows), std::vector<double>(len));
+    I.Z.resize(static_cast<size_t>(I.clamp_rows));  // kept between factorisations, overwritten by each solve
+    for (auto& z : I.Z) z.resize(len);
     std::vector<double> e(len, 0.0);
     for (int i = 0; i < I.clamp_rows; ++i) {
       if (I.holds_first()) {

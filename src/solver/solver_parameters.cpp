@@ -110,13 +110,6 @@ Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList&
     const auto pass = std::find(std::begin(kPassThrough), std::end(kPassThrough), name) != std::end(kPassThrough);
     if (pass) {
       if (!e.isList()) refuse("'" + name + "' must be a sublist (handed to Trilinos), found " + with_article(type_name(e)));
-      if (name == "Stratimikos" && e.getValue<Teuchos::ParameterList>(nullptr).numParams() > 0) {
-        try {
-          check_stratimikos_list(e.getValue<Teuchos::ParameterList>(nullptr));
-        } catch (const std::invalid_argument& x) {
-          refuse("'Stratimikos': " + std::string(x.what()));
-        }
-      }
       continue;
     }
     const auto& keys = solver_keys();
@@ -160,6 +153,18 @@ Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList&
   if (p.get<int>("Max Subdivision Depth") < 0)
     throw std::invalid_argument("rod solver parameters: 'Max Subdivision Depth' must be >= 0, found " +
                                 std::to_string(p.get<int>("Max Subdivision Depth")));
+  return p;
+}
+
+Teuchos::ParameterList checked_solver_parameters(const Teuchos::ParameterList& given) {
+  Teuchos::ParameterList p = validated_solver_parameters(given);
+  if (given.isSublist("Stratimikos") && given.sublist("Stratimikos").numParams() > 0) {
+    try {
+      check_stratimikos_list(given.sublist("Stratimikos"));
+    } catch (const std::invalid_argument& x) {
+      refuse("'Stratimikos': " + std::string(x.what()));
+    }
+  }
   return p;
 }
 

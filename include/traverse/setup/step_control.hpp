@@ -21,8 +21,11 @@
 
 namespace traverse::setup {
 
-/// dt_min defaults to 1e-6 time.dt; `order` is the scheme's (2 for the rod).
-inline StepControlParameters step_control_parameters(const scene::AdaptiveSpec& a, double dt, int order = 2) {
+/// The order of the rod's time scheme (generalised alpha).
+inline constexpr int kRodOrder = 2;
+
+/// dt_min defaults to 1e-6 time.dt; `order` is the scheme's.
+inline StepControlParameters step_control_parameters(const scene::AdaptiveSpec& a, double dt, int order = kRodOrder) {
   StepControlParameters p;
   p.relative = a.tolerance * tolerance_scale(a.tolerance, order);
   p.dt_min = a.dt_min > 0.0 ? a.dt_min : 1e-6 * dt;
@@ -47,7 +50,7 @@ inline time::Schedule rod_schedule(const scene::Scene& sc, const TimeGrid& grid)
 /// floor from the rod's length.
 inline rod::ErrorWeights error_weights(const scene::AdaptiveSpec& a, double length) {
   rod::ErrorWeights w;
-  const double f = tolerance_scale(a.tolerance, 2);
+  const double f = tolerance_scale(a.tolerance, kRodOrder);
   w.relative = a.tolerance * f;
   for (int g = 0; g < rod::kErrorGroups; ++g) w.absolute[g] = a.absolute[g] * f;
   w.floor = rod::scale_floors(length);

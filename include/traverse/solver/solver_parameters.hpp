@@ -80,9 +80,14 @@ struct SolverKey {
 const std::vector<SolverKey>& solver_keys();
 
 /// A copy of `given` validated against solver_keys() with every default filled in (an integer
-/// is accepted for a real key), and its 'Stratimikos' sublist by check_stratimikos_list.
-/// Throws std::invalid_argument naming the offending key on a wrong name, type or value.
+/// is accepted for a real key). Throws std::invalid_argument naming the offending key on a
+/// wrong name, type or value.
 Teuchos::ParameterList validated_solver_parameters(const Teuchos::ParameterList& given);
+
+/// A scene's solver section, checked once where the scene is: validated_solver_parameters, and
+/// its 'Stratimikos' sublist by check_stratimikos_list (the solver's own calls validate the
+/// keys only).
+Teuchos::ParameterList checked_solver_parameters(const Teuchos::ParameterList& given);
 
 /// Hands `list` to a Stratimikos builder with traverse's factories (as the runs do) and creates
 /// its linear solver and preconditioner strategies, so that a name this Trilinos does not have
